@@ -1,0 +1,69 @@
+"""The stable diagnostic codes. A code is never reused; retired codes stay listed.
+
+Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
+into the robot description, RS3xx semantic checks, RS9xx internal errors.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Code:
+    code: str
+    title: str
+
+
+_CODES = [
+    # -- reading the spec
+    Code("RS001", "spec file cannot be read"),
+    Code("RS002", "spec syntax error"),
+    Code("RS003", "duplicate key"),
+    Code("RS004", "spec document is empty or not a mapping"),
+    Code("RS005", "unsupported spec file type"),
+    Code("RS006", "spec too large, too deep or too many aliases"),
+    Code("RS010", "invalid arithmetic expression"),
+    # -- reading the robot description
+    Code("RS050", "robot description file not found"),
+    Code("RS051", "robot description is not well-formed XML"),
+    Code("RS052", "robot description structure is invalid"),
+    Code("RS053", "xacro expansion failed"),
+    Code("RS054", "xacro expansion exceeded its time or memory limit"),
+    # -- schema
+    Code("RS101", "unknown key"),
+    Code("RS102", "invalid value"),
+    Code("RS103", "missing required field"),
+    Code("RS104", "unsupported spec version"),
+    Code("RS105", "invalid identifier"),
+    # -- references into the description and the spec
+    Code("RS201", "unknown joint"),
+    Code("RS202", "unknown link"),
+    Code("RS203", "unknown group"),
+    Code("RS204", "unknown controller"),
+    Code("RS205", "unknown material"),
+    Code("RS206", "link rule matches no link"),
+    Code("RS207", "joint pattern matches no joint"),
+    Code("RS208", "controller inheritance is circular"),
+    Code("RS209", "group definition is circular"),
+    # -- semantic checks
+    Code("RS301", "joint driven by more than one controller"),
+    Code("RS302", "active joint not driven in a control mode"),
+    Code("RS303", "keyframe qpos has the wrong length"),
+    Code("RS304", "keyframe value outside the joint limits"),
+    Code("RS305", "inconsistent mimic map"),
+    Code("RS306", "duplicate uid"),
+    Code("RS307", "collision bit reserved by ManiSkill"),
+    Code("RS308", "controller is missing a field its type needs"),
+    Code("RS309", "URDF mimic joint simulated by PhysX"),
+    Code("RS310", "joint listed twice in one controller"),
+    Code("RS311", "joint is not active"),
+    Code("RS312", "link rule needs a material"),
+    Code("RS313", "keyframe sets a joint twice"),
+    Code("RS314", "camera needs exactly one of fov and intrinsic"),
+    Code("RS315", "invalid joint for this controller type"),
+    # -- internal
+    Code("RS900", "internal error"),
+]
+
+CODES: dict[str, Code] = {c.code: c for c in _CODES}
