@@ -1,0 +1,126 @@
+"""Child-process side of :func:`robospec.description.xacro.expand_xacro`.
+
+Run as a script (``runpy.run_path``), never imported by robospec itself: expanding a xacro file
+runs the code in it, so this must happen in a throwaway process whose memory is capped *before*
+xacro is imported. Usage::
+
+    python -c BOOTSTRAP <this file> <xacro path> <memory bytes> <cpu seconds> <args as JSON>
+
+It writes exactly one JSON object to the stdout it was started with:
+
+- ``{"ok": true, "urdf": "..."}``
+- ``{"ok": false, "kind": "memory"}``
+- ``{"ok": false, "kind": "xml", "message": ..., "file": ..., "line": ..., "column": ...}``
+- ``{"ok": false, "kind": "xacro", "message": ..., "file": ..., "files": [...]}``
+
+This module imports only the standard library (and xacro, after the limits are in place) so that
+it does not depend on how robospec is installed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from typing import Any
+
+# Error messages from a runaway recursion list every macro frame; the parent needs the gist only.
+_MAX_MESSAGE = 4000
+
+
+def _set_limits(memory_bytes: int, cpu_seconds: int) -> None:
+    try:
+        import resource
+    except ImportError:  # not POSIX: only the parent's wall-clock timeout protects us
+        return
+    # Soft and hard alike, so that code inside the xacro file cannot raise the limit again.
+    limits = [(resource.RLIMIT_AS, memory_bytes), (resource.RLIMIT_CPU, cpu_seconds)]
+    if hasattr(resource, "RLIMIT_CORE"):
+        limits.append((resource.RLIMIT_CORE, 0))  # a crash must not leave a core dump behind
+    for which, value in limits:
+        _soft, hard = resource.getrlimit(which)
+        if hard != resource.RLIM_INFINITY:
+            value = min(value, hard)
+        try:
+            resource.setrlimit(which, (value, value))
+        except (ValueError, OSError):
+            pass
+
+
+def _caused_by_memory(exc: BaseException | None) -> bool:
+    # xacro wraps evaluation errors in XacroException(exc=...), so look through the whole chain.
+    seen: set[int] = set()
+    stack: list[Any] = [exc]
+    while stack:
+        e = stack.pop()
+        if e is None or id(e) in seen:
+            continue
+        seen.add(id(e))
+        if isinstance(e, MemoryError):
+            return True
+        stack.extend([getattr(e, "exc", None), e.__cause__, e.__context__])
+    return False
+
+
+def _message(exc: BaseException) -> str:
+    text = str(exc).strip() or type(exc).__name__
+    if len(text) > _MAX_MESSAGE:
+        text = text[:_MAX_MESSAGE] + " ..."
+    return text
+
+
+def _expand(path: str, mappings: dict[str, str]) -> dict[str, Any]:
+    import xml.parsers.expat
+
+    import xacro
+
+    try:
+        doc = xacro.process_file(path, mappings=mappings)
+        return {"ok": True, "urdf": doc.toprettyxml(indent="  ")}
+    except MemoryError:
+        return {"ok": False, "kind": "memory"}
+    except xml.parsers.expat.ExpatError as e:
+        files = [f for f in (xacro.filestack or []) if f]
+        return {
+            "ok": False,
+            "kind": "xml",
+            "message": f"XML parsing error: {xml.parsers.expat.ErrorString(e.code)}",
+            "file": files[-1] if files else path,
+            "line": e.lineno,
+            "column": e.offset + 1,  # expat's offset is 0-based
+            "files": files,
+        }
+    except BaseException as e:  # anything the file's code raises is the file's problem
+        if _caused_by_memory(e):
+            return {"ok": False, "kind": "memory"}
+        files = [f for f in (xacro.filestack or []) if f]
+        return {
+            "ok": False,
+            "kind": "xacro",
+            "message": _message(e),
+            "file": files[-1] if files else path,
+            "files": files,
+        }
+
+
+def main(argv: list[str]) -> int:
+    path, memory, cpu, args_json = argv
+    _set_limits(int(memory), int(cpu))
+    # The result goes to the original stdout; anything the xacro file manages to print goes to
+    # stderr, so it cannot corrupt the JSON answer.
+    result_fd = os.dup(1)
+    os.dup2(2, 1)
+    sys.stdout = sys.stderr
+    mappings = json.loads(args_json)
+    try:
+        result = _expand(path, mappings)
+        answer = json.dumps(result, ensure_ascii=True)
+    except MemoryError:
+        answer = json.dumps({"ok": False, "kind": "memory"})
+    with os.fdopen(result_fd, "w", encoding="ascii") as out:
+        out.write(answer)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
