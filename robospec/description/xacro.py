@@ -94,7 +94,9 @@ def _run_child(
         "-c",
         _BOOTSTRAP,
         str(_CHILD),
-        abs_path,
+        # The child runs in the file's folder; the bare name keeps xacro's output banner ("generated
+        # from twolink.urdf.xacro") free of this machine's paths, so builds stay reproducible.
+        os.path.basename(abs_path),
         str(int(memory_bytes)),
         str(cpu_seconds),
         json.dumps(mappings),
@@ -185,7 +187,8 @@ _CLASS_PREFIX = re.compile(r"^<class '[\w.]+'>: ")
 
 def _xacro_error(path: str, abs_path: str, result: Mapping[str, Any]) -> Diagnostic:
     message = str(result.get("message") or "unknown error").strip()
-    file = str(result.get("file") or abs_path)
+    # xacro names files relative to the child's working directory, the top file's folder.
+    file = os.path.join(os.path.dirname(abs_path), str(result.get("file") or abs_path))
     shown = _display_path(path, abs_path, file)
     line = result.get("line")
     column = result.get("column")
