@@ -1,0 +1,23 @@
+"""Stage 4: semantic checks over a resolved robot. One module per rule, each a function
+``check(context) -> Iterable[Diagnostic]`` registered in :data:`CHECKS`."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+
+from robospec.checks import collision_bits, mimic_joints, mode_coverage
+from robospec.checks.context import CheckContext
+from robospec.diagnostics import Diagnostic
+
+CHECKS: tuple[Callable[[CheckContext], Iterable[Diagnostic]], ...] = (
+    mode_coverage.check,
+    mimic_joints.check,
+    collision_bits.check,
+)
+
+
+def run_checks(context: CheckContext) -> list[Diagnostic]:
+    return [d for check in CHECKS for d in check(context)]
+
+
+__all__ = ["CHECKS", "CheckContext", "run_checks"]

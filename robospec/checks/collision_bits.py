@@ -1,0 +1,37 @@
+"""RS307: collision-group bits that ManiSkill itself uses.
+
+Bit 29 of group 2 is what ``disable_self_collisions`` sets; bits 30 and 31 of group 2 are, by
+ManiSkill's convention, set on the ground by its scenes (so links with them ignore the floor,
+which is what a mobile base's wheels want — and what nothing else wants).
+
+Passing::
+
+    collision_rules: [{links: [l_wheel_link], group: 2, bit: 12}]
+
+Failing (warning)::
+
+    collision_rules: [{links: [l_wheel_link], group: 2, bit: 29}]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from robospec.checks.context import CheckContext
+from robospec.diagnostics import Diagnostic, warning
+
+RESERVED = {
+    29: "bit 29 of group 2 is the one disable_self_collisions sets on every link",
+    30: "bit 30 of group 2 is set on the ground by ManiSkill's scenes: these links will not "
+        "collide with the floor",
+    31: "bit 31 of group 2 is set on the ground by ManiSkill's scenes: these links will not "
+        "collide with the floor",
+}
+
+
+def check(context: CheckContext) -> Iterator[Diagnostic]:
+    for index, rule in enumerate(context.robot.collision_rules):
+        if rule.group == 2 and rule.bit in RESERVED:
+            yield warning(context.value(("collision_rules", index, "bit")), "RS307",
+                          RESERVED[rule.bit], "intended for a mobile base over the ground; "
+                          "otherwise pick a bit below 29")

@@ -1,0 +1,130 @@
+"""The pipeline, file by file: read → model → resolve → check. No stage raises on bad input."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from robospec.builtin_uids import MANISKILL_UIDS
+from robospec.checks import CheckContext, run_checks
+from robospec.description.model import RobotDescription
+from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
+from robospec.loading.reader import SPEC_SUFFIXES, read_spec
+from robospec.loading.source import LoadedSpec
+from robospec.model import build_spec
+from robospec.resolve import Resolver
+from robospec.resolved import ResolvedRobot
+
+
+@dataclass
+class CompiledSpec:
+    path: Path
+    display: str
+    loaded: LoadedSpec | None = None
+    robot: ResolvedRobot | None = None
+    description: RobotDescription | None = None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return self.robot is not None and not has_errors(self.diagnostics)
+
+
+def compile_spec(path: Path, display: str | None = None) -> CompiledSpec:
+    result = CompiledSpec(path, display or str(path))
+    try:
+        _compile_into(result)
+    except Exception as exc:  # a bug of ours must still be a located diagnostic
+        result.robot = None
+        result.diagnostics.append(
+            error(Location(result.display), "RS900", f"internal error: {type(exc).__name__}: "
+                  f"{exc}", "please report this with the spec that caused it")
+        )
+    result.diagnostics.sort(key=sort_key)
+    return result
+
+
+def _compile_into(result: CompiledSpec) -> None:
+    loaded, diagnostics = read_spec(result.path, result.display)
+    result.diagnostics.extend(diagnostics)
+    if loaded is None:
+        return
+    result.loaded = loaded
+    model = build_spec(loaded)
+    result.diagnostics.extend(model.diagnostics)
+    if model.spec is None or model.diagnostics:
+        return
+    spec = model.spec
+    if spec.uid in MANISKILL_UIDS:
+        result.diagnostics.append(error(
+            loaded.source.value(("uid",)), "RS306",
+            f"uid '{spec.uid}' is already registered by ManiSkill; its register_agent would "
+            "skip this robot with only a warning", f"use a new uid such as 'rs_{spec.uid}'"))
+    resolver = Resolver(loaded, model, result.path)
+    resolution = resolver.resolve()
+    result.diagnostics.extend(resolution.diagnostics)
+    result.description = resolution.description
+    if resolution.robot is None or resolution.description is None:
+        return
+    if not has_errors(result.diagnostics):
+        context = CheckContext(
+            spec=spec,
+            robot=resolution.robot,
+            description=resolution.description,
+            description_file=resolver._display(resolution.robot.description),
+            passive_joints=frozenset(
+                resolver.select(spec.passive_joints, ("passive_joints",))
+                if spec.passive_joints is not None else ()
+            ),
+            locate_value=resolver.at_value,
+            locate_key=resolver.at_key,
+        )
+        result.diagnostics.extend(run_checks(context))
+    if not has_errors(result.diagnostics):
+        result.robot = resolution.robot
+
+
+def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:
+    """Spec files named directly, or found under folders (sorted, so output is stable)."""
+    found: list[Path] = []
+    diagnostics: list[Diagnostic] = []
+    for path in paths:
+        if path.is_dir():
+            found.extend(sorted(
+                p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES and p.is_file()
+            ))
+        elif path.exists():
+            found.append(path)
+        else:
+            diagnostics.append(error(Location(str(path)), "RS001", "no such file or folder"))
+    unique: list[Path] = []
+    for p in found:
+        if p not in unique:
+            unique.append(p)
+    return unique, diagnostics
+
+
+def compile_all(paths: Sequence[Path]) -> tuple[list[CompiledSpec], list[Diagnostic]]:
+    """Compile every spec found, then check uids across them."""
+    files, diagnostics = discover(paths)
+    compiled = [compile_spec(p) for p in files]
+    diagnostics.extend(_duplicate_uids(compiled))
+    return compiled, diagnostics
+
+
+def _duplicate_uids(compiled: list[CompiledSpec]) -> Iterable[Diagnostic]:
+    first: dict[str, CompiledSpec] = {}
+    for item in compiled:
+        if item.loaded is None or not isinstance(item.loaded.data.get("uid"), str):
+            continue
+        uid = item.loaded.data["uid"]
+        if uid in first:
+            other = first[uid]
+            assert other.loaded is not None
+            where = other.loaded.source.value(("uid",))
+            item.robot = None
+            yield error(item.loaded.source.value(("uid",)), "RS306",
+                        f"uid '{uid}' is also used by {where.file}:{where.line}")
+        else:
+            first[uid] = item

@@ -1,0 +1,285 @@
+"""Stage 5: a resolved robot → the source of a Python module defining its agent class.
+
+Code is built as ``ast`` nodes by small ``generate_*`` functions and laid out by
+:mod:`robospec.emit.pretty`. Text from a spec only ever enters as an ``ast.Constant``; the one
+identifier taken from a spec (the class name, and controller names used as variable names) is
+checked with :func:`safe_identifier` first. The same function serves ``robospec build`` and
+import-time registration, so the two cannot drift apart.
+"""
+
+from __future__ import annotations
+
+import ast
+import keyword
+import os
+import re
+from pathlib import Path
+from typing import Any
+
+from robospec.emit.pretty import format_module
+from robospec.resolved import FileRef, ResolvedCamera, ResolvedKeyframe, ResolvedRobot
+
+CONFIG_CLASSES = {
+    "pd_joint_pos": "PDJointPosControllerConfig",
+    "pd_joint_pos_mimic": "PDJointPosMimicControllerConfig",
+    "pd_joint_vel": "PDJointVelControllerConfig",
+    "pd_joint_pos_vel": "PDJointPosVelControllerConfig",
+    "pd_ee_pos": "PDEEPosControllerConfig",
+    "pd_ee_pose": "PDEEPoseControllerConfig",
+    "pd_base_vel": "PDBaseVelControllerConfig",
+    "pd_base_forward_vel": "PDBaseForwardVelControllerConfig",
+    "passive": "PassiveControllerConfig",
+}
+# names the generated module defines or imports: a controller variable must not shadow them
+RESERVED_NAMES = frozenset({
+    "self", "os", "np", "sapien", "PACKAGE_ASSET_DIR", "BaseAgent", "Keyframe", "deepcopy_dict",
+    "register_agent", "CameraConfig", "Pose", "link_name", "HERE", *CONFIG_CLASSES.values(),
+})
+
+
+class UnsafeIdentifier(ValueError):
+    pass
+
+
+def safe_identifier(name: str) -> str:
+    if not name.isidentifier() or keyword.iskeyword(name) or not name.isascii():
+        raise UnsafeIdentifier(f"{name!r} is not a valid Python identifier")
+    return name
+
+
+def emit_module(robot: ResolvedRobot, module_dir: Path, description_file: str | None = None) -> str:
+    """The module's source. ``module_dir`` is where it will live: files on disk are named
+    relative to it. ``description_file`` names the generated URDF (xacro) beside the module."""
+    context = _Context(robot, module_dir, description_file)
+    module = ast.Module(body=[*generate_header(robot, context), generate_class(robot, context)],
+                        type_ignores=[])
+    ast.fix_missing_locations(module)
+    source = format_module(module)
+    compile(source, f"<robospec:{robot.uid}>", "exec")  # never write a module that cannot load
+    return source
+
+
+class _Context:
+    def __init__(self, robot: ResolvedRobot, module_dir: Path, description_file: str | None):
+        self.robot = robot
+        self.module_dir = module_dir
+        self.description_file = description_file
+        self.uses_assets = False
+        self.uses_here = False
+
+    def path_expr(self, ref: FileRef, *, is_description: bool = False) -> ast.expr:
+        if ref.kind == "maniskill_assets" and ref.generated_text is None:
+            self.uses_assets = True
+            return ast.JoinedStr([
+                ast.FormattedValue(_name("PACKAGE_ASSET_DIR"), -1, None),
+                ast.Constant("/" + ref.relative),
+            ])
+        self.uses_here = True
+        if is_description and ref.generated_text is not None and self.description_file:
+            relative = self.description_file
+        else:
+            relative = Path(os.path.relpath(ref.absolute, self.module_dir)).as_posix()
+        return _call("os.path.join", [_name("HERE"), ast.Constant(relative)])
+
+
+# -- values ------------------------------------------------------------------------------------
+
+
+def _name(dotted: str) -> ast.expr:
+    head, *rest = dotted.split(".")
+    node: ast.expr = ast.Name(head, ast.Load())
+    for attr in rest:
+        node = ast.Attribute(node, attr, ast.Load())
+    return node
+
+
+def _call(func: str, args: list[ast.expr] | None = None, **kwargs: ast.expr) -> ast.Call:
+    return ast.Call(_name(func), args or [], [ast.keyword(k, v) for k, v in kwargs.items()])
+
+
+def const(value: Any, context: _Context | None = None) -> ast.expr:
+    """A Python value as an expression of constants only."""
+    if isinstance(value, FileRef):
+        assert context is not None
+        return context.path_expr(value)
+    if value is None or isinstance(value, (bool, int, str)):
+        return ast.Constant(value)
+    if isinstance(value, float):
+        if value != value or value in (float("inf"), float("-inf")):
+            raise ValueError("non-finite numbers never reach the emitter")
+        return ast.Constant(value) if value >= 0 else ast.UnaryOp(ast.USub(), ast.Constant(-value))
+    if isinstance(value, (list, tuple)):
+        return ast.List([const(v, context) for v in value], ast.Load())
+    if isinstance(value, dict):
+        return ast.Dict([const(str(k)) for k in value], [const(v, context) for v in value.values()])
+    raise TypeError(f"cannot emit {type(value).__name__}")
+
+
+def _assign(target: str, value: ast.expr) -> ast.Assign:
+    return ast.Assign([ast.Name(target, ast.Store())], value)
+
+
+# -- module ------------------------------------------------------------------------------------
+
+
+def generate_header(robot: ResolvedRobot, context: _Context) -> list[ast.stmt]:
+    # the class body is generated first so we know which imports it needs
+    context.class_node = _class_body(robot, context)  # type: ignore[attr-defined]
+    doc = (f"{robot.uid}: a ManiSkill agent generated by robospec from {robot.spec_path}.\n\n"
+           "Do not edit: change the spec and run `robospec build` again.\n")
+    body: list[ast.stmt] = [ast.Expr(ast.Constant(doc))]
+    if context.uses_here:
+        body.append(ast.Import([ast.alias("os")]))
+    body.append(ast.Import([ast.alias("numpy", "np")]))
+    body.append(ast.Import([ast.alias("sapien")]))
+    if context.uses_assets:
+        body.append(ast.ImportFrom("mani_skill", [ast.alias("PACKAGE_ASSET_DIR")], 0))
+    body.append(ast.ImportFrom("mani_skill.agents.base_agent",
+                               [ast.alias("BaseAgent"), ast.alias("Keyframe")], 0))
+    config_classes = sorted({CONFIG_CLASSES[c.type] for c in robot.controllers})
+    body.append(ast.ImportFrom("mani_skill.agents.controllers",
+                               [ast.alias(n) for n in [*config_classes, "deepcopy_dict"]], 0))
+    body.append(ast.ImportFrom("mani_skill.agents.registration", [ast.alias("register_agent")], 0))
+    if robot.cameras:
+        body.append(ast.ImportFrom("mani_skill.sensors.camera", [ast.alias("CameraConfig")], 0))
+        body.append(ast.ImportFrom("mani_skill.utils.structs.pose", [ast.alias("Pose")], 0))
+    if context.uses_here:
+        body.append(_assign("HERE", _call("os.path.dirname",
+                                          [_call("os.path.abspath", [_name("__file__")])])))
+    return body
+
+
+def generate_class(robot: ResolvedRobot, context: _Context) -> ast.ClassDef:
+    return ast.ClassDef(
+        name=safe_identifier(robot.class_name),
+        bases=[_name("BaseAgent")],
+        keywords=[],
+        body=context.class_node,  # type: ignore[attr-defined]
+        decorator_list=[_call("register_agent")],
+        type_params=[],
+    )
+
+
+def _class_body(robot: ResolvedRobot, context: _Context) -> list[ast.stmt]:
+    doc = f"Agent '{robot.uid}', compiled from {robot.spec_path}."
+    body: list[ast.stmt] = [ast.Expr(ast.Constant(doc)), _assign("uid", ast.Constant(robot.uid))]
+    path_attr = "mjcf_path" if robot.description_kind == "mjcf" else "urdf_path"
+    body.append(_assign(path_attr, context.path_expr(robot.description, is_description=True)))
+    body.append(_assign("fix_root_link", ast.Constant(robot.fix_root_link)))
+    body.append(_assign("load_multiple_collisions", ast.Constant(robot.load_multiple_collisions)))
+    body.append(_assign("disable_self_collisions", ast.Constant(robot.disable_self_collisions)))
+    if robot.urdf_config:
+        body.append(_assign("urdf_config", const(robot.urdf_config)))
+    body.append(_assign("keyframes", generate_keyframes(robot.keyframes)))
+    body.append(generate_controller_configs(robot, context))
+    if robot.cameras:
+        body.append(generate_sensor_configs(robot.cameras))
+    after_init = generate_after_init(robot)
+    if after_init is not None:
+        body.append(after_init)
+    return body
+
+
+def generate_keyframes(keyframes: tuple[ResolvedKeyframe, ...]) -> ast.expr:
+    values: list[ast.expr] = []
+    for frame in keyframes:
+        kwargs: dict[str, ast.expr] = {"pose": _pose("sapien.Pose", frame.p, frame.q)}
+        if frame.qpos is not None:
+            kwargs["qpos"] = _call("np.array", [const(list(frame.qpos))])
+        if frame.qvel is not None:
+            kwargs["qvel"] = _call("np.array", [const(list(frame.qvel))])
+        values.append(_call("Keyframe", **kwargs))
+    return ast.Dict([ast.Constant(f.name) for f in keyframes], values)
+
+
+def _pose(factory: str, p: tuple[float, ...], q: tuple[float, ...]) -> ast.Call:
+    return _call(factory, p=const(list(p)), q=const(list(q)))
+
+
+def _variable_names(robot: ResolvedRobot) -> dict[str, str]:
+    names: dict[str, str] = {}
+    for index, controller in enumerate(robot.controllers):
+        base = re.sub(r"\W", "_", controller.name)
+        if not base.isidentifier() or keyword.iskeyword(base) or base in RESERVED_NAMES:
+            base = f"{base}_config" if base.isidentifier() else f"controller_{index}"
+        while base in names.values():
+            base += "_"
+        names[controller.name] = safe_identifier(base)
+    return names
+
+
+def generate_controller_configs(robot: ResolvedRobot, context: _Context) -> ast.FunctionDef:
+    variables = _variable_names(robot)
+    body: list[ast.stmt] = []
+    for controller in robot.controllers:
+        kwargs = {key: const(value, context) for key, value in controller.kwargs}
+        body.append(_assign(variables[controller.name],
+                            _call(CONFIG_CLASSES[controller.type], **kwargs)))
+    modes: list[ast.expr] = []
+    for mode in robot.modes:
+        if mode.groups is None:
+            modes.append(_name(variables[mode.controller or ""]))
+            continue
+        keys: list[ast.expr | None] = [ast.Constant(group) for group, _ in mode.groups]
+        values: list[ast.expr] = [_name(variables[name]) for _, name in mode.groups]
+        if mode.balance_passive_force is not None:
+            keys.append(ast.Constant("balance_passive_force"))
+            values.append(ast.Constant(mode.balance_passive_force))
+        modes.append(ast.Dict(keys, values))
+    table = ast.Dict([ast.Constant(m.name) for m in robot.modes], modes)
+    # ManiSkill pops balance_passive_force out of these dicts: hand it fresh copies every time
+    body.append(ast.Return(_call("deepcopy_dict", [table])))
+    return _property("_controller_configs", body)
+
+
+def generate_sensor_configs(cameras: tuple[ResolvedCamera, ...]) -> ast.FunctionDef:
+    configs: list[ast.expr] = []
+    for camera in cameras:
+        kwargs: dict[str, ast.expr] = {
+            "uid": ast.Constant(camera.uid),
+            "pose": _call("Pose.create_from_pq", [const(list(camera.p)), const(list(camera.q))]),
+            "width": ast.Constant(camera.width),
+            "height": ast.Constant(camera.height),
+        }
+        if camera.fov is not None:
+            kwargs["fov"] = const(camera.fov)
+        if camera.intrinsic is not None:
+            kwargs["intrinsic"] = _call("np.array", [const([list(r) for r in camera.intrinsic])])
+        kwargs["near"] = const(camera.near)
+        kwargs["far"] = const(camera.far)
+        kwargs["entity_uid"] = ast.Constant(camera.mount)
+        if camera.shader_pack != "minimal":
+            kwargs["shader_pack"] = ast.Constant(camera.shader_pack)
+        configs.append(_call("CameraConfig", **kwargs))
+    return _property("_sensor_configs", [ast.Return(ast.List(configs, ast.Load()))])
+
+
+def generate_after_init(robot: ResolvedRobot) -> ast.FunctionDef | None:
+    body: list[ast.stmt] = []
+    if robot.tcp is not None:
+        body.append(ast.Assign(
+            [ast.Attribute(_name("self"), "tcp", ast.Store())],
+            ast.Subscript(_name("self.robot.links_map"), ast.Constant(robot.tcp), ast.Load()),
+        ))
+    for rule in robot.collision_rules:
+        link = ast.Subscript(_name("self.robot.links_map"), _name("link_name"), ast.Load())
+        call = ast.Call(ast.Attribute(link, "set_collision_group_bit", ast.Load()), [], [
+            ast.keyword("group", ast.Constant(rule.group)),
+            ast.keyword("bit_idx", ast.Constant(rule.bit)),
+            ast.keyword("bit", ast.Constant(rule.value)),
+        ])
+        body.append(ast.For(ast.Name("link_name", ast.Store()), const(list(rule.links)),
+                            [ast.Expr(call)], []))
+    if not body:
+        return None
+    return _method("_after_init", body)
+
+
+def _method(name: str, body: list[ast.stmt], decorators: list[ast.expr] | None = None
+            ) -> ast.FunctionDef:
+    args = ast.arguments([], [ast.arg("self")], None, [], [], None, [])
+    return ast.FunctionDef(name, args, body, decorators or [], None, type_params=[])
+
+
+def _property(name: str, body: list[ast.stmt]) -> ast.FunctionDef:
+    return _method(name, body, [_name("property")])

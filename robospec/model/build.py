@@ -1,0 +1,230 @@
+"""Validate loaded data into a :class:`Spec`; pydantic errors become located diagnostics.
+
+Controllers may ``extends`` another controller: that is resolved here, on the data, before
+validation, and each merged field remembers the controller it came from so an error in an
+inherited field points at the line where it was written.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from pydantic import ValidationError
+
+from robospec.diagnostics import Diagnostic, error
+from robospec.loading.source import KeyPath, LoadedSpec
+from robospec.model.spec import Spec
+from robospec.suggest import did_you_mean
+
+_ERROR_CODES = {
+    "expression": "RS010",
+    "number": "RS102",
+    "missing": "RS103",
+    "union_tag_not_found": "RS103",
+    "extra_forbidden": "RS101",
+}
+
+
+@dataclass
+class SpecModelResult:
+    spec: Spec | None
+    diagnostics: list[Diagnostic]
+    # for fields merged through ``extends``: merged path -> the path where it was written
+    origins: dict[KeyPath, KeyPath] = field(default_factory=dict)
+
+    def origin(self, path: KeyPath) -> KeyPath:
+        for length in range(len(path), 0, -1):
+            if path[:length] in self.origins:
+                return self.origins[path[:length]] + path[length:]
+        return path
+
+
+def build_spec(loaded: LoadedSpec) -> SpecModelResult:
+    data = dict(loaded.data)
+    diagnostics: list[Diagnostic] = []
+    version = data.get("robospec")
+    if version is None:
+        diagnostics.append(
+            error(
+                loaded.source.key(()),
+                "RS103",
+                "missing 'robospec: 1' (the spec format version)",
+                "add `robospec: 1` as the first key",
+            )
+        )
+        return SpecModelResult(None, diagnostics)
+    if version != 1 or isinstance(version, bool):
+        diagnostics.append(
+            error(
+                loaded.source.value(("robospec",)),
+                "RS104",
+                f"unsupported spec version {version!r}; this robospec reads version 1",
+            )
+        )
+        return SpecModelResult(None, diagnostics)
+
+    result = SpecModelResult(None, diagnostics)
+    controllers = data.get("controllers")
+    if isinstance(controllers, dict):
+        data["controllers"] = _merge_extends(controllers, loaded, result)
+    if diagnostics:
+        return result
+    try:
+        result.spec = Spec.model_validate(data)
+    except ValidationError as exc:
+        diagnostics.extend(_diagnostics_from(exc, data, loaded, result))
+    return result
+
+
+def _merge_extends(
+    controllers: dict[str, Any], loaded: LoadedSpec, result: SpecModelResult
+) -> dict[str, Any]:
+    merged: dict[str, Any] = {}
+
+    def resolve(name: str, chain: tuple[str, ...]) -> Any:
+        if name in merged:
+            return merged[name]
+        body = controllers[name]
+        if not isinstance(body, dict) or "extends" not in body:
+            merged[name] = body
+            return body
+        base_name = body["extends"]
+        extends_path: KeyPath = ("controllers", name, "extends")
+        if not isinstance(base_name, str) or base_name not in controllers:
+            result.diagnostics.append(
+                error(
+                    loaded.source.value(extends_path),
+                    "RS204",
+                    f"'{name}' extends unknown controller {base_name!r}",
+                    did_you_mean(str(base_name), [c for c in controllers if c != name]),
+                )
+            )
+            merged[name] = {k: v for k, v in body.items() if k != "extends"}
+            return merged[name]
+        if base_name in chain:
+            cycle = " -> ".join((*chain, name, base_name)[chain.index(base_name) :])
+            result.diagnostics.append(
+                error(
+                    loaded.source.value(extends_path),
+                    "RS208",
+                    f"controller inheritance is circular: {cycle}",
+                )
+            )
+            merged[name] = {k: v for k, v in body.items() if k != "extends"}
+            return merged[name]
+        base = resolve(base_name, (*chain, name))
+        combined = dict(base) if isinstance(base, dict) else {}
+        for key in combined:
+            base_path = ("controllers", base_name, key)
+            result.origins[("controllers", name, key)] = result.origin(base_path)
+        for key, value in body.items():
+            if key != "extends":
+                combined[key] = value
+                result.origins.pop(("controllers", name, key), None)
+        merged[name] = combined
+        return combined
+
+    for controller_name in controllers:
+        resolve(controller_name, ())
+    return merged
+
+
+def _diagnostics_from(
+    exc: ValidationError, data: Any, loaded: LoadedSpec, result: SpecModelResult
+) -> list[Diagnostic]:
+    diagnostics: list[Diagnostic] = []
+    seen: set[KeyPath] = set()
+    # our own errors (bad arithmetic, ...) say more than "should be a valid list": first
+    errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] not in _ERROR_CODES)
+    for err in errors:
+        kind = err["type"]
+        if kind == "extra_forbidden":
+            path, _ = _data_path(err["loc"][:-1], data)
+            path = (*path, err["loc"][-1])
+        else:
+            path, _ = _data_path(err["loc"], data)
+        if kind == "union_tag_invalid" and isinstance(_node(data, path), dict):
+            path = (*path, "type")
+        code = _ERROR_CODES.get(kind, "RS102")
+        source_path = result.origin(path)
+        message, hint = _message(kind, err, path, data)
+        if kind == "missing":
+            location = loaded.source.key(source_path)
+        elif kind == "extra_forbidden":
+            location = loaded.source.key(source_path)
+        else:
+            location = loaded.source.value(source_path)
+        # a union reports one error per member type: keep the first per place
+        if source_path in seen:
+            continue
+        seen.add(source_path)
+        diagnostics.append(error(location, code, message, hint))
+    return diagnostics
+
+
+def _data_path(loc: tuple[Any, ...], data: Any) -> tuple[KeyPath, KeyPath]:
+    """Follow pydantic's error location through the data, dropping union/type tags."""
+    path: list[str | int] = []
+    leftover: list[str | int] = []
+    node = data
+    for element in loc:
+        if isinstance(node, dict) and element in node:
+            path.append(element)
+            node = node[element]
+        elif isinstance(node, list) and isinstance(element, int) and element < len(node):
+            path.append(element)
+            node = node[element]
+        else:
+            leftover.append(element)
+    return tuple(path), tuple(leftover)
+
+
+def _message(kind: str, err: Any, path: KeyPath, data: Any) -> tuple[str, str | None]:
+    where = _describe(path)
+    if kind == "missing":
+        field_name = err["loc"][-1]
+        return f"missing required field '{field_name}'{where}", None
+    if kind == "extra_forbidden":
+        key = str(err["loc"][-1])
+        parent = _node(data, path[:-1])
+        known = _known_fields(err, parent)
+        return f"unknown key '{key}'{_describe(path[:-1])}", did_you_mean(key, known)
+    if kind == "union_tag_invalid":
+        from robospec.model.controllers import CONTROLLER_TYPES
+
+        got = str(_node(data, path))
+        hint = did_you_mean(got, CONTROLLER_TYPES) or "types: " + ", ".join(CONTROLLER_TYPES)
+        return f"unknown controller type {got!r}{_describe(path[:-1])}", hint
+    if kind == "union_tag_not_found":
+        return f"missing 'type'{where}", None
+    if kind == "literal_error":
+        expected = err.get("ctx", {}).get("expected") or err.get("ctx", {}).get("expected_tags")
+        got = _node(data, path)
+        return f"invalid value {got!r}{where}", f"expected one of {expected}" if expected else None
+    if kind == "string_pattern_mismatch":
+        got = _node(data, path)
+        return f"invalid name {got!r}{where}", "use letters, digits, '_', '-' and '.'"
+    return f"{err['msg']}{where}", None
+
+
+def _describe(path: KeyPath) -> str:
+    if not path:
+        return ""
+    return " in '" + ".".join(str(p) for p in path) + "'"
+
+
+def _node(data: Any, path: KeyPath) -> Any:
+    node = data
+    for element in path:
+        try:
+            node = node[element]
+        except (KeyError, IndexError, TypeError):
+            return None
+    return node
+
+
+def _known_fields(err: Any, parent: Any) -> list[str]:
+    from robospec.model.schema_info import fields_for
+
+    return fields_for(err["loc"][:-1], parent)

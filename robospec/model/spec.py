@@ -1,0 +1,165 @@
+"""The spec, version 1: everything a ManiSkill ``BaseAgent`` subclass declares, as data.
+
+Pure data and local rules only: no file is read here. References into the robot description
+(joint and link names) are bound later, in :mod:`robospec.resolve`.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, StrictBool, model_validator
+
+from robospec.model.common import GroupSelection, JointSelection, Number, Pose, StrictModel
+from robospec.model.controllers import ControllerConfig
+
+UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"
+NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"
+CLASS_NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]{0,63}$"
+
+ScalarArg = str | int | float | bool
+
+
+class Description(StrictModel):
+    """The robot description file: exactly one of ``urdf``, ``mjcf`` or ``xacro``.
+
+    Relative paths are taken against the spec file's folder; ``{maniskill_assets}`` stands for
+    ManiSkill's bundled asset folder.
+    """
+
+    urdf: str | None = Field(default=None, examples=["{maniskill_assets}/robots/panda/panda_v2.urdf"])
+    mjcf: str | None = Field(default=None, examples=["{maniskill_assets}/robots/humanoid/humanoid.xml"])
+    xacro: str | None = Field(default=None, examples=["robots/twolink/twolink.urdf.xacro"])
+    args: dict[str, ScalarArg] = Field(
+        default_factory=dict, description="xacro arguments (name := value)"
+    )
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> Description:
+        given = [k for k in ("urdf", "mjcf", "xacro") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError("give exactly one of urdf, mjcf or xacro")
+        if self.args and self.xacro is None:
+            raise ValueError("args are only for xacro descriptions")
+        return self
+
+    @property
+    def kind(self) -> Literal["urdf", "mjcf", "xacro"]:
+        if self.urdf is not None:
+            return "urdf"
+        return "mjcf" if self.mjcf is not None else "xacro"
+
+    @property
+    def path(self) -> str:
+        return self.urdf or self.mjcf or self.xacro or ""
+
+
+class Loader(StrictModel):
+    """How ManiSkill loads the articulation (BaseAgent class attributes)."""
+
+    fix_root_link: bool = Field(default=True, description="fix the root link in place")
+    load_multiple_collisions: bool = Field(
+        default=False, description="load collision meshes as multiple convex shapes"
+    )
+    disable_self_collisions: bool = Field(
+        default=False, description="disable all collisions between the robot's own links"
+    )
+
+
+class Material(StrictModel):
+    """A physical material (PhysX friction and restitution)."""
+
+    static_friction: Number
+    dynamic_friction: Number
+    restitution: Number = 0.0
+
+
+class LinkRule(StrictModel):
+    """Physical properties for the links a name or glob matches."""
+
+    material: str | None = Field(default=None, description="a name from `materials`")
+    patch_radius: Number | None = None
+    min_patch_radius: Number | None = None
+    density: Number | None = None
+
+
+JointValues = list[Number] | dict[str, Number | list[Number]]
+
+
+class Keyframe(StrictModel):
+    """A named robot state: root pose, joint positions and velocities."""
+
+    pose: Pose = Field(default_factory=Pose)
+    qpos: JointValues | None = Field(
+        default=None, description="all active joints in order, or by joint/group name"
+    )
+    qvel: JointValues | None = None
+
+
+class Camera(StrictModel):
+    """A camera mounted on a link."""
+
+    mount: str = Field(description="the link the camera is mounted on")
+    pose: Pose = Field(default_factory=Pose, description="pose relative to the mount link")
+    width: Annotated[int, Field(gt=0, le=16384)]
+    height: Annotated[int, Field(gt=0, le=16384)]
+    fov: Number | None = Field(default=None, description="vertical field of view in radians")
+    intrinsic: Annotated[list[Annotated[list[Number], Field(min_length=3, max_length=3)]], Field(
+        min_length=3, max_length=3
+    )] | None = Field(default=None, description="3x3 intrinsic matrix, instead of fov")
+    near: Number = 0.01
+    far: Number = 100.0
+    shader_pack: Literal["minimal", "default", "rt", "rt-med", "rt-fast"] = "minimal"
+
+
+class CollisionRule(StrictModel):
+    """Set one collision-group bit on some links (``link.set_collision_group_bit``)."""
+
+    links: JointSelection = Field(description="link names or globs")
+    group: Annotated[int, Field(ge=0, le=3)] = Field(description="collision group index, 0 to 3")
+    bit: Annotated[int, Field(ge=0, le=31)] = Field(description="bit index, 0 to 31")
+    value: Literal[0, 1] = 1
+
+
+ControlMode = str | dict[str, str | StrictBool]
+"""A single controller name, or ``{group: controller, ..., balance_passive_force: bool}``."""
+
+
+class Spec(StrictModel):
+    """A robot for ManiSkill, version 1."""
+
+    robospec: Literal[1] = Field(description="spec format version")
+    uid: Annotated[str, Field(pattern=UID_PATTERN)] = Field(
+        description="the agent uid passed to gym.make(robot_uids=...)"
+    )
+    class_name: Annotated[str, Field(pattern=CLASS_NAME_PATTERN)] | None = Field(
+        default=None, description="Python class name; default: derived from uid"
+    )
+    description: Description
+    loader: Loader = Field(default_factory=Loader)
+    materials: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Material] = Field(
+        default_factory=dict
+    )
+    links: dict[str, LinkRule] = Field(
+        default_factory=dict, description="link rules by name or glob; each must match a link"
+    )
+    groups: dict[Annotated[str, Field(pattern=NAME_PATTERN)], GroupSelection] = Field(
+        default_factory=dict, description="named joint selections"
+    )
+    passive_joints: JointSelection | None = Field(
+        default=None, description="joints no control mode needs to drive"
+    )
+    keyframes: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Keyframe] = Field(
+        default_factory=dict
+    )
+    controllers: dict[Annotated[str, Field(pattern=NAME_PATTERN)], ControllerConfig] = Field(
+        default_factory=dict, description="controller configs, defined once, reused by modes"
+    )
+    control_modes: dict[Annotated[str, Field(pattern=NAME_PATTERN)], ControlMode] = Field(
+        min_length=1, description="ordered; the first is the default"
+    )
+    cameras: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Camera] = Field(
+        default_factory=dict
+    )
+    collision_rules: list[CollisionRule] = Field(default_factory=list)
+    tcp: str | None = Field(default=None, description="the tool-centre-point link")
