@@ -37,6 +37,13 @@ _GLOB = re.compile(r"[*?\[]")
 PER_JOINT_FIELDS = ("stiffness", "damping", "force_limit", "friction", "lower", "upper",
                     "vel_lower", "vel_upper", "drive_mode")
 LIMIT_TOLERANCE = 1e-6
+# ManiSkill's dataclass field order, so generated configs read like its own
+KWARG_ORDER = (
+    "joint_names", "lower", "upper", "pos_lower", "pos_upper", "rot_lower", "rot_upper",
+    "vel_lower", "vel_upper", "stiffness", "damping", "force_limit", "friction", "ee_link",
+    "urdf_path", "frame", "root_link_name", "use_delta", "use_target", "interpolate",
+    "normalize_action", "delta_solver_config", "drive_mode", "mimic",
+)
 
 
 @dataclass
@@ -312,7 +319,9 @@ class Resolver:
         if config.type in ("pd_base_vel", "pd_base_forward_vel") and len(joints) < 3:
             self.err((*path, "joints"), "RS315", f"{config.type} drives x, y and yaw joints: "
                      f"needs at least 3 joints, got {len(joints)}")
-        return ResolvedController(name, config.type, tuple(kwargs))
+        kwargs.sort(key=lambda item: KWARG_ORDER.index(item[0]))
+        group = config.joints if isinstance(config.joints, str) and config.joints in self.spec.groups else None
+        return ResolvedController(name, config.type, tuple(kwargs), joints_group=group)
 
     def mimic(self, value: dict[str, Any], joints: Sequence[str], path: KeyPath) -> dict:
         result: dict[str, dict[str, Any]] = {}

@@ -28,6 +28,8 @@ class ResolvedController:
     type: str
     # ManiSkill config keyword arguments, in emission order; FileRef values name files
     kwargs: tuple[tuple[str, Any], ...]
+    # the spec group its joints were given as, when exactly one group
+    joints_group: str | None = None
 
     @property
     def joint_names(self) -> tuple[str, ...]:

@@ -1,8 +1,11 @@
-"""RS309: a URDF ``<mimic>`` joint becomes a PhysX mimic joint, which goes NaN within a few
-CPU steps. Warn, at the ``<mimic>`` element, and point to the stable route.
+"""RS309: a URDF ``<mimic>`` joint becomes a PhysX mimic joint, which on its own goes NaN within
+a few CPU steps. It is stable when a ``pd_joint_pos_mimic`` controller drives the pair too (as
+ManiSkill's Panda does), so warn — at the ``<mimic>`` element — for each control mode that
+leaves a URDF mimic joint to PhysX alone.
 
-Passing: a two-finger gripper without ``<mimic>`` tags, driven by a ``pd_joint_pos_mimic``
-controller. Failing: a URDF joint carrying ``<mimic joint="finger_joint1"/>``.
+Passing: the Panda's ``panda_finger_joint2`` carries ``<mimic>``, and every mode drives both
+fingers with a ``pd_joint_pos_mimic`` controller. Failing: a hand whose finger joints carry
+``<mimic>`` tags and which no controller drives (``passive_joints`` or left out).
 """
 
 from __future__ import annotations
@@ -14,13 +17,28 @@ from robospec.diagnostics import Diagnostic, Location, warning
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
+    controllers = {c.name: c for c in context.robot.controllers}
     for joint in context.description.joints:
         if joint.mimic is None or not joint.is_active:
+            continue
+        unguarded = []
+        for mode in context.robot.modes:
+            names = [n for _, n in mode.groups] if mode.groups is not None else [mode.controller]
+            guarded = any(
+                controllers[n].type == "pd_joint_pos_mimic" and joint.name in controllers[n].joint_names
+                for n in names
+                if n in controllers
+            )
+            if not guarded:
+                unguarded.append(mode.name)
+        if not unguarded and context.robot.modes:
             continue
         yield warning(
             Location(context.description_file, joint.line, 1),
             "RS309",
-            f"joint '{joint.name}' mimics '{joint.mimic.joint}': SAPIEN turns URDF <mimic> into "
-            "a PhysX mimic joint, which is unstable on the CPU (NaN within a few steps)",
-            "remove the <mimic> tag and drive both joints with a pd_joint_pos_mimic controller",
+            f"joint '{joint.name}' mimics '{joint.mimic.joint}' and no pd_joint_pos_mimic "
+            f"controller drives it in mode(s) {', '.join(unguarded)}: SAPIEN turns URDF <mimic> "
+            "into a PhysX mimic joint, which alone is unstable on the CPU (NaN within a few steps)",
+            "drive the pair with a pd_joint_pos_mimic controller in every mode, or remove the "
+            "<mimic> tag",
         )

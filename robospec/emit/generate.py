@@ -171,6 +171,9 @@ def _class_body(robot: ResolvedRobot, context: _Context) -> list[ast.stmt]:
     if robot.urdf_config:
         body.append(_assign("urdf_config", const(robot.urdf_config)))
     body.append(_assign("keyframes", generate_keyframes(robot.keyframes)))
+    for group, attribute in _group_attributes(robot).items():
+        joints = next(c.joint_names for c in robot.controllers if c.joints_group == group)
+        body.append(_assign(attribute, const(list(joints))))
     body.append(generate_controller_configs(robot, context))
     if robot.cameras:
         body.append(generate_sensor_configs(robot.cameras))
@@ -208,11 +211,27 @@ def _variable_names(robot: ResolvedRobot) -> dict[str, str]:
     return names
 
 
+def _group_attributes(robot: ResolvedRobot) -> dict[str, str]:
+    """Groups that controllers use whole become ``<group>_joint_names`` class attributes."""
+    attributes: dict[str, str] = {}
+    for controller in robot.controllers:
+        group = controller.joints_group
+        if group is None or group in attributes:
+            continue
+        attribute = re.sub(r"\W", "_", group) + "_joint_names"
+        if attribute.isidentifier() and attribute.isascii():
+            attributes[group] = safe_identifier(attribute)
+    return attributes
+
+
 def generate_controller_configs(robot: ResolvedRobot, context: _Context) -> ast.FunctionDef:
     variables = _variable_names(robot)
+    attributes = _group_attributes(robot)
     body: list[ast.stmt] = []
     for controller in robot.controllers:
         kwargs = {key: const(value, context) for key, value in controller.kwargs}
+        if controller.joints_group in attributes:
+            kwargs["joint_names"] = _name("self." + attributes[controller.joints_group])
         body.append(_assign(variables[controller.name],
                             _call(CONFIG_CLASSES[controller.type], **kwargs)))
     modes: list[ast.expr] = []

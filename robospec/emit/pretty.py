@@ -60,7 +60,8 @@ def _statements(body: list[ast.stmt], indent: str, lines: list[str], *, top: boo
     previous: ast.stmt | None = None
     for stmt in body:
         if previous is not None and _blank_before(previous, stmt, top):
-            lines.extend([""] * (2 if top else 1))
+            two = top and isinstance(stmt, (ast.ClassDef, ast.FunctionDef))
+            lines.extend([""] * (2 if two else 1))
         _statement(stmt, indent, lines)
         previous = stmt
 
@@ -72,8 +73,8 @@ def _blank_before(previous: ast.stmt, stmt: ast.stmt, top: bool) -> bool:
     imports = (ast.Import, ast.ImportFrom)
     if isinstance(previous, imports) and not isinstance(stmt, imports):
         return True
-    if top and isinstance(previous, ast.Expr) and isinstance(previous.value, ast.Constant):
-        return True  # after the module docstring
+    if isinstance(previous, ast.Expr) and isinstance(previous.value, ast.Constant):
+        return True  # after a docstring
     # a standard-library import group, then the third-party group
     return (
         isinstance(previous, ast.Import)
@@ -104,6 +105,9 @@ def _statement(stmt: ast.stmt, indent: str, lines: list[str]) -> None:
         lines.append(f"{indent}for {ast.unparse(stmt.target)} in "
                      f"{format_expression(stmt.iter, indent)}:")
         _statements(stmt.body, indent + INDENT, lines, top=False)
+    elif isinstance(stmt, ast.ImportFrom) and len(flat := ast.unparse(stmt)) > LINE_LENGTH:
+        names = [ast.unparse(alias) for alias in stmt.names]
+        lines.append(_block(f"{indent}from {stmt.module} import (", names, ")", indent))
     elif isinstance(stmt, ast.Assign):
         targets = " = ".join(ast.unparse(t) for t in stmt.targets)
         lines.append(f"{indent}{targets} = {format_expression(stmt.value, indent)}")
