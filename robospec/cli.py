@@ -1,0 +1,113 @@
+"""The `robospec` command line. Exit codes: 0 no errors, 1 errors, 2 usage error."""
+
+from __future__ import annotations
+
+import enum
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from robospec.diagnostics import has_errors
+
+app = typer.Typer(
+    name="robospec",
+    help="Compile declarative robot specs (YAML/TOML) into registered ManiSkill agents.",
+    no_args_is_help=True,
+    add_completion=True,
+    pretty_exceptions_enable=False,
+)
+
+
+class Format(str, enum.Enum):
+    text = "text"
+    json = "json"
+
+
+PathsArg = Annotated[list[Path], typer.Argument(help="spec files, or folders to search")]
+FormatOpt = Annotated[Format, typer.Option("--format", "-f", help="diagnostic format")]
+
+
+@app.command()
+def validate(paths: PathsArg, format: FormatOpt = Format.text) -> None:
+    """Check specs against their robot descriptions.
+
+    Example: robospec validate specs/ --format json
+    """
+    from robospec.compile import compile_all
+    from robospec.report import render
+
+    compiled, diagnostics = compile_all(paths)
+    for item in compiled:
+        diagnostics.extend(item.diagnostics)
+    typer.echo(render(diagnostics, len(compiled), format.value))
+    raise typer.Exit(1 if has_errors(diagnostics) else 0)
+
+
+@app.command()
+def build(
+    paths: PathsArg,
+    out: Annotated[Path, typer.Option("--out", "-o", help="package folder to write")],
+    check: Annotated[bool, typer.Option("--check", help="exit 1 if OUT is stale; write nothing")]
+    = False,
+    format: FormatOpt = Format.text,
+) -> None:
+    """Write an importable package with one generated agent module per spec.
+
+    Example: robospec build specs/ -o my_robots   (then: import my_robots)
+    """
+    from robospec.build import build_package
+    from robospec.compile import compile_all
+    from robospec.report import render
+
+    compiled, diagnostics = compile_all(paths)
+    for item in compiled:
+        diagnostics.extend(item.diagnostics)
+    if has_errors(diagnostics) or not compiled:
+        typer.echo(render(diagnostics, len(compiled), format.value), err=format is Format.text)
+        raise typer.Exit(1)
+    result = build_package(compiled, out, check=check)
+    diagnostics.extend(result.diagnostics)
+    if has_errors(diagnostics):
+        typer.echo(render(diagnostics, len(compiled), format.value))
+        raise typer.Exit(1)
+    if format is Format.json:
+        typer.echo(render(diagnostics, len(compiled), "json"))
+    elif check:
+        state = "stale: " + ", ".join(result.changed) if result.changed else "up to date"
+        typer.echo(f"{out}: {state}")
+    else:
+        verb = f"wrote {len(result.changed)} file(s)" if result.changed else "up to date"
+        typer.echo(f"{out}: {verb} ({len(compiled)} agent(s))")
+    raise typer.Exit(1 if check and result.changed else 0)
+
+
+@app.command()
+def schema(
+    out: Annotated[Path | None, typer.Option("--out", "-o", help="write to FILE")] = None,
+) -> None:
+    """Print the JSON Schema of the spec format (for editors and CI).
+
+    Example: robospec schema -o schemas/robospec.schema.json
+    """
+    from robospec.schema import schema_text
+
+    text = schema_text()
+    if out is None:
+        sys.stdout.write(text)
+    else:
+        out.write_text(text, encoding="utf-8")
+
+
+def main() -> None:
+    try:
+        app()
+    except KeyboardInterrupt:
+        sys.exit(130)
+
+
+if __name__ == "__main__":
+    main()
+
+__all__ = ["app", "main"]

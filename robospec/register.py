@@ -1,0 +1,198 @@
+"""`robospec.register(paths)`: compile specs and register their agents at import time.
+
+A warm start must cost little next to ``import mani_skill.envs``: each spec's compiled module
+is cached under a key made of the spec's bytes, and is trusted only while every file it was
+compiled from still has the same hash. The warm path reads bytes and hashes them; it imports
+neither pydantic nor ruamel nor lxml.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import json
+import os
+import shutil
+import sys
+import tempfile
+from collections.abc import Iterable
+from pathlib import Path
+from types import ModuleType
+
+from robospec.diagnostics import Location, SpecError, error
+
+CACHE_FORMAT = "1"
+SPEC_SUFFIXES = (".yaml", ".yml", ".toml")
+
+
+def cache_root() -> Path:
+    configured = os.environ.get("ROBOSPEC_CACHE_DIR")
+    if configured:
+        return Path(configured)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "robospec"
+
+
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _file_hash(path: str) -> str | None:
+    try:
+        return _sha256(Path(path).read_bytes())
+    except OSError:
+        return None
+
+
+def _spec_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
+    files: list[Path] = []
+    for entry in paths:
+        path = Path(entry)
+        if path.is_dir():
+            files.extend(sorted(p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES))
+        else:
+            files.append(path)
+    return files
+
+
+def _robospec_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("robospec") + "/" + version("mani-skill")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def register(
+    paths: str | os.PathLike[str] | Iterable[str | os.PathLike[str]],
+    *,
+    cache_dir: str | os.PathLike[str] | None = None,
+) -> dict[str, type]:
+    """Compile the specs (files or folders) and register their agents with ManiSkill.
+
+    Returns ``{uid: agent class}``. Raises :class:`robospec.SpecError` carrying every
+    diagnostic when any spec has errors; then nothing is registered.
+    """
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    root = Path(cache_dir) if cache_dir is not None else cache_root()
+    files = _spec_files(paths)
+    salt = CACHE_FORMAT + "/" + _robospec_version()
+    entries: list[tuple[Path, Path]] = []
+    cold: list[tuple[Path, Path]] = []
+    for file in files:
+        try:
+            key = _sha256(salt.encode() + b"\0" + str(file.resolve()).encode() + b"\0"
+                          + file.read_bytes())
+        except OSError as exc:
+            raise SpecError([error(Location(str(file)), "RS001",
+                                   f"cannot read spec: {exc.strerror}")]) from None
+        entry = root / key[:40]
+        entries.append((file, entry))
+        if not _entry_is_fresh(entry):
+            cold.append((file, entry))
+    if cold:
+        _compile_entries(cold, [f for f, _ in entries])
+    return _load_entries(entries)
+
+
+def _entry_is_fresh(entry: Path) -> bool:
+    try:
+        manifest = json.loads((entry / "manifest.json").read_text(encoding="utf-8"))
+        deps = manifest["deps"]
+        module_file = entry / manifest["module_file"]
+        if _file_hash(str(module_file)) != manifest["module_sha256"]:
+            return False  # a corrupted or edited entry is rebuilt, never trusted
+        return all(_file_hash(path) == digest for path, digest in deps)
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
+
+
+def _compile_entries(cold: list[tuple[Path, Path]], all_files: list[Path]) -> None:
+    from robospec.compile import compile_all
+    from robospec.diagnostics import has_errors
+    from robospec.output import module_name_for, robot_files
+
+    compiled, diagnostics = compile_all(all_files)
+    for item in compiled:
+        diagnostics.extend(item.diagnostics)
+    if has_errors(diagnostics):
+        raise SpecError([d for d in diagnostics if d.is_error])
+    by_path = {item.path: item for item in compiled}
+    for file, entry in cold:
+        item = by_path[file]
+        assert item.robot is not None
+        module = module_name_for(item.robot.uid, set())
+        entry.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".tmp-", dir=entry.parent))
+        try:
+            files = robot_files(item.robot, module, entry)
+            for name, text in files.items():
+                (staging / name).write_text(text, encoding="utf-8")
+            deps = [str(file.resolve()), *_dependencies(item.robot)]
+            manifest = {
+                "uid": item.robot.uid,
+                "class_name": item.robot.class_name,
+                "module_file": f"{module}.py",
+                "module_sha256": _sha256(files[f"{module}.py"].encode()),
+                "deps": [[path, _file_hash(path)] for path in deps],
+            }
+            (staging / "manifest.json").write_text(json.dumps(manifest, indent=1))
+            shutil.rmtree(entry, ignore_errors=True)
+            os.replace(staging, entry)
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
+
+
+def _dependencies(robot: object) -> list[str]:
+    from robospec.resolved import FileRef, ResolvedRobot
+
+    assert isinstance(robot, ResolvedRobot)
+    refs = [robot.description] + [
+        value for c in robot.controllers for _, value in c.kwargs if isinstance(value, FileRef)
+    ]
+    deps: list[str] = []
+    for ref in refs:
+        deps.append(str(ref.absolute))
+        if ref.generated_text is not None:
+            # a xacro file may include its neighbours: any change there recompiles
+            folder = ref.absolute.parent
+            deps.extend(str(p) for p in sorted(folder.rglob("*"))
+                        if p.is_file() and p.suffix in (".xacro", ".urdf"))
+    return sorted(set(deps), key=deps.index)
+
+
+def _load_entries(entries: list[tuple[Path, Path]]) -> dict[str, type]:
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    loaded: dict[str, type] = {}
+    for file, entry in entries:
+        manifest = json.loads((entry / "manifest.json").read_text(encoding="utf-8"))
+        uid = manifest["uid"]
+        module_name = f"robospec_agents.{entry.name}"
+        existing = REGISTERED_AGENTS.get(uid)
+        if existing is not None:
+            if getattr(existing.agent_cls, "__module__", None) == module_name:
+                loaded[uid] = existing.agent_cls  # the same spec, registered before
+                continue
+            raise SpecError([error(Location(str(file)), "RS306",
+                                   f"uid '{uid}' is already registered by "
+                                   f"{existing.agent_cls.__module__}."
+                                   f"{existing.agent_cls.__name__}")])
+        module = _exec_module(module_name, entry / manifest["module_file"])
+        loaded[uid] = getattr(module, manifest["class_name"])
+    return loaded
+
+
+def _exec_module(name: str, path: Path) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(name, path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        sys.modules.pop(name, None)
+        raise
+    return module
