@@ -302,7 +302,10 @@ class Resolver:
                 continue
             value = getattr(config, field_name)
             field_path = (*path, field_name)
-            if field_name in PER_JOINT_FIELDS:
+            if config.type == "pd_base_forward_vel" and field_name in ("lower", "upper"):
+                # bounds of the 2-D action (forward speed, turn rate), not per joint
+                value = self.per_joint(value, ("forward", "turn"), field_path)
+            elif field_name in PER_JOINT_FIELDS:
                 value = self.per_joint(value, joints, field_path)
             elif field_name == "mimic":
                 value = self.mimic(value, joints, field_path)
