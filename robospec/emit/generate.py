@@ -101,6 +101,8 @@ def const(value: Any, context: _Context | None = None) -> ast.expr:
     """A Python value as an expression of constants only."""
     if isinstance(value, FileRef):
         assert context is not None
+        if value == context.robot.description:
+            return _name("self.urdf_path")  # as ManiSkill's agents hand their URDF to IK
         return context.path_expr(value)
     if value is None or isinstance(value, (bool, int, str)):
         return ast.Constant(value)
