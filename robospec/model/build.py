@@ -133,7 +133,7 @@ def _merge_extends(
 def _diagnostics_from(
     exc: ValidationError, data: Any, loaded: LoadedSpec, result: SpecModelResult
 ) -> list[Diagnostic]:
-    diagnostics: list[Diagnostic] = []
+    diagnostics: list[tuple[KeyPath, Diagnostic]] = []
     seen: set[KeyPath] = set()
     # our own errors (bad arithmetic, ...) say more than "should be a valid list": first
     errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] not in _ERROR_CODES)
@@ -159,8 +159,14 @@ def _diagnostics_from(
         if source_path in seen:
             continue
         seen.add(source_path)
-        diagnostics.append(error(location, code, message, hint))
-    return diagnostics
+        diagnostics.append((source_path, error(location, code, message, hint)))
+    # A union (number | list | mapping) that fails deep inside one member also reports "not a
+    # mapping" for the others at the outer place: the deeper, specific error is the real one.
+    return [
+        d for path, d in diagnostics
+        if not (d.code == "RS102" and any(len(o) > len(path) and o[: len(path)] == path
+                                          for o, _ in diagnostics))
+    ]
 
 
 def _data_path(loc: tuple[Any, ...], data: Any) -> tuple[KeyPath, KeyPath]:

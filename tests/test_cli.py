@@ -1,0 +1,80 @@
+"""The CLI contract: exit codes, located text lines, JSON shape, and a light import path."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
+
+
+def robospec(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "robospec.cli", *args], cwd=cwd,
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_validate_of_the_shipped_specs_exits_zero() -> None:
+    result = robospec("validate", "specs/")
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "0 error(s)" in result.stdout
+
+
+def test_misspelled_joint_exits_one_with_the_exact_line_column_and_suggestion() -> None:
+    result = robospec("validate", str(MISSPELLED.relative_to(ROOT)))
+    assert result.returncode == 1
+    first = result.stdout.splitlines()[0]
+    assert first == ("tests/specs/negative/misspelled_joint.yaml:6:80: error[RS201] unknown "
+                     "joint 'panda_joint77'")
+    assert "did you mean 'panda_joint7'?" in result.stdout
+    line = MISSPELLED.read_text().splitlines()[5]
+    assert line[79:].startswith("panda_joint77")
+
+
+def test_json_format_follows_the_diagnostics_contract() -> None:
+    result = robospec("validate", "--format", "json", str(MISSPELLED))
+    assert result.returncode == 1
+    report = json.loads(result.stdout)
+    assert report["summary"] == {"errors": 1, "warnings": 0, "files": 1}
+    (diagnostic,) = report["diagnostics"]
+    assert set(diagnostic) == {"file", "line", "column", "code", "severity", "message", "hint"}
+    assert (diagnostic["line"], diagnostic["column"], diagnostic["code"]) == (6, 80, "RS201")
+
+
+def test_usage_errors_exit_two() -> None:
+    assert robospec("validate").returncode == 2
+    assert robospec("validate", "--format", "yaml", "specs/").returncode == 2
+    assert robospec("frobnicate").returncode == 2
+
+
+def test_a_missing_path_is_a_located_error_not_a_traceback() -> None:
+    result = robospec("validate", "no/such/spec.yaml")
+    assert result.returncode == 1
+    assert "no/such/spec.yaml:1:1: error[RS001]" in result.stdout
+    assert "Traceback" not in result.stderr
+
+
+def test_validate_never_imports_torch_sapien_or_maniskill() -> None:
+    probe = (
+        "import sys\n"
+        "from robospec.cli import app\n"
+        "try:\n"
+        "    app(['validate', 'specs/'])\n"
+        "except SystemExit as exit:\n"
+        "    assert exit.code == 0, exit.code\n"
+        "heavy = sorted(m for m in ('torch', 'sapien', 'mani_skill', 'trimesh', 'yourdfpy')\n"
+        "               if m in sys.modules)\n"
+        "print('HEAVY', heavy)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True,
+                            text=True, timeout=120)
+    assert "HEAVY []" in result.stdout, result.stdout + result.stderr
+
+
+def test_schema_command_prints_the_committed_schema() -> None:
+    result = robospec("schema")
+    assert result.returncode == 0
+    committed = (ROOT / "schemas/robospec.schema.json").read_text(encoding="utf-8")
+    assert result.stdout == committed, "run: robospec schema -o schemas/robospec.schema.json"
