@@ -1,0 +1,50 @@
+"""Robot descriptions (URDF, MJCF) read into located, frozen facts.
+
+Everything here imports only lxml and the standard library: it is on the fast validation path.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from robospec.description.model import Joint, Link, Mimic, RobotDescription
+from robospec.diagnostics import Diagnostic, Location, error
+
+__all__ = [
+    "Joint",
+    "Link",
+    "Mimic",
+    "RobotDescription",
+    "load_description",
+]
+
+
+def load_description(
+    path: str, kind: Literal["urdf", "mjcf"], text: str | bytes | None = None
+) -> tuple[RobotDescription | None, list[Diagnostic]]:
+    """Parse the description at ``path`` (or ``text``, when given, located as ``path``).
+
+    A file that cannot be read is RS050 at ``path:1:1``; nothing here raises on bad input.
+    """
+    if text is None:
+        try:
+            with open(path, "rb") as handle:
+                text = handle.read()
+        except OSError as exc:
+            reason = exc.strerror or type(exc).__name__
+            return None, [
+                error(
+                    Location(path, 1, 1),
+                    "RS050",
+                    f"cannot read robot description '{path}': {reason}",
+                )
+            ]
+    if kind == "urdf":
+        from robospec.description.urdf import parse_urdf
+
+        return parse_urdf(text, path)
+    if kind == "mjcf":
+        from robospec.description.mjcf import parse_mjcf
+
+        return parse_mjcf(text, path)
+    return None, [error(Location(path, 1, 1), "RS900", f"unknown description kind {kind!r}")]
