@@ -1,0 +1,455 @@
+"""Located MJCF parsing that mirrors ManiSkill's MJCF loader (mani_skill/utils/building/
+_mjcf_loader.py, ManiSkill 3.0.1), with lxml only.
+
+What that loader turns into the robot articulation, and hence what this module reports:
+
+* ``<include file=...>`` elements directly under ``<mujoco>`` are read relative to the file and
+  their children appended after the main file's (not recursively). ``find`` then takes the first
+  ``<compiler>`` and the first ``<worldbody>``.
+* ``<compiler angle=...>``: ranges are in degrees unless ``angle`` is set to anything but
+  "degree" (ManiSkill's default is degrees, like MuJoCo's); hinge ranges are converted to
+  radians, slide ranges are kept.
+* Every direct ``<body>`` of ``<worldbody>`` that has a ``<joint>`` somewhere below it (or a
+  ``<freejoint>`` of its own) becomes an articulation; the robot is the first one. Its root is a
+  link named ``dummy_root_{i}``, ``i`` the body's index among ``<worldbody>``'s bodies; it is free
+  when the body has a ``<freejoint>``, fixed otherwise. A body holding nothing but one child body
+  is skipped in favour of that child.
+* A body with no ``<joint>`` hangs on a fixed joint named "". A body with ``n`` joints becomes a
+  chain of ``n`` links: ``{body}_dummy_0`` ... ``{body}_dummy_{n-2}`` and finally ``{body}``,
+  joint ``k`` moving link ``k``. ``<freejoint>`` below the root is ignored.
+* Joint attributes merge the active defaults, then the joint's ``class``, then its own
+  attributes. A body's ``childclass`` matching ``motor`` (ManiSkill's ignore list, a regex
+  prefix match) drops the body and everything below it.
+* hinge -> revolute (continuous when not limited), slide -> prismatic; ``limited="auto"``
+  means "has a range". Ball and free joints make ManiSkill's loader fail.
+* PhysX then orders the links breadth-first, exactly as for URDF (see urdf.py).
+
+ManiSkill's link and joint names are the builder names above (``Articulation`` strips its
+``scene-0-{uid}_`` prefix), so these are the names a spec must use.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import os
+import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from lxml import etree
+
+from robospec.description.model import (
+    ACTIVE_JOINT_TYPES,
+    Joint,
+    JointType,
+    Link,
+    RobotDescription,
+)
+from robospec.description.urdf import (
+    FILE_NOT_FOUND,
+    INVALID_STRUCTURE,
+    at,
+    bfs_order,
+    did_you_mean,
+    line_of,
+    parse_xml,
+)
+from robospec.diagnostics import Diagnostic, Location, error, warning
+
+# ManiSkill's MJCFLoader(ignore_classes=["motor"]): bodies whose childclass re.match()es one of
+# these are not loaded.
+IGNORE_CLASSES: tuple[str, ...] = ("motor",)
+
+ReadFile = Callable[[str], bytes]
+
+# A defaults table as ManiSkill keeps it: class -> tag -> attribute -> value.
+Defaults = dict[str, Any]
+
+
+def _read_bytes(file: str) -> bytes:
+    with open(file, "rb") as handle:
+        return handle.read()
+
+
+def _merge(base: Mapping[str, Any], *incoming: Mapping[str, Any]) -> dict[str, Any]:
+    """ManiSkill's ``_merge_attrib``: a deep-copied ``base`` updated by each mapping in turn."""
+
+    def merge_into(a: dict[str, Any], b: Mapping[str, Any]) -> None:
+        for key, value in b.items():
+            if key in a and isinstance(a[key], dict) and isinstance(value, dict):
+                merge_into(a[key], value)
+            else:
+                a[key] = value
+
+    result = copy.deepcopy(dict(base))
+    for mapping in incoming:
+        merge_into(result, mapping)
+    return result
+
+
+@dataclass
+class _Node:
+    """One link ManiSkill creates, with the joint that attaches it to its parent."""
+
+    name: str
+    line: int
+    parent: str | None
+    joint: Joint | None  # None for the dummy root and for nameless fixed joints
+
+
+@dataclass
+class _State:
+    path: str
+    use_degrees: bool
+    classes: dict[str, Defaults]
+    class_lines: dict[str, int]
+    diagnostics: list[Diagnostic]
+    file_of: dict[etree._Element, str] = field(default_factory=dict)
+    nodes: list[_Node] = field(default_factory=list)
+    children: dict[str, list[str]] = field(default_factory=dict)
+    link_lines: dict[str, tuple[str, int]] = field(default_factory=dict)
+
+    def where(self, element: etree._Element) -> Location:
+        return at(self.file_of.get(element.getroottree().getroot(), self.path), element)
+
+
+def parse_mjcf(
+    text: str | bytes, path: str, read_file: ReadFile | None = None
+) -> tuple[RobotDescription | None, list[Diagnostic]]:
+    """Parse an MJCF into the :class:`RobotDescription` of the articulation ManiSkill builds.
+
+    ``path`` locates diagnostics and resolves ``<include>`` files (read with ``read_file``,
+    default: from disk). Never raises on bad input; the description is None when no
+    articulation can be made out or any error was found.
+
+    ``links`` are ManiSkill's links in qpos order (dummy root and dummy links included);
+    ``joints`` are the named joints in the same order: the nameless fixed joints ManiSkill makes
+    for the root and for bodies without joints are left out, since no spec can name them.
+    """
+    read = read_file or _read_bytes
+    root, diagnostics = parse_xml(text, path)
+    if root is None:
+        return None, diagnostics
+    if root.tag != "mujoco":
+        diagnostics.append(
+            error(at(path, root), INVALID_STRUCTURE, f"root element is <{root.tag}>, not <mujoco>")
+        )
+        return None, diagnostics
+
+    file_of: dict[etree._Element, str] = {root: path}
+    top: list[etree._Element] = [child for child in root if isinstance(child.tag, str)]
+    for include in root.findall("include"):
+        included = _read_include(include, path, read, diagnostics)
+        if included is not None:
+            file_of[included[0]] = included[1]
+            top.extend(child for child in included[0] if isinstance(child.tag, str))
+    if any(d.is_error for d in diagnostics):
+        return None, diagnostics
+
+    compiler = next((el for el in top if el.tag == "compiler"), None)
+    use_degrees = True
+    if compiler is not None:
+        use_degrees = compiler.get("angle", "degree").lower() == "degree"
+
+    state = _State(path, use_degrees, {}, {}, diagnostics, file_of)
+    for default in (el for el in top if el.tag == "default"):
+        _parse_default(default, None, state)
+
+    worldbody = next((el for el in top if el.tag == "worldbody"), None)
+    if worldbody is None:
+        diagnostics.append(error(at(path, root), INVALID_STRUCTURE, "the model has no <worldbody>"))
+        return None, diagnostics
+
+    bodies = worldbody.findall("body")
+    articulated = [(i, body) for i, body in enumerate(bodies) if _is_articulation(body)]
+    if not articulated:
+        diagnostics.append(
+            error(
+                state.where(worldbody),
+                INVALID_STRUCTURE,
+                "no <body> under <worldbody> has a joint; ManiSkill loads the first body tree "
+                "with a joint as the robot",
+            )
+        )
+        return None, diagnostics
+    for _, other in articulated[1:]:
+        diagnostics.append(
+            warning(
+                state.where(other),
+                INVALID_STRUCTURE,
+                f"body '{other.get('name', '')}' is a second articulation; ManiSkill loads only "
+                "the first body tree with joints as the robot",
+            )
+        )
+
+    index, body = articulated[0]
+    has_freejoint = body.find("freejoint") is not None
+    root_name = f"dummy_root_{index}"
+    state.nodes.append(_Node(root_name, line_of(body), None, None))
+    state.children[root_name] = []
+    state.link_lines[root_name] = (path, line_of(body))
+    # ManiSkill skips a wrapper body that holds exactly one body and no geom or joint.
+    tags = [child.tag for child in body if isinstance(child.tag, str)]
+    if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
+        body = body.find("body")
+    root_defaults = state.classes.get("__root__", {})
+    _parse_body(body, root_name, root_defaults, state)
+    if any(d.is_error for d in diagnostics):
+        return None, diagnostics
+
+    order = bfs_order(root_name, state.children)
+    by_name = {node.name: node for node in state.nodes}
+    joints: list[Joint] = []
+    active: list[str] = []
+    for name in order[1:]:
+        joint = by_name[name].joint
+        if joint is None:
+            continue
+        joints.append(joint)
+        if joint.type in ACTIVE_JOINT_TYPES:
+            active.append(joint.name)
+    links = tuple(Link(name, by_name[name].line) for name in order)
+    return (
+        RobotDescription(
+            kind="mjcf",
+            path=path,
+            links=links,
+            joints=tuple(joints),
+            active_joint_names=tuple(active),
+            root_link=root_name,
+            floating_root=has_freejoint,
+        ),
+        diagnostics,
+    )
+
+
+def _read_include(
+    include: etree._Element, path: str, read: ReadFile, diagnostics: list[Diagnostic]
+) -> tuple[etree._Element, str] | None:
+    file = include.get("file")
+    if not file:
+        diagnostics.append(error(at(path, include), INVALID_STRUCTURE, "<include> without file="))
+        return None
+    full = os.path.join(os.path.dirname(path), file)
+    try:
+        data = read(full)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        diagnostics.append(
+            error(
+                at(path, include), FILE_NOT_FOUND, f"cannot read included file '{file}': {reason}"
+            )
+        )
+        return None
+    included, included_diagnostics = parse_xml(data, full)
+    diagnostics.extend(included_diagnostics)
+    return (included, full) if included is not None else None
+
+
+def _is_articulation(body: etree._Element) -> bool:
+    """ManiSkill's test: a <freejoint> on the body, or a <joint> anywhere in its tree."""
+    return body.find("freejoint") is not None or next(body.iter("joint"), None) is not None
+
+
+def _parse_default(node: etree._Element, parent: etree._Element | None, state: _State) -> None:
+    """ManiSkill's ``_parse_default``, quirks included.
+
+    A class starts from a copy of its parent's table only when the parent <default> has a
+    class name; classes nested directly in the unnamed top-level <default> start empty (they
+    get the root defaults later, merged at each body).
+    """
+    class_name = node.get("class", "__root__")
+    if parent is not None and parent.get("class") is not None:
+        state.classes[class_name] = copy.deepcopy(state.classes.get(parent.get("class"), {}))
+    else:
+        state.classes[class_name] = {}
+    state.class_lines[class_name] = line_of(node)
+    table = state.classes[class_name]
+    for child in node:
+        if not isinstance(child.tag, str):
+            continue
+        if child.tag == "default":
+            _parse_default(child, node, state)
+        elif child.tag in table:
+            table[child.tag] = _merge(table[child.tag], dict(child.attrib))
+        else:
+            table[child.tag] = dict(child.attrib)
+
+
+def _class_table(name: str, element: etree._Element, state: _State) -> Defaults | None:
+    table = state.classes.get(name)
+    if table is None:
+        state.diagnostics.append(
+            error(
+                state.where(element),
+                INVALID_STRUCTURE,
+                f"unknown default class '{name}'",
+                did_you_mean(name, [c for c in state.classes if c != "__root__"]),
+            )
+        )
+    return table
+
+
+def _parse_body(body: etree._Element, parent: str, incoming: Defaults, state: _State) -> None:
+    childclass = body.get("childclass")
+    defaults = incoming
+    if childclass is not None:
+        if any(re.match(pattern, childclass) for pattern in IGNORE_CLASSES):
+            return  # ManiSkill drops the body and its subtree
+        table = _class_table(childclass, body, state)
+        if table is None:
+            return
+        defaults = _merge(incoming, table)
+
+    body_attrib = _merge(defaults.get("body", {}), dict(body.attrib))
+    name = body_attrib.get("name")
+    if not name:
+        state.diagnostics.append(
+            error(
+                state.where(body),
+                INVALID_STRUCTURE,
+                "body without a name; ManiSkill's MJCF loader needs one for every body",
+            )
+        )
+        return
+
+    joint_elements = body.findall("joint")
+    link_parent = parent
+    if not joint_elements:
+        _add_link(name, body, link_parent, None, state)
+        link_parent = name
+    for i, joint_element in enumerate(joint_elements):
+        link_name = name if i == len(joint_elements) - 1 else f"{name}_dummy_{i}"
+        attributes = _joint_attributes(joint_element, defaults, state)
+        if attributes is None:
+            return
+        joint = _make_joint(joint_element, attributes, link_parent, link_name, state)
+        _add_link(link_name, body, link_parent, joint, state)
+        link_parent = link_name
+
+    for child in body.findall("body"):
+        _parse_body(child, link_parent, defaults, state)
+
+
+def _add_link(
+    name: str, body: etree._Element, parent: str, joint: Joint | None, state: _State
+) -> None:
+    where = state.where(body)
+    if name in state.link_lines:
+        first_file, first_line = state.link_lines[name]
+        first = f"line {first_line}" if first_file == where.file else f"{first_file}:{first_line}"
+        state.diagnostics.append(
+            error(
+                where,
+                INVALID_STRUCTURE,
+                f"duplicate link name '{name}' (first made at {first}); ManiSkill names a "
+                "body's links after the body, with '_dummy_<k>' for its extra joints",
+            )
+        )
+        return
+    state.link_lines[name] = (where.file, where.line)
+    state.nodes.append(_Node(name, where.line, parent, joint))
+    state.children.setdefault(parent, []).append(name)
+    state.children.setdefault(name, [])
+
+
+def _joint_attributes(
+    element: etree._Element, defaults: Defaults, state: _State
+) -> dict[str, Any] | None:
+    layers: list[Mapping[str, Any]] = []
+    if "joint" in defaults:
+        layers.append(defaults["joint"])
+    joint_class = element.get("class")
+    if joint_class is not None:
+        table = _class_table(joint_class, element, state)
+        if table is None:
+            return None
+        if "joint" not in table:
+            # ManiSkill indexes the class's joint defaults directly and fails with KeyError.
+            state.diagnostics.append(
+                error(
+                    state.where(element),
+                    INVALID_STRUCTURE,
+                    f"default class '{joint_class}' sets no joint attributes; ManiSkill's MJCF "
+                    "loader fails on a joint that names it",
+                )
+            )
+            return None
+        layers.append(table["joint"])
+    layers.append(dict(element.attrib))
+    return _merge({}, *layers)
+
+
+def _make_joint(
+    element: etree._Element,
+    attributes: Mapping[str, Any],
+    parent: str,
+    child: str,
+    state: _State,
+) -> Joint | None:
+    name = str(attributes.get("name", ""))
+    where = state.where(element)
+    mj_type = str(attributes.get("type", "hinge"))
+    if mj_type not in ("hinge", "slide"):
+        state.diagnostics.append(
+            error(
+                where,
+                INVALID_STRUCTURE,
+                f"joint '{name}' has type '{mj_type}'; ManiSkill's MJCF loader only loads hinge "
+                "and slide joints (and a <freejoint/> on the root body)",
+            )
+        )
+        return None
+    if not name:
+        state.diagnostics.append(
+            warning(
+                where,
+                INVALID_STRUCTURE,
+                f"{mj_type} joint without a name; ManiSkill names it '' and a spec cannot "
+                "refer to it",
+            )
+        )
+
+    limited_attr = str(attributes.get("limited", "auto"))
+    limited = "range" in attributes if limited_attr == "auto" else limited_attr == "true"
+    lower: float | None = None
+    upper: float | None = None
+    if limited:
+        raw = str(attributes.get("range", "0 0"))
+        try:
+            values = [float(part) for part in raw.split()]
+        except ValueError:
+            values = []
+        if len(values) != 2 or not all(math.isfinite(v) for v in values):
+            state.diagnostics.append(
+                error(where, INVALID_STRUCTURE, f"joint '{name}': range=\"{raw}\" is not 2 numbers")
+            )
+        elif values[0] > values[1]:
+            state.diagnostics.append(
+                error(
+                    where,
+                    INVALID_STRUCTURE,
+                    f"joint '{name}': range=\"{raw}\" has its lower bound above its upper bound",
+                )
+            )
+        else:
+            if mj_type == "hinge" and state.use_degrees:
+                values = [math.radians(v) for v in values]
+            lower, upper = values
+
+    joint_type: JointType
+    if mj_type == "hinge":
+        joint_type = "revolute" if limited else "continuous"
+    else:
+        joint_type = "prismatic"
+    return Joint(
+        name=name,
+        type=joint_type,
+        parent=parent,
+        child=child,
+        line=where.line,
+        lower=lower,
+        upper=upper,
+    )
