@@ -7,20 +7,8 @@ pipeline and ManiSkill load only when used.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
-
 from robospec.diagnostics import Diagnostic, SpecError
+from robospec.registration import register
 
 __version__ = "0.1.0"
 __all__ = ["Diagnostic", "SpecError", "__version__", "register"]
-
-if TYPE_CHECKING:
-    from robospec.register import register
-
-
-def __getattr__(name: str) -> Any:
-    if name == "register":
-        from robospec.register import register
-
-        return register
-    raise AttributeError(name)

@@ -1,0 +1,114 @@
+"""Import-time registration: compiles once, caches by content, never trusts a bad cache entry."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import robospec
+from robospec import SpecError
+
+pytest.importorskip("mani_skill")
+pytestmark = pytest.mark.maniskill
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture
+def panda_spec(tmp_path: Path) -> Path:
+    """A panda spec under a fresh uid, so each test registers its own agent."""
+    text = (ROOT / "specs/maniskill/panda.yaml").read_text()
+    path = tmp_path / "panda.yaml"
+    path.write_text(text.replace("uid: rs_panda", f"uid: rs_panda_{tmp_path.name[-12:]}"))
+    return path
+
+
+def test_register_returns_the_registered_class(panda_spec: Path, tmp_path: Path) -> None:
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    classes = robospec.register(panda_spec, cache_dir=tmp_path / "cache")
+    ((uid, cls),) = classes.items()
+    assert REGISTERED_AGENTS[uid].agent_cls is cls
+    assert cls.__name__.startswith("RsPanda")
+
+
+def test_a_warm_cache_does_not_recompile(panda_spec: Path, tmp_path: Path) -> None:
+    cache = tmp_path / "cache"
+    robospec.register(panda_spec, cache_dir=cache)
+    # a new process with the compiler made unimportable must still register from the cache
+    probe = (
+        "import sys\n"
+        "sys.modules['robospec.compile'] = None\n"
+        "import mani_skill.envs, robospec\n"
+        f"print(list(robospec.register({str(panda_spec)!r}, cache_dir={str(cache)!r})))\n"
+        "print('LIGHT', [m for m in ('pydantic', 'ruamel.yaml', 'robospec.model') if m in sys.modules])\n"
+    )
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert "rs_panda_" in result.stdout
+    assert "LIGHT []" in result.stdout
+
+
+def test_a_corrupted_cache_entry_is_rebuilt_not_trusted(panda_spec: Path, tmp_path: Path) -> None:
+    from robospec.registration import _entry_is_fresh
+
+    cache = tmp_path / "cache"
+    robospec.register(panda_spec, cache_dir=cache)
+    (entry,) = [p for p in cache.iterdir() if p.is_dir()]
+    module = next(entry.glob("*.py"))
+    module.write_text(module.read_text() + "\nraise SystemExit('tampered')\n")
+    assert not _entry_is_fresh(entry)
+    (entry / "manifest.json").write_text("{not json")
+    assert not _entry_is_fresh(entry)
+
+
+def test_changing_the_description_invalidates_the_entry(tmp_path: Path) -> None:
+    from robospec.registration import _entry_is_fresh
+
+    robot = tmp_path / "robot"
+    shutil.copytree(ROOT / "specs/robots/twolink", robot)
+    spec = tmp_path / "twolink.toml"
+    text = (ROOT / "specs/twolink.toml").read_text()
+    spec.write_text(text.replace('"robots/twolink/', '"robot/').replace(
+        'uid = "twolink"', 'uid = "twolink_cache_test"').replace('class_name = "TwoLink"', ""))
+    cache = tmp_path / "cache"
+    robospec.register(spec, cache_dir=cache)
+    (entry,) = [p for p in cache.iterdir() if p.is_dir()]
+    assert _entry_is_fresh(entry)
+    xacro = robot / "twolink.urdf.xacro"
+    xacro.write_text(xacro.read_text().replace('default="0.3"', 'default="0.31"'))
+    assert not _entry_is_fresh(entry)
+
+
+def test_errors_raise_spec_error_with_the_diagnostics_and_register_nothing(tmp_path: Path) -> None:
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    before = set(REGISTERED_AGENTS)
+    with pytest.raises(SpecError) as caught:
+        robospec.register(ROOT / "tests/specs/negative/misspelled_joint.yaml",
+                          cache_dir=tmp_path / "cache")
+    (diagnostic,) = caught.value.diagnostics
+    assert (diagnostic.code, diagnostic.location.line, diagnostic.location.column) == (
+        "RS201", 6, 80)
+    assert set(REGISTERED_AGENTS) == before
+
+
+def test_a_uid_registered_by_other_code_is_an_error_not_a_silent_skip(
+    panda_spec: Path, tmp_path: Path
+) -> None:
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    robospec.register(panda_spec, cache_dir=tmp_path / "a")
+    uid = next(u for u in REGISTERED_AGENTS if u.startswith("rs_panda_" + tmp_path.name[-12:]))
+    other = tmp_path / "copy" / "panda.yaml"
+    other.parent.mkdir()
+    other.write_text(panda_spec.read_text() + "\n# a different spec, same uid\n")
+    with pytest.raises(SpecError) as caught:
+        robospec.register(other, cache_dir=tmp_path / "b")
+    assert caught.value.diagnostics[0].code == "RS306"
+    assert uid in str(caught.value)
