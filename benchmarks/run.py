@@ -66,10 +66,12 @@ def main() -> int:
     bad_spec = "tests/specs/negative/misspelled_joint.yaml"
 
     validate, validate_out = median_of(
-        [PYTHON, "-m", "robospec.cli", "validate", bad_spec], env, args.repeat)
+        [PYTHON, "-m", "robospec.cli", "validate", bad_spec], env, args.repeat
+    )
     hand, hand_out = median_of([PYTHON, "-c", HAND_WRITTEN_MISTAKE], env, args.repeat)
     validate_ok, _ = median_of(
-        [PYTHON, "-m", "robospec.cli", "validate", "specs/maniskill/panda.yaml"], env, args.repeat)
+        [PYTHON, "-m", "robospec.cli", "validate", "specs/maniskill/panda.yaml"], env, args.repeat
+    )
 
     register = "import mani_skill.envs, robospec; robospec.register('specs/')"
     timed([PYTHON, "-c", register], env)  # prime the cache (cold)
@@ -78,8 +80,14 @@ def main() -> int:
     overhead = (warm - baseline) / baseline
 
     first_error = next((line for line in validate_out.splitlines() if "error[" in line), "")
-    hand_error = next((line.split(":", 1)[1].strip() for line in hand_out.splitlines()
-                       if line.startswith("FIRST-ERROR:")), "(no error raised)")
+    hand_error = next(
+        (
+            line.split(":", 1)[1].strip()
+            for line in hand_out.splitlines()
+            if line.startswith("FIRST-ERROR:")
+        ),
+        "(no error raised)",
+    )
     text = f"""# Performance
 
 Measured by `benchmarks/run.py` in one run (each figure the median wall time of {args.repeat}

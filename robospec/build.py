@@ -53,8 +53,13 @@ def _previous_manifest(out_dir: Path) -> set[str]:
 def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -> BuildResult:
     result = BuildResult()
     if not out_dir.name.isidentifier():
-        result.diagnostics.append(error(Location(str(out_dir)), "RS105",
-                                        f"'{out_dir.name}' is not a valid Python package name"))
+        result.diagnostics.append(
+            error(
+                Location(str(out_dir)),
+                "RS105",
+                f"'{out_dir.name}' is not a valid Python package name",
+            )
+        )
         return result
     files = plan_package(compiled, out_dir)
     result.files = files
@@ -63,9 +68,14 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
     for name in sorted(files):
         current = out_dir / name
         if name in existing and name not in previous and name != MANIFEST:
-            result.diagnostics.append(error(Location(str(current)), "RS001",
-                                            "refusing to overwrite a file robospec did not "
-                                            "generate", "move it away or pick another -o folder"))
+            result.diagnostics.append(
+                error(
+                    Location(str(current)),
+                    "RS001",
+                    "refusing to overwrite a file robospec did not generate",
+                    "move it away or pick another -o folder",
+                )
+            )
         elif not current.is_file() or current.read_text(encoding="utf-8") != files[name]:
             result.changed.append(name)
     stale = sorted((previous & existing) - set(files))
@@ -76,8 +86,9 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
     return result
 
 
-def _write_atomically(out_dir: Path, files: dict[str, str], stale: list[str],
-                      existing: set[str]) -> None:
+def _write_atomically(
+    out_dir: Path, files: dict[str, str], stale: list[str], existing: set[str]
+) -> None:
     out_dir.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.", dir=out_dir.parent))
     try:

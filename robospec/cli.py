@@ -49,8 +49,9 @@ def validate(paths: PathsArg, format: FormatOpt = Format.text) -> None:
 def build(
     paths: PathsArg,
     out: Annotated[Path, typer.Option("--out", "-o", help="package folder to write")],
-    check: Annotated[bool, typer.Option("--check", help="exit 1 if OUT is stale; write nothing")]
-    = False,
+    check: Annotated[
+        bool, typer.Option("--check", help="exit 1 if OUT is stale; write nothing")
+    ] = False,
     format: FormatOpt = Format.text,
 ) -> None:
     """Write an importable package with one generated agent module per spec.

@@ -38,8 +38,12 @@ def compile_spec(path: Path, display: str | None = None) -> CompiledSpec:
     except Exception as exc:  # a bug of ours must still be a located diagnostic
         result.robot = None
         result.diagnostics.append(
-            error(Location(result.display), "RS900", f"internal error: {type(exc).__name__}: "
-                  f"{exc}", "please report this with the spec that caused it")
+            error(
+                Location(result.display),
+                "RS900",
+                f"internal error: {type(exc).__name__}: {exc}",
+                "please report this with the spec that caused it",
+            )
         )
     result.diagnostics.sort(key=sort_key)
     return result
@@ -57,10 +61,15 @@ def _compile_into(result: CompiledSpec) -> None:
         return
     spec = model.spec
     if spec.uid in MANISKILL_UIDS:
-        result.diagnostics.append(error(
-            loaded.source.value(("uid",)), "RS306",
-            f"uid '{spec.uid}' is already registered by ManiSkill; its register_agent would "
-            "skip this robot with only a warning", f"use a new uid such as 'rs_{spec.uid}'"))
+        result.diagnostics.append(
+            error(
+                loaded.source.value(("uid",)),
+                "RS306",
+                f"uid '{spec.uid}' is already registered by ManiSkill; its register_agent would "
+                "skip this robot with only a warning",
+                f"use a new uid such as 'rs_{spec.uid}'",
+            )
+        )
     resolver = Resolver(loaded, model, result.path)
     resolution = resolver.resolve()
     result.diagnostics.extend(resolution.diagnostics)
@@ -75,7 +84,8 @@ def _compile_into(result: CompiledSpec) -> None:
             description_file=resolver._display(resolution.robot.description),
             passive_joints=frozenset(
                 resolver.select(spec.passive_joints, ("passive_joints",))
-                if spec.passive_joints is not None else ()
+                if spec.passive_joints is not None
+                else ()
             ),
             locate_value=resolver.at_value,
             locate_key=resolver.at_key,
@@ -91,9 +101,11 @@ def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:
     diagnostics: list[Diagnostic] = []
     for path in paths:
         if path.is_dir():
-            found.extend(sorted(
-                p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES and p.is_file()
-            ))
+            found.extend(
+                sorted(
+                    p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES and p.is_file()
+                )
+            )
         elif path.exists():
             found.append(path)
         else:
@@ -124,7 +136,10 @@ def _duplicate_uids(compiled: list[CompiledSpec]) -> Iterable[Diagnostic]:
             assert other.loaded is not None
             where = other.loaded.source.value(("uid",))
             item.robot = None
-            yield error(item.loaded.source.value(("uid",)), "RS306",
-                        f"uid '{uid}' is also used by {where.file}:{where.line}")
+            yield error(
+                item.loaded.source.value(("uid",)),
+                "RS306",
+                f"uid '{uid}' is also used by {where.file}:{where.line}",
+            )
         else:
             first[uid] = item

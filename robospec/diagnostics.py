@@ -39,7 +39,9 @@ class Diagnostic:
 
     def format_text(self) -> str:
         loc = self.location
-        text = f"{loc.file}:{loc.line}:{loc.column}: {self.severity.value}[{self.code}] {self.message}"
+        text = (
+            f"{loc.file}:{loc.line}:{loc.column}: {self.severity.value}[{self.code}] {self.message}"
+        )
         if self.hint:
             text += f"\n    hint: {self.hint}"
         return text

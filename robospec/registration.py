@@ -83,11 +83,13 @@ def register(
     cold: list[tuple[Path, Path]] = []
     for file in files:
         try:
-            key = _sha256(salt.encode() + b"\0" + str(file.resolve()).encode() + b"\0"
-                          + file.read_bytes())
+            key = _sha256(
+                salt.encode() + b"\0" + str(file.resolve()).encode() + b"\0" + file.read_bytes()
+            )
         except OSError as exc:
-            raise SpecError([error(Location(str(file)), "RS001",
-                                   f"cannot read spec: {exc.strerror}")]) from None
+            raise SpecError(
+                [error(Location(str(file)), "RS001", f"cannot read spec: {exc.strerror}")]
+            ) from None
         entry = root / key[:40]
         entries.append((file, entry))
         if not _entry_is_fresh(entry):
@@ -158,8 +160,11 @@ def _dependencies(robot: object) -> list[str]:
         if ref.generated_text is not None:
             # a xacro file may include its neighbours: any change there recompiles
             folder = ref.absolute.parent
-            deps.extend(str(p) for p in sorted(folder.rglob("*"))
-                        if p.is_file() and p.suffix in (".xacro", ".urdf"))
+            deps.extend(
+                str(p)
+                for p in sorted(folder.rglob("*"))
+                if p.is_file() and p.suffix in (".xacro", ".urdf")
+            )
     return sorted(set(deps), key=deps.index)
 
 
@@ -176,10 +181,17 @@ def _load_entries(entries: list[tuple[Path, Path]]) -> dict[str, type]:
             if getattr(existing.agent_cls, "__module__", None) == module_name:
                 loaded[uid] = existing.agent_cls  # the same spec, registered before
                 continue
-            raise SpecError([error(Location(str(file)), "RS306",
-                                   f"uid '{uid}' is already registered by "
-                                   f"{existing.agent_cls.__module__}."
-                                   f"{existing.agent_cls.__name__}")])
+            raise SpecError(
+                [
+                    error(
+                        Location(str(file)),
+                        "RS306",
+                        f"uid '{uid}' is already registered by "
+                        f"{existing.agent_cls.__module__}."
+                        f"{existing.agent_cls.__name__}",
+                    )
+                ]
+            )
         module = _exec_module(module_name, entry / manifest["module_file"])
         loaded[uid] = getattr(module, manifest["class_name"])
     return loaded

@@ -20,9 +20,12 @@ def render(diagnostics: Sequence[Diagnostic], files: int, fmt: str) -> str:
     ordered = sorted(diagnostics, key=sort_key)
     counts = summary(ordered, files)
     if fmt == "json":
-        return json.dumps({"diagnostics": [d.to_json() for d in ordered], "summary": counts},
-                          indent=2)
+        return json.dumps(
+            {"diagnostics": [d.to_json() for d in ordered], "summary": counts}, indent=2
+        )
     lines = [d.format_text() for d in ordered]
-    lines.append(f"{counts['files']} file(s) checked: {counts['errors']} error(s), "
-                 f"{counts['warnings']} warning(s)")
+    lines.append(
+        f"{counts['files']} file(s) checked: {counts['errors']} error(s), "
+        f"{counts['warnings']} warning(s)"
+    )
     return "\n".join(lines)

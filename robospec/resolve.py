@@ -34,15 +34,44 @@ from robospec.resolved import (
 from robospec.suggest import did_you_mean
 
 _GLOB = re.compile(r"[*?\[]")
-PER_JOINT_FIELDS = ("stiffness", "damping", "force_limit", "friction", "lower", "upper",
-                    "vel_lower", "vel_upper", "drive_mode")
+PER_JOINT_FIELDS = (
+    "stiffness",
+    "damping",
+    "force_limit",
+    "friction",
+    "lower",
+    "upper",
+    "vel_lower",
+    "vel_upper",
+    "drive_mode",
+)
 LIMIT_TOLERANCE = 1e-6
 # ManiSkill's dataclass field order, so generated configs read like its own
 KWARG_ORDER = (
-    "joint_names", "lower", "upper", "pos_lower", "pos_upper", "rot_lower", "rot_upper",
-    "vel_lower", "vel_upper", "stiffness", "damping", "force_limit", "friction", "ee_link",
-    "urdf_path", "frame", "root_link_name", "use_delta", "use_target", "interpolate",
-    "normalize_action", "delta_solver_config", "drive_mode", "mimic",
+    "joint_names",
+    "lower",
+    "upper",
+    "pos_lower",
+    "pos_upper",
+    "rot_lower",
+    "rot_upper",
+    "vel_lower",
+    "vel_upper",
+    "stiffness",
+    "damping",
+    "force_limit",
+    "friction",
+    "ee_link",
+    "urdf_path",
+    "frame",
+    "root_link_name",
+    "use_delta",
+    "use_target",
+    "interpolate",
+    "normalize_action",
+    "delta_solver_config",
+    "drive_mode",
+    "mimic",
 )
 
 
@@ -85,15 +114,23 @@ class Resolver:
         if in_assets is not None:
             assets = maniskill_assets_dir()
             if assets is None:
-                self.err(path, "RS050", f"'{text}' names ManiSkill's assets, but ManiSkill is not "
-                         "installed", "pip install 'robospec[maniskill]'")
+                self.err(
+                    path,
+                    "RS050",
+                    f"'{text}' names ManiSkill's assets, but ManiSkill is not installed",
+                    "pip install 'robospec[maniskill]'",
+                )
                 return None
             ref = FileRef("maniskill_assets", in_assets, assets / in_assets)
         else:
             ref = FileRef("file", text, (self.spec_file.parent / text).resolve())
         if not ref.absolute.is_file():
-            self.err(path, "RS050", f"file not found: '{text}'",
-                     f"looked for {ref.absolute}" if ref.kind == "file" else None)
+            self.err(
+                path,
+                "RS050",
+                f"file not found: '{text}'",
+                f"looked for {ref.absolute}" if ref.kind == "file" else None,
+            )
             return None
         return ref
 
@@ -147,12 +184,18 @@ class Resolver:
         joint = self.description.joint(name)
         if joint is not None:
             if not joint.is_active:
-                self.err(path, "RS311", f"joint '{name}' is {joint.type}, not an active joint",
-                         "only revolute, continuous and prismatic joints can be selected")
+                self.err(
+                    path,
+                    "RS311",
+                    f"joint '{name}' is {joint.type}, not an active joint",
+                    "only revolute, continuous and prismatic joints can be selected",
+                )
                 return []
             return [name]
         if _GLOB.search(name):
-            matched = [j for j in self.description.active_joint_names if fnmatch.fnmatchcase(j, name)]
+            matched = [
+                j for j in self.description.active_joint_names if fnmatch.fnmatchcase(j, name)
+            ]
             if not matched:
                 self.err(path, "RS207", f"pattern '{name}' matches no active joint")
             return matched
@@ -162,7 +205,7 @@ class Resolver:
 
     def group(self, name: str, used_at: KeyPath, stack: tuple[str, ...]) -> list[str]:
         if name in stack:
-            cycle = " -> ".join((*stack[stack.index(name):], name))
+            cycle = " -> ".join((*stack[stack.index(name) :], name))
             self.err(("groups", name), "RS209", f"group definition is circular: {cycle}")
             return []
         if name not in self._group_cache:
@@ -189,15 +232,23 @@ class Resolver:
             if not matched:
                 self.err(path, "RS206", f"pattern '{pattern}' matches no link")
             return matched
-        self.err(path, "RS202", f"unknown link '{pattern}'",
-                 did_you_mean(pattern, self.description.link_names))
+        self.err(
+            path,
+            "RS202",
+            f"unknown link '{pattern}'",
+            did_you_mean(pattern, self.description.link_names),
+        )
         return []
 
     def link(self, name: str, path: KeyPath) -> str | None:
         assert self.description is not None
         if self.description.link(name) is None:
-            self.err(path, "RS202", f"unknown link '{name}'",
-                     did_you_mean(name, self.description.link_names))
+            self.err(
+                path,
+                "RS202",
+                f"unknown link '{name}'",
+                did_you_mean(name, self.description.link_names),
+            )
             return None
         return name
 
@@ -208,8 +259,11 @@ class Resolver:
         joint or group name becomes a list in the controller's joint order."""
         if isinstance(value, list):
             if len(value) != len(joints):
-                self.err(path, "RS102", f"expected {len(joints)} values (one per joint), "
-                         f"got {len(value)}")
+                self.err(
+                    path,
+                    "RS102",
+                    f"expected {len(joints)} values (one per joint), got {len(value)}",
+                )
             return list(value)
         if not isinstance(value, dict):
             return value
@@ -217,8 +271,9 @@ class Resolver:
         for key, item in value.items():
             for joint in self.select(key, (*path, key)):
                 if joint not in joints:
-                    self.err((*path, key), "RS201", f"joint '{joint}' is not driven by this "
-                             "controller")
+                    self.err(
+                        (*path, key), "RS201", f"joint '{joint}' is not driven by this controller"
+                    )
                 elif joint in by_joint:
                     self.err((*path, key), "RS313", f"joint '{joint}' is given a value twice")
                 by_joint[joint] = item
@@ -236,8 +291,12 @@ class Resolver:
             return None
         if isinstance(values, list):
             if len(values) != len(active):
-                self.err(path, "RS303", f"expected {len(active)} values, one per active joint "
-                         f"({', '.join(active)}), got {len(values)}")
+                self.err(
+                    path,
+                    "RS303",
+                    f"expected {len(active)} values, one per active joint "
+                    f"({', '.join(active)}), got {len(values)}",
+                )
                 return None
             result = list(values)
             value_paths = [(*path, i) for i in range(len(values))]
@@ -248,8 +307,11 @@ class Resolver:
                 joints = self.select(key, (*path, key))
                 items = item if isinstance(item, list) else [item] * len(joints)
                 if len(items) != len(joints):
-                    self.err((*path, key), "RS303", f"'{key}' has {len(joints)} joints but "
-                             f"{len(items)} values")
+                    self.err(
+                        (*path, key),
+                        "RS303",
+                        f"'{key}' has {len(joints)} joints but {len(items)} values",
+                    )
                     continue
                 for index, (joint, number) in enumerate(zip(joints, items, strict=True)):
                     if joint in by_joint:
@@ -263,13 +325,17 @@ class Resolver:
             result = [by_joint[j] for j in active]
             value_paths = [where[j] for j in active]
         if limits:
-            for joint, number, value_path in zip(self.description.active_joints, result,
-                                                 value_paths, strict=True):
+            for joint, number, value_path in zip(
+                self.description.active_joints, result, value_paths, strict=True
+            ):
                 low = -math.inf if joint.lower is None else joint.lower
                 high = math.inf if joint.upper is None else joint.upper
                 if not low - LIMIT_TOLERANCE <= number <= high + LIMIT_TOLERANCE:
-                    self.err(value_path, "RS304", f"{number:g} is outside the limits of "
-                             f"'{joint.name}' [{low:g}, {high:g}]")
+                    self.err(
+                        value_path,
+                        "RS304",
+                        f"{number:g} is outside the limits of '{joint.name}' [{low:g}, {high:g}]",
+                    )
         return tuple(float(v) for v in result)
 
     def keyframe(self, name: str, frame: Keyframe) -> ResolvedKeyframe:
@@ -316,14 +382,25 @@ class Resolver:
             elif field_name == "delta_solver_config" and value is not None:
                 value = value.model_dump()
             kwargs.append((field_name, value))
-        if config.type in ("pd_ee_pos", "pd_ee_pose") and "urdf_path" not in config.model_fields_set:
+        if (
+            config.type in ("pd_ee_pos", "pd_ee_pose")
+            and "urdf_path" not in config.model_fields_set
+        ):
             # ManiSkill's own agents pass their URDF to the IK controller; so do we
             kwargs.append(("urdf_path", description_ref))
         if config.type in ("pd_base_vel", "pd_base_forward_vel") and len(joints) < 3:
-            self.err((*path, "joints"), "RS315", f"{config.type} drives x, y and yaw joints: "
-                     f"needs at least 3 joints, got {len(joints)}")
+            self.err(
+                (*path, "joints"),
+                "RS315",
+                f"{config.type} drives x, y and yaw joints: "
+                f"needs at least 3 joints, got {len(joints)}",
+            )
         kwargs.sort(key=lambda item: KWARG_ORDER.index(item[0]))
-        group = config.joints if isinstance(config.joints, str) and config.joints in self.spec.groups else None
+        group = (
+            config.joints
+            if isinstance(config.joints, str) and config.joints in self.spec.groups
+            else None
+        )
         return ResolvedController(name, config.type, tuple(kwargs), joints_group=group)
 
     def mimic(self, value: dict[str, Any], joints: Sequence[str], path: KeyPath) -> dict:
@@ -332,17 +409,26 @@ class Resolver:
             leader = target if isinstance(target, str) else target.joint
             entry: dict[str, Any] = {"joint": leader}
             if isinstance(target, MimicTarget):
-                entry.update({k: getattr(target, k) for k in ("multiplier", "offset")
-                              if k in target.model_fields_set})
+                entry.update(
+                    {
+                        k: getattr(target, k)
+                        for k in ("multiplier", "offset")
+                        if k in target.model_fields_set
+                    }
+                )
             for joint, where in ((follower, (*path, follower)), (leader, (*path, follower))):
                 if joint not in joints:
                     known = self.description and self.description.joint(joint)
                     if known:
-                        self.err(where, "RS305", f"mimic joint '{joint}' is not one of this "
-                                 "controller's joints")
+                        self.err(
+                            where,
+                            "RS305",
+                            f"mimic joint '{joint}' is not one of this controller's joints",
+                        )
                     else:
-                        self.err(where, "RS201", f"unknown joint '{joint}'",
-                                 did_you_mean(joint, joints))
+                        self.err(
+                            where, "RS201", f"unknown joint '{joint}'", did_you_mean(joint, joints)
+                        )
             if follower == leader:
                 self.err((*path, follower), "RS305", f"joint '{follower}' mimics itself")
             result[follower] = entry
@@ -352,8 +438,12 @@ class Resolver:
             self.err(path, "RS305", f"joint(s) {both} both mimic and are mimicked")
         uncovered = [j for j in joints if j not in followers | leaders]
         if result and uncovered:
-            self.err(path, "RS305", "every joint of a mimic controller must appear in the mimic "
-                     "map; missing: " + ", ".join(uncovered))
+            self.err(
+                path,
+                "RS305",
+                "every joint of a mimic controller must appear in the mimic "
+                "map; missing: " + ", ".join(uncovered),
+            )
         return result
 
     def modes(self, controllers: dict[str, ResolvedController]) -> list[ResolvedMode]:
@@ -369,8 +459,9 @@ class Resolver:
             for key, value in mode.items():
                 if key == "balance_passive_force":
                     if not isinstance(value, bool):
-                        self.err((*path, key), "RS102", "balance_passive_force must be true or "
-                                 "false")
+                        self.err(
+                            (*path, key), "RS102", "balance_passive_force must be true or false"
+                        )
                     else:
                         balance = value
                     continue
@@ -386,8 +477,12 @@ class Resolver:
 
     def known_controller(self, name: str, path: KeyPath) -> None:
         if name not in self.spec.controllers:
-            self.err(path, "RS204", f"unknown controller '{name}'",
-                     did_you_mean(name, self.spec.controllers))
+            self.err(
+                path,
+                "RS204",
+                f"unknown controller '{name}'",
+                did_you_mean(name, self.spec.controllers),
+            )
 
     # -- the whole robot --------------------------------------------------------------------
 
@@ -411,7 +506,10 @@ class Resolver:
         rules = tuple(
             ResolvedCollisionRule(
                 tuple(self.select_links(rule.links, ("collision_rules", i, "links"))),
-                rule.group, rule.bit, rule.value)
+                rule.group,
+                rule.bit,
+                rule.value,
+            )
             for i, rule in enumerate(spec.collision_rules)
         )
         tcp = spec.tcp
@@ -443,12 +541,21 @@ class Resolver:
         for pattern, rule in spec.links.items():
             path: KeyPath = ("links", pattern)
             if rule.material is None:
-                self.diagnostics.append(error(self.at_key(path), "RS312", f"link rule '{pattern}' "
-                                        "has no material", "ManiSkill 3 requires a material in "
-                                        "every link entry of urdf_config"))
+                self.diagnostics.append(
+                    error(
+                        self.at_key(path),
+                        "RS312",
+                        f"link rule '{pattern}' has no material",
+                        "ManiSkill 3 requires a material in every link entry of urdf_config",
+                    )
+                )
             elif rule.material not in spec.materials:
-                self.err((*path, "material"), "RS205", f"unknown material '{rule.material}'",
-                         did_you_mean(rule.material, spec.materials))
+                self.err(
+                    (*path, "material"),
+                    "RS205",
+                    f"unknown material '{rule.material}'",
+                    did_you_mean(rule.material, spec.materials),
+                )
             settings = rule.model_dump(exclude_none=True)
             key_location = self.at_key(path)
             for link in self._links_for_rule(pattern, path, key_location):
@@ -469,22 +576,42 @@ class Resolver:
         matched = [n for n in self.description.link_names if fnmatch.fnmatchcase(n, pattern)]
         if not matched:
             code = "RS206" if _GLOB.search(pattern) else "RS202"
-            message = (f"link rule '{pattern}' matches no link" if code == "RS206"
-                       else f"unknown link '{pattern}'")
-            self.diagnostics.append(error(at, code, message,
-                                          did_you_mean(pattern, self.description.link_names)))
+            message = (
+                f"link rule '{pattern}' matches no link"
+                if code == "RS206"
+                else f"unknown link '{pattern}'"
+            )
+            self.diagnostics.append(
+                error(at, code, message, did_you_mean(pattern, self.description.link_names))
+            )
         return matched
 
     def camera(self, uid: str, camera: Any) -> ResolvedCamera:
         path: KeyPath = ("cameras", uid)
         self.link(camera.mount, (*path, "mount"))
         if (camera.fov is None) == (camera.intrinsic is None):
-            self.diagnostics.append(error(self.at_key(path), "RS314", f"camera '{uid}' needs "
-                                    "exactly one of fov and intrinsic"))
+            self.diagnostics.append(
+                error(
+                    self.at_key(path),
+                    "RS314",
+                    f"camera '{uid}' needs exactly one of fov and intrinsic",
+                )
+            )
         p, q = _pose(camera.pose)
         intrinsic = tuple(tuple(row) for row in camera.intrinsic) if camera.intrinsic else None
-        return ResolvedCamera(uid, camera.mount, p, q, camera.width, camera.height, camera.fov,
-                              intrinsic, camera.near, camera.far, camera.shader_pack)
+        return ResolvedCamera(
+            uid,
+            camera.mount,
+            p,
+            q,
+            camera.width,
+            camera.height,
+            camera.fov,
+            intrinsic,
+            camera.near,
+            camera.far,
+            camera.shader_pack,
+        )
 
 
 def _pose(pose: Pose) -> tuple[tuple[float, float, float], tuple[float, float, float, float]]:
@@ -531,7 +658,12 @@ def _relocate(diagnostics: list[Diagnostic], absolute: str, shown: str) -> list[
     out = []
     for d in diagnostics:
         if d.location.file == absolute:
-            d = Diagnostic(Location(shown, d.location.line, d.location.column), d.code,
-                           d.severity, d.message, d.hint)
+            d = Diagnostic(
+                Location(shown, d.location.line, d.location.column),
+                d.code,
+                d.severity,
+                d.message,
+                d.hint,
+            )
         out.append(d)
     return out

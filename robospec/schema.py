@@ -13,8 +13,7 @@ def spec_schema() -> dict[str, Any]:
     from robospec.model.spec import Spec
 
     schema = Spec.model_json_schema()
-    return {"$schema": "https://json-schema.org/draft/2020-12/schema", "$id": SCHEMA_ID,
-            **schema}
+    return {"$schema": "https://json-schema.org/draft/2020-12/schema", "$id": SCHEMA_ID, **schema}
 
 
 def schema_text() -> str:

@@ -12,11 +12,17 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def build(out: Path, *extra: str, specs: str = "specs/", env: dict[str, str] | None = None
-          ) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "robospec.cli", "build", specs, "-o", str(out),
-                           *extra], cwd=ROOT, capture_output=True, text=True, timeout=120,
-                          env={**os.environ, **(env or {})})
+def build(
+    out: Path, *extra: str, specs: str = "specs/", env: dict[str, str] | None = None
+) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "robospec.cli", "build", specs, "-o", str(out), *extra],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, **(env or {})},
+    )
 
 
 def snapshot(folder: Path) -> dict[str, bytes]:
@@ -28,8 +34,14 @@ def test_build_writes_one_module_per_spec_and_an_init_that_imports_them(tmp_path
     result = build(out)
     assert result.returncode == 0, result.stdout + result.stderr
     names = set(snapshot(out))
-    assert {"__init__.py", "rs_panda.py", "rs_fetch.py", "rs_humanoid.py", "twolink.py",
-            "twolink.urdf"} <= names
+    assert {
+        "__init__.py",
+        "rs_panda.py",
+        "rs_fetch.py",
+        "rs_humanoid.py",
+        "twolink.py",
+        "twolink.urdf",
+    } <= names
     init = (out / "__init__.py").read_text()
     assert "from . import rs_panda" in init
     for name in names:
@@ -109,8 +121,10 @@ def test_importing_the_built_package_registers_the_agents(tmp_path: Path) -> Non
         f"sys.path.insert(0, {str(tmp_path)!r})\n"
         "import built_agents\n"
         "from mani_skill.agents.registration import REGISTERED_AGENTS as R\n"
-        "print(sorted(u for u in built_agents.AGENTS if R[u].agent_cls is built_agents.AGENTS[u]))\n"
+        "A = built_agents.AGENTS\n"
+        "print(sorted(u for u in A if R[u].agent_cls is A[u]))\n"
     )
-    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
-                            timeout=300)
+    result = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=300
+    )
     assert "['rs_fetch', 'rs_humanoid', 'rs_panda', 'twolink']" in result.stdout, result.stderr

@@ -12,8 +12,13 @@ MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
 
 
 def robospec(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "robospec.cli", *args], cwd=cwd,
-                          capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "robospec.cli", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
 
 
 def test_validate_of_the_shipped_specs_exits_zero() -> None:
@@ -26,8 +31,10 @@ def test_misspelled_joint_exits_one_with_the_exact_line_column_and_suggestion() 
     result = robospec("validate", str(MISSPELLED.relative_to(ROOT)))
     assert result.returncode == 1
     first = result.stdout.splitlines()[0]
-    assert first == ("tests/specs/negative/misspelled_joint.yaml:6:80: error[RS201] unknown "
-                     "joint 'panda_joint77'")
+    assert first == (
+        "tests/specs/negative/misspelled_joint.yaml:6:80: error[RS201] unknown "
+        "joint 'panda_joint77'"
+    )
     assert "did you mean 'panda_joint7'?" in result.stdout
     line = MISSPELLED.read_text().splitlines()[5]
     assert line[79:].startswith("panda_joint77")
@@ -68,8 +75,9 @@ def test_validate_never_imports_torch_sapien_or_maniskill() -> None:
         "               if m in sys.modules)\n"
         "print('HEAVY', heavy)\n"
     )
-    result = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True,
-                            text=True, timeout=120)
+    result = subprocess.run(
+        [sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, timeout=120
+    )
     assert "HEAVY []" in result.stdout, result.stdout + result.stderr
 
 

@@ -45,10 +45,12 @@ def test_a_warm_cache_does_not_recompile(panda_spec: Path, tmp_path: Path) -> No
         "sys.modules['robospec.compile'] = None\n"
         "import mani_skill.envs, robospec\n"
         f"print(list(robospec.register({str(panda_spec)!r}, cache_dir={str(cache)!r})))\n"
-        "print('LIGHT', [m for m in ('pydantic', 'ruamel.yaml', 'robospec.model') if m in sys.modules])\n"
+        "heavy = ('pydantic', 'ruamel.yaml', 'robospec.model')\n"
+        "print('LIGHT', [m for m in heavy if m in sys.modules])\n"
     )
-    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
-                            timeout=300)
+    result = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, timeout=300
+    )
     assert result.returncode == 0, result.stderr
     assert "rs_panda_" in result.stdout
     assert "LIGHT []" in result.stdout
@@ -74,8 +76,11 @@ def test_changing_the_description_invalidates_the_entry(tmp_path: Path) -> None:
     shutil.copytree(ROOT / "specs/robots/twolink", robot)
     spec = tmp_path / "twolink.toml"
     text = (ROOT / "specs/twolink.toml").read_text()
-    spec.write_text(text.replace('"robots/twolink/', '"robot/').replace(
-        'uid = "twolink"', 'uid = "twolink_cache_test"').replace('class_name = "TwoLink"', ""))
+    spec.write_text(
+        text.replace('"robots/twolink/', '"robot/')
+        .replace('uid = "twolink"', 'uid = "twolink_cache_test"')
+        .replace('class_name = "TwoLink"', "")
+    )
     cache = tmp_path / "cache"
     robospec.register(spec, cache_dir=cache)
     (entry,) = [p for p in cache.iterdir() if p.is_dir()]
@@ -90,11 +95,15 @@ def test_errors_raise_spec_error_with_the_diagnostics_and_register_nothing(tmp_p
 
     before = set(REGISTERED_AGENTS)
     with pytest.raises(SpecError) as caught:
-        robospec.register(ROOT / "tests/specs/negative/misspelled_joint.yaml",
-                          cache_dir=tmp_path / "cache")
+        robospec.register(
+            ROOT / "tests/specs/negative/misspelled_joint.yaml", cache_dir=tmp_path / "cache"
+        )
     (diagnostic,) = caught.value.diagnostics
     assert (diagnostic.code, diagnostic.location.line, diagnostic.location.column) == (
-        "RS201", 6, 80)
+        "RS201",
+        6,
+        80,
+    )
     assert set(REGISTERED_AGENTS) == before
 
 

@@ -23,15 +23,18 @@ from robospec.diagnostics import Diagnostic, warning
 RESERVED = {
     29: "bit 29 of group 2 is the one disable_self_collisions sets on every link",
     30: "bit 30 of group 2 is set on the ground by ManiSkill's scenes: these links will not "
-        "collide with the floor",
+    "collide with the floor",
     31: "bit 31 of group 2 is set on the ground by ManiSkill's scenes: these links will not "
-        "collide with the floor",
+    "collide with the floor",
 }
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     for index, rule in enumerate(context.robot.collision_rules):
         if rule.group == 2 and rule.bit in RESERVED:
-            yield warning(context.value(("collision_rules", index, "bit")), "RS307",
-                          RESERVED[rule.bit], "intended for a mobile base over the ground; "
-                          "otherwise pick a bit below 29")
+            yield warning(
+                context.value(("collision_rules", index, "bit")),
+                "RS307",
+                RESERVED[rule.bit],
+                "intended for a mobile base over the ground; otherwise pick a bit below 29",
+            )

@@ -25,7 +25,8 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         for mode in context.robot.modes:
             names = [n for _, n in mode.groups] if mode.groups is not None else [mode.controller]
             guarded = any(
-                controllers[n].type == "pd_joint_pos_mimic" and joint.name in controllers[n].joint_names
+                controllers[n].type == "pd_joint_pos_mimic"
+                and joint.name in controllers[n].joint_names
                 for n in names
                 if n in controllers
             )

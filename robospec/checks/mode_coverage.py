@@ -38,14 +38,21 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             for joint in controller.joint_names:
                 if joint in driven and driven[joint] != name:
                     where = (*path, group) if group else path
-                    yield error(context.value(where), "RS301",
-                                f"joint '{joint}' is driven by both '{driven[joint]}' and "
-                                f"'{name}' in mode '{mode.name}'")
+                    yield error(
+                        context.value(where),
+                        "RS301",
+                        f"joint '{joint}' is driven by both '{driven[joint]}' and "
+                        f"'{name}' in mode '{mode.name}'",
+                    )
                 driven.setdefault(joint, name)
-        missing = [j for j in context.description.active_joint_names
-                   if j not in driven and j not in exempt]
+        missing = [
+            j for j in context.description.active_joint_names if j not in driven and j not in exempt
+        ]
         if missing:
-            yield error(context.key(path), "RS302",
-                        f"control mode '{mode.name}' drives no controller for "
-                        + ", ".join(f"'{j}'" for j in missing),
-                        "add a controller for them, or list them in passive_joints")
+            yield error(
+                context.key(path),
+                "RS302",
+                f"control mode '{mode.name}' drives no controller for "
+                + ", ".join(f"'{j}'" for j in missing),
+                "add a controller for them, or list them in passive_joints",
+            )

@@ -19,8 +19,9 @@ def format_expression(node: ast.expr, indent: str) -> str:
         head = format_expression(node.func, indent)
         items = [format_expression(a, inner) for a in node.args]
         items += [
-            f"{k.arg}={format_expression(k.value, inner)}" if k.arg else
-            f"**{format_expression(k.value, inner)}"
+            f"{k.arg}={format_expression(k.value, inner)}"
+            if k.arg
+            else f"**{format_expression(k.value, inner)}"
             for k in node.keywords
         ]
         return _block(head + "(", items, ")", indent)
@@ -80,8 +81,11 @@ def _blank_before(previous: ast.stmt, stmt: ast.stmt, top: bool) -> bool:
         isinstance(previous, ast.Import)
         and isinstance(stmt, ast.Import)
         and _is_stdlib(previous) != _is_stdlib(stmt)
-    ) or (isinstance(previous, ast.Import) and isinstance(stmt, ast.ImportFrom)
-          and _is_stdlib(previous))
+    ) or (
+        isinstance(previous, ast.Import)
+        and isinstance(stmt, ast.ImportFrom)
+        and _is_stdlib(previous)
+    )
 
 
 def _is_stdlib(stmt: ast.Import) -> bool:
@@ -102,10 +106,11 @@ def _statement(stmt: ast.stmt, indent: str, lines: list[str]) -> None:
         lines.append(f"{indent}def {stmt.name}({signature}):")
         _statements(stmt.body, indent + INDENT, lines, top=False)
     elif isinstance(stmt, ast.For):
-        lines.append(f"{indent}for {ast.unparse(stmt.target)} in "
-                     f"{format_expression(stmt.iter, indent)}:")
+        lines.append(
+            f"{indent}for {ast.unparse(stmt.target)} in {format_expression(stmt.iter, indent)}:"
+        )
         _statements(stmt.body, indent + INDENT, lines, top=False)
-    elif isinstance(stmt, ast.ImportFrom) and len(flat := ast.unparse(stmt)) > LINE_LENGTH:
+    elif isinstance(stmt, ast.ImportFrom) and len(ast.unparse(stmt)) > LINE_LENGTH:
         names = [ast.unparse(alias) for alias in stmt.names]
         lines.append(_block(f"{indent}from {stmt.module} import (", names, ")", indent))
     elif isinstance(stmt, ast.Assign):
@@ -113,8 +118,10 @@ def _statement(stmt: ast.stmt, indent: str, lines: list[str]) -> None:
         lines.append(f"{indent}{targets} = {format_expression(stmt.value, indent)}")
     elif isinstance(stmt, ast.Return) and stmt.value is not None:
         lines.append(f"{indent}return {format_expression(stmt.value, indent)}")
-    elif isinstance(stmt, ast.Expr) and isinstance(stmt.value, ast.Constant) and isinstance(
-        stmt.value.value, str
+    elif (
+        isinstance(stmt, ast.Expr)
+        and isinstance(stmt.value, ast.Constant)
+        and isinstance(stmt.value.value, str)
     ):
         lines.append(f'{indent}"""{_docstring(stmt.value.value, indent)}"""')
     elif isinstance(stmt, ast.Expr):

@@ -36,8 +36,10 @@ def main(argv: list[str] | None = None) -> int:
     if has_errors(result.diagnostics):
         print(render(result.diagnostics, len(compiled), "text"))
         return 1
-    print(f"built {args.out}/ in {time.perf_counter() - started:.2f} s: "
-          + ", ".join(sorted(n for n in result.files if n.endswith(".py"))))
+    print(
+        f"built {args.out}/ in {time.perf_counter() - started:.2f} s: "
+        + ", ".join(sorted(n for n in result.files if n.endswith(".py")))
+    )
 
     import gymnasium as gym
     import mani_skill.envs  # noqa: F401  (registers the environments)
@@ -49,8 +51,13 @@ def main(argv: list[str] | None = None) -> int:
     package = importlib.import_module(args.out.name)
     for uid, cls in package.AGENTS.items():
         with headless_loading():
-            env = gym.make("Empty-v1", robot_uids=uid, obs_mode="state",
-                           sim_backend="physx_cpu", render_backend="none")
+            env = gym.make(
+                "Empty-v1",
+                robot_uids=uid,
+                obs_mode="state",
+                sim_backend="physx_cpu",
+                render_backend="none",
+            )
         env.reset(seed=0)
         agent = env.unwrapped.agent
         rng = np.random.default_rng(0)
@@ -58,10 +65,12 @@ def main(argv: list[str] | None = None) -> int:
         for _ in range(args.steps):
             env.step(rng.uniform(space.low, space.high).astype(np.float32))
         qpos = agent.robot.get_qpos()[0].numpy()
-        print(f"{uid} ({cls.__module__}.{cls.__name__}): {len(agent.supported_control_modes)} "
-              f"control modes, default {agent.control_mode}, action shape {space.shape}; "
-              f"{args.steps} random steps on physx_cpu -> qpos {[round(float(q), 3) for q in qpos]}, "
-              f"finite={bool(np.isfinite(qpos).all())}")
+        print(
+            f"{uid} ({cls.__module__}.{cls.__name__}): {len(agent.supported_control_modes)} "
+            f"control modes, default {agent.control_mode}, action shape {space.shape}; "
+            f"{args.steps} random steps on physx_cpu -> qpos {[round(float(q), 3) for q in qpos]}, "
+            f"finite={bool(np.isfinite(qpos).all())}"
+        )
         env.close()
     return 0
 

@@ -163,9 +163,12 @@ def _diagnostics_from(
     # A union (number | list | mapping) that fails deep inside one member also reports "not a
     # mapping" for the others at the outer place: the deeper, specific error is the real one.
     return [
-        d for path, d in diagnostics
-        if not (d.code == "RS102" and any(len(o) > len(path) and o[: len(path)] == path
-                                          for o, _ in diagnostics))
+        d
+        for path, d in diagnostics
+        if not (
+            d.code == "RS102"
+            and any(len(o) > len(path) and o[: len(path)] == path for o, _ in diagnostics)
+        )
     ]
 
 

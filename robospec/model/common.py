@@ -41,7 +41,7 @@ PerJoint = Number | list[Number] | dict[str, Number]
 """One value for every joint, one per joint in order, or by joint/group name."""
 
 JointSelection = str | list[str]
-"""A joint name, a glob over active joints (``panda_joint[1-7]``, ``*``), a group name, or a list."""
+"""A joint name, a glob over active joints (``panda_joint[1-7]``, ``*``), a group, or a list."""
 
 
 class StrictModel(BaseModel):

@@ -27,8 +27,12 @@ class Description(StrictModel):
     ManiSkill's bundled asset folder.
     """
 
-    urdf: str | None = Field(default=None, examples=["{maniskill_assets}/robots/panda/panda_v2.urdf"])
-    mjcf: str | None = Field(default=None, examples=["{maniskill_assets}/robots/humanoid/humanoid.xml"])
+    urdf: str | None = Field(
+        default=None, examples=["{maniskill_assets}/robots/panda/panda_v2.urdf"]
+    )
+    mjcf: str | None = Field(
+        default=None, examples=["{maniskill_assets}/robots/humanoid/humanoid.xml"]
+    )
     xacro: str | None = Field(default=None, examples=["robots/twolink/twolink.urdf.xacro"])
     args: dict[str, ScalarArg] = Field(
         default_factory=dict, description="xacro arguments (name := value)"
@@ -104,9 +108,13 @@ class Camera(StrictModel):
     width: Annotated[int, Field(gt=0, le=16384)]
     height: Annotated[int, Field(gt=0, le=16384)]
     fov: Number | None = Field(default=None, description="vertical field of view in radians")
-    intrinsic: Annotated[list[Annotated[list[Number], Field(min_length=3, max_length=3)]], Field(
-        min_length=3, max_length=3
-    )] | None = Field(default=None, description="3x3 intrinsic matrix, instead of fov")
+    intrinsic: (
+        Annotated[
+            list[Annotated[list[Number], Field(min_length=3, max_length=3)]],
+            Field(min_length=3, max_length=3),
+        ]
+        | None
+    ) = Field(default=None, description="3x3 intrinsic matrix, instead of fov")
     near: Number = 0.01
     far: Number = 100.0
     shader_pack: Literal["minimal", "default", "rt", "rt-med", "rt-fast"] = "minimal"
@@ -158,8 +166,6 @@ class Spec(StrictModel):
     control_modes: dict[Annotated[str, Field(pattern=NAME_PATTERN)], ControlMode] = Field(
         min_length=1, description="ordered; the first is the default"
     )
-    cameras: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Camera] = Field(
-        default_factory=dict
-    )
+    cameras: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Camera] = Field(default_factory=dict)
     collision_rules: list[CollisionRule] = Field(default_factory=list)
     tcp: str | None = Field(default=None, description="the tool-centre-point link")
