@@ -1,0 +1,122 @@
+"""No text from a spec or a robot description can become code in a generated module."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+from robospec.compile import compile_spec
+from robospec.emit.generate import RESERVED_NAMES, emit_module
+
+HOSTILE = 'a"\'"""; import os; os.system("touch CANARY") #{x}\\'
+
+URDF = """<?xml version="1.0"?>
+<robot name="hostile">
+  <link name="base"/>
+  <link name="{link}"><collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+    <inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>
+    </inertial></link>
+  <joint name="{joint}" type="revolute"><parent link="base"/><child link="{link}"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+</robot>
+"""
+
+SPEC = """robospec: 1
+uid: rs_hostile
+description: {{urdf: {urdf}}}
+materials: {{m: {{static_friction: 1, dynamic_friction: 1}}}}
+links: {{{link}: {{material: m}}}}
+keyframes: {{rest: {{qpos: [0.5]}}}}
+controllers:
+  c: {{type: pd_joint_pos, joints: "*", lower: -1, upper: 1, stiffness: 10, damping: 1}}
+control_modes: {{mode: {{g: c}}}}
+cameras: {{cam: {{mount: {link}, width: 8, height: 8, fov: 1}}}}
+tcp: {link}
+"""
+
+
+def _quoted(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def _names(tree: ast.AST) -> set[str]:
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name):
+            names.add(node.id)
+        elif isinstance(node, ast.Attribute):
+            names.add(node.attr)
+        elif isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, ast.alias):
+            names.add(node.asname or node.name)
+        elif isinstance(node, ast.keyword) and node.arg:
+            names.add(node.arg)
+    return names
+
+
+def test_hostile_names_reach_the_module_only_as_string_constants(tmp_path: Path) -> None:
+    link, joint = "L" + HOSTILE.replace("{x}", "1"), "J" + HOSTILE.replace("{x}", "2")
+    folder = tmp_path / 'dir"""x'
+    folder.mkdir()
+    urdf_text = URDF.format(link=link.replace('"', "&quot;"), joint=joint.replace('"', "&quot;"))
+    (folder / "robot.urdf").write_text(urdf_text)
+    spec_path = folder / 'spec"""; import os #.yaml'
+    spec_path.write_text(SPEC.format(urdf=_quoted("robot.urdf"), link=_quoted(link)))
+    result = compile_spec(spec_path)
+    assert result.robot is not None, [d.format_text() for d in result.diagnostics]
+    source = emit_module(result.robot, tmp_path / "out")
+    tree = ast.parse(source)
+    strings = {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant)}
+    assert link in strings and joint in strings
+    allowed = RESERVED_NAMES | {
+        "RsHostile",
+        "c",
+        "np",
+        "array",
+        "Pose",
+        "create_from_pq",
+        "path",
+        "join",
+        "dirname",
+        "abspath",
+        "__file__",
+        "robot",
+        "links_map",
+        "tcp",
+        "property",
+        "numpy",
+        "mani_skill",
+        "mani_skill.agents.base_agent",
+        "uid",
+        "urdf_path",
+        "fix_root_link",
+        "load_multiple_collisions",
+        "disable_self_collisions",
+        "urdf_config",
+        "keyframes",
+        "_controller_configs",
+        "_sensor_configs",
+        "_after_init",
+        "pose",
+        "qpos",
+        "p",
+        "q",
+        "joint_names",
+        "lower",
+        "upper",
+        "stiffness",
+        "damping",
+        "width",
+        "height",
+        "fov",
+        "near",
+        "far",
+        "entity_uid",
+        "PDJointPosControllerConfig",
+    }
+    assert _names(tree) <= allowed, _names(tree) - allowed
+    assert "CANARY" not in "".join(_names(tree))
+    namespace: dict[str, object] = {}
+    exec(compile(source.split("import numpy")[0], "<docstring>", "exec"), namespace)
+    assert not (tmp_path / "CANARY").exists()
