@@ -54,6 +54,7 @@ from robospec.description.urdf import (
     bfs_order,
     did_you_mean,
     line_of,
+    parse_root,
     parse_xml,
 )
 from robospec.diagnostics import Diagnostic, Location, error, warning
@@ -129,13 +130,8 @@ def parse_mjcf(
     for the root and for bodies without joints are left out, since no spec can name them.
     """
     read = read_file or _read_bytes
-    root, diagnostics = parse_xml(text, path)
+    root, diagnostics = parse_root(text, path, "mujoco")
     if root is None:
-        return None, diagnostics
-    if root.tag != "mujoco":
-        diagnostics.append(
-            error(at(path, root), INVALID_STRUCTURE, f"root element is <{root.tag}>, not <mujoco>")
-        )
         return None, diagnostics
 
     file_of: dict[etree._Element, str] = {root: path}

@@ -13,7 +13,6 @@ fingertip pads come after both fingers; fetch's head and arm joints interleave).
 
 from __future__ import annotations
 
-import difflib
 import math
 import re
 from collections import deque
@@ -31,6 +30,7 @@ from robospec.description.model import (
     RobotDescription,
 )
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.suggest import did_you_mean
 
 FILE_NOT_FOUND = "RS050"
 MALFORMED_XML = "RS051"
@@ -59,11 +59,6 @@ def at(path: str, element: etree._Element | None) -> Location:
     return Location(path, line_of(element) if element is not None else 1, 1)
 
 
-def did_you_mean(name: str, candidates: Sequence[str]) -> str | None:
-    matches = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
-    return f"did you mean '{matches[0]}'?" if matches else None
-
-
 def parse_xml(text: str | bytes, path: str) -> tuple[etree._Element | None, list[Diagnostic]]:
     """Parse XML safely (no entity expansion, no network); a syntax error becomes RS051."""
     if isinstance(text, str):
@@ -89,6 +84,19 @@ def parse_xml(text: str | bytes, path: str) -> tuple[etree._Element | None, list
         location = Location(path, max(int(line or 1), 1), max(int(column or 1), 1))
         return None, [error(location, MALFORMED_XML, f"not well-formed XML: {message}")]
     return root, []
+
+
+def parse_root(
+    text: str | bytes, path: str, tag: str
+) -> tuple[etree._Element | None, list[Diagnostic]]:
+    """Parse the XML and insist on its root element (``robot`` for URDF, ``mujoco`` for MJCF)."""
+    root, diagnostics = parse_xml(text, path)
+    if root is not None and root.tag != tag:
+        diagnostics.append(
+            error(at(path, root), INVALID_STRUCTURE, f"root element is <{root.tag}>, not <{tag}>")
+        )
+        return None, diagnostics
+    return root, diagnostics
 
 
 def parse_floats(
@@ -164,13 +172,8 @@ def parse_urdf(text: str | bytes, path: str) -> tuple[RobotDescription | None, l
     ``links`` are the links of the articulation ManiSkill loads, in SAPIEN's order; ``joints``
     hold one joint per link after the root, in the same order (fixed ones included).
     """
-    root, diagnostics = parse_xml(text, path)
+    root, diagnostics = parse_root(text, path, "robot")
     if root is None:
-        return None, diagnostics
-    if root.tag != "robot":
-        diagnostics.append(
-            error(at(path, root), INVALID_STRUCTURE, f"root element is <{root.tag}>, not <robot>")
-        )
         return None, diagnostics
 
     fatal = False

@@ -111,13 +111,18 @@ def _marked(exc: Any, source: SourceMap, code: str, message: str) -> Diagnostic:
     return error(Location(source.file, mark.line + 1, mark.column + 1), code, message)
 
 
-def _walk_yaml(node: Any, path: KeyPath, source: SourceMap, count: list[int]) -> Any:
-    """Turn ruamel's round-trip nodes into plain data, recording positions as we go."""
+def _spend(path: KeyPath, count: list[int]) -> None:
+    """Count one value against the size and depth budget (an alias bomb exhausts it early)."""
     count[0] += 1
     if count[0] > MAX_NODES:
         raise _TooBig(f"spec expands to more than {MAX_NODES} values (alias bomb?)", path)
     if len(path) > MAX_DEPTH:
         raise _TooBig(f"spec is nested deeper than {MAX_DEPTH} levels", path)
+
+
+def _walk_yaml(node: Any, path: KeyPath, source: SourceMap, count: list[int]) -> Any:
+    """Turn ruamel's round-trip nodes into plain data, recording positions as we go."""
+    _spend(path, count)
     from ruamel.yaml.comments import CommentedMap, CommentedSeq
 
     if isinstance(node, CommentedMap):
@@ -188,11 +193,7 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
 
 
 def _check_toml_size(node: Any, path: KeyPath, count: list[int]) -> None:
-    count[0] += 1
-    if count[0] > MAX_NODES:
-        raise _TooBig(f"spec has more than {MAX_NODES} values", path)
-    if len(path) > MAX_DEPTH:
-        raise _TooBig(f"spec is nested deeper than {MAX_DEPTH} levels", path)
+    _spend(path, count)
     if isinstance(node, dict):
         for key, value in node.items():
             _check_toml_size(value, (*path, key), count)
