@@ -332,6 +332,8 @@ def _bundled_agents() -> list[tuple[str, str, str]]:
     found = []
     for uid, entry in REGISTERED_AGENTS.items():
         cls = entry.agent_cls
+        if not cls.__module__.startswith("mani_skill."):
+            continue  # agents registered by other tests (e.g. robospec's own) are not upstream's
         urdf, mjcf = getattr(cls, "urdf_path", None), getattr(cls, "mjcf_path", None)
         path = urdf or mjcf
         if path and os.path.exists(path):
