@@ -83,20 +83,9 @@ def registered_maniskill_specs(cache_dir: Path) -> Iterator[dict[str, type]]:
 
 def make_env(uid: str, control_mode: str | None = None) -> Any:
     """``Empty-v1`` with robot ``uid`` on the CPU simulator, loadable without a render device."""
-    import gymnasium as gym
-    import mani_skill.envs  # noqa: F401  (registers Empty-v1)
+    from robospec.maniskill.headless import make_empty_env
 
-    from robospec.maniskill.headless import headless_loading
-
-    with headless_loading():
-        return gym.make(
-            "Empty-v1",
-            robot_uids=uid,
-            obs_mode="state",
-            sim_backend="physx_cpu",
-            render_backend="none",
-            control_mode=control_mode,
-        )
+    return make_empty_env(uid, control_mode)
 
 
 def random_actions(action_space: Any, seed: int, steps: int) -> np.ndarray:

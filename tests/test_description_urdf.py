@@ -342,18 +342,10 @@ def _bundled_agents() -> list[tuple[str, str, str]]:
 
 
 def _sapien_facts(uid: str) -> dict[str, Any]:
-    import gymnasium as gym
 
-    from robospec.maniskill.headless import headless_loading
+    from robospec.maniskill.headless import make_empty_env
 
-    with headless_loading():
-        env = gym.make(
-            "Empty-v1",
-            robot_uids=uid,
-            obs_mode="state",
-            sim_backend="physx_cpu",
-            render_backend="none",
-        )
+    env = make_empty_env(uid)
     try:
         robot = env.unwrapped.agent.robot  # type: ignore[attr-defined]
         return {
@@ -406,22 +398,15 @@ def test_parser_matches_sapien_for_every_bundled_maniskill_agent() -> None:
 @pytest.mark.maniskill
 def test_fixture_order_and_limits_match_sapien() -> None:
     pytest.importorskip("mani_skill")
-    import gymnasium as gym
     import mani_skill.envs  # noqa: F401
     import sapien
 
-    from robospec.maniskill.headless import headless_loading
+    from robospec.maniskill.headless import headless_loading, make_empty_env
 
     description, _ = parse_file(DATA / "tree.urdf")
     assert description is not None
-    with headless_loading():
-        env = gym.make(
-            "Empty-v1",
-            robot_uids="panda",
-            obs_mode="state",
-            sim_backend="physx_cpu",
-            render_backend="none",
-        )
+    with headless_loading():  # the fixture's own parse below needs it too
+        env = make_empty_env("panda", headless=False)
         try:
             loader = env.unwrapped.scene.create_urdf_loader()  # type: ignore[attr-defined]
             loader.name = "tree"

@@ -10,7 +10,12 @@ from typing import Any
 
 import pytest
 
-from robospec.maniskill.headless import headless_loading, is_active, strip_urdf_visuals
+from robospec.maniskill.headless import (
+    headless_loading,
+    is_active,
+    make_empty_env,
+    strip_urdf_visuals,
+)
 
 ROOT = Path(__file__).parent.parent
 TREE_URDF = Path(__file__).parent / "data" / "tree.urdf"
@@ -65,19 +70,8 @@ def test_importing_headless_module_imports_neither_sapien_nor_mani_skill() -> No
 
 
 def _make_env(uid: str, control_mode: str | None = None) -> Any:
-    import gymnasium as gym
-
-    kwargs: dict[str, Any] = {}
-    if control_mode is not None:
-        kwargs["control_mode"] = control_mode
-    return gym.make(
-        "Empty-v1",
-        robot_uids=uid,
-        obs_mode="state",
-        sim_backend="physx_cpu",
-        render_backend="none",
-        **kwargs,
-    )
+    # callers choose whether the headless patches are in place
+    return make_empty_env(uid, control_mode, headless=False)
 
 
 def _patch_targets() -> dict[str, Any]:

@@ -41,23 +41,15 @@ def main(argv: list[str] | None = None) -> int:
         + ", ".join(sorted(n for n in result.files if n.endswith(".py")))
     )
 
-    import gymnasium as gym
     import mani_skill.envs  # noqa: F401  (registers the environments)
     import numpy as np
 
-    from robospec.maniskill.headless import headless_loading
+    from robospec.maniskill.headless import make_empty_env
 
     sys.path.insert(0, str(args.out.resolve().parent))
     package = importlib.import_module(args.out.name)
     for uid, cls in package.AGENTS.items():
-        with headless_loading():
-            env = gym.make(
-                "Empty-v1",
-                robot_uids=uid,
-                obs_mode="state",
-                sim_backend="physx_cpu",
-                render_backend="none",
-            )
+        env = make_empty_env(uid)
         env.reset(seed=0)
         agent = env.unwrapped.agent
         rng = np.random.default_rng(0)

@@ -157,3 +157,25 @@ def headless_loading() -> Iterator[None]:
 def is_active() -> bool:
     """Whether the headless patches are installed right now."""
     return _depth > 0
+
+
+def make_empty_env(uid: str, control_mode: str | None = None, *, headless: bool = True) -> Any:
+    """ManiSkill's ``Empty-v1`` with robot ``uid`` on the CPU, state observations, no renderer:
+    the environment every headless run and comparison in robospec uses."""
+    import gymnasium as gym
+    import mani_skill.envs  # noqa: F401  (registers Empty-v1)
+
+    kwargs: dict[str, Any] = {}
+    if control_mode is not None:
+        kwargs["control_mode"] = control_mode
+    if not headless:
+        return gym.make(
+            "Empty-v1",
+            robot_uids=uid,
+            obs_mode="state",
+            sim_backend="physx_cpu",
+            render_backend="none",
+            **kwargs,
+        )
+    with headless_loading():
+        return make_empty_env(uid, control_mode, headless=False)
