@@ -62,6 +62,21 @@ _CODES = [
     Code("RS313", "keyframe sets a joint twice"),
     Code("RS314", "camera needs exactly one of fov and intrinsic"),
     Code("RS315", "invalid joint for this controller type"),
+    # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
+    Code("RS400", "import target is not module:Class"),
+    Code("RS401", "import target module cannot be imported"),
+    Code("RS402", "import target class not found"),
+    Code("RS403", "import target is not a ManiSkill agent class"),
+    Code("RS404", "agent class data cannot be read"),
+    Code("RS405", "upstream config value is rejected by its config class"),
+    Code("RS406", "upstream names a link the description does not have"),
+    Code("RS407", "upstream normalizes actions over unbounded joints"),
+    Code("RS408", "upstream gains look like arguments passed by position"),
+    Code("RS409", "agent code the spec does not reproduce"),
+    Code("RS410", "robot description is not installed"),
+    Code("RS411", "imported uid is ManiSkill's own"),
+    Code("RS412", "import output file already exists"),
+    Code("RS413", "upstream data a spec cannot express"),
     # -- internal
     Code("RS900", "internal error"),
 ]
