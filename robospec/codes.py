@@ -46,6 +46,7 @@ _CODES = [
     Code("RS207", "joint pattern matches no joint"),
     Code("RS208", "controller inheritance is circular"),
     Code("RS209", "group definition is circular"),
+    Code("RS220", "Python reference cannot be used"),
     # -- semantic checks
     Code("RS301", "joint driven by more than one controller"),
     Code("RS302", "active joint not driven in a control mode"),
@@ -62,6 +63,8 @@ _CODES = [
     Code("RS313", "keyframe sets a joint twice"),
     Code("RS314", "camera needs exactly one of fov and intrinsic"),
     Code("RS315", "invalid joint for this controller type"),
+    Code("RS316", "helper refers to the wrong kind of entry"),
+    Code("RS317", "agent member defined twice"),
     # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
     Code("RS400", "import target is not module:Class"),
     Code("RS401", "import target module cannot be imported"),

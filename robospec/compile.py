@@ -31,10 +31,14 @@ class CompiledSpec:
         return self.robot is not None and not has_errors(self.diagnostics)
 
 
-def compile_spec(path: Path, display: str | None = None) -> CompiledSpec:
+def compile_spec(
+    path: Path, display: str | None = None, *, overrides: bool | frozenset[str] = False
+) -> CompiledSpec:
+    """``overrides``: uids this compilation may take over from ManiSkill (True: any), as
+    ``register(..., override=...)`` allows, on top of a spec's own ``override: true``."""
     result = CompiledSpec(path, display or str(path))
     try:
-        _compile_into(result)
+        _compile_into(result, overrides)
     except Exception as exc:  # a bug of ours must still be a located diagnostic
         result.robot = None
         result.diagnostics.append(
@@ -49,7 +53,7 @@ def compile_spec(path: Path, display: str | None = None) -> CompiledSpec:
     return result
 
 
-def _compile_into(result: CompiledSpec) -> None:
+def _compile_into(result: CompiledSpec, overrides: bool | frozenset[str]) -> None:
     loaded, diagnostics = read_spec(result.path, result.display)
     result.diagnostics.extend(diagnostics)
     if loaded is None:
@@ -60,14 +64,20 @@ def _compile_into(result: CompiledSpec) -> None:
     if model.spec is None or model.diagnostics:
         return
     spec = model.spec
-    if spec.uid in MANISKILL_UIDS:
+    allowed = (
+        spec.override
+        or overrides is True
+        or (isinstance(overrides, frozenset) and spec.uid in overrides)
+    )
+    if spec.uid in MANISKILL_UIDS and not allowed:
         result.diagnostics.append(
             error(
                 loaded.source.value(("uid",)),
                 "RS306",
                 f"uid '{spec.uid}' is already registered by ManiSkill; its register_agent would "
                 "skip this robot with only a warning",
-                f"use a new uid such as 'rs_{spec.uid}'",
+                f"use a new uid such as 'rs_{spec.uid}', or set `override: true` to replace "
+                "ManiSkill's agent on purpose",
             )
         )
     resolver = Resolver(loaded, model, result.path)
@@ -117,10 +127,12 @@ def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:
     return unique, diagnostics
 
 
-def compile_all(paths: Sequence[Path]) -> tuple[list[CompiledSpec], list[Diagnostic]]:
+def compile_all(
+    paths: Sequence[Path], *, overrides: bool | frozenset[str] = False
+) -> tuple[list[CompiledSpec], list[Diagnostic]]:
     """Compile every spec found, then check uids across them."""
     files, diagnostics = discover(paths)
-    compiled = [compile_spec(p) for p in files]
+    compiled = [compile_spec(p, overrides=overrides) for p in files]
     diagnostics.extend(_duplicate_uids(compiled))
     return compiled, diagnostics
 

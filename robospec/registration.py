@@ -68,12 +68,21 @@ def register(
     paths: str | os.PathLike[str] | Iterable[str | os.PathLike[str]],
     *,
     cache_dir: str | os.PathLike[str] | None = None,
+    override: bool | Iterable[str] = False,
 ) -> dict[str, type]:
     """Compile the specs (files or folders) and register their agents with ManiSkill.
 
     Returns ``{uid: agent class}``. Raises :class:`robospec.SpecError` carrying every
     diagnostic when any spec has errors; then nothing is registered.
+
+    A uid that is already registered (by ManiSkill or anyone else) is an error, unless the
+    spec says ``override: true`` or ``override`` here is True or names that uid: then the
+    spec's agent replaces the registered one, e.g. so ManiSkill's tasks, which choose start
+    poses by uid, run with a spec-built ``panda``.
     """
+    overrides: bool | frozenset[str] = (
+        override if isinstance(override, bool) else frozenset(override)
+    )
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     root = Path(cache_dir) if cache_dir is not None else cache_root()
@@ -95,8 +104,8 @@ def register(
         if not _entry_is_fresh(entry):
             cold.append((file, entry))
     if cold:
-        _compile_entries(cold, [f for f, _ in entries])
-    return _load_entries(entries)
+        _compile_entries(cold, [f for f, _ in entries], overrides)
+    return _load_entries(entries, overrides)
 
 
 def _entry_is_fresh(entry: Path) -> bool:
@@ -111,12 +120,14 @@ def _entry_is_fresh(entry: Path) -> bool:
         return False
 
 
-def _compile_entries(cold: list[tuple[Path, Path]], all_files: list[Path]) -> None:
+def _compile_entries(
+    cold: list[tuple[Path, Path]], all_files: list[Path], overrides: bool | frozenset[str]
+) -> None:
     from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
     from robospec.output import module_name_for, robot_files
 
-    compiled, diagnostics = compile_all(all_files)
+    compiled, diagnostics = compile_all(all_files, overrides=overrides)
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     if has_errors(diagnostics):
@@ -136,6 +147,7 @@ def _compile_entries(cold: list[tuple[Path, Path]], all_files: list[Path]) -> No
             manifest = {
                 "uid": item.robot.uid,
                 "class_name": item.robot.class_name,
+                "override": item.robot.override,
                 "module_file": f"{module}.py",
                 "module_sha256": _sha256(files[f"{module}.py"].encode()),
                 "deps": [[path, _file_hash(path)] for path in deps],
@@ -168,7 +180,9 @@ def _dependencies(robot: object) -> list[str]:
     return sorted(set(deps), key=deps.index)
 
 
-def _load_entries(entries: list[tuple[Path, Path]]) -> dict[str, type]:
+def _load_entries(
+    entries: list[tuple[Path, Path]], overrides: bool | frozenset[str]
+) -> dict[str, type]:
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
     loaded: dict[str, type] = {}
@@ -181,17 +195,26 @@ def _load_entries(entries: list[tuple[Path, Path]]) -> dict[str, type]:
             if getattr(existing.agent_cls, "__module__", None) == module_name:
                 loaded[uid] = existing.agent_cls  # the same spec, registered before
                 continue
-            raise SpecError(
-                [
-                    error(
-                        Location(str(file)),
-                        "RS306",
-                        f"uid '{uid}' is already registered by "
-                        f"{existing.agent_cls.__module__}."
-                        f"{existing.agent_cls.__name__}",
-                    )
-                ]
-            )
+            if (
+                manifest.get("override")
+                or overrides is True
+                or (isinstance(overrides, frozenset) and uid in overrides)
+            ):
+                del REGISTERED_AGENTS[uid]  # replaced on purpose: the module registers ours
+            else:
+                raise SpecError(
+                    [
+                        error(
+                            Location(str(file)),
+                            "RS306",
+                            f"uid '{uid}' is already registered by "
+                            f"{existing.agent_cls.__module__}."
+                            f"{existing.agent_cls.__name__}",
+                            "set `override: true` in the spec (or register(..., override=...)) "
+                            "to replace it on purpose",
+                        )
+                    ]
+                )
         module = _exec_module(module_name, entry / manifest["module_file"])
         loaded[uid] = getattr(module, manifest["class_name"])
     return loaded

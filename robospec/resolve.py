@@ -12,7 +12,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from robospec.description.model import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, warning
@@ -92,6 +92,7 @@ class Resolver:
         self.diagnostics: list[Diagnostic] = []
         self.description: RobotDescription | None = None
         self._group_cache: dict[str, list[str]] = {}
+        self.inherited_kind: Literal["urdf", "mjcf"] = "urdf"
 
     # -- locations --------------------------------------------------------------------------
 
@@ -134,10 +135,40 @@ class Resolver:
             return None
         return ref
 
+    def inherited_description(self, base: Any) -> FileRef | None:
+        """The description an ``extends`` class names, for a spec that gives none."""
+        from robospec.description import load_description
+
+        text = getattr(base, "mjcf_path", None) or getattr(base, "urdf_path", None)
+        kind = "mjcf" if getattr(base, "mjcf_path", None) else "urdf"
+        if not isinstance(text, str):
+            self.err(
+                ("extends",),
+                "RS220",
+                "the extended class names no urdf_path or mjcf_path",
+                "add a description to the spec",
+            )
+            return None
+        assets = maniskill_assets_dir()
+        path = Path(text)
+        if assets is not None and path.is_relative_to(assets):
+            ref = FileRef("maniskill_assets", path.relative_to(assets).as_posix(), path)
+        else:
+            ref = FileRef("file", text, path)
+        if not path.is_file():
+            self.err(("extends",), "RS050", f"the extended class's description is missing: {text}")
+            return None
+        description, diags = load_description(str(path), kind)
+        self.diagnostics.extend(_relocate(diags, str(path), self._display(ref)))
+        self.description = description
+        self.inherited_kind = kind
+        return ref if description is not None else None
+
     def load_description(self) -> FileRef | None:
         from robospec.description import load_description
 
         desc = self.spec.description
+        assert desc is not None
         path: KeyPath = ("description", desc.kind)
         ref = self.file_ref(desc.path, path)
         if ref is None:
@@ -487,8 +518,19 @@ class Resolver:
     # -- the whole robot --------------------------------------------------------------------
 
     def resolve(self) -> Resolution:
+        from robospec.resolve_helpers import HelperResolver
+
         spec = self.spec
-        description_ref = self.load_description()
+        helpers = HelperResolver(self)
+        base_ref, base_class = helpers.base_class()
+        if spec.extends is not None and base_ref is None:
+            return Resolution(None, None, self.diagnostics)
+        if spec.description is not None:
+            description_ref = self.load_description()
+            description_kind = "mjcf" if spec.description.kind == "mjcf" else "urdf"
+        else:
+            description_ref = self.inherited_description(base_class)
+            description_kind = self.inherited_kind
         if description_ref is None or self.description is None:
             return Resolution(None, self.description, self.diagnostics)
         description = self.description
@@ -512,14 +554,12 @@ class Resolver:
             )
             for i, rule in enumerate(spec.collision_rules)
         )
-        tcp = spec.tcp
-        if tcp is not None:
-            self.link(tcp, ("tcp",))
+        helpers.check_members()
         robot = ResolvedRobot(
             uid=spec.uid,
             class_name=spec.class_name or class_name_for(spec.uid),
             spec_path=self.loaded.path,
-            description_kind="mjcf" if spec.description.kind == "mjcf" else "urdf",
+            description_kind=description_kind,
             description=description_ref,
             fix_root_link=spec.loader.fix_root_link,
             load_multiple_collisions=spec.loader.load_multiple_collisions,
@@ -530,10 +570,40 @@ class Resolver:
             modes=tuple(modes),
             cameras=cameras,
             collision_rules=rules,
-            tcp=tcp,
+            tcp=helpers.tcp(),
             active_joints=description.active_joint_names,
+            override=spec.override,
+            download_ids=tuple(spec.description.download) if spec.description else (),
+            base=base_ref,
+            declared=self.declared_sections(),
+            named_links=helpers.named_links(),
+            grasping=helpers.grasping(),
+            is_static=helpers.is_static(),
+            is_standing=helpers.is_standing(),
+            is_fallen=helpers.is_fallen(),
+            link_states=helpers.link_states(),
+            proprioception=helpers.proprioception(),
+            disable_gravity=helpers.disable_gravity(),
+            drives=helpers.drives(),
+            hooks=helpers.hooks(),
         )
         return Resolution(robot, description, self.diagnostics)
+
+    def declared_sections(self) -> frozenset[str]:
+        """What the generated class sets itself; with ``extends`` the rest is inherited."""
+        spec = self.spec
+        if spec.extends is None:
+            return ResolvedRobot.declared
+        given = spec.model_fields_set
+        sections = {
+            "description": "description" in given,
+            "loader": "loader" in given,
+            "urdf_config": bool(given & {"materials", "links"}),
+            "keyframes": "keyframes" in given,
+            "controllers": bool(spec.control_modes),
+            "cameras": "cameras" in given,
+        }
+        return frozenset(name for name, declared in sections.items() if declared)
 
     def urdf_config(self) -> dict[str, Any]:
         spec = self.spec

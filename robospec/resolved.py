@@ -78,6 +78,99 @@ class ResolvedCollisionRule:
 
 
 @dataclass(frozen=True)
+class PythonRef:
+    """``module:attribute.path``, checked importable; emitted as constants, never as names."""
+
+    module: str
+    attributes: tuple[str, ...]
+
+    @property
+    def text(self) -> str:
+        return f"{self.module}:{'.'.join(self.attributes)}"
+
+
+@dataclass(frozen=True)
+class ResolvedTcp:
+    link: str | None
+    midpoint: tuple[str, str] | None = None
+    # with a midpoint: a link's name, or "midpoint" for the mean of the two quaternions
+    orientation: str | None = None
+
+
+@dataclass(frozen=True)
+class ResolvedFinger:
+    link: str  # a link name, or a named_links attribute (see ResolvedRobot.named_links)
+    axis: int  # column of the link's rotation matrix: 0 x, 1 y, 2 z
+    sign: int  # +1 or -1
+
+
+@dataclass(frozen=True)
+class ResolvedGrasping:
+    method: str
+    fingers: tuple[ResolvedFinger, ResolvedFinger]
+    min_force: float
+    max_angle: float
+
+
+@dataclass(frozen=True)
+class ResolvedStatic:
+    indices: tuple[int, ...]  # qvel columns
+    threshold: float
+    base_indices: tuple[int, ...] | None
+    base_threshold: float | None
+    absolute: bool
+
+
+@dataclass(frozen=True)
+class ResolvedHeight:
+    above: float | None
+    below: float | None
+
+
+@dataclass(frozen=True)
+class ResolvedStanding:
+    height: ResolvedHeight
+    upright_within: float | None
+
+
+@dataclass(frozen=True)
+class ResolvedFallen:
+    height: ResolvedHeight | None
+    contact_links: tuple[str, ...] = ()
+    force_above: float | None = None
+
+
+@dataclass(frozen=True)
+class ResolvedLinkState:
+    name: str
+    links: tuple[str, ...] | str  # link names, or a named_links attribute holding a list
+    single: bool  # one link: its (N, 7) pose or (N, 3) velocity, not a stack
+    quantity: str  # "pose" | "linear_velocity"
+    stack_dim: int
+    method: bool
+
+    @property
+    def width(self) -> int:
+        return 7 if self.quantity == "pose" else 3
+
+
+@dataclass(frozen=True)
+class ResolvedDrive:
+    parent: str
+    parent_pose: tuple[tuple[float, float, float], tuple[float, float, float, float]]
+    child: str
+    child_pose: tuple[tuple[float, float, float], tuple[float, float, float, float]]
+    limits: tuple[tuple[str, float, float], ...]  # ("x", lower, upper), ...
+
+
+@dataclass(frozen=True)
+class ResolvedHooks:
+    after_loading_articulation: PythonRef | None = None
+    after_init: PythonRef | None = None
+    methods: tuple[tuple[str, PythonRef], ...] = ()
+
+
+@dataclass(frozen=True)
 class ResolvedRobot:
     uid: str
     class_name: str
@@ -94,5 +187,22 @@ class ResolvedRobot:
     modes: tuple[ResolvedMode, ...]
     cameras: tuple[ResolvedCamera, ...]
     collision_rules: tuple[ResolvedCollisionRule, ...]
-    tcp: str | None
+    tcp: ResolvedTcp | None
     active_joints: tuple[str, ...] = field(default=())
+    override: bool = False
+    download_ids: tuple[str, ...] = ()
+    # extends: a Python agent class; then only the sections in `declared` are emitted
+    base: PythonRef | None = None
+    declared: frozenset[str] = frozenset(
+        {"description", "loader", "urdf_config", "keyframes", "controllers", "cameras"}
+    )
+    named_links: tuple[tuple[str, str | tuple[str, ...]], ...] = ()
+    grasping: tuple[ResolvedGrasping, ...] = ()
+    is_static: ResolvedStatic | None = None
+    is_standing: ResolvedStanding | None = None
+    is_fallen: ResolvedFallen | None = None
+    link_states: tuple[ResolvedLinkState, ...] = ()
+    proprioception: tuple[str, ...] = ()
+    disable_gravity: tuple[str, ...] = ()
+    drives: tuple[ResolvedDrive, ...] = ()
+    hooks: ResolvedHooks = ResolvedHooks()

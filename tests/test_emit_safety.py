@@ -84,6 +84,8 @@ def test_hostile_names_reach_the_module_only_as_string_constants(tmp_path: Path)
         "robot",
         "links_map",
         "tcp",
+        "tcp_pos",
+        "tcp_pose",
         "property",
         "numpy",
         "mani_skill",

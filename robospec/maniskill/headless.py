@@ -123,6 +123,20 @@ def _install() -> None:
 
     _set_attr(mjcf_module.MJCFLoader, "_parse_mjcf", _parse_mjcf_without_visuals)
 
+    # Patch 4 (task scenes). Tasks build their objects and the ground with
+    # ``sapien.render.RenderMaterial(...)`` (cubes, goal markers) and RenderTexture2D (floor
+    # texture), looked up on the module at call time. The stand-in lets those calls pass; a
+    # scene that cannot render never turns the recorded visuals into render bodies, so the
+    # stand-in goes no further and the physics is untouched.
+    # ``sapien.render`` (ManiSkill's view) re-exports ``sapien.pysapien.render`` (SAPIEN's
+    # wrappers import ``sapien.pysapien as sapien``): both names must see the stand-in.
+    for render_module in (
+        importlib.import_module("sapien.render"),
+        importlib.import_module("sapien.pysapien").render,
+    ):
+        _set_attr(render_module, "RenderMaterial", _NoRenderMaterial)
+        _set_attr(render_module, "RenderTexture2D", _NoRenderMaterial)
+
 
 def _uninstall() -> None:
     while _restore:

@@ -12,6 +12,20 @@ from pydantic import Field, StrictBool, model_validator
 
 from robospec.model.common import GroupSelection, JointSelection, Number, Pose, StrictModel
 from robospec.model.controllers import ControllerConfig
+from robospec.model.helpers import (
+    Drive,
+    Grasping,
+    Hooks,
+    IsFallen,
+    IsStanding,
+    IsStatic,
+    LinkSelection,
+    LinkState,
+    Member,
+    NamedLink,
+    PythonRef,
+    Tcp,
+)
 
 UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"
@@ -36,6 +50,11 @@ class Description(StrictModel):
     xacro: str | None = Field(default=None, examples=["robots/twolink/twolink.urdf.xacro"])
     args: dict[str, ScalarArg] = Field(
         default_factory=dict, description="xacro arguments (name := value)"
+    )
+    download: list[Annotated[str, Field(pattern=NAME_PATTERN)]] = Field(
+        default_factory=list,
+        description="ManiSkill asset download ids (`register_agent(asset_download_ids=...)`); "
+        "a spec whose description is not downloaded yet is checked without it",
     )
 
     @model_validator(mode="after")
@@ -140,10 +159,23 @@ class Spec(StrictModel):
     uid: Annotated[str, Field(pattern=UID_PATTERN)] = Field(
         description="the agent uid passed to gym.make(robot_uids=...)"
     )
+    override: bool = Field(
+        default=False,
+        description="replace an agent already registered under this uid (e.g. ManiSkill's "
+        "'panda', so tasks that choose poses by uid use this robot)",
+    )
+    extends: PythonRef | None = Field(
+        default=None,
+        description="a Python agent class to subclass ('module:Class'); the spec then "
+        "overrides only the data it declares",
+        examples=["mani_skill.agents.robots.panda.panda:Panda"],
+    )
     class_name: Annotated[str, Field(pattern=CLASS_NAME_PATTERN)] | None = Field(
         default=None, description="Python class name; default: derived from uid"
     )
-    description: Description
+    description: Description | None = Field(
+        default=None, description="the robot description; optional only with `extends`"
+    )
     loader: Loader = Field(default_factory=Loader)
     materials: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Material] = Field(
         default_factory=dict
@@ -164,8 +196,40 @@ class Spec(StrictModel):
         default_factory=dict, description="controller configs, defined once, reused by modes"
     )
     control_modes: dict[Annotated[str, Field(pattern=NAME_PATTERN)], ControlMode] = Field(
-        min_length=1, description="ordered; the first is the default"
+        default_factory=dict,
+        description="ordered; the first is the default. Required unless `extends` gives them",
     )
     cameras: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Camera] = Field(default_factory=dict)
     collision_rules: list[CollisionRule] = Field(default_factory=list)
-    tcp: str | None = Field(default=None, description="the tool-centre-point link")
+    tcp: str | Tcp | None = Field(
+        default=None, description="the tool centre point: a link, or a link/midpoint mapping"
+    )
+    named_links: dict[Member, NamedLink] = Field(
+        default_factory=dict,
+        description="agent attributes bound to links after loading (e.g. finger1_link)",
+    )
+    grasping: dict[Member, Grasping] = Field(
+        default_factory=dict, description="two-finger grasp checks by method name (is_grasping)"
+    )
+    is_static: IsStatic | None = None
+    is_standing: IsStanding | None = None
+    is_fallen: IsFallen | None = None
+    link_states: dict[Member, LinkState] = Field(
+        default_factory=dict, description="properties reading link poses or velocities"
+    )
+    proprioception: list[Member] = Field(
+        default_factory=list, description="link_states added to get_proprioception, in order"
+    )
+    disable_gravity: LinkSelection | None = Field(
+        default=None, description="links that ignore gravity (e.g. all but a quadruped's root)"
+    )
+    drives: list[Drive] = Field(default_factory=list, description="closed-loop drives")
+    hooks: Hooks = Field(default_factory=Hooks)
+
+    @model_validator(mode="after")
+    def _description_or_base(self) -> Spec:
+        if self.extends is None and self.description is None:
+            raise ValueError("give a description (or extend a Python agent class)")
+        if self.extends is None and not self.control_modes:
+            raise ValueError("give at least one control mode")
+        return self
