@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from robospec.diagnostics import error
 from robospec.model.common import AllBut
 from robospec.model.helpers import HeightBand
 from robospec.model.spec import Spec
@@ -275,16 +276,16 @@ class HelperResolver:
         sources: dict[str, KeyPath] = {}
 
         def claim(name: str, path: KeyPath) -> None:
+            at = self.r.at_key(path)
             if name in BASE_AGENT_MEMBERS and path[0] != "hooks":
-                self.r.err(
-                    path,
-                    "RS317",
-                    f"'{name}' is a member of ManiSkill's BaseAgent; a helper cannot replace it",
-                    "choose another name",
+                message = (
+                    f"'{name}' is a member of ManiSkill's BaseAgent; a helper cannot replace it"
                 )
+                self.r.diagnostics.append(error(at, "RS317", message, "choose another name"))
             elif name in sources:
                 first = ".".join(str(p) for p in sources[name])
-                self.r.err(path, "RS317", f"agent member '{name}' is also defined by {first}")
+                message = f"agent member '{name}' is also defined by {first}"
+                self.r.diagnostics.append(error(at, "RS317", message))
             else:
                 sources[name] = path
 

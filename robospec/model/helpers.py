@@ -170,7 +170,8 @@ class Drive(StrictModel):
     child_pose: Pose = Field(default_factory=Pose, description="drive frame on the second link")
     limit: AxisLimit = Field(
         default_factory=lambda: AxisLimit(x=[0.0, 0.0], y=[0.0, 0.0], z=[0.0, 0.0]),
-        description="lower/upper translation per axis; default: locked",
+        description="lower/upper translation per axis; axes not named are free. "
+        "Default: all three locked at 0",
     )
 
 
