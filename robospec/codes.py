@@ -80,6 +80,7 @@ _CODES = [
     Code("RS411", "imported uid is ManiSkill's own"),
     Code("RS412", "import output file already exists"),
     Code("RS413", "upstream data a spec cannot express"),
+    Code("RS414", "upstream keyframe does not fit the robot description"),
     # -- internal
     Code("RS900", "internal error"),
 ]
