@@ -30,6 +30,7 @@ _CODES = [
     Code("RS052", "robot description structure is invalid"),
     Code("RS053", "xacro expansion failed"),
     Code("RS054", "xacro expansion exceeded its time or memory limit"),
+    Code("RS055", "robot description not downloaded yet"),
     # -- schema
     Code("RS101", "unknown key"),
     Code("RS102", "invalid value"),

@@ -1,15 +1,19 @@
-"""Where spec paths point: relative to the spec file, or into ManiSkill's bundled assets.
+"""Where spec paths point: relative to the spec file, or into ManiSkill's asset folders.
 
-``{maniskill_assets}`` is found without importing ManiSkill (importing it costs seconds).
+``{maniskill_assets}`` is the asset folder inside the mani_skill package (PACKAGE_ASSET_DIR);
+``{maniskill_data}`` is where ManiSkill downloads robots to (ASSET_DIR: ``$MS_ASSET_DIR/data``,
+default ``~/.maniskill/data``). Both are found without importing ManiSkill (it costs seconds).
 """
 
 from __future__ import annotations
 
 import importlib.util
+import os
 from functools import cache
 from pathlib import Path
 
 ASSETS_PLACEHOLDER = "{maniskill_assets}"
+DATA_PLACEHOLDER = "{maniskill_data}"
 
 
 @cache
@@ -25,3 +29,16 @@ def split_assets(text: str) -> str | None:
     if not text.startswith(ASSETS_PLACEHOLDER):
         return None
     return text[len(ASSETS_PLACEHOLDER) :].lstrip("/")
+
+
+def maniskill_data_dir() -> Path:
+    """ManiSkill's ``ASSET_DIR``, computed as mani_skill/__init__.py does."""
+    root = os.getenv("MS_ASSET_DIR", os.path.join(os.path.expanduser("~"), ".maniskill"))
+    return Path(root) / "data"
+
+
+def split_data(text: str) -> str | None:
+    """The part after ``{maniskill_data}/``, or None when the path is not in ManiSkill's data."""
+    if not text.startswith(DATA_PLACEHOLDER):
+        return None
+    return text[len(DATA_PLACEHOLDER) :].lstrip("/")

@@ -21,7 +21,7 @@ from robospec.model.build import SpecModelResult
 from robospec.model.common import AllBut, Pose
 from robospec.model.controllers import MimicTarget
 from robospec.model.spec import Keyframe, Spec
-from robospec.paths import maniskill_assets_dir, split_assets
+from robospec.paths import maniskill_assets_dir, maniskill_data_dir, split_assets, split_data
 from robospec.resolved import (
     FileRef,
     ResolvedCamera,
@@ -46,6 +46,10 @@ PER_JOINT_FIELDS = (
     "drive_mode",
 )
 LIMIT_TOLERANCE = 1e-6
+NEEDS_DOWNLOAD = (
+    "this needs the robot description, which is not downloaded",
+    "write the values as one full list in qpos order, or download the robot's assets",
+)
 # ManiSkill's dataclass field order, so generated configs read like its own
 KWARG_ORDER = (
     "joint_names",
@@ -93,6 +97,8 @@ class Resolver:
         self.description: RobotDescription | None = None
         self._group_cache: dict[str, list[str]] = {}
         self.inherited_kind: Literal["urdf", "mjcf"] = "urdf"
+        # the description is not downloaded: names are taken as written (see assumed.py)
+        self.assumed = False
 
     # -- locations --------------------------------------------------------------------------
 
@@ -110,9 +116,12 @@ class Resolver:
 
     # -- description ------------------------------------------------------------------------
 
-    def file_ref(self, text: str, path: KeyPath) -> FileRef | None:
+    def file_ref(self, text: str, path: KeyPath, *, may_be_missing: bool = False) -> FileRef | None:
         in_assets = split_assets(text)
-        if in_assets is not None:
+        in_data = split_data(text)
+        if in_data is not None:
+            ref = FileRef("maniskill_data", in_data, maniskill_data_dir() / in_data)
+        elif in_assets is not None:
             assets = maniskill_assets_dir()
             if assets is None:
                 self.err(
@@ -126,6 +135,8 @@ class Resolver:
         else:
             ref = FileRef("file", text, (self.spec_file.parent / text).resolve())
         if not ref.absolute.is_file():
+            if may_be_missing:
+                return ref
             self.err(
                 path,
                 "RS050",
@@ -170,10 +181,22 @@ class Resolver:
         desc = self.spec.description
         assert desc is not None
         path: KeyPath = ("description", desc.kind)
-        ref = self.file_ref(desc.path, path)
+        ref = self.file_ref(desc.path, path, may_be_missing=bool(desc.download))
         if ref is None:
             return None
         shown = self._display(ref)
+        if not ref.absolute.is_file():  # a download ManiSkill has not fetched yet
+            from robospec.description.assumed import assumed_description
+
+            self.warn(
+                path,
+                "RS055",
+                f"'{desc.path}' is not downloaded: joint and link names are not checked",
+                "python -m mani_skill.utils.download_asset " + " ".join(desc.download),
+            )
+            self.assumed = True
+            self.description = assumed_description(self.spec, shown)
+            return ref
         if desc.kind == "xacro":
             from robospec.description.xacro import expand_xacro
 
@@ -194,6 +217,8 @@ class Resolver:
     def _display(self, ref: FileRef) -> str:
         if ref.kind == "maniskill_assets":
             return "{maniskill_assets}/" + ref.relative
+        if ref.kind == "maniskill_data":
+            return "{maniskill_data}/" + ref.relative
         return str(Path(self.loaded.path).parent / ref.relative)
 
     # -- joint selections --------------------------------------------------------------------
@@ -319,6 +344,12 @@ class Resolver:
         assert self.description is not None
         active = self.description.active_joint_names
         if values is None:
+            return None
+        if self.assumed:
+            # the joint order is the description's, which is not here: only a full list works
+            if isinstance(values, list):
+                return tuple(float(v) for v in values)
+            self.err(path, "RS055", *NEEDS_DOWNLOAD)
             return None
         if isinstance(values, list):
             if len(values) != len(active):

@@ -135,6 +135,11 @@ class HelperResolver:
         rule = self.spec.is_static
         if rule is None:
             return None
+        if self.r.assumed:  # qvel columns follow the description's joint order
+            from robospec.resolve import NEEDS_DOWNLOAD
+
+            self.r.err(("is_static",), "RS055", *NEEDS_DOWNLOAD)
+            return None
         columns = self.qvel_columns(rule.joints, ("is_static", "joints"))
         base = None
         if rule.base is not None:

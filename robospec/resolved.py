@@ -15,8 +15,8 @@ from typing import Any, Literal
 class FileRef:
     """A file the generated agent names: in ManiSkill's assets, or a file on disk."""
 
-    kind: Literal["maniskill_assets", "file"]
-    relative: str  # for maniskill_assets: the path below the asset folder
+    kind: Literal["maniskill_assets", "maniskill_data", "file"]
+    relative: str  # for maniskill_assets/maniskill_data: the path below that folder
     absolute: Path  # where it is on this machine
     # a xacro expansion: the URDF text the generated package must carry as a file
     generated_text: str | None = None

@@ -129,3 +129,17 @@ def test_extends_subclasses_the_python_agent_and_overrides_only_declared_data(
         assert agent.control_mode == "pd_joint_delta_pos"
     finally:
         env.close()
+
+
+def test_a_robot_not_downloaded_yet_registers_with_its_download_ids(tmp_path: Path) -> None:
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    agents = robospec.register(POSITIVE / "not_downloaded.yaml", cache_dir=tmp_path)
+    try:
+        cls = agents["rs_test_anymal"]
+        assert REGISTERED_AGENTS["rs_test_anymal"].asset_download_ids == ["anymal_c"]
+        assert cls.urdf_path.endswith("/robots/anymal_c/urdf/anymal.urdf")
+        assert cls.fix_root_link is False and cls.disable_self_collisions is True
+        assert cls.keyframes["standing"].qpos.tolist()[4] == 0.4
+    finally:
+        REGISTERED_AGENTS.pop("rs_test_anymal", None)

@@ -39,6 +39,7 @@ RESERVED_NAMES = frozenset(
         "np",
         "sapien",
         "PACKAGE_ASSET_DIR",
+        "ASSET_DIR",
         "BaseAgent",
         "Keyframe",
         "deepcopy_dict",
@@ -86,18 +87,16 @@ class _Context:
         self.robot = robot
         self.module_dir = module_dir
         self.description_file = description_file
-        self.uses_assets = False
+        self.asset_folders: set[str] = set()
         self.uses_here = False
         self.imports = helpers.Imports()
 
     def path_expr(self, ref: FileRef, *, is_description: bool = False) -> ast.expr:
-        if ref.kind == "maniskill_assets" and ref.generated_text is None:
-            self.uses_assets = True
+        if ref.kind in ("maniskill_assets", "maniskill_data") and ref.generated_text is None:
+            folder = "PACKAGE_ASSET_DIR" if ref.kind == "maniskill_assets" else "ASSET_DIR"
+            self.asset_folders.add(folder)
             return ast.JoinedStr(
-                [
-                    ast.FormattedValue(_name("PACKAGE_ASSET_DIR"), -1, None),
-                    ast.Constant("/" + ref.relative),
-                ]
+                [ast.FormattedValue(_name(folder), -1, None), ast.Constant("/" + ref.relative)]
             )
         self.uses_here = True
         if is_description and ref.generated_text is not None and self.description_file:
@@ -169,8 +168,9 @@ def generate_header(robot: ResolvedRobot, context: _Context) -> list[ast.stmt]:
     body.append(ast.Import([ast.alias("sapien")]))
     if imports.torch:
         body.append(ast.Import([ast.alias("torch")]))
-    if context.uses_assets:
-        body.append(ast.ImportFrom("mani_skill", [ast.alias("PACKAGE_ASSET_DIR")], 0))
+    if context.asset_folders:
+        names = [ast.alias(n) for n in sorted(context.asset_folders)]
+        body.append(ast.ImportFrom("mani_skill", names, 0))
     body.append(
         ast.ImportFrom(
             "mani_skill.agents.base_agent", [ast.alias("BaseAgent"), ast.alias("Keyframe")], 0
