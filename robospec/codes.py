@@ -66,6 +66,8 @@ _CODES = [
     Code("RS315", "invalid joint for this controller type"),
     Code("RS316", "helper refers to the wrong kind of entry"),
     Code("RS317", "agent member defined twice"),
+    Code("RS318", "end-effector controller too weak to track"),
+    Code("RS319", "actions normalized over unbounded joint limits"),
     # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
     Code("RS400", "import target is not module:Class"),
     Code("RS401", "import target module cannot be imported"),

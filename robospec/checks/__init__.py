@@ -5,7 +5,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 
-from robospec.checks import collision_bits, mimic_joints, mode_coverage
+from robospec.checks import (
+    collision_bits,
+    controller_gains,
+    mimic_joints,
+    mode_coverage,
+    unbounded_normalization,
+)
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic
 
@@ -13,6 +19,8 @@ CHECKS: tuple[Callable[[CheckContext], Iterable[Diagnostic]], ...] = (
     mode_coverage.check,
     mimic_joints.check,
     collision_bits.check,
+    controller_gains.check,
+    unbounded_normalization.check,
 )
 
 

@@ -32,6 +32,7 @@ def assumed_description(spec: Spec, path: str) -> RobotDescription:
         joints=tuple(Joint(name, "revolute", "", "", 0) for name in joints),
         active_joint_names=tuple(joints),
         root_link=links[0] if links else "",
+        assumed=True,
     )
 
 

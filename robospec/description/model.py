@@ -61,6 +61,8 @@ class RobotDescription:
     root_link: str
     # True when the root is attached to the world by a floating/free joint (MJCF freejoint).
     floating_root: bool = False
+    # a stand-in built from the spec's own names: the real file is not downloaded yet
+    assumed: bool = False
     _links_by_name: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
     _joints_by_name: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
 
