@@ -84,6 +84,7 @@ _CODES = [
     Code("RS412", "import output file already exists"),
     Code("RS413", "upstream data a spec cannot express"),
     Code("RS414", "upstream keyframe does not fit the robot description"),
+    Code("RS415", "upstream drives a joint with two controllers in one mode"),
     # -- internal
     Code("RS900", "internal error"),
 ]
