@@ -1,0 +1,282 @@
+"""Stage 2 of `robospec import`: an :class:`AgentRecord` → spec data (plain, ordered dicts) with
+the comments that go with it, plus diagnostics about the class."""
+
+from __future__ import annotations
+
+import os
+import textwrap
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.importer.controllers import listify, plan_controllers
+from robospec.importer.groups import (
+    glob_candidates,
+    partition_of,
+    plan_groups,
+    selection_for,
+    split_by_group,
+)
+from robospec.importer.records import (
+    ALL_JOINTS,
+    AgentRecord,
+    CameraRecord,
+    KeyframeRecord,
+    ModeRecord,
+)
+from robospec.importer.upstream import find_upstream_mistakes
+
+KeyPath = tuple[str | int, ...]
+IDENTITY_Q = (1.0, 0.0, 0.0, 0.0)
+COMMENT_WIDTH = 98
+
+
+@dataclass(frozen=True)
+class SpecDoc:
+    data: dict[str, Any]
+    header: tuple[str, ...] = ()  # comment lines at the top, after the schema modeline
+    notes: dict[KeyPath, str] = field(default_factory=dict)  # end-of-line comments by key path
+
+
+def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, list[Diagnostic]]:
+    diagnostics: list[Diagnostic] = []
+    at_class = Location(record.source.file, record.source.line, record.source.column)
+
+    def spec_path(absolute: str) -> str:
+        for placeholder, root in record.asset_roots:
+            if absolute.startswith(root.rstrip(os.sep) + os.sep):
+                rel = os.path.relpath(absolute, root)
+                return placeholder + "/" + Path(rel).as_posix()
+        try:
+            return Path(os.path.relpath(absolute, out_dir.resolve())).as_posix()
+        except ValueError:  # another drive
+            return Path(absolute).as_posix()
+
+    def path_text(absolute: str) -> str | None:
+        return None if absolute == record.description_path else spec_path(absolute)
+
+    found = find_upstream_mistakes(record, path_text)
+    diagnostics.extend(found.diagnostics)
+    modes = [m for m in record.modes if m.name not in found.dropped_modes]
+    all_joints = record.active_joint_names
+    groups = plan_groups(modes, all_joints)
+    controllers = plan_controllers(modes, groups, path_text)
+
+    data: dict[str, Any] = {"robospec": 1, "uid": uid}
+    description = spec_path(record.description_path)
+    data["description"] = {record.description_kind: description}
+    if record.asset_download_ids and _spec_has("download"):
+        data["description"]["download"] = list(record.asset_download_ids)
+    loader = {
+        name: getattr(record, name)
+        for name, default in (
+            ("fix_root_link", True),
+            ("load_multiple_collisions", False),
+            ("disable_self_collisions", False),
+        )
+        if getattr(record, name) is not default
+    }
+    if loader:
+        data["loader"] = loader
+    if record.materials:
+        data["materials"] = {name: dict(settings) for name, settings in record.materials}
+    rules = _link_rules(record, set(found.dropped_rules))
+    if rules:
+        data["links"] = rules
+    if groups.values:
+        data["groups"] = dict(groups.values)
+    passive = _undriven(modes, record)
+    if passive:
+        data["passive_joints"] = selection_for(passive, all_joints)
+    partition = partition_of(modes, groups, all_joints)
+    keyframes = [k for k in record.keyframes if k.name not in found.dropped_keyframes]
+    if keyframes:
+        data["keyframes"] = {
+            frame.name: _keyframe(frame, all_joints, partition) for frame in keyframes
+        }
+    data["controllers"] = controllers.controllers
+    data["control_modes"] = controllers.modes
+    cameras = [c for c in record.cameras if c.uid not in found.dropped_cameras]
+    if cameras:
+        data["cameras"] = {camera.uid: _camera(camera) for camera in cameras}
+
+    notes: dict[KeyPath, str] = {}
+    for (key, field_name), note in found.field_notes.items():
+        for name, controller in controllers.records.items():
+            if controller.key == key and field_name in controllers.controllers[name]:
+                notes[("controllers", name, field_name)] = note
+
+    header = [f"Imported by `robospec import` from {record.module}:{record.class_name}."]
+    if record.description_file is None:
+        header.append(
+            "Its robot description is not installed here, so joints are named as upstream "
+            "names them and keyframes are full ordered lists."
+        )
+    if record.asset_download_ids:
+        header.append(
+            "ManiSkill downloads its assets with: python -m mani_skill.utils.download_asset "
+            + " ".join(record.asset_download_ids)
+        )
+    for mode, why in found.dropped_modes.items():
+        header.append(f"Left out: control mode {mode} ({why}).")
+    for link, why in found.dropped_rules.items():
+        header.append(f"Left out: the urdf_config rule for link {link} ({why}).")
+    for frame, why in found.dropped_keyframes.items():
+        header.append(f"Left out: keyframe {frame} ({why}).")
+    for camera, why in found.dropped_cameras.items():
+        header.append(f"Left out: camera {camera} ({why}).")
+    if record.unreproduced:
+        header.append("Not reproduced (code, not data): " + ", ".join(record.unreproduced) + ".")
+        diagnostics.append(
+            warning(
+                at_class,
+                "RS409",
+                f"{record.class_name} defines {len(record.unreproduced)} member(s) that are code "
+                "the spec does not reproduce: " + ", ".join(record.unreproduced),
+                "keep them in a subclass of the generated agent, or port them by hand",
+            )
+        )
+    if record.description_file is None:
+        hint = (
+            "download it with: python -m mani_skill.utils.download_asset "
+            + " ".join(record.asset_download_ids)
+            if record.asset_download_ids
+            else None
+        )
+        diagnostics.append(
+            warning(
+                at_class,
+                "RS410",
+                f"robot description '{description}' is not installed: joint and link names are "
+                "not checked, no globs, keyframes as ordered lists",
+                hint,
+            )
+        )
+    if description.startswith("{maniskill_data}/") and not _paths_have("DATA_PLACEHOLDER"):
+        diagnostics.append(
+            warning(
+                at_class,
+                "RS413",
+                f"'{description.split('/')[0]}' (ManiSkill's download folder, ASSET_DIR) is not "
+                "a path placeholder this robospec resolves yet",
+                "replace it with the file's path if the spec must validate now",
+            )
+        )
+    from robospec.builtin_uids import MANISKILL_UIDS
+
+    if uid in MANISKILL_UIDS:
+        diagnostics.append(
+            warning(
+                Location("<uid>", 1, 1),
+                "RS411",
+                f"uid '{uid}' is ManiSkill's own agent; registering the spec under it would be "
+                "skipped",
+                f"pass --uid rs_{uid}",
+            )
+        )
+    wrapped: list[str] = []
+    for line in header:
+        wrapped.extend(textwrap.wrap(line, COMMENT_WIDTH, break_on_hyphens=False))
+    return SpecDoc(data, tuple(wrapped), notes), diagnostics
+
+
+def _undriven(modes: list[ModeRecord], record: AgentRecord) -> tuple[str, ...]:
+    """Joints some control mode leaves without a controller (upstream lets them hang), URDF
+    mimic joints aside; unknowable when the joints are "all of an uninstalled description"."""
+    driven = [{j for _, c in mode.entries for j in c.joints} for mode in modes]
+    if any(ALL_JOINTS in joints for joints in driven):
+        return ()
+    if record.active_joints is not None:
+        every = tuple(j.name for j in record.active_joints if not j.mimic)
+    else:
+        every = tuple(dict.fromkeys(j for m in modes for _, c in m.entries for j in c.joints))
+    return tuple(j for j in every if any(j not in joints for joints in driven))
+
+
+def _spec_has(name: str) -> bool:
+    """Whether this robospec's spec format has ``description.<name>`` (it is growing)."""
+    from robospec.model.spec import Description
+
+    return name in Description.model_fields
+
+
+def _paths_have(name: str) -> bool:
+    import robospec.paths
+
+    return hasattr(robospec.paths, name)
+
+
+def _link_rules(record: AgentRecord, dropped: set[str]) -> dict[str, dict[str, Any]]:
+    by_settings: dict[tuple[Any, ...], list[str]] = {}
+    for link, settings in record.link_rules:
+        if link not in dropped:
+            by_settings.setdefault(settings, []).append(link)
+    rules: dict[str, dict[str, Any]] = {}
+    for settings, links in by_settings.items():
+        pattern = _link_glob(links, record.link_names)
+        if pattern is not None:
+            rules[pattern] = dict(settings)
+            continue
+        for link in links:
+            rules[link] = dict(settings)
+    return rules
+
+
+def _link_glob(links: list[str], names: tuple[str, ...] | None) -> str | None:
+    if names is None or len(links) < 2:
+        return None
+    import fnmatch
+
+    for pattern in glob_candidates(tuple(links)):
+        if {n for n in names if fnmatch.fnmatchcase(n, pattern)} == set(links):
+            return pattern
+    return None
+
+
+def _pose(p: tuple[float, ...], q: tuple[float, ...], *, keep_p: bool) -> dict[str, Any]:
+    pose: dict[str, Any] = {}
+    if keep_p or any(v != 0 for v in p):
+        pose["p"] = list(p)
+    if tuple(q) != IDENTITY_Q:
+        pose["q"] = list(q)
+    return pose
+
+
+def _keyframe(
+    frame: KeyframeRecord,
+    all_joints: tuple[str, ...] | None,
+    partition: list[tuple[str, tuple[str, ...]]] | None,
+) -> dict[str, Any]:
+    entry: dict[str, Any] = {}
+    pose = _pose(frame.p, frame.q, keep_p=False)
+    if pose:
+        entry["pose"] = pose
+    for name in ("qpos", "qvel"):
+        values = getattr(frame, name)
+        if values is None:
+            continue
+        split = (
+            split_by_group(values, all_joints, partition)
+            if partition is not None and all_joints is not None
+            else None
+        )
+        entry[name] = split if split is not None else listify(values)
+    return entry
+
+
+def _camera(camera: CameraRecord) -> dict[str, Any]:
+    entry: dict[str, Any] = {"mount": camera.mount, "pose": _pose(camera.p, camera.q, keep_p=True)}
+    entry["width"] = camera.width
+    entry["height"] = camera.height
+    if camera.fov is not None:
+        entry["fov"] = camera.fov
+    if camera.intrinsic is not None:
+        entry["intrinsic"] = [list(row) for row in camera.intrinsic]
+    if camera.near != 0.01:
+        entry["near"] = camera.near
+    if camera.far != 100:
+        entry["far"] = camera.far
+    if camera.shader_pack != "minimal":
+        entry["shader_pack"] = camera.shader_pack
+    return entry
