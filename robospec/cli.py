@@ -101,6 +101,35 @@ def schema(
         out.write_text(text, encoding="utf-8")
 
 
+@app.command("import")
+def import_(
+    target: Annotated[
+        str, typer.Argument(metavar="MODULE:CLASS", help="a ManiSkill agent class to import")
+    ],
+    uid: Annotated[
+        str | None, typer.Option("--uid", help="uid of the spec (default: the class's uid)")
+    ] = None,
+    out: Annotated[
+        Path | None, typer.Option("--out", "-o", help="write the spec to FILE (default: stdout)")
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="overwrite FILE")] = False,
+    format: FormatOpt = Format.text,
+) -> None:
+    """Write a spec (YAML) from an existing ManiSkill agent class; problems found in the class
+    are printed as diagnostics (on stderr).
+
+    Example: robospec import mani_skill.agents.robots.panda.panda:Panda --uid rs_panda -o panda.yaml
+    """
+    from robospec.importer.command import run_import
+    from robospec.report import render
+
+    text, diagnostics = run_import(target, uid, out, force)
+    if text is not None and out is None:
+        sys.stdout.write(text)
+    typer.echo(render(diagnostics, 1, format.value), err=True)
+    raise typer.Exit(1 if has_errors(diagnostics) else 0)
+
+
 def main() -> None:
     try:
         app()

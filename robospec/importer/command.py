@@ -1,0 +1,55 @@
+"""What `robospec import` does, apart from argument parsing: import, then write the spec."""
+
+from __future__ import annotations
+
+import os
+import re
+import tempfile
+from pathlib import Path
+
+from robospec.diagnostics import Diagnostic, Location, error
+
+UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"  # as the spec model's
+
+
+def run_import(
+    target: str, uid: str | None, out: Path | None, force: bool
+) -> tuple[str | None, list[Diagnostic]]:
+    """The spec text (also written to ``out`` when given) and the diagnostics."""
+    if uid is not None and not re.match(UID_PATTERN, uid):
+        return None, [
+            error(
+                Location("<uid>"),
+                "RS105",
+                f"invalid uid {uid!r}",
+                "use letters, digits, '_', '-' and '.', starting with a letter or digit",
+            )
+        ]
+    if out is not None and out.exists() and not force:
+        return None, [
+            error(
+                Location(str(out)),
+                "RS412",
+                f"{out} already exists; robospec import does not overwrite it",
+                "pass --force to replace it",
+            )
+        ]
+    from robospec.importer import import_agent
+
+    out_dir = out.parent if out is not None else Path.cwd()
+    result = import_agent(target, uid, out_dir)
+    if result.text is not None and out is not None:
+        write_atomically(out, result.text)
+    return result.text, result.diagnostics
+
+
+def write_atomically(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, staging = tempfile.mkstemp(prefix=".robospec-", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(staging, path)
+    except BaseException:
+        Path(staging).unlink(missing_ok=True)
+        raise
