@@ -12,7 +12,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from robospec.model.common import GroupSelection, JointSelection, Number, Pose, StrictModel
+from robospec.model.common import GroupSelection, Number, Pose, StrictModel
 
 # an attribute or method name the generated class defines
 MEMBER_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]{0,63}$"
@@ -76,7 +76,7 @@ class Grasping(StrictModel):
 
 
 class StaticJoints(StrictModel):
-    joints: JointSelection
+    joints: GroupSelection
     threshold: Number = Field(description="the keyword argument's default")
 
 
@@ -87,7 +87,7 @@ class IsStatic(StrictModel):
     ``absolute: false`` compares signed velocities, reproducing fetch's upstream check.
     """
 
-    joints: JointSelection
+    joints: GroupSelection = Field(description="joints, groups or {all_but: ...}")
     threshold: Number = 0.2
     base: StaticJoints | None = None
     absolute: bool = True
