@@ -177,7 +177,9 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
         )
     wrapped: list[str] = []
     for line in header:
-        wrapped.extend(textwrap.wrap(line, COMMENT_WIDTH, break_on_hyphens=False))
+        wrapped.extend(
+            textwrap.wrap(line, COMMENT_WIDTH, break_on_hyphens=False, break_long_words=False)
+        )
     return SpecDoc(data, tuple(wrapped), notes), diagnostics
 
 

@@ -21,7 +21,13 @@ from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.importer.controllers import written_fields
-from robospec.importer.records import ALL_JOINTS, AgentRecord, ControllerRecord, SourceRef
+from robospec.importer.records import (
+    ALL_JOINTS,
+    AgentRecord,
+    ControllerRecord,
+    JointFacts,
+    SourceRef,
+)
 
 LINK_FIELDS = ("ee_link", "root_link_name")
 LIMIT_TOLERANCE = 1e-6  # as robospec validate
@@ -162,9 +168,15 @@ def _keyframes(record: AgentRecord, found: Findings) -> None:
     """RS414: a keyframe with the wrong number of values (ManiSkill fails when it is used:
     left out), or with values outside the joint limits (kept as upstream has it; `robospec
     validate` reports them)."""
-    if record.active_joints is None:
-        return
-    joints = record.active_joints
+    if record.active_joints is not None:
+        joints = record.active_joints
+        counted = "active joints"
+    else:  # not installed: the joints the controllers name, unless some take "all of them"
+        named = [j for m in record.modes for _, c in m.entries for j in c.joints]
+        if not named or ALL_JOINTS in named:
+            return
+        joints = tuple(JointFacts(name, None, None) for name in dict.fromkeys(named))
+        counted = "joints the controllers drive"
     for frame in record.keyframes:
         at = _at(record.locate(frame.name, record.source))
         for name in ("qpos", "qvel"):
@@ -177,8 +189,8 @@ def _keyframes(record: AgentRecord, found: Findings) -> None:
                         at,
                         "RS414",
                         f"keyframe {frame.name!r} has {len(values)} {name} values for "
-                        f"{len(joints)} active joints; ManiSkill fails when it is used, so it "
-                        "is left out",
+                        f"{len(joints)} {counted}; ManiSkill fails when it is used, so it is "
+                        "left out",
                     )
                 )
                 found.dropped_keyframes[frame.name] = f"{len(values)} {name} values"
