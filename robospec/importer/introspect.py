@@ -412,6 +412,7 @@ def read_agent(
         controllers_at=controllers_at,
         urdf_config_at=_defined_at(cls, "urdf_config"),
         sources=_sources(cls),
+        not_imported=tuple(d.message for d in diagnostics if d.code in ("RS404", "RS413")),
     )
     return record, diagnostics
 

@@ -109,6 +109,8 @@ class AgentRecord:
     asset_download_ids: tuple[str, ...]
     # methods and properties of the class (below BaseAgent) that a spec does not reproduce
     unreproduced: tuple[str, ...]
+    # what could not be read or expressed (already reported as diagnostics), for the header
+    not_imported: tuple[str, ...] = ()
     # spec placeholders and the absolute folders they stand for
     asset_roots: tuple[tuple[str, str], ...] = ()
     # facts from the installed description; None when it is not installed

@@ -118,6 +118,8 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
             "ManiSkill downloads its assets with: python -m mani_skill.utils.download_asset "
             + " ".join(record.asset_download_ids)
         )
+    for message in record.not_imported:
+        header.append(f"Not imported: {message}.")
     for mode, why in found.dropped_modes.items():
         header.append(f"Left out: control mode {mode} ({why}).")
     for link, why in found.dropped_rules.items():
@@ -144,12 +146,19 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
             if record.asset_download_ids
             else None
         )
+        every = any(c.joints == (ALL_JOINTS,) for m in modes for _, c in m.entries)
         diagnostics.append(
             warning(
                 at_class,
                 "RS410",
                 f"robot description '{description}' is not installed: joint and link names are "
-                "not checked, no globs, keyframes as ordered lists",
+                "not checked, no globs, keyframes as ordered lists"
+                + (
+                    "; upstream drives every active joint, written '*', which `robospec "
+                    "validate` can only expand once the description is there"
+                    if every
+                    else ""
+                ),
                 hint,
             )
         )
