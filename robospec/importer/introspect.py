@@ -191,7 +191,8 @@ def _source_of(obj: Any) -> SourceRef | None:
 def _own_classes(cls: type) -> list[type]:
     from mani_skill.agents.base_agent import BaseAgent
 
-    return [k for k in cls.__mro__ if issubclass(k, BaseAgent) and k is not BaseAgent]
+    mro = cls.__mro__
+    return list(mro[: mro.index(BaseAgent)]) if BaseAgent in mro else [cls]
 
 
 def _defined_at(cls: type, name: str) -> SourceRef | None:
@@ -238,14 +239,20 @@ def _sources(cls: type) -> tuple[tuple[str, tuple[str, ...]], ...]:
 
 def _unreproduced(cls: type) -> tuple[str, ...]:
     names: list[str] = []
+    seen: set[str] = set()
     for klass in _own_classes(cls):
         for name, member in vars(klass).items():
-            if name in names or (name.startswith("__") and name != "__init__"):
+            if name in seen or (name.startswith("__") and name != "__init__"):
                 continue
+            seen.add(name)
             if name == "__init__":
+                try:
+                    signature = inspect.signature(member)
+                except (TypeError, ValueError):
+                    continue
                 parameters = [
                     p.name
-                    for p in inspect.signature(member).parameters.values()
+                    for p in signature.parameters.values()
                     if p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD) and p.name != "self"
                 ]
                 own = [p for p in parameters if p not in ("scene", "control_freq", "control_mode")]
@@ -295,7 +302,19 @@ def load_installed_description(
     if not os.path.isfile(path):
         return None, None, []
     description, diagnostics = load_description(path, kind)
-    return path, description, diagnostics
+    return path, description, [_relocated(d, path) for d in diagnostics]
+
+
+def _relocated(diagnostic: Diagnostic, path: str) -> Diagnostic:
+    """A description diagnostic shown under the spec's name for the file, not this machine's."""
+    if diagnostic.location.file != path:
+        return diagnostic
+    shown = path
+    for placeholder, root in asset_roots():
+        if path.startswith(root.rstrip(os.sep) + os.sep):
+            shown = placeholder + "/" + os.path.relpath(path, root).replace(os.sep, "/")
+    location = Location(shown, diagnostic.location.line, diagnostic.location.column)
+    return dataclasses.replace(diagnostic, location=location)
 
 
 def read_agent(
@@ -312,6 +331,15 @@ def read_agent(
         ref = ref or class_at
         return Location(ref.file, ref.line, ref.column)
 
+    if cls.urdf_path is None and cls.mjcf_path is None:
+        diagnostics.append(
+            error(
+                at(class_at),
+                "RS413",
+                f"{cls.__name__} has neither urdf_path nor mjcf_path; write the spec's "
+                "description by hand",
+            )
+        )
     robot = StandInRobot(description)
     obj, failure = instantiate(cls, robot)
     if failure is not None:

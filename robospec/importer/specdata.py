@@ -44,6 +44,8 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
     at_class = Location(record.source.file, record.source.line, record.source.column)
 
     def spec_path(absolute: str) -> str:
+        if not absolute:
+            return ""
         for placeholder, root in record.asset_roots:
             if absolute.startswith(root.rstrip(os.sep) + os.sep):
                 rel = os.path.relpath(absolute, root)
@@ -139,7 +141,7 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
                 "keep them in a subclass of the generated agent, or port them by hand",
             )
         )
-    if record.description_file is None:
+    if record.description_file is None and record.description_path:
         hint = (
             "download it with: python -m mani_skill.utils.download_asset "
             + " ".join(record.asset_download_ids)
