@@ -108,3 +108,24 @@ def test_task_facing_members_equal_the_hand_written_agent(upstream: str, agents:
             if name in expected_missing:
                 continue
             assert_same_value(mine[name], value, f"{upstream}.{name} at step {step}")
+
+
+def test_zoo_table_lists_every_registered_agent_and_every_spec() -> None:
+    """docs/zoo.md has one row per ManiSkill agent; a 'bundled' row names its spec file."""
+    import re
+    from pathlib import Path
+
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+    from maniskill_compare import MANISKILL_SPECS
+
+    rows = re.findall(
+        r"^\| (\S+) \| (bundled|download) \| (\S+?(?:\.yaml`)?|import only) \|",
+        (Path(__file__).parent.parent / "docs" / "zoo.md").read_text(encoding="utf-8"),
+        re.MULTILINE,
+    )
+    table = {uid: (assets, spec) for uid, assets, spec in rows}
+    maniskill = {uid for uid in REGISTERED_AGENTS if not uid.startswith(("rs_", "twolink"))}
+    assert set(table) == maniskill
+    specs = {p.stem for p in MANISKILL_SPECS.glob("*.yaml")}
+    assert {uid for uid, (assets, _) in table.items() if assets == "bundled"} == specs
+    assert set(TWINS) == specs
