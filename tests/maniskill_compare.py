@@ -29,18 +29,7 @@ MANISKILL_SPECS = ROOT / "specs" / "maniskill"
 TWINS: dict[str, str] = {"panda": "rs_panda", "fetch": "rs_fetch", "humanoid": "rs_humanoid"}
 
 LOADER_FLAGS = ("fix_root_link", "load_multiple_collisions", "disable_self_collisions")
-CAMERA_FIELDS = (
-    "uid",
-    "width",
-    "height",
-    "fov",
-    "near",
-    "far",
-    "intrinsic",
-    "entity_uid",
-    "mount",
-    "shader_pack",
-)
+CAMERA_FIELDS = ("uid", "width", "height", "fov", "near", "far", "intrinsic", "shader_pack")
 
 
 _cache_dirs: list[Path] = []
@@ -197,8 +186,22 @@ def assert_same_keyframes(ours: Mapping[str, Any], theirs: Mapping[str, Any]) ->
 
 
 def assert_same_urdf_config(ours: Any, theirs: Any) -> None:
-    """``urdf_config``: an empty config and no config load the same robot."""
-    assert_same_value(ours or None, theirs or None, "urdf_config")
+    """``urdf_config``: an empty config and no config load the same robot.
+
+    The order of the ``_materials`` and ``link`` entries is not compared: ManiSkill only looks
+    them up by name (``sapien_utils.parse_urdf_config`` and ``apply_urdf_config``), and robospec
+    writes links in the description's order where a hand-written agent may use any.
+    """
+    assert_same_value(_by_name(ours or None), _by_name(theirs or None), "urdf_config")
+
+
+def _by_name(config: Mapping[str, Any] | None) -> dict[str, Any] | None:
+    if config is None:
+        return None
+    return {
+        key: dict(sorted(value.items())) if key in ("_materials", "link") else value
+        for key, value in config.items()
+    }
 
 
 def assert_same_sensor_configs(ours: list[Any], theirs: list[Any]) -> None:
@@ -208,7 +211,19 @@ def assert_same_sensor_configs(ours: list[Any], theirs: list[Any]) -> None:
         for name in CAMERA_FIELDS:
             if hasattr(a, name) or hasattr(b, name):
                 assert_same_value(getattr(a, name), getattr(b, name), f"{where}.{name}")
+        assert_same_value(mount_name(a), mount_name(b), f"{where}.mount")
         assert_same_value(a.pose, b.pose, f"{where}.pose")
+
+
+def mount_name(camera: Any) -> str | None:
+    """The name of the link a camera config mounts on. A config names it either as
+    ``entity_uid`` (robospec, fetch) or by passing the link itself as ``mount`` (panda_wristcam,
+    the G1 head camera); ``Camera.__init__`` mounts on ``mount`` when it is given and otherwise
+    looks ``entity_uid`` up among the robot's links, so both reach the same link."""
+    if camera.mount is not None:
+        assert camera.entity_uid is None, camera
+        return str(camera.mount.name)
+    return camera.entity_uid
 
 
 def description_file(agent_cls: type) -> str:
