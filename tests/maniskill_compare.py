@@ -25,8 +25,35 @@ import torch
 ROOT = Path(__file__).resolve().parent.parent
 MANISKILL_SPECS = ROOT / "specs" / "maniskill"
 
-# ManiSkill's uid -> the uid of the spec that reproduces it.
-TWINS: dict[str, str] = {"panda": "rs_panda", "fetch": "rs_fetch", "humanoid": "rs_humanoid"}
+# ManiSkill's uid -> the uid of the spec that reproduces it: every agent ManiSkill registers
+# whose assets ship in the pip package. The spec of ``uid`` is specs/maniskill/<uid>.yaml.
+BUNDLED_AGENTS = (
+    "panda",
+    "fetch",
+    "humanoid",
+    "allegro_hand_left",
+    "allegro_hand_right",
+    "allegro_hand_right_touch",
+    "dclaw",
+    "fixed_inspire_hand_left",
+    "fixed_inspire_hand_right",
+    "floating_ability_hand_right",
+    "floating_inspire_hand_left",
+    "floating_inspire_hand_right",
+    "floating_panda_gripper",
+    "koch-v1.1",
+    "panda_stick",
+    "panda_wristcam",
+    "so100",
+    "trifingerpro",
+    "unitree_g1",
+    "unitree_g1_simplified_legs",
+    "unitree_g1_simplified_upper_body",
+    "unitree_g1_simplified_upper_body_right_arm",
+    "unitree_g1_simplified_upper_body_with_head_camera",
+    "xarm7_ability",
+)
+TWINS: dict[str, str] = {uid: f"rs_{uid}" for uid in BUNDLED_AGENTS}
 
 LOADER_FLAGS = ("fix_root_link", "load_multiple_collisions", "disable_self_collisions")
 CAMERA_FIELDS = ("uid", "width", "height", "fov", "near", "far", "intrinsic", "shader_pack")
