@@ -4,6 +4,7 @@ fields; control modes refer to them by name."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -141,6 +142,8 @@ def _name_for(
         candidates = [f"{label}_{suffix}"]
     else:
         candidates = [suffix]
+    if len(record.joints) == 1 and re.fullmatch(r"[A-Za-z0-9_][A-Za-z0-9_.\-]*", record.joints[0]):
+        candidates.append(f"{record.joints[0]}_{suffix}")  # one joint: named after it
     short = mode_name.removeprefix("pd_")
     candidates.append(f"{label}_{short}" if label is not None else short)
     for candidate in candidates:

@@ -120,6 +120,11 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
             "ManiSkill downloads its assets with: python -m mani_skill.utils.download_asset "
             + " ".join(record.asset_download_ids)
         )
+    if passive:
+        header.append(
+            "passive_joints: joints that some of upstream's control modes leave without a "
+            "controller."
+        )
     for message in record.not_imported:
         header.append(f"Not imported: {message}.")
     for mode, why in found.dropped_modes.items():
