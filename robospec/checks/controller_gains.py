@@ -1,9 +1,10 @@
 """RS318: an end-effector controller with a stiffness far below any arm's needs (< 1).
 
-ManiSkill's ``PDEEPoseControllerConfig`` takes ``pos_lower, pos_upper, rot_lower, rot_upper,
-stiffness, ...`` positionally; passing the arm's ``lower, upper, stiffness, damping`` by position
-(as xarm7_ability does upstream) silently lands a position bound in ``stiffness``: 0.1 N·m/rad,
-and the arm sags instead of tracking. A warning, since the numbers may be meant.
+ManiSkill's ``PDEEPoseControllerConfig`` takes ``joint_names, pos_lower, pos_upper, stiffness,
+damping, force_limit, friction, ...`` positionally, with the rotation bounds further down;
+arguments passed by position in another order (as xarm7_ability does upstream) silently land a
+bound in ``stiffness``: 0.1 N·m/rad, and the arm sags instead of tracking. A warning, since
+the numbers may be meant.
 
 Passing: ``{type: pd_ee_pose, stiffness: 1e3, ...}``. Failing: ``{type: pd_ee_pose,
 pos_lower: -0.1, pos_upper: 0.1, stiffness: 0.1, ...}``.
@@ -34,5 +35,6 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             f"controller '{controller.name}' has stiffness {min(low)}: too weak for an arm to "
             "track an end-effector target",
             "if this came from Python, check the config's positional arguments: "
-            "PDEEPoseControllerConfig takes pos_lower, pos_upper, rot_lower, rot_upper first",
+            "PDEEPoseControllerConfig takes joint_names, pos_lower, pos_upper, stiffness, "
+            "damping, ... in that order",
         )
