@@ -399,15 +399,8 @@ def generate_after_init(robot: ResolvedRobot, imports: helpers.Imports) -> ast.F
         return None
     if robot.base is not None:
         body[:0] = helpers.template("super()._after_init()")
-    return _method("_after_init", body)
-
-
-def _method(
-    name: str, body: list[ast.stmt], decorators: list[ast.expr] | None = None
-) -> ast.FunctionDef:
-    args = ast.arguments([], [ast.arg("self")], None, [], [], None, [])
-    return ast.FunctionDef(name, args, body, decorators or [], None, type_params=[])
+    return helpers.method("_after_init", body)
 
 
 def _property(name: str, body: list[ast.stmt]) -> ast.FunctionDef:
-    return _method(name, body, [_name("property")])
+    return helpers.as_property(helpers.method(name, body))

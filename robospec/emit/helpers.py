@@ -66,9 +66,10 @@ def constant(value: Any) -> ast.expr:
     return const(value)
 
 
-def link_expr(name: str, robot: ResolvedRobot) -> ast.expr:
-    """A link by name: ``self.<attribute>`` for a named link, else ``links_map[name]``."""
-    if any(attribute == name for attribute, _ in robot.named_links):
+def link_expr(name: str, robot: ResolvedRobot | None) -> ast.expr:
+    """A link by name: ``self.<attribute>`` for one of ``robot``'s named links, else
+    ``links_map[name]`` (always, with no robot: before the named links are bound)."""
+    if robot is not None and any(attribute == name for attribute, _ in robot.named_links):
         return ast.Attribute(ast.Name("self", ast.Load()), name, ast.Load())
     (expr,) = template("self.robot.links_map[NAME]", NAME=ast.Constant(name))
     assert isinstance(expr, ast.Expr)
@@ -112,7 +113,7 @@ def generate_tcp_members(robot: ResolvedRobot, imports: Imports) -> list[ast.stm
     if tcp.midpoint is None:
         assert tcp.link is not None
         return [
-            _property(
+            as_property(
                 function(
                     "tcp_pos",
                     """
@@ -121,7 +122,7 @@ def generate_tcp_members(robot: ResolvedRobot, imports: Imports) -> list[ast.stm
                     """,
                 )
             ),
-            _property(
+            as_property(
                 function(
                     "tcp_pose",
                     """
@@ -164,7 +165,7 @@ def generate_tcp_members(robot: ResolvedRobot, imports: Imports) -> list[ast.stm
             """,
             ORIENTATION=link_expr(tcp.orientation, robot),
         )
-    return [_property(pos), _property(pose)]
+    return [as_property(pos), as_property(pose)]
 
 
 def generate_grasping(
@@ -361,7 +362,7 @@ def generate_link_state(
             LINKS=links_expr(state.links, robot),
             DIM=constant(state.stack_dim),
         )
-    return node if state.method else _property(node)
+    return node if state.method else as_property(node)
 
 
 def generate_proprioception(robot: ResolvedRobot) -> ast.FunctionDef | None:
@@ -415,10 +416,10 @@ def generate_after_loading_articulation(
                 PARENT, sapien.Pose(PARENT_P, PARENT_Q), CHILD, sapien.Pose(CHILD_P, CHILD_Q)
             )
             """,
-            PARENT=link_expr(drive.parent, _no_names(robot)),
+            PARENT=link_expr(drive.parent, None),
             PARENT_P=constant(list(drive.parent_pose[0])),
             PARENT_Q=constant(list(drive.parent_pose[1])),
-            CHILD=link_expr(drive.child, _no_names(robot)),
+            CHILD=link_expr(drive.child, None),
             CHILD_P=constant(list(drive.child_pose[0])),
             CHILD_Q=constant(list(drive.child_pose[1])),
         )
@@ -436,19 +437,18 @@ def generate_after_loading_articulation(
         return None
     if robot.base is not None:
         body = [*template("super()._after_loading_articulation()"), *body]
-    return _method("_after_loading_articulation", body)
+    return method("_after_loading_articulation", body)
 
 
 def generate_after_init_helpers(robot: ResolvedRobot) -> list[ast.stmt]:
     """``_after_init`` statements binding named links and the tcp, and disabling gravity."""
     body: list[ast.stmt] = []
-    plain = _no_names(robot)
     for attribute, value in robot.named_links:
         target = ast.Attribute(ast.Name("self", ast.Load()), attribute, ast.Store())
         bound = (
-            link_expr(value, plain)
+            link_expr(value, None)
             if isinstance(value, str)
-            else ast.List([link_expr(v, plain) for v in value], ast.Load())
+            else ast.List([link_expr(v, None) for v in value], ast.Load())
         )
         body.append(ast.Assign([target], bound))
     if robot.tcp is not None and robot.tcp.link is not None:
@@ -465,18 +465,12 @@ def generate_after_init_helpers(robot: ResolvedRobot) -> list[ast.stmt]:
     return body
 
 
-def _no_names(robot: ResolvedRobot) -> ResolvedRobot:
-    """The robot as seen before named links are bound: every link through links_map."""
-    from dataclasses import replace
-
-    return replace(robot, named_links=())
-
-
-def _method(name: str, body: list[ast.stmt]) -> ast.FunctionDef:
+def method(name: str, body: list[ast.stmt]) -> ast.FunctionDef:
+    """``def name(self): body``."""
     args = ast.arguments([], [ast.arg("self")], None, [], [], None, [])
     return ast.FunctionDef(name, args, body, [], None, type_params=[])
 
 
-def _property(node: ast.FunctionDef) -> ast.FunctionDef:
+def as_property(node: ast.FunctionDef) -> ast.FunctionDef:
     node.decorator_list = [ast.Name("property", ast.Load())]
     return node
