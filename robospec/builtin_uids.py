@@ -1,6 +1,19 @@
 """The agent uids ManiSkill 3.0.1 registers itself. A spec may not reuse one: ManiSkill's
-``register_agent`` would skip the spec's class with only a warning. A test keeps this list
+``register_agent`` would skip the spec's class with only a warning — unless the spec or the
+caller says the replacement is on purpose (:func:`override_allowed`). A test keeps this list
 equal to ``REGISTERED_AGENTS`` of the installed ManiSkill."""
+
+from __future__ import annotations
+
+Overrides = bool | frozenset[str]
+"""Uids a caller lets specs take over (``register(..., override=...)``): True for any."""
+
+
+def override_allowed(uid: str, declared: bool, overrides: Overrides) -> bool:
+    """Whether a spec's agent may replace one already registered under ``uid``: the spec
+    declares ``override: true``, or the caller allows it for this uid or for every uid."""
+    return declared or overrides is True or (isinstance(overrides, frozenset) and uid in overrides)
+
 
 MANISKILL_UIDS: frozenset[str] = frozenset(
     {

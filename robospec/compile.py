@@ -6,7 +6,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robospec.builtin_uids import MANISKILL_UIDS
+from robospec.builtin_uids import MANISKILL_UIDS, Overrides, override_allowed
 from robospec.checks import CheckContext, run_checks
 from robospec.description.model import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
@@ -32,7 +32,7 @@ class CompiledSpec:
 
 
 def compile_spec(
-    path: Path, display: str | None = None, *, overrides: bool | frozenset[str] = False
+    path: Path, display: str | None = None, *, overrides: Overrides = False
 ) -> CompiledSpec:
     """``overrides``: uids this compilation may take over from ManiSkill (True: any), as
     ``register(..., override=...)`` allows, on top of a spec's own ``override: true``."""
@@ -53,7 +53,7 @@ def compile_spec(
     return result
 
 
-def _compile_into(result: CompiledSpec, overrides: bool | frozenset[str]) -> None:
+def _compile_into(result: CompiledSpec, overrides: Overrides) -> None:
     loaded, diagnostics = read_spec(result.path, result.display)
     result.diagnostics.extend(diagnostics)
     if loaded is None:
@@ -64,12 +64,7 @@ def _compile_into(result: CompiledSpec, overrides: bool | frozenset[str]) -> Non
     if model.spec is None or model.diagnostics:
         return
     spec = model.spec
-    allowed = (
-        spec.override
-        or overrides is True
-        or (isinstance(overrides, frozenset) and spec.uid in overrides)
-    )
-    if spec.uid in MANISKILL_UIDS and not allowed:
+    if spec.uid in MANISKILL_UIDS and not override_allowed(spec.uid, spec.override, overrides):
         result.diagnostics.append(
             error(
                 loaded.source.value(("uid",)),
@@ -128,7 +123,7 @@ def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:
 
 
 def compile_all(
-    paths: Sequence[Path], *, overrides: bool | frozenset[str] = False
+    paths: Sequence[Path], *, overrides: Overrides = False
 ) -> tuple[list[CompiledSpec], list[Diagnostic]]:
     """Compile every spec found, then check uids across them."""
     files, diagnostics = discover(paths)

@@ -19,6 +19,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from types import ModuleType
 
+from robospec.builtin_uids import Overrides, override_allowed
 from robospec.diagnostics import Location, SpecError, error
 
 CACHE_FORMAT = "1"
@@ -80,9 +81,7 @@ def register(
     spec's agent replaces the registered one, e.g. so ManiSkill's tasks, which choose start
     poses by uid, run with a spec-built ``panda``.
     """
-    overrides: bool | frozenset[str] = (
-        override if isinstance(override, bool) else frozenset(override)
-    )
+    overrides: Overrides = override if isinstance(override, bool) else frozenset(override)
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     root = Path(cache_dir) if cache_dir is not None else cache_root()
@@ -121,7 +120,7 @@ def _entry_is_fresh(entry: Path) -> bool:
 
 
 def _compile_entries(
-    cold: list[tuple[Path, Path]], all_files: list[Path], overrides: bool | frozenset[str]
+    cold: list[tuple[Path, Path]], all_files: list[Path], overrides: Overrides
 ) -> None:
     from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
@@ -180,9 +179,7 @@ def _dependencies(robot: object) -> list[str]:
     return sorted(set(deps), key=deps.index)
 
 
-def _load_entries(
-    entries: list[tuple[Path, Path]], overrides: bool | frozenset[str]
-) -> dict[str, type]:
+def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dict[str, type]:
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
     loaded: dict[str, type] = {}
@@ -195,11 +192,7 @@ def _load_entries(
             if getattr(existing.agent_cls, "__module__", None) == module_name:
                 loaded[uid] = existing.agent_cls  # the same spec, registered before
                 continue
-            if (
-                manifest.get("override")
-                or overrides is True
-                or (isinstance(overrides, frozenset) and uid in overrides)
-            ):
+            if override_allowed(uid, bool(manifest.get("override")), overrides):
                 del REGISTERED_AGENTS[uid]  # replaced on purpose: the module registers ours
             else:
                 raise SpecError(
