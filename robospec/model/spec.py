@@ -26,6 +26,7 @@ from robospec.model.helpers import (
     PythonRef,
     Tcp,
 )
+from robospec.model.physics import Checks
 
 UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"
@@ -201,6 +202,18 @@ class Spec(StrictModel):
     )
     cameras: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Camera] = Field(default_factory=dict)
     collision_rules: list[CollisionRule] = Field(default_factory=list)
+    never_collide: list[JointSelection] = Field(
+        default_factory=list,
+        description="links that must never collide: each entry is a list of link names or "
+        "globs, no two of which collide (a pair, or a clique); packed into the fewest "
+        "collision-group bits",
+        examples=[[["panda_link5", "panda_hand"], "panda_*finger"]],
+    )
+    scene_collision_bits: list[Annotated[int, Field(ge=0, le=31)]] = Field(
+        default_factory=list,
+        description="collision-group-2 bits the scenes this robot is used in set on their own "
+        "objects; never_collide leaves them free (ManiSkill's bits 29-31 are always left free)",
+    )
     tcp: str | Tcp | None = Field(
         default=None, description="the tool centre point: a link, or a link/midpoint mapping"
     )
@@ -225,6 +238,9 @@ class Spec(StrictModel):
     )
     drives: list[Drive] = Field(default_factory=list, description="closed-loop drives")
     hooks: Hooks = Field(default_factory=Hooks)
+    checks: Checks = Field(
+        default_factory=Checks, description="thresholds of `robospec check` for this robot"
+    )
 
     @model_validator(mode="after")
     def _description_or_base(self) -> Spec:
