@@ -130,6 +130,72 @@ def import_(
     raise typer.Exit(1 if has_errors(diagnostics) else 0)
 
 
+@app.command()
+def check(
+    paths: PathsArg,
+    steps: Annotated[
+        int | None,
+        typer.Option(
+            "--steps", "-n", min=1, help="control steps for keyframe holds and random actions"
+        ),
+    ] = None,
+    format: FormatOpt = Format.text,
+    gpu: Annotated[
+        bool, typer.Option("--gpu", help="run on physx_cuda with many parallel envs")
+    ] = False,
+    num_envs: Annotated[
+        int, typer.Option("--num-envs", min=1, help="parallel envs with --gpu")
+    ] = 64,
+    render: Annotated[
+        Path | None,
+        typer.Option("--render", help="save each camera's image under DIR (needs a GPU)"),
+    ] = None,
+) -> None:
+    """Run headless physics checks on each robot: keyframe hold, self-contact, step response
+    per controller, random actions per mode, and the action layout of every mode.
+    Exit 1 when a check fails.
+
+    Example: robospec check specs/maniskill/panda.yaml --steps 100 --format json
+    """
+    from robospec.physics.command import run_check
+
+    code, text = run_check(paths, steps, format.value, gpu, num_envs, render)
+    typer.echo(text)
+    raise typer.Exit(code)
+
+
+@app.command()
+def demo(
+    spec: Annotated[Path, typer.Argument(help="the spec of the robot to show")],
+    control_mode: Annotated[
+        str | None, typer.Option("--control-mode", "-c", help="default: the spec's first")
+    ] = None,
+    keyframe: Annotated[
+        str | None, typer.Option("--keyframe", "-k", help="default: the spec's first")
+    ] = None,
+    random_actions: Annotated[
+        bool, typer.Option("--random-actions", help="send random actions")
+    ] = False,
+    keyframe_actions: Annotated[
+        bool, typer.Option("--keyframe-actions", help="command the keyframe's joint positions")
+    ] = False,
+) -> None:
+    """Show the robot in ManiSkill's viewer (demo_robot) — for people with a screen.
+
+    Example: robospec demo specs/maniskill/panda.yaml -c pd_joint_delta_pos --random-actions
+    """
+    from robospec.maniskill.viewer import run_demo
+    from robospec.report import render as render_diagnostics
+
+    if random_actions and keyframe_actions:
+        raise typer.BadParameter("give at most one of --random-actions and --keyframe-actions")
+    actions = "random" if random_actions else "keyframe" if keyframe_actions else "none"
+    diagnostics = run_demo(spec, control_mode, keyframe, actions)
+    if diagnostics:
+        typer.echo(render_diagnostics(diagnostics, 1, "text"), err=True)
+        raise typer.Exit(1)
+
+
 def main() -> None:
     try:
         app()

@@ -1,7 +1,8 @@
 """The stable diagnostic codes. A code is never reused; retired codes stay listed.
 
 Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
-into the robot description, RS3xx semantic checks, RS9xx internal errors.
+into the robot description, RS3xx semantic checks, RS4xx `robospec import`, RS5xx physics
+checks (`robospec check`), RS9xx internal errors.
 """
 
 from __future__ import annotations
@@ -85,6 +86,19 @@ _CODES = [
     Code("RS413", "upstream data a spec cannot express"),
     Code("RS414", "upstream keyframe does not fit the robot description"),
     Code("RS415", "upstream drives a joint with two controllers in one mode"),
+    # -- physics checks (robospec check)
+    Code("RS501", "keyframe drifts while held"),
+    Code("RS502", "state goes NaN under random actions"),
+    Code("RS503", "joint limit violated under random actions"),
+    Code("RS504", "runaway velocity under random actions"),
+    Code("RS505", "controller too slow to track a step"),
+    Code("RS506", "controller unstable or underdamped"),
+    Code("RS507", "controller settles away from its target"),
+    Code("RS508", "links touch each other at a keyframe"),
+    Code("RS510", "robot cannot be loaded for checking"),
+    Code("RS511", "no CUDA device for --gpu"),
+    Code("RS512", "no render device for --render"),
+    Code("RS513", "robospec demo cannot open the viewer"),
     # -- internal
     Code("RS900", "internal error"),
 ]

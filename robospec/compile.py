@@ -25,6 +25,8 @@ class CompiledSpec:
     robot: ResolvedRobot | None = None
     description: RobotDescription | None = None
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    # the resolved robot with its spec and locators, as the checks saw it (physics checks too)
+    context: CheckContext | None = None
 
     @property
     def ok(self) -> bool:
@@ -96,6 +98,7 @@ def _compile_into(result: CompiledSpec, overrides: Overrides) -> None:
             locate_key=resolver.at_key,
         )
         result.diagnostics.extend(run_checks(context))
+        result.context = context
     if not has_errors(result.diagnostics):
         result.robot = resolution.robot
 

@@ -13,33 +13,51 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
+from robospec.description.model import Joint
 from robospec.diagnostics import Diagnostic, Location, warning
 
 
-def check(context: CheckContext) -> Iterator[Diagnostic]:
+def unguarded_modes(context: CheckContext, joint: Joint) -> list[str]:
+    """The control modes in which no ``pd_joint_pos_mimic`` controller drives ``joint``."""
     controllers = {c.name: c for c in context.robot.controllers}
-    for joint in context.description.joints:
-        if joint.mimic is None or not joint.is_active:
-            continue
-        unguarded = []
-        for mode in context.robot.modes:
-            names = [n for _, n in mode.groups] if mode.groups is not None else [mode.controller]
-            guarded = any(
-                controllers[n].type == "pd_joint_pos_mimic"
-                and joint.name in controllers[n].joint_names
-                for n in names
-                if n in controllers
-            )
-            if not guarded:
-                unguarded.append(mode.name)
-        if not unguarded and context.robot.modes:
-            continue
+    unguarded = []
+    for mode in context.robot.modes:
+        names = [n for _, n in mode.groups] if mode.groups is not None else [mode.controller]
+        guarded = any(
+            controllers[n].type == "pd_joint_pos_mimic" and joint.name in controllers[n].joint_names
+            for n in names
+            if n in controllers
+        )
+        if not guarded:
+            unguarded.append(mode.name)
+    return unguarded
+
+
+def physx_mimic_joints(context: CheckContext, mode: str | None = None) -> list[Joint]:
+    """Active joints whose URDF ``<mimic>`` PhysX simulates alone: in ``mode``, or in any mode."""
+    return [
+        joint
+        for joint in context.description.joints
+        if joint.mimic is not None
+        and joint.is_active
+        and (
+            mode in unguarded_modes(context, joint)
+            if mode is not None
+            else bool(unguarded_modes(context, joint)) or not context.robot.modes
+        )
+    ]
+
+
+def check(context: CheckContext) -> Iterator[Diagnostic]:
+    for joint in physx_mimic_joints(context):
+        assert joint.mimic is not None
         yield warning(
             Location(context.description_file, joint.line, 1),
             "RS309",
             f"joint '{joint.name}' mimics '{joint.mimic.joint}' and no pd_joint_pos_mimic "
-            f"controller drives it in mode(s) {', '.join(unguarded)}: SAPIEN turns URDF <mimic> "
-            "into a PhysX mimic joint, which alone is unstable on the CPU (NaN within a few steps)",
+            f"controller drives it in mode(s) {', '.join(unguarded_modes(context, joint))}: "
+            "SAPIEN turns URDF <mimic> into a PhysX mimic joint, which alone is unstable on the "
+            "CPU (NaN within a few steps)",
             "drive the pair with a pd_joint_pos_mimic controller in every mode, or remove the "
             "<mimic> tag",
         )

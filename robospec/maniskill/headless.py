@@ -173,9 +173,17 @@ def is_active() -> bool:
     return _depth > 0
 
 
-def make_empty_env(uid: str, control_mode: str | None = None, *, headless: bool = True) -> Any:
-    """ManiSkill's ``Empty-v1`` with robot ``uid`` on the CPU, state observations, no renderer:
-    the environment every headless run and comparison in robospec uses."""
+def make_empty_env(
+    uid: str,
+    control_mode: str | None = None,
+    *,
+    headless: bool = True,
+    num_envs: int = 1,
+    sim_backend: str = "physx_cpu",
+) -> Any:
+    """ManiSkill's ``Empty-v1`` with robot ``uid``, state observations, no renderer: the
+    environment every headless run and comparison in robospec uses (on the CPU unless
+    ``sim_backend`` says ``physx_cuda``)."""
     import gymnasium as gym
     import mani_skill.envs  # noqa: F401  (registers Empty-v1)
 
@@ -187,9 +195,12 @@ def make_empty_env(uid: str, control_mode: str | None = None, *, headless: bool 
             "Empty-v1",
             robot_uids=uid,
             obs_mode="state",
-            sim_backend="physx_cpu",
+            sim_backend=sim_backend,
             render_backend="none",
+            num_envs=num_envs,
             **kwargs,
         )
     with headless_loading():
-        return make_empty_env(uid, control_mode, headless=False)
+        return make_empty_env(
+            uid, control_mode, headless=False, num_envs=num_envs, sim_backend=sim_backend
+        )

@@ -40,16 +40,26 @@ class RandomActions(StrictModel):
     steps: Steps = Field(default=60, description="control steps per mode")
     seed: int = Field(default=0, description="seed of the random actions")
     joint_limit_tolerance: Fraction = Field(
-        default=0.05,
+        default=0.1,
         description="how far past a joint limit a joint may go before it counts as a violation, "
         "in rad (or m)",
     )
     max_joint_speed: PositiveNumber = Field(
-        default=100.0, description="joint speed counted as runaway, in rad/s (or m/s)"
+        default=200.0, description="joint speed counted as runaway, in rad/s (or m/s)"
     )
     max_root_speed: PositiveNumber = Field(
         default=20.0, description="root link speed counted as runaway, in m/s"
     )
+
+
+class StepLimits(StrictModel):
+    """How one controller's step response is judged; every field defaults to the spec-wide
+    ``step_response`` value."""
+
+    duration: PositiveNumber | None = None
+    max_rise_time: PositiveNumber | None = None
+    max_overshoot: Fraction | None = None
+    max_steady_state_error: Fraction | None = None
 
 
 class StepResponse(StrictModel):
@@ -76,6 +86,17 @@ class StepResponse(StrictModel):
     settling_band: Fraction = Field(
         default=0.1, description="the band, as a fraction of the step, that counts as settled"
     )
+    controllers: dict[str, StepLimits] = Field(
+        default_factory=dict,
+        description="other limits for some controllers, by name (e.g. a body meant to move slowly)",
+    )
+
+    def for_controller(self, name: str) -> StepResponse:
+        """These settings with ``controllers[name]``'s fields in place of the spec-wide ones."""
+        limits = self.controllers.get(name)
+        if limits is None:
+            return self
+        return self.model_copy(update={k: getattr(limits, k) for k in limits.model_fields_set})
 
 
 class SelfContact(StrictModel):

@@ -1,0 +1,69 @@
+"""``robospec check`` end to end: options in, exit code and rendered report out."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.physics.report import ProgressLine, render_json, render_text
+from robospec.physics.runner import Options, check_paths
+from robospec.physics.sim import CPU, Backend
+
+COMMAND_LINE = "<command line>"
+
+
+def run_check(
+    paths: Sequence[Path],
+    steps: int | None,
+    fmt: str,
+    gpu: bool,
+    num_envs: int,
+    render_dir: Path | None,
+) -> tuple[int, str]:
+    problems = _unavailable(gpu, render_dir)
+    if problems:
+        return 1, _render([], problems, fmt)
+    backend = Backend("physx_cuda", num_envs) if gpu else CPU
+    progress = ProgressLine()
+    try:
+        reports, extra = check_paths(paths, Options(steps, backend, render_dir), progress)
+    finally:
+        progress.close()
+    failed = has_errors(extra) or any(r.failed for r in reports)
+    return (1 if failed else 0), _render(reports, extra, fmt)
+
+
+def _render(reports: list, extra: Sequence[Diagnostic], fmt: str) -> str:
+    return render_json(reports, extra) if fmt == "json" else render_text(reports, extra)
+
+
+def _unavailable(gpu: bool, render_dir: Path | None) -> list[Diagnostic]:
+    """What the machine lacks for the options asked for, before any robot is loaded."""
+    problems = []
+    if gpu:
+        import torch
+
+        if not torch.cuda.is_available():
+            problems.append(
+                error(
+                    Location(COMMAND_LINE),
+                    "RS511",
+                    "--gpu needs a CUDA device and this machine has none",
+                    "run without --gpu: every check also runs on physx_cpu",
+                )
+            )
+    if render_dir is not None:
+        from robospec.physics.render import render_device_error
+
+        reason = render_device_error()
+        if reason is not None:
+            problems.append(
+                error(
+                    Location(COMMAND_LINE),
+                    "RS512",
+                    f"--render needs a render device: {reason}",
+                    "render on a machine with a GPU; the other checks need none",
+                )
+            )
+    return problems

@@ -1,0 +1,193 @@
+"""RS502: the state goes NaN or infinite under random actions. RS503: a joint goes past its
+limit. RS504: a joint or the root runs away. Each control mode gets ``checks.random_actions.steps``
+uniformly random actions within its action space (bounds of ±1 where a bound is infinite),
+once from the state the robot is loaded in (qpos 0: where an environment that sets no keyframe
+leaves it) and once from the first keyframe.
+
+A NaN names the joints it appeared in and, when the robot's description gives a joint a URDF
+``<mimic>`` tag that no ``pd_joint_pos_mimic`` controller drives in that mode, says that this
+is the cause: SAPIEN turns the tag into a PhysX mimic joint, which alone goes NaN within a few
+CPU steps.
+
+Passing: every mode of the Panda: 60 random actions keep every joint finite, inside its limits
+and slower than ``max_joint_speed``.
+Failing: ``fixed_inspire_hand_right``: its URDF gives the finger joints ``<mimic>`` tags and no
+mimic controller drives them, so the hand goes NaN within a few steps (RS502, naming them).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robospec.checks.mimic_joints import physx_mimic_joints
+from robospec.diagnostics import Diagnostic
+from robospec.physics.findings import Finding, Status, metrics
+from robospec.physics.run import CheckRun
+from robospec.physics.sim import Sim
+from robospec.resolved import ResolvedKeyframe
+
+NAME = "random_actions"
+
+
+def check(run: CheckRun) -> list[Finding]:
+    starts: list[ResolvedKeyframe | None] = [None, *run.context.robot.keyframes[:1]]
+    return [_run_mode(run, run.sim(mode), start) for mode in run.modes for start in starts]
+
+
+def _run_mode(run: CheckRun, sim: Sim, start: ResolvedKeyframe | None) -> Finding:
+    settings = run.settings.random_actions
+    rng = np.random.default_rng(settings.seed)
+    low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
+    high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
+    sim.start(start)
+    lower = sim.limits[:, 0] - settings.joint_limit_tolerance
+    upper = sim.limits[:, 1] + settings.joint_limit_tolerance
+    n_joints = len(sim.joint_names)
+    past_limit = np.zeros(n_joints)  # how far past its limit (+ tolerance) each joint went
+    top_speed = np.zeros(n_joints)
+    top_root_speed = 0.0
+    nan_step: int | None = None
+    nan_joints: list[str] = []
+    steps_run = 0
+    for step in range(settings.steps):
+        sim.step(rng.uniform(low, high, size=(sim.backend.num_envs, low.size)))
+        steps_run = step + 1
+        qpos, qvel = sim.qpos(), sim.qvel()
+        bad = ~(np.isfinite(qpos) & np.isfinite(qvel)).all(axis=0)
+        if bad.any() or not np.isfinite(sim.root_position()).all():
+            nan_step = step + 1
+            nan_joints = [name for name, b in zip(sim.joint_names, bad, strict=True) if b]
+            break
+        excess = np.maximum(qpos - upper, lower - qpos).max(axis=0)
+        past_limit = np.maximum(past_limit, np.where(np.isfinite(excess), excess, 0.0))
+        top_speed = np.maximum(top_speed, np.abs(qvel).max(axis=0))
+        if not sim.fixed_root:
+            top_root_speed = max(top_root_speed, float(sim.root_speed().max()))
+    fastest = int(np.argmax(top_speed))
+    values = metrics(
+        steps=steps_run,
+        seed=settings.seed,
+        nan_step=nan_step,
+        nan_joints=", ".join(nan_joints) if nan_joints else None,
+        max_joint_speed=float(top_speed[fastest]),
+        fastest_joint=sim.joint_names[fastest],
+        max_limit_excess=float(max(past_limit.max(), 0.0)),
+        max_root_speed=top_root_speed,
+    )
+    origin = f"from {start.name}" if start is not None else "from load"
+    diagnostics = _problems(
+        run, sim, origin, nan_step, nan_joints, past_limit, top_speed, top_root_speed
+    )
+    if nan_step is not None:
+        summary = f"NaN at step {nan_step} in {', '.join(nan_joints) or 'the root pose'}"
+    else:
+        summary = (
+            f"{steps_run} steps: fastest {sim.joint_names[fastest]} "
+            f"{top_speed[fastest]:.3g}/s, limits kept within {settings.joint_limit_tolerance:g}"
+        )
+    status = Status.FAIL if diagnostics else Status.PASS
+    if diagnostics and nan_step is None:
+        summary = "; ".join(d.message.split(": ", 1)[-1] for d in diagnostics)
+    return Finding(NAME, sim.mode, origin, status, summary, values, diagnostics)
+
+
+def _problems(
+    run: CheckRun,
+    sim: Sim,
+    origin: str,
+    nan_step: int | None,
+    nan_joints: list[str],
+    past_limit: np.ndarray,
+    top_speed: np.ndarray,
+    top_root_speed: float,
+) -> tuple[Diagnostic, ...]:
+    settings = run.settings.random_actions
+    where = ("control_modes", sim.mode)
+    found: list[Diagnostic] = []
+    if nan_step is not None:
+        mimics = physx_mimic_joints(run.context, sim.mode)
+        if mimics:
+            pairs = ", ".join(f"'{j.name}' mimics '{j.mimic.joint}'" for j in mimics if j.mimic)
+            cause = (
+                f"; the cause is the URDF <mimic> tags ({pairs}; {run.context.description_file}"
+                f":{mimics[0].line}): SAPIEN turns them into PhysX mimic joints, which alone go "
+                "NaN on the CPU"
+            )
+            hint = (
+                "remove the <mimic> tags from the URDF and drive each pair with a "
+                "pd_joint_pos_mimic controller, e.g. mimic: {"
+                + ", ".join(f"{j.name}: {j.mimic.joint}" for j in mimics if j.mimic)
+                + "}"
+            )
+        elif unbounded := _normalized_over_infinite_bounds(sim):
+            cause = (
+                f"; the cause is {', '.join(unbounded)}: actions normalized to [-1, 1] over "
+                "infinite joint limits scale to infinite targets"
+            )
+            hint = "give the controller finite lower/upper, or set normalize_action: false"
+        else:
+            cause = ""
+            hint = (
+                "look for drives far stiffer than the links' inertia allows at the simulation "
+                "frequency, zero-mass links, or joints without limits driven by large actions"
+            )
+        joints = ", ".join(nan_joints) if nan_joints else "the root pose"
+        found.append(
+            run.fail(
+                where,
+                "RS502",
+                f"mode {sim.mode} ({origin}): random actions made the state NaN at step {nan_step} "
+                f"(joints: {joints}){cause}",
+                hint,
+            )
+        )
+        return tuple(found)
+    worst = int(np.argmax(past_limit))
+    if past_limit[worst] > 0:
+        found.append(
+            run.fail(
+                where,
+                "RS503",
+                f"mode {sim.mode} ({origin}): joint '{sim.joint_names[worst]}' went "
+                f"{past_limit[worst] + settings.joint_limit_tolerance:.3g} past its limit "
+                f"(tolerance {settings.joint_limit_tolerance:g})",
+                "the drive overpowers the joint limit: lower its stiffness or force_limit, or "
+                "narrow the controller's lower/upper to the joint's range",
+            )
+        )
+    fastest = int(np.argmax(top_speed))
+    if top_speed[fastest] > settings.max_joint_speed:
+        found.append(
+            run.fail(
+                where,
+                "RS504",
+                f"mode {sim.mode} ({origin}): joint '{sim.joint_names[fastest]}' ran away at "
+                f"{top_speed[fastest]:.3g}/s (max_joint_speed {settings.max_joint_speed:g})",
+                "add damping to the joint's controller, or lower its force_limit",
+            )
+        )
+    if top_root_speed > settings.max_root_speed:
+        found.append(
+            run.fail(
+                where,
+                "RS504",
+                f"mode {sim.mode} ({origin}): the root link ran away at {top_root_speed:.3g} m/s "
+                f"(max_root_speed {settings.max_root_speed:g})",
+                "check the root's mass and the forces the controllers can apply",
+            )
+        )
+    return tuple(found)
+
+
+def _normalized_over_infinite_bounds(sim: Sim) -> list[str]:
+    """The groups of ``sim``'s mode whose normalized actions scale to infinite bounds."""
+    found = []
+    for group in sim.groups():
+        controller = group.controller
+        if not getattr(controller.config, "normalize_action", False):
+            continue
+        low = controller.action_space_low.cpu().numpy()
+        high = controller.action_space_high.cpu().numpy()
+        if not (np.isfinite(low).all() and np.isfinite(high).all()):
+            found.append(f"group '{group.name}'")
+    return found

@@ -1,0 +1,72 @@
+"""What every physics check gets: the compiled robot, its thresholds and its simulations."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from robospec.checks.context import CheckContext
+from robospec.diagnostics import Diagnostic, Location, error
+from robospec.loading.source import KeyPath
+from robospec.model.physics import Checks
+from robospec.physics.sim import CPU, Backend, Sim
+from robospec.resolved import ResolvedKeyframe
+
+
+@dataclass
+class CheckRun:
+    """One robot under check. ``sim(mode)`` gives that mode's environment, made once and
+    shared by the checks (each puts the robot where it needs it first)."""
+
+    uid: str
+    context: CheckContext
+    settings: Checks
+    backend: Backend = CPU
+    _sims: dict[str, Sim] = field(default_factory=dict)
+
+    @property
+    def robot(self):
+        return self.context.robot
+
+    @property
+    def modes(self) -> list[str]:
+        return [m.name for m in self.context.robot.modes]
+
+    @property
+    def keyframes(self) -> list[ResolvedKeyframe | None]:
+        """The spec's keyframes, or the robot as the environment loads it when there are none."""
+        return list(self.context.robot.keyframes) or [None]
+
+    def sim(self, mode: str) -> Sim:
+        if mode not in self._sims:
+            self._sims[mode] = Sim(self.uid, mode, self.backend)
+        return self._sims[mode]
+
+    def close(self) -> None:
+        for sim in self._sims.values():
+            sim.close()
+        self._sims.clear()
+
+    def at(self, path: KeyPath) -> Location:
+        """The spec position of ``path``'s key (falling back to the nearest written parent)."""
+        return self.context.key(path)
+
+    def keyframe_path(self, keyframe: ResolvedKeyframe | None) -> KeyPath:
+        return ("keyframes", keyframe.name) if keyframe is not None else ("uid",)
+
+    def controller_name(self, mode: str, group: str) -> str:
+        """The spec's controller name behind ``group`` of ``mode``."""
+        resolved = next(m for m in self.context.robot.modes if m.name == mode)
+        if resolved.groups is None:
+            return resolved.controller or group
+        return dict(resolved.groups).get(group, group)
+
+    def fail(self, path: KeyPath, code: str, message: str, hint: str | None = None) -> Diagnostic:
+        return error(self.at(path), code, message, hint)
+
+
+def keyframe_label(keyframe: ResolvedKeyframe | None) -> str:
+    return keyframe.name if keyframe is not None else "(initial)"
+
+
+ProgressCallback = Callable[[str], None]

@@ -1,0 +1,293 @@
+"""One robot in one control mode, in a headless ManiSkill environment: the only place the physics
+checks touch ManiSkill, SAPIEN and torch.
+
+Everything a check reads comes back as numpy arrays shaped ``(num_envs, ...)``: one row on the
+CPU, one row per parallel environment on ``physx_cuda``. Controllers are looked at through what
+ManiSkill's own classes expose (``single_action_space``, ``active_joint_indices``, the mimic
+controller's ``control_joint_indices``), so the checks see exactly what a task would drive.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from robospec.maniskill.headless import make_empty_env
+from robospec.resolved import ResolvedKeyframe
+
+
+@dataclass(frozen=True)
+class Backend:
+    """Where the checks run: ``physx_cpu`` with one environment, or ``physx_cuda`` with many."""
+
+    sim_backend: str = "physx_cpu"
+    num_envs: int = 1
+
+    @property
+    def gpu(self) -> bool:
+        return self.sim_backend == "physx_cuda"
+
+
+CPU = Backend()
+
+
+@dataclass(frozen=True)
+class ControllerGroup:
+    """One controller of a mode, with where its action and its joints sit."""
+
+    name: str  # the group in the mode (or the controller's name for a one-controller mode)
+    controller: Any  # a ManiSkill BaseController
+    action_slice: slice
+    joint_indices: tuple[int, ...]  # into the robot's active joints, in controller order
+
+    @property
+    def kind(self) -> str:
+        """``position``, ``velocity``, ``passive`` or ``other``, from ManiSkill's classes."""
+        from mani_skill.agents.controllers.passive_controller import PassiveController
+        from mani_skill.agents.controllers.pd_joint_pos import PDJointPosController
+        from mani_skill.agents.controllers.pd_joint_vel import PDJointVelController
+
+        if isinstance(self.controller, PDJointPosController):
+            return "position"
+        if isinstance(self.controller, PDJointVelController):
+            return "velocity"
+        if isinstance(self.controller, PassiveController):
+            return "passive"
+        return "other"
+
+    @property
+    def absolute_position(self) -> bool:
+        """Whether its action is a joint-position target (``pd_joint_pos``, mimic, pos_vel)."""
+        from mani_skill.agents.controllers.pd_ee_pose import PDEEPosController
+
+        config = self.controller.config
+        return (
+            self.kind == "position"
+            and not isinstance(self.controller, PDEEPosController)
+            and not getattr(config, "use_delta", False)
+        )
+
+    @property
+    def action_joint_indices(self) -> tuple[int, ...]:
+        """The robot joints its action dimensions stand for, one per dimension (joint
+        controllers only): a mimic controller's action covers only its control joints."""
+        control = getattr(self.controller, "control_joint_indices", None)
+        if control is None:
+            return self.joint_indices
+        return tuple(self.joint_indices[int(i)] for i in control.cpu().numpy().reshape(-1))
+
+
+class Sim:
+    """A headless ``Empty-v1`` environment holding the robot ``uid`` in ``mode``."""
+
+    def __init__(self, uid: str, mode: str, backend: Backend = CPU) -> None:
+        self.mode = mode
+        self.backend = backend
+        self.env = make_empty_env(
+            uid, mode, num_envs=backend.num_envs, sim_backend=backend.sim_backend
+        )
+        self.env.reset(seed=0)
+        self.base = self.env.unwrapped
+        self.agent = self.base.agent
+        self.robot = self.agent.robot
+        self.scene = self.base.scene
+        self.joint_names: tuple[str, ...] = tuple(j.name for j in self.robot.get_active_joints())
+        self.limits = self.robot.get_qlimits()[0].cpu().numpy().astype(np.float64)
+        self.prismatic = np.array(
+            [j.type[0] == "prismatic" for j in self.robot.get_active_joints()], dtype=bool
+        )
+        self.sim_freq: int = int(self.base.sim_freq)
+        self.control_freq: int = int(self.base.control_freq)
+        self.fixed_root = bool(self.agent.fix_root_link)
+        if self.fixed_root and not backend.gpu:
+            # A fixed robot is mounted where its task puts it; at the origin of Empty-v1 it may
+            # reach through the floor (trifingerpro hangs from above a table), which says
+            # nothing about the robot. Floating robots keep the floor: they stand on it.
+            self.base.ground.remove_from_scene()
+        # the state the robot is loaded in (qpos 0 where the limits allow): ``start(None)``
+        self._loaded = (self.robot.get_qpos().clone(), self.robot.pose)
+
+    def close(self) -> None:
+        self.env.close()
+
+    def __enter__(self) -> Sim:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- the mode's controllers ---------------------------------------------------------------
+
+    def groups(self) -> list[ControllerGroup]:
+        controller = self.agent.controller
+        parts = getattr(controller, "controllers", None)
+        items = list(parts.items()) if parts is not None else [(self.mode, controller)]
+        index = {name: i for i, name in enumerate(self.joint_names)}
+        groups = []
+        start = 0
+        for name, part in items:
+            width = int(part.single_action_space.shape[0])
+            joints = tuple(index[j.name] for j in part.joints)
+            groups.append(ControllerGroup(name, part, slice(start, start + width), joints))
+            start += width
+        return groups
+
+    @property
+    def action_low(self) -> np.ndarray:
+        return np.asarray(self.agent.single_action_space.low, dtype=np.float64)
+
+    @property
+    def action_high(self) -> np.ndarray:
+        return np.asarray(self.agent.single_action_space.high, dtype=np.float64)
+
+    def hold_action(self, qpos: np.ndarray) -> np.ndarray | None:
+        """The action that commands ``qpos`` (all active joints), or None when some controller
+        of the mode does not take absolute joint positions."""
+        action = np.zeros(self.action_low.shape, dtype=np.float64)
+        for group in self.groups():
+            if not group.absolute_position:
+                return None
+            target = qpos[list(group.action_joint_indices)]
+            if group.controller.config.normalize_action:
+                low = group.controller.action_space_low.cpu().numpy()
+                high = group.controller.action_space_high.cpu().numpy()
+                span = np.where(high > low, high - low, 1.0)
+                target = 2.0 * (target - low) / span - 1.0
+            action[group.action_slice] = target
+        return action
+
+    # -- state ---------------------------------------------------------------------------------
+
+    def start(self, keyframe: ResolvedKeyframe | None) -> np.ndarray:
+        """Put the robot at ``keyframe`` (or as it was loaded), at rest, with the controller
+        reset there; returns the qpos it starts from, shape ``(J,)``."""
+        import torch
+
+        if keyframe is not None:
+            n = self.backend.num_envs
+            self.robot.set_pose(_pose(keyframe, n))
+            if keyframe.qpos is not None:
+                self.robot.set_qpos(torch.tensor([keyframe.qpos] * n, dtype=torch.float32))
+            qvel = keyframe.qvel if keyframe.qvel is not None else [0.0] * len(self.joint_names)
+            self.robot.set_qvel(torch.tensor([qvel] * n, dtype=torch.float32))
+        else:
+            qpos, pose = self._loaded
+            self.robot.set_pose(pose)
+            self.robot.set_qpos(qpos)
+            self.robot.set_qvel(qpos * 0)
+        self._sync()
+        self.agent.controller.reset()
+        return self.qpos()[0]
+
+    def qpos(self) -> np.ndarray:
+        return self.robot.get_qpos().cpu().numpy().astype(np.float64)
+
+    def qvel(self) -> np.ndarray:
+        return self.robot.get_qvel().cpu().numpy().astype(np.float64)
+
+    def root_position(self) -> np.ndarray:
+        return self.robot.pose.p.cpu().numpy().astype(np.float64)
+
+    def root_speed(self) -> np.ndarray:
+        velocity = self.robot.root_linear_velocity.cpu().numpy().astype(np.float64)
+        return np.linalg.norm(velocity, axis=-1)
+
+    # -- stepping ------------------------------------------------------------------------------
+
+    def step(self, action: np.ndarray) -> None:
+        """One control step through ManiSkill's own path (``env.step``); ``action`` is one
+        action for every environment, or one row per environment."""
+        import torch
+
+        batch = np.broadcast_to(action, (self.backend.num_envs, action.shape[-1]))
+        self.base.step(torch.tensor(np.ascontiguousarray(batch), dtype=torch.float32))
+
+    def hold_drive_targets(self) -> None:
+        """Hold every joint where it is, below the controllers: position drives get the current
+        qpos as their target, velocity drives zero."""
+        qpos = self.robot.get_qpos()
+        for group in self.groups():
+            indices = list(group.joint_indices)
+            if group.kind == "position":
+                self._drive(group, qpos[:, indices])
+            elif group.kind == "velocity":
+                self._drive(group, qpos[:, indices] * 0)
+        self._apply()
+
+    def set_joint_targets(self, group: ControllerGroup, values: np.ndarray) -> None:
+        """Set ``group``'s drive targets (positions or velocities) directly, shape ``(J_g,)``."""
+        import torch
+
+        targets = torch.tensor(
+            np.broadcast_to(values, (self.backend.num_envs, len(values))).copy(),
+            dtype=torch.float32,
+            device=self.robot.get_qpos().device,
+        )
+        self._drive(group, targets)
+        self._apply()
+
+    def _drive(self, group: ControllerGroup, targets: Any) -> None:
+        controller = group.controller
+        if group.kind == "position":
+            self.robot.set_joint_drive_targets(
+                targets, controller.joints, controller.active_joint_indices
+            )
+        else:
+            self.robot.set_joint_drive_velocity_targets(
+                targets, controller.joints, controller.active_joint_indices
+            )
+
+    def sim_step(self, pin_root: Any = None) -> None:
+        """One physics step with the drive targets as they are (no controller runs). With
+        ``pin_root`` (a pose), a floating root is put back there, at rest, first."""
+        if pin_root is not None:
+            self.robot.set_pose(pin_root)
+            zero = self.robot.root_linear_velocity * 0
+            self.robot.set_root_linear_velocity(zero)
+            self.robot.set_root_angular_velocity(zero)
+            self._apply()
+        self.scene.step()
+        if self.backend.gpu:
+            self.scene._gpu_fetch_all()
+
+    @property
+    def sim_dt(self) -> float:
+        return 1.0 / self.sim_freq
+
+    def _apply(self) -> None:
+        if self.backend.gpu:
+            self.scene._gpu_apply_all()
+
+    def _sync(self) -> None:
+        if self.backend.gpu:
+            self.scene._gpu_apply_all()
+            self.scene.px.gpu_update_articulation_kinematics()
+            self.scene._gpu_fetch_all()
+
+    # -- contacts ------------------------------------------------------------------------------
+
+    def self_contacts(self) -> dict[tuple[str, str], float]:
+        """Pairs of the robot's links touching now (CPU only): ``{(link_a, link_b): depth}``,
+        the depth being the deepest penetration in metres."""
+        links = {id(link._objs[0]): link.name for link in self.robot.links}
+        touching: dict[tuple[str, str], float] = {}
+        for contact in self.scene.get_contacts():
+            a, b = (links.get(id(body)) for body in contact.bodies)
+            if a is None or b is None or a == b:
+                continue
+            depth = max((-point.separation for point in contact.points), default=0.0)
+            pair = (min(a, b), max(a, b))
+            touching[pair] = max(touching.get(pair, 0.0), float(depth))
+        return touching
+
+
+def _pose(keyframe: ResolvedKeyframe, num_envs: int) -> Any:
+    import torch
+    from mani_skill.utils.structs.pose import Pose
+
+    return Pose.create_from_pq(
+        torch.tensor([keyframe.p] * num_envs, dtype=torch.float32),
+        torch.tensor([keyframe.q] * num_envs, dtype=torch.float32),
+    )

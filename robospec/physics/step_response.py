@@ -1,0 +1,233 @@
+"""RS505: a controller group tracks a small step too slowly (or never). RS506: it overshoots or
+keeps oscillating. RS507: it settles too far from the target.
+
+Each controller of the spec is stepped once, in the first mode that uses it: from the first
+keyframe, with every other drive holding still, its joints' drive targets jump by
+``checks.step_response.step`` (rad, or ``prismatic_step`` m; away from the nearer limit) — or, for
+velocity controllers, its velocity targets do. Every joint's response is timed: rise time
+(10 % → 90 % of the step), overshoot, settling time (last exit from ``settling_band``) and the
+steady-state error at the end of ``duration``. This measures the drives ManiSkill sets from the
+controller's stiffness, damping, force_limit and friction, which every mode of that controller
+shares; passive groups and controllers that drive no joint directly are skipped. A floating
+robot is held by its root during the step, so the drives are timed as if it were mounted.
+
+Passing: the Panda's arm (stiffness 1e3, damping 1e2) reaches 90 % of a 0.1 rad step in well
+under 0.5 s and settles on it.
+Failing: the same arm with ``stiffness: 1``: after 1 s the joints have covered only a few
+percent of the step (RS505, with the numbers).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from robospec.diagnostics import Diagnostic
+from robospec.physics.findings import Finding, Status, metrics
+from robospec.physics.run import CheckRun
+from robospec.physics.sim import ControllerGroup, Sim
+
+NAME = "step_response"
+
+
+@dataclass(frozen=True)
+class Response:
+    """One joint's response to a step, times in seconds, sizes as fractions of the step."""
+
+    joint: str
+    rise_time: float | None  # None: never reached 90 %
+    overshoot: float
+    settling_time: float | None  # None: still outside the band at the end
+    steady_state_error: float
+    reached: float  # the largest fraction of the step covered
+
+
+def measure(
+    trace: np.ndarray, dt: float, band: float
+) -> tuple[float | None, float, float | None, float, float]:
+    """Rise time, overshoot, settling time, steady-state error and the largest fraction reached,
+    from ``trace``: the response as a fraction of the step (0 at the start, 1 on target), one
+    value per physics step."""
+    times = (np.arange(trace.size) + 1) * dt
+    above_10 = np.nonzero(trace >= 0.1)[0]
+    above_90 = np.nonzero(trace >= 0.9)[0]
+    rise = float(times[above_90[0]] - times[above_10[0]]) if above_90.size else None
+    overshoot = max(float(trace.max()) - 1.0, 0.0)
+    outside = np.nonzero(np.abs(trace - 1.0) > band)[0]
+    if outside.size == 0:
+        settling: float | None = 0.0
+    elif outside[-1] == trace.size - 1:
+        settling = None
+    else:
+        settling = float(times[outside[-1] + 1])
+    tail = trace[-max(trace.size // 10, 1) :]
+    steady = abs(1.0 - float(tail.mean()))
+    return rise, overshoot, settling, steady, float(trace.max())
+
+
+def check(run: CheckRun) -> list[Finding]:
+    findings = []
+    seen: set[str] = set()
+    for mode in run.modes:
+        sim = run.sim(mode)
+        for group in sim.groups():
+            controller = run.controller_name(mode, group.name)
+            if controller in seen:
+                continue
+            seen.add(controller)
+            subject = f"{group.name} ({controller})" if controller != group.name else group.name
+            if group.kind not in ("position", "velocity") or not group.joint_indices:
+                findings.append(
+                    Finding(NAME, mode, subject, Status.SKIP, f"{group.kind} controller: no step")
+                )
+                continue
+            findings.append(_step(run, sim, group, controller, subject))
+    return findings
+
+
+def _step(
+    run: CheckRun, sim: Sim, group: ControllerGroup, controller: str, subject: str
+) -> Finding:
+    settings = run.settings.step_response.for_controller(controller)
+    start = sim.start(run.keyframes[0])
+    sim.hold_drive_targets()
+    joints = list(group.joint_indices)
+    size = np.where(sim.prismatic[joints], settings.prismatic_step, settings.step)
+    lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
+    direction = np.where(upper - start[joints] >= start[joints] - lower, 1.0, -1.0)
+    if group.kind == "position":
+        origin = start[joints]
+        read = sim.qpos
+    else:
+        origin = np.zeros(len(joints))
+        read = sim.qvel
+    target = origin + direction * size
+    sim.set_joint_targets(group, target)
+    n_steps = max(round(settings.duration * sim.sim_freq), 2)
+    trace = np.empty((n_steps, len(joints)))
+    pin = None if sim.fixed_root else sim.robot.pose
+    for i in range(n_steps):
+        sim.sim_step(pin)
+        trace[i] = read()[0, joints]
+    fraction = (trace - origin) / (target - origin)
+    fraction = np.where(np.isfinite(fraction), fraction, np.nan)
+    responses = []
+    for k, joint in enumerate(joints):
+        if np.isnan(fraction[:, k]).any():
+            responses.append(
+                Response(
+                    sim.joint_names[joint], None, float("nan"), None, float("nan"), float("nan")
+                )
+            )
+            continue
+        rise, overshoot, settling, steady, reached = measure(
+            fraction[:, k], sim.sim_dt, settings.settling_band
+        )
+        responses.append(
+            Response(sim.joint_names[joint], rise, overshoot, settling, steady, reached)
+        )
+    return _finding(run, sim, group, controller, subject, responses)
+
+
+def _finding(
+    run: CheckRun,
+    sim: Sim,
+    group: ControllerGroup,
+    controller: str,
+    subject: str,
+    responses: list[Response],
+) -> Finding:
+    settings = run.settings.step_response.for_controller(controller)
+    kind = "velocity" if group.kind == "velocity" else "position"
+    where = ("controllers", controller)
+    broken = [r.joint for r in responses if not np.isfinite(r.reached)]
+    if broken:
+        diagnostic = run.fail(
+            where,
+            "RS506",
+            f"controller '{controller}' ({sim.mode}/{group.name}) is unstable: given a {kind} "
+            f"step, the state went NaN (joints: {', '.join(broken)})",
+            "see the random_actions findings of this robot for the cause",
+        )
+        return Finding(NAME, sim.mode, subject, Status.FAIL, f"{kind} step: NaN", {}, (diagnostic,))
+    slowest = max(responses, key=lambda r: (r.rise_time is None, r.rise_time or 0.0, -r.reached))
+    wildest = max(
+        responses, key=lambda r: (np.nan_to_num(r.overshoot, nan=np.inf), r.settling_time is None)
+    )
+    furthest = max(responses, key=lambda r: np.nan_to_num(r.steady_state_error, nan=np.inf))
+    settled = [r.settling_time for r in responses]
+    values = metrics(
+        kind=kind,
+        rise_time=slowest.rise_time,
+        slowest_joint=slowest.joint,
+        overshoot=wildest.overshoot,
+        settling_time=None if None in settled else max(s for s in settled if s is not None),
+        steady_state_error=furthest.steady_state_error,
+    )
+    details = tuple(
+        metrics(
+            joint=r.joint,
+            rise_time=r.rise_time,
+            overshoot=r.overshoot,
+            settling_time=r.settling_time,
+            steady_state_error=r.steady_state_error,
+        )
+        for r in responses
+    )
+    rise = f"{slowest.rise_time:.3g} s" if slowest.rise_time is not None else "never"
+    settle = f"{values['settling_time']:.3g} s" if values["settling_time"] is not None else "never"
+    summary = (
+        f"{kind} step: rise {rise}, overshoot {wildest.overshoot:.0%}, settle {settle}, "
+        f"error {furthest.steady_state_error:.1%}"
+    )
+    problems: list[Diagnostic] = []
+    if slowest.rise_time is None or slowest.rise_time > settings.max_rise_time:
+        took = (
+            f"took {slowest.rise_time:.3g} s to rise from 10% to 90%"
+            if slowest.rise_time is not None
+            else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
+        )
+        problems.append(
+            run.fail(
+                where,
+                "RS505",
+                f"controller '{controller}' ({sim.mode}/{group.name}) is too slow: given a "
+                f"{kind} step, joint '{slowest.joint}' {took} (max_rise_time "
+                f"{settings.max_rise_time:g} s)",
+                "raise its stiffness (position) or damping (velocity), or its force_limit",
+            )
+        )
+    if (
+        not np.isfinite(wildest.overshoot)
+        or wildest.overshoot > settings.max_overshoot
+        or (wildest.settling_time is None and slowest.rise_time is not None)
+    ):
+        problems.append(
+            run.fail(
+                where,
+                "RS506",
+                f"controller '{controller}' ({sim.mode}/{group.name}) is unstable or "
+                f"underdamped: joint '{wildest.joint}' overshot a {kind} step by "
+                f"{wildest.overshoot:.0%}"
+                + ("" if wildest.settling_time is not None else " and never settled")
+                + f" (max_overshoot {settings.max_overshoot:.0%})",
+                "raise its damping relative to its stiffness",
+            )
+        )
+    if (
+        furthest.steady_state_error > settings.max_steady_state_error
+        and slowest.rise_time is not None
+    ):
+        problems.append(
+            run.fail(
+                where,
+                "RS507",
+                f"controller '{controller}' ({sim.mode}/{group.name}): joint '{furthest.joint}' "
+                f"settles {furthest.steady_state_error:.0%} of a {kind} step away from its "
+                f"target (max_steady_state_error {settings.max_steady_state_error:.0%})",
+                "raise its stiffness or force_limit, or lower its friction",
+            )
+        )
+    status = Status.FAIL if problems else Status.PASS
+    return Finding(NAME, sim.mode, subject, status, summary, values, tuple(problems), details)
