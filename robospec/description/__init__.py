@@ -5,6 +5,7 @@ Everything here imports only lxml and the standard library: it is on the fast va
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Literal
 
 from robospec.description.model import Joint, Link, Mimic, RobotDescription
@@ -25,7 +26,10 @@ def load_description(
     """Parse the description at ``path`` (or ``text``, when given, located as ``path``).
 
     A file that cannot be read is RS050 at ``path:1:1``; nothing here raises on bad input.
+    A URDF file's SRDF (``robot.srdf`` beside ``robot.urdf``), which SAPIEN reads by itself,
+    gives the description's ``loader_collision_bits``.
     """
+    given_text = text is not None
     if text is None:
         try:
             with open(path, "rb") as handle:
@@ -42,7 +46,16 @@ def load_description(
     if kind == "urdf":
         from robospec.description.urdf import parse_urdf
 
-        return parse_urdf(text, path)
+        description, diagnostics = parse_urdf(text, path)
+        if description is not None and not given_text:
+            # SAPIEN reads the SRDF beside a URDF file (not beside a xacro expansion)
+            from robospec.description.srdf import read_srdf_bits
+
+            bits, srdf_diagnostics = read_srdf_bits(path, description)
+            diagnostics.extend(srdf_diagnostics)
+            if bits:
+                description = dataclasses.replace(description, loader_collision_bits=bits)
+        return description, diagnostics
     if kind == "mjcf":
         from robospec.description.mjcf import parse_mjcf
 

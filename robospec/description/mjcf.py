@@ -111,6 +111,8 @@ class _State:
     nodes: list[_Node] = field(default_factory=list)
     children: dict[str, list[str]] = field(default_factory=dict)
     link_lines: dict[str, tuple[str, int]] = field(default_factory=dict)
+    # (parent body's link, body's link) per body, in parse order: the loader's group-2 bits
+    body_pairs: list[tuple[str, str]] = field(default_factory=list)
 
     def where(self, element: etree._Element) -> Location:
         return at(self.file_of.get(element.getroottree().getroot(), self.path), element)
@@ -216,8 +218,31 @@ def parse_mjcf(
             active_joint_names=tuple(active),
             root_link=root_name,
             floating_root=has_freejoint,
+            loader_collision_bits=_loader_collision_bits(top, state, order),
         ),
         diagnostics,
+    )
+
+
+def _loader_collision_bits(
+    top: list[etree._Element], state: _State, links: list[str]
+) -> tuple[tuple[int, tuple[str, ...]], ...]:
+    """The group-2 bits ManiSkill's loader sets: bit ``k`` on the ``k``-th body and its parent
+    body; bit 1 on every link too when ``<option><flag contact="disable"/>`` turns contacts off
+    (any value but "enable" does)."""
+    bits: dict[int, set[str]] = {k: set(pair) for k, pair in enumerate(state.body_pairs)}
+    option = next((el for el in top if el.tag == "option"), None)
+    flags = option.findall("flag") if option is not None else []
+    contact = True
+    for flag in flags:
+        if "contact" in flag.attrib:
+            contact = flag.get("contact") == "enable"
+    if not contact:
+        bits.setdefault(1, set()).update(links)
+    order = {name: i for i, name in enumerate(links)}
+    return tuple(
+        (k, tuple(sorted(names, key=lambda n: order.get(n, len(order)))))
+        for k, names in sorted(bits.items())
     )
 
 
@@ -325,6 +350,9 @@ def _parse_body(body: etree._Element, parent: str, incoming: Defaults, state: _S
         _add_link(link_name, body, link_parent, joint, state)
         link_parent = link_name
 
+    # ManiSkill keeps a body from colliding with its parent body (dummy links in between) by
+    # giving both the next bit of collision group 2, before it parses the children
+    state.body_pairs.append((parent, link_parent))
     for child in body.findall("body"):
         _parse_body(child, link_parent, defaults, state)
 

@@ -63,6 +63,10 @@ class RobotDescription:
     floating_root: bool = False
     # a stand-in built from the spec's own names: the real file is not downloaded yet
     assumed: bool = False
+    # group-2 collision bits ManiSkill's loader sets by itself, each with the links that carry
+    # it: an SRDF's "Default" disable_collisions pairs (URDF), every body with its parent body
+    # (MJCF). Links sharing one of these bits never collide with each other.
+    loader_collision_bits: tuple[tuple[int, tuple[str, ...]], ...] = ()
     _links_by_name: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
     _joints_by_name: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
 
@@ -83,6 +87,15 @@ class RobotDescription:
     @property
     def joint_names(self) -> tuple[str, ...]:
         return tuple(joint.name for joint in self.joints)
+
+    def adjacent_pairs(self) -> frozenset[tuple[str, str]]:
+        """Pairs of links (each sorted) joined by a joint: PhysX never collides a link with its
+        parent in an articulation, whatever the collision groups say."""
+        return frozenset(
+            (min(j.parent, j.child), max(j.parent, j.child))
+            for j in self.joints
+            if j.parent and j.child and j.parent != j.child
+        )
 
     @property
     def active_joints(self) -> tuple[Joint, ...]:
