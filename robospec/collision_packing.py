@@ -29,13 +29,14 @@ caller removes the loader's, the spec's and the scenes' bits from what it offers
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Collection, Iterable, Sequence
 from dataclasses import dataclass
 from itertools import combinations
 
 NEVER_USED = frozenset({29, 30, 31})
 FREE_BITS: tuple[int, ...] = tuple(range(29))
-DEFAULT_BUDGET = 200_000  # search steps for the exact cover; beyond it the greedy cover stands
+DEFAULT_BUDGET = 50_000  # search steps for the exact cover; beyond it the greedy cover stands
 
 Pair = tuple[str, str]
 
@@ -189,7 +190,7 @@ def _exact_cover(
             return
         if len(chosen) + -(-len(uncovered) // largest) >= limit[0]:
             return
-        hardest = min(sorted(uncovered), key=lambda p: len(by_pair[p]))
+        hardest = min(uncovered, key=lambda p: (len(by_pair[p]), p))
         options = sorted(by_pair[hardest], key=lambda i: (-len(covers[i] & uncovered), i))
         for index in options:
             chosen.append(index)
@@ -204,36 +205,40 @@ def _exact_cover(
 
 def _trim(cover: Sequence[frozenset[str]], need: set[Pair]) -> list[frozenset[str]]:
     """Drop cliques whose needed pairs others cover, then links a clique does not need."""
-    cliques = [frozenset(c) for c in cover]
-    order = sorted(range(len(cliques)), key=lambda i: (len(clique_pairs(cliques[i]) & need), i))
+    cliques = [set(c) for c in cover]
+    owned = [clique_pairs(c) & need for c in cliques]
+    count: Counter[Pair] = Counter(p for pairs in owned for p in pairs)
+    order = sorted(range(len(cliques)), key=lambda i: (len(owned[i]), i))
     kept = set(range(len(cliques)))
     for i in order:
-        others = set().union(*(clique_pairs(cliques[j]) for j in kept if j != i)) & need
-        if clique_pairs(cliques[i]) & need <= others:
+        if all(count[p] > 1 for p in owned[i]):
             kept.discard(i)
-    result = [cliques[i] for i in sorted(kept)]
-    for i, clique in enumerate(result):
-        others = set().union(*(clique_pairs(c) for j, c in enumerate(result) if j != i)) & need
-        members = set(clique)
+            count.subtract(owned[i])
+    for i in sorted(kept):
+        members = cliques[i]
         changed = True
         while changed:
             changed = False
             for v in sorted(members):
                 own = {pair(v, u) for u in members if u != v} & need
-                if own <= others:
+                if all(count[p] > 1 for p in own):
                     members.discard(v)
+                    count.subtract(own)
                     changed = True
                     break
-        result[i] = frozenset(members)
-    return [c for c in result if len(c) > 1]
+    return [frozenset(cliques[i]) for i in sorted(kept) if len(cliques[i]) > 1]
 
 
 def _merge_cheapest(cover: list[frozenset[str]], ok: set[Pair]) -> list[frozenset[str]]:
     """Merge the two cliques whose union disables the fewest pairs nothing disables yet."""
-    disabled = set().union(*(clique_pairs(c) for c in cover)) | ok
+    disabled: dict[str, set[str]] = {}
+    for a, b in set().union(*(clique_pairs(c) for c in cover)) | ok:
+        disabled.setdefault(a, set()).add(b)
+        disabled.setdefault(b, set()).add(a)
     best: tuple[int, int, int] | None = None
     for i, j in combinations(range(len(cover)), 2):
-        cost = len(clique_pairs(cover[i] | cover[j]) - disabled)
+        first, second = cover[i] - cover[j], cover[j] - cover[i]
+        cost = sum(len(second - disabled.get(a, set())) for a in first)
         if best is None or cost < best[0]:
             best = (cost, i, j)
     assert best is not None
