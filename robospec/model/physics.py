@@ -32,6 +32,11 @@ class KeyframeHold(StrictModel):
         description="the control mode to hold with; default: the first mode whose controllers "
         "all take absolute joint positions",
     )
+    pin_root: bool = Field(
+        default=False,
+        description="hold a floating root in place, as on a stand, and measure only the "
+        "joints: for free-standing robots that need a balance controller to stay up",
+    )
 
 
 class RandomActions(StrictModel):

@@ -64,12 +64,13 @@ def _hold(run: CheckRun, sim: Sim, keyframe: object, by_action: bool) -> Finding
     joint_drift = np.zeros(len(sim.joint_names))
     root_drift = 0.0
     finite = True
+    pin = sim.robot.pose if settings.pin_root and not sim.fixed_root else None
     for _ in range(settings.steps):
         if action is not None:
-            sim.step(action)
+            sim.step(action, pin)
         else:
             for _ in range(sim.sim_freq // sim.control_freq):
-                sim.sim_step()
+                sim.sim_step(pin)
         qpos = sim.qpos()
         if not np.isfinite(qpos).all():
             finite = False
@@ -82,6 +83,8 @@ def _hold(run: CheckRun, sim: Sim, keyframe: object, by_action: bool) -> Finding
     worst = int(np.argmax(joint_drift))
     label = keyframe_label(keyframe)  # type: ignore[arg-type]
     how = "actions" if action is not None else "drive targets"
+    if pin is not None:
+        how += ", root pinned"
     values = metrics(
         steps=settings.steps,
         held_by=how,

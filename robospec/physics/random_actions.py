@@ -1,8 +1,8 @@
 """RS502: the state goes NaN or infinite under random actions. RS503: a joint goes past its
 limit. RS504: a joint or the root runs away. Each control mode gets ``checks.random_actions.steps``
 uniformly random actions within its action space (bounds of ±1 where a bound is infinite),
-once from the state the robot is loaded in (qpos 0: where an environment that sets no keyframe
-leaves it) and once from the first keyframe.
+once from the state the robot is loaded in (qpos 0, where an environment that sets no keyframe
+leaves it; clamped into the joint limits) and once from the first keyframe.
 
 A NaN names the joints it appeared in and, when the robot's description gives a joint a URDF
 ``<mimic>`` tag that no ``pd_joint_pos_mimic`` controller drives in that mode, says that this

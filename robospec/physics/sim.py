@@ -106,7 +106,7 @@ class Sim:
             # reach through the floor (trifingerpro hangs from above a table), which says
             # nothing about the robot. Floating robots keep the floor: they stand on it.
             self.base.ground.remove_from_scene()
-        # the state the robot is loaded in (qpos 0 where the limits allow): ``start(None)``
+        # the state the robot is loaded in: ``start(None)``
         self._loaded = (self.robot.get_qpos().clone(), self.robot.pose)
 
     def close(self) -> None:
@@ -173,7 +173,12 @@ class Sim:
             qvel = keyframe.qvel if keyframe.qvel is not None else [0.0] * len(self.joint_names)
             self.robot.set_qvel(torch.tensor([qvel] * n, dtype=torch.float32))
         else:
+            # as loaded, but inside the joint limits: a robot SAPIEN loads outside them (qpos
+            # 0 where 0 is not allowed) is pushed back hard on the first step, which says
+            # nothing about its controllers
             qpos, pose = self._loaded
+            limits = self.robot.get_qlimits()
+            qpos = qpos.clamp(limits[..., 0], limits[..., 1])
             self.robot.set_pose(pose)
             self.robot.set_qpos(qpos)
             self.robot.set_qvel(qpos * 0)
@@ -196,13 +201,21 @@ class Sim:
 
     # -- stepping ------------------------------------------------------------------------------
 
-    def step(self, action: np.ndarray) -> None:
+    def step(self, action: np.ndarray, pin_root: Any = None) -> None:
         """One control step through ManiSkill's own path (``env.step``); ``action`` is one
-        action for every environment, or one row per environment."""
+        action for every environment, or one row per environment. With ``pin_root`` (a pose),
+        a floating root is put back there, at rest, before every physics step."""
         import torch
 
         batch = np.broadcast_to(action, (self.backend.num_envs, action.shape[-1]))
-        self.base.step(torch.tensor(np.ascontiguousarray(batch), dtype=torch.float32))
+        tensor = torch.tensor(np.ascontiguousarray(batch), dtype=torch.float32)
+        if pin_root is None:
+            self.base.step(tensor)
+            return
+        self.agent.set_action(tensor)
+        for _ in range(self.sim_freq // self.control_freq):
+            self.agent.before_simulation_step()
+            self.sim_step(pin_root)
 
     def hold_drive_targets(self) -> None:
         """Hold every joint where it is, below the controllers: position drives get the current
@@ -251,6 +264,17 @@ class Sim:
         self.scene.step()
         if self.backend.gpu:
             self.scene._gpu_fetch_all()
+
+    def lifted_root(self, height: float) -> Any:
+        """The root's pose now, ``height`` metres higher, with the robot moved there."""
+        from mani_skill.utils.structs.pose import Pose
+
+        raw = self.robot.pose.raw_pose.clone()
+        raw[..., 2] += height
+        lifted = Pose.create(raw)
+        self.robot.set_pose(lifted)
+        self._sync()
+        return lifted
 
     @property
     def sim_dt(self) -> float:
