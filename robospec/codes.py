@@ -69,6 +69,10 @@ _CODES = [
     Code("RS317", "agent member defined twice"),
     Code("RS318", "end-effector controller too weak to track"),
     Code("RS319", "actions normalized over unbounded joint limits"),
+    Code("RS320", "never_collide entry selects fewer than two links"),
+    Code("RS321", "never_collide also disables pairs it does not list"),
+    Code("RS322", "never_collide has no effect with disable_self_collisions"),
+    Code("RS323", "no collision-group bit free for never_collide"),
     # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
     Code("RS400", "import target is not module:Class"),
     Code("RS401", "import target module cannot be imported"),

@@ -176,6 +176,12 @@ def _dependencies(robot: object) -> list[str]:
                 for p in sorted(folder.rglob("*"))
                 if p.is_file() and p.suffix in (".xacro", ".urdf")
             )
+    if robot.description_kind == "urdf" and robot.description.generated_text is None:
+        from robospec.description.srdf import srdf_path
+
+        srdf = srdf_path(str(robot.description.absolute))
+        if os.path.isfile(srdf):  # SAPIEN's collision bits, which never_collide packs around
+            deps.append(srdf)
     return sorted(set(deps), key=deps.index)
 
 

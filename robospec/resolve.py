@@ -549,6 +549,7 @@ class Resolver:
     # -- the whole robot --------------------------------------------------------------------
 
     def resolve(self) -> Resolution:
+        from robospec.resolve_collisions import resolve_never_collide
         from robospec.resolve_helpers import HelperResolver
 
         spec = self.spec
@@ -585,6 +586,7 @@ class Resolver:
             )
             for i, rule in enumerate(spec.collision_rules)
         )
+        packed, never_collide = resolve_never_collide(self, rules)
         helpers.check_members()
         robot = ResolvedRobot(
             uid=spec.uid,
@@ -600,7 +602,7 @@ class Resolver:
             controllers=tuple(controllers.values()),
             modes=tuple(modes),
             cameras=cameras,
-            collision_rules=rules,
+            collision_rules=rules + packed,
             tcp=helpers.tcp(),
             active_joints=description.active_joint_names,
             override=spec.override,
@@ -617,6 +619,7 @@ class Resolver:
             disable_gravity=helpers.disable_gravity(),
             drives=helpers.drives(),
             hooks=helpers.hooks(),
+            never_collide=never_collide,
         )
         return Resolution(robot, description, self.diagnostics)
 

@@ -78,6 +78,22 @@ class ResolvedCollisionRule:
 
 
 @dataclass(frozen=True)
+class ResolvedNeverCollide:
+    """``never_collide`` after packing. The bits themselves are ordinary group-2 rules at the end
+    of ``ResolvedRobot.collision_rules``; this records what the checks report on."""
+
+    entries: tuple[tuple[str, ...], ...]  # the links of each entry, in the description's order
+    bits: tuple[int, ...] = ()  # the group-2 bits the packed rules set
+    available: tuple[int, ...] = ()  # the bits that were free to use
+    # pairs that share a bit though no entry lists them (bits were short), by entry index
+    side_effects: tuple[tuple[int, tuple[tuple[str, str], ...]], ...] = ()
+    # listed pairs left colliding: no bit was free
+    uncovered: tuple[tuple[str, str], ...] = ()
+    # loader.disable_self_collisions: nothing was packed
+    skipped: bool = False
+
+
+@dataclass(frozen=True)
 class PythonRef:
     """``module:attribute.path``, checked importable; emitted as constants, never as names."""
 
@@ -206,3 +222,4 @@ class ResolvedRobot:
     disable_gravity: tuple[str, ...] = ()
     drives: tuple[ResolvedDrive, ...] = ()
     hooks: ResolvedHooks = ResolvedHooks()
+    never_collide: ResolvedNeverCollide | None = None

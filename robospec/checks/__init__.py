@@ -10,6 +10,8 @@ from robospec.checks import (
     controller_gains,
     mimic_joints,
     mode_coverage,
+    never_collide_bits,
+    never_collide_self,
     unbounded_normalization,
 )
 from robospec.checks.context import CheckContext
@@ -21,6 +23,8 @@ CHECKS: tuple[Callable[[CheckContext], Iterable[Diagnostic]], ...] = (
     collision_bits.check,
     controller_gains.check,
     unbounded_normalization.check,
+    never_collide_bits.check,
+    never_collide_self.check,
 )
 
 

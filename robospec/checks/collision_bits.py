@@ -30,7 +30,9 @@ RESERVED = {
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
-    for index, rule in enumerate(context.robot.collision_rules):
+    # the spec's own rules; those never_collide adds after them use bits below 29 only
+    own = context.robot.collision_rules[: len(context.spec.collision_rules)]
+    for index, rule in enumerate(own):
         if rule.group == 2 and rule.bit in RESERVED:
             yield warning(
                 context.value(("collision_rules", index, "bit")),

@@ -73,6 +73,8 @@ def _link_names(spec: Spec) -> Iterator[str]:
         yield camera.mount
     for rule in spec.collision_rules:
         yield from _selection_names(rule.links)
+    for entry in spec.never_collide:
+        yield from _selection_names(entry)
     tcp = spec.tcp
     if isinstance(tcp, str):
         yield tcp
