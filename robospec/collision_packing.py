@@ -22,9 +22,10 @@ for its step budget, searches the maximal cliques for a smaller exact cover. Whe
 needs more bits than are free it merges cliques, each time the two whose union stops the
 fewest further pairs from colliding, and reports those pairs as side effects.
 
-Bits: 0..28 only. 29 is ``disable_self_collisions``'s; ManiSkill's scenes set 30 on the ground
-(wheels ignore it) and 31 on fetch's base, xarm6_robotiq's links and RoboCasa's walls. The
-caller removes the loader's, the spec's and the scenes' bits from what it offers.
+Bits: 0..28 only. 29 is ``disable_self_collisions``'s; ManiSkill sets 30 on the ground of its
+scenes (wheels ignore it) and 31 on fetch's base, on xarm6_robotiq's links and, in RoboCasa, on
+the robot's base. The caller removes the loader's, the spec's and the scenes' bits from what it
+offers.
 """
 
 from __future__ import annotations
