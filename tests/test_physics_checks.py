@@ -355,12 +355,6 @@ def test_keyframe_hold_unknown_mode_is_rs501_at_the_checks_key(
     assert error_codes(report) == {"RS501"}
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=ValueError,
-    reason="bug: Sim.hold_action treats pd_joint_pos_vel as a joint-position action and writes "
-    "7 targets into its 14-wide action (positions, then velocities): check_paths crashes",
-)
 def test_keyframe_hold_with_a_pos_vel_mode_holds_the_keyframe(workspace: Path) -> None:
     path = spec_copy(PANDA, workspace, "rs_chk_pos_vel_hold", ["pd_joint_pos_vel"])
     (report,), _ = check_paths([path], Options(steps=5))
@@ -723,12 +717,6 @@ def _reject(constant: str) -> None:
     raise ValueError(f"not JSON: {constant}")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=ValueError,
-    reason="bug: render_json writes infinite action bounds (fetch's arm in pd_joint_pos_vel, "
-    "over its continuous joints) as -Infinity/Infinity, which strict JSON parsers reject",
-)
 def test_json_report_is_strict_json_even_with_infinite_action_bounds(
     zoo: dict[str, RobotReport],
 ) -> None:

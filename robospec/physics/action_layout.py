@@ -64,9 +64,11 @@ def _targets(sim: Sim, group: ControllerGroup) -> list[str]:
     named = _NAMED_DIMENSIONS.get(type(group.controller).__name__)
     if named is not None and len(named) == width:
         return [f"{group.name}.{axis}" for axis in named]
-    joints = group.action_joint_indices
-    if len(joints) == width:
-        return [sim.joint_names[j] for j in joints]
+    names = [sim.joint_names[j] for j in group.action_joint_indices]
+    if group.with_velocities and 2 * len(names) == width:
+        return names + [f"{name}.vel" for name in names]
+    if len(names) == width:
+        return names
     return [f"{group.name}[{i}]" for i in range(width)]
 
 

@@ -8,7 +8,8 @@ into the robot itself, or a floating robot that cannot stand the way the keyfram
 
 Passing: the Panda's ``rest`` keyframe held with ``pd_joint_pos`` moves less than a millimetre.
 Failing: the same keyframe with ``pose: {p: [0, 0, 0.5]}`` on a robot with ``fix_root_link:
-false`` falls to the ground (root drift 0.5 m).
+false`` whose modes keep gravity (``balance_passive_force: false``) falls to the ground (root
+drift 0.5 m).
 """
 
 from __future__ import annotations

@@ -4,6 +4,7 @@ line shown on a terminal while the checks run."""
 from __future__ import annotations
 
 import json
+import math
 import sys
 from collections.abc import Sequence
 from typing import TextIO
@@ -35,6 +36,18 @@ def summary(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> dict
     }
 
 
+def _strict(value: object) -> object:
+    """``value`` with infinite and NaN floats as the strings "inf", "-inf" and "nan": JSON has
+    no such numbers, and CI tools parse strictly."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    if isinstance(value, dict):
+        return {k: _strict(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_strict(v) for v in value]
+    return value
+
+
 def render_json(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> str:
     return json.dumps(
         {
@@ -43,7 +56,7 @@ def render_json(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> 
                     "spec": r.spec,
                     "uid": r.uid,
                     "status": robot_status(r),
-                    "findings": [_finding_json(f) for f in r.findings],
+                    "findings": [_strict(_finding_json(f)) for f in r.findings],
                     "diagnostics": [d.to_json() for d in sorted(r.all_diagnostics, key=sort_key)],
                 }
                 for r in reports
@@ -52,6 +65,7 @@ def render_json(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> 
             "summary": summary(reports, extra),
         },
         indent=2,
+        allow_nan=False,
     )
 
 

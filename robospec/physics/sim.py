@@ -70,6 +70,14 @@ class ControllerGroup:
         )
 
     @property
+    def with_velocities(self) -> bool:
+        """Whether its action is joint positions followed by joint velocities
+        (``pd_joint_pos_vel``)."""
+        from mani_skill.agents.controllers.pd_joint_pos_vel import PDJointPosVelController
+
+        return isinstance(self.controller, PDJointPosVelController)
+
+    @property
     def action_joint_indices(self) -> tuple[int, ...]:
         """The robot joints its action dimensions stand for, one per dimension (joint
         controllers only): a mimic controller's action covers only its control joints."""
@@ -150,6 +158,8 @@ class Sim:
             if not group.absolute_position:
                 return None
             target = qpos[list(group.action_joint_indices)]
+            if group.with_velocities:
+                target = np.concatenate([target, np.zeros_like(target)])  # held: at rest
             if group.controller.config.normalize_action:
                 low = group.controller.action_space_low.cpu().numpy()
                 high = group.controller.action_space_high.cpu().numpy()
