@@ -7,7 +7,7 @@ from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
 from robospec.physics.report import ProgressLine, render_json, render_text
-from robospec.physics.runner import Options, check_paths
+from robospec.physics.runner import Options, RobotReport, check_paths
 from robospec.physics.sim import CPU, Backend
 
 COMMAND_LINE = "<command line>"
@@ -34,7 +34,7 @@ def run_check(
     return (1 if failed else 0), _render(reports, extra, fmt)
 
 
-def _render(reports: list, extra: Sequence[Diagnostic], fmt: str) -> str:
+def _render(reports: Sequence[RobotReport], extra: Sequence[Diagnostic], fmt: str) -> str:
     return render_json(reports, extra) if fmt == "json" else render_text(reports, extra)
 
 

@@ -35,7 +35,7 @@ def check(run: CheckRun, out_dir: Path) -> list[Finding]:
     import mani_skill.envs  # noqa: F401  (registers Empty-v1)
     from PIL import Image
 
-    from robospec.physics.sim import _pose
+    from robospec.physics.sim import set_keyframe
 
     env: Any = gym.make(
         "Empty-v1",
@@ -49,11 +49,7 @@ def check(run: CheckRun, out_dir: Path) -> list[Finding]:
         base = env.unwrapped
         keyframe = run.keyframes[0]
         if keyframe is not None:
-            import torch
-
-            base.agent.robot.set_pose(_pose(keyframe, 1))
-            if keyframe.qpos is not None:
-                base.agent.robot.set_qpos(torch.tensor([keyframe.qpos], dtype=torch.float32))
+            set_keyframe(base.agent.robot, keyframe, 1)
         images = base.get_sensor_images()
         findings = []
         folder = out_dir / run.uid

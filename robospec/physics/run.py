@@ -10,7 +10,7 @@ from robospec.diagnostics import Diagnostic, Location, error
 from robospec.loading.source import KeyPath
 from robospec.model.physics import Checks
 from robospec.physics.sim import CPU, Backend, Sim
-from robospec.resolved import ResolvedKeyframe
+from robospec.resolved import ResolvedKeyframe, ResolvedRobot
 
 
 @dataclass
@@ -25,7 +25,7 @@ class CheckRun:
     _sims: dict[str, Sim] = field(default_factory=dict)
 
     @property
-    def robot(self):
+    def robot(self) -> ResolvedRobot:
         return self.context.robot
 
     @property

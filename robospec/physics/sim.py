@@ -173,15 +173,8 @@ class Sim:
     def start(self, keyframe: ResolvedKeyframe | None) -> np.ndarray:
         """Put the robot at ``keyframe`` (or as it was loaded), at rest, with the controller
         reset there; returns the qpos it starts from, shape ``(J,)``."""
-        import torch
-
         if keyframe is not None:
-            n = self.backend.num_envs
-            self.robot.set_pose(_pose(keyframe, n))
-            if keyframe.qpos is not None:
-                self.robot.set_qpos(torch.tensor([keyframe.qpos] * n, dtype=torch.float32))
-            qvel = keyframe.qvel if keyframe.qvel is not None else [0.0] * len(self.joint_names)
-            self.robot.set_qvel(torch.tensor([qvel] * n, dtype=torch.float32))
+            set_keyframe(self.robot, keyframe, self.backend.num_envs)
         else:
             # as loaded, but inside the joint limits: a robot SAPIEN loads outside them (qpos
             # 0 where 0 is not allowed) is pushed back hard on the first step, which says
@@ -317,11 +310,21 @@ class Sim:
         return touching
 
 
-def _pose(keyframe: ResolvedKeyframe, num_envs: int) -> Any:
+def set_keyframe(robot: Any, keyframe: ResolvedKeyframe, num_envs: int) -> None:
+    """Put ManiSkill articulation ``robot`` (in ``num_envs`` environments) at ``keyframe``:
+    its root pose, its qpos when given, and its qvel (zero when not given)."""
     import torch
     from mani_skill.utils.structs.pose import Pose
 
-    return Pose.create_from_pq(
-        torch.tensor([keyframe.p] * num_envs, dtype=torch.float32),
-        torch.tensor([keyframe.q] * num_envs, dtype=torch.float32),
+    robot.set_pose(
+        Pose.create_from_pq(
+            torch.tensor([keyframe.p] * num_envs, dtype=torch.float32),
+            torch.tensor([keyframe.q] * num_envs, dtype=torch.float32),
+        )
     )
+    if keyframe.qpos is not None:
+        robot.set_qpos(torch.tensor([keyframe.qpos] * num_envs, dtype=torch.float32))
+    if keyframe.qvel is not None:
+        robot.set_qvel(torch.tensor([keyframe.qvel] * num_envs, dtype=torch.float32))
+    else:
+        robot.set_qvel(robot.get_qvel() * 0)
