@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 import os
-import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -24,23 +23,13 @@ pytestmark = [
 ]
 pytest.importorskip("mani_skill")
 
+from cli_process import robospec  # noqa: E402
 from typer.testing import CliRunner  # noqa: E402
 
 from robospec.cli import app  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
-
-
-def robospec(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "robospec.cli", *args],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env=env,
-    )
 
 
 @pytest.fixture(scope="module")

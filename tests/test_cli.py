@@ -7,18 +7,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+from cli_process import robospec
+
 ROOT = Path(__file__).resolve().parent.parent
 MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
-
-
-def robospec(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, "-m", "robospec.cli", *args],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
 
 
 def test_validate_of_the_shipped_specs_exits_zero() -> None:
