@@ -39,6 +39,9 @@ class Joint:
     lower: float | None = None  # None: unbounded (continuous joints, free MJCF joints)
     upper: float | None = None
     mimic: Mimic | None = None
+    # <limit velocity= effort=> (URDF); None when the description does not give them
+    velocity: float | None = None
+    effort: float | None = None
 
     @property
     def is_active(self) -> bool:

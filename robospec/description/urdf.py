@@ -157,6 +157,8 @@ class _RawJoint:
     element: etree._Element
     lower: float | None = None
     upper: float | None = None
+    velocity: float | None = None
+    effort: float | None = None
     mimic: Mimic | None = None
     mimic_element: etree._Element | None = None
 
@@ -365,6 +367,8 @@ def _read_joint(
         )
     if joint_type in ("revolute", "prismatic"):
         _read_limits(raw, path, diagnostics)
+    elif joint_type == "continuous":
+        _read_rates(raw, path, diagnostics)
     # Numbers SAPIEN parses for every joint: a typo there fails the load too.
     for tag, attribute in (("origin", "xyz"), ("origin", "rpy"), ("axis", "xyz")):
         sub = element.find(tag)
@@ -419,8 +423,7 @@ def _read_limits(raw: _RawJoint, path: str, diagnostics: list[Diagnostic]) -> No
         parsed = parse_floats(limit, attribute, 1, path, diagnostics, what)
         if parsed is not None:
             values[attribute] = parsed[0]
-    for attribute in ("effort", "velocity"):
-        parse_floats(limit, attribute, 1, path, diagnostics, what)
+    _read_rates(raw, path, diagnostics)
     lower, upper = values.get("lower"), values.get("upper")
     if lower is not None and upper is not None and lower > upper:
         diagnostics.append(
@@ -432,6 +435,18 @@ def _read_limits(raw: _RawJoint, path: str, diagnostics: list[Diagnostic]) -> No
         )
         return
     raw.lower, raw.upper = lower, upper
+
+
+def _read_rates(raw: _RawJoint, path: str, diagnostics: list[Diagnostic]) -> None:
+    """Fill raw.velocity/effort from <limit> (optional: `robospec inspect` shows them)."""
+    limit = raw.element.find("limit")
+    if limit is None:
+        return
+    what = f"joint '{raw.name}' <limit>"
+    velocity = parse_floats(limit, "velocity", 1, path, diagnostics, what)
+    effort = parse_floats(limit, "effort", 1, path, diagnostics, what)
+    raw.velocity = velocity[0] if velocity else None
+    raw.effort = effort[0] if effort else None
 
 
 def _report_cycle(
@@ -557,6 +572,8 @@ def _articulation(
                 lower=lower,
                 upper=upper,
                 mimic=raw.mimic,
+                velocity=raw.velocity,
+                effort=raw.effort,
             )
         )
     return RobotDescription(
