@@ -25,7 +25,9 @@ class Format(str, enum.Enum):
     json = "json"
 
 
-PathsArg = Annotated[list[Path], typer.Argument(help="spec files, or folders to search")]
+PathsArg = Annotated[
+    list[Path], typer.Argument(metavar="SPEC...", help="spec files, or folders to search")
+]
 FormatOpt = Annotated[Format, typer.Option("--format", "-f", help="diagnostic format")]
 
 
@@ -198,7 +200,8 @@ def demo(
 
 def main() -> None:
     try:
-        app()
+        # a fixed name, so that `python -m robospec.cli` shows and completes as `robospec`
+        app(prog_name="robospec")
     except KeyboardInterrupt:
         sys.exit(130)
 
