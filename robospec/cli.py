@@ -26,7 +26,7 @@ class Format(str, enum.Enum):
 
 
 PathsArg = Annotated[
-    list[Path], typer.Argument(metavar="SPEC...", help="spec files, or folders to search")
+    list[Path], typer.Argument(metavar="SPEC", help="spec files, or folders to search")
 ]
 FormatOpt = Annotated[Format, typer.Option("--format", "-f", help="diagnostic format")]
 
