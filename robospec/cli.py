@@ -117,8 +117,9 @@ def import_(
     force: Annotated[bool, typer.Option("--force", help="overwrite FILE")] = False,
     format: FormatOpt = Format.text,
 ) -> None:
-    """Write a spec (YAML) from an existing ManiSkill agent class; problems found in the class
-    are printed as diagnostics (on stderr).
+    """Write a spec (YAML) from an existing ManiSkill agent class.
+
+    Problems found in the class are printed as diagnostics (on stderr).
 
     Example: robospec import mani_skill.agents.robots.panda.panda:Panda --uid rs_panda -o panda.yaml
     """
@@ -153,9 +154,10 @@ def check(
         typer.Option("--render", help="save each camera's image under DIR (needs a GPU)"),
     ] = None,
 ) -> None:
-    """Run headless physics checks on each robot: keyframe hold, self-contact, step response
-    per controller, random actions per mode, and the action layout of every mode.
-    Exit 1 when a check fails.
+    """Run headless physics checks on each robot (exit 1 when a check fails).
+
+    The checks: keyframe hold, self-contact, step response per controller, random actions per
+    mode, and the action layout of every mode.
 
     Example: robospec check specs/maniskill/panda.yaml --steps 100 --format json
     """
