@@ -3,13 +3,19 @@
 from __future__ import annotations
 
 import enum
+import os
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from robospec.diagnostics import has_errors
+from robospec.diagnostics import Diagnostic, has_errors
+from robospec.reporting import Format as DiagnosticFormat
+from robospec.reporting import render
+from robospec.reporting.color import ColorChoice as Color
+from robospec.reporting.color import use_color
 
 app = typer.Typer(
     name="robospec",
@@ -31,19 +37,54 @@ PathsArg = Annotated[
 FormatOpt = Annotated[Format, typer.Option("--format", "-f", help="diagnostic format")]
 
 
+DiagnosticFormatOpt = Annotated[
+    DiagnosticFormat,
+    typer.Option(
+        "--format",
+        "-f",
+        help="text (with source excerpts), json, github (workflow annotations) or sarif 2.1.0",
+    ),
+]
+ColorOpt = Annotated[
+    Color,
+    typer.Option(
+        "--color",
+        help="colour text output: auto (on a terminal, unless NO_COLOR is set; FORCE_COLOR "
+        "forces it), always or never",
+    ),
+]
+
+
+def _report(
+    diagnostics: Sequence[Diagnostic],
+    files: int,
+    fmt: DiagnosticFormat,
+    color: Color,
+    err: bool = False,
+) -> None:
+    """Print the diagnostics in ``fmt``; colour is decided for the stream they go to."""
+    colored = use_color(color.value, sys.stderr if err else sys.stdout, os.environ)
+    # click strips ANSI codes from non-terminals unless told the colour is wanted
+    typer.echo(render(diagnostics, files, fmt.value, color=colored), err=err, color=colored)
+
+
 @app.command()
-def validate(paths: PathsArg, format: FormatOpt = Format.text) -> None:
+def validate(
+    paths: PathsArg,
+    format: DiagnosticFormatOpt = DiagnosticFormat.text,
+    color: ColorOpt = Color.auto,
+) -> None:
     """Check specs against their robot descriptions.
 
     Example: robospec validate specs/ --format json
+    Example: robospec validate specs/ --format github   (annotations in GitHub Actions)
     """
     from robospec.compile import compile_all
-    from robospec.report import render
 
     compiled, diagnostics = compile_all(paths)
     for item in compiled:
         diagnostics.extend(item.diagnostics)
-    typer.echo(render(diagnostics, len(compiled), format.value))
+    _report(diagnostics, len(compiled), format, color)
     raise typer.Exit(1 if has_errors(diagnostics) else 0)
 
 
@@ -54,7 +95,8 @@ def build(
     check: Annotated[
         bool, typer.Option("--check", help="exit 1 if OUT is stale; write nothing")
     ] = False,
-    format: FormatOpt = Format.text,
+    format: DiagnosticFormatOpt = DiagnosticFormat.text,
+    color: ColorOpt = Color.auto,
 ) -> None:
     """Write an importable package with one generated agent module per spec.
 
@@ -62,21 +104,20 @@ def build(
     """
     from robospec.build import build_package
     from robospec.compile import compile_all
-    from robospec.report import render
 
     compiled, diagnostics = compile_all(paths)
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     if has_errors(diagnostics) or not compiled:
-        typer.echo(render(diagnostics, len(compiled), format.value), err=format is Format.text)
+        _report(diagnostics, len(compiled), format, color, err=format is DiagnosticFormat.text)
         raise typer.Exit(1)
     result = build_package(compiled, out, check=check)
     diagnostics.extend(result.diagnostics)
     if has_errors(diagnostics):
-        typer.echo(render(diagnostics, len(compiled), format.value))
+        _report(diagnostics, len(compiled), format, color)
         raise typer.Exit(1)
-    if format is Format.json:
-        typer.echo(render(diagnostics, len(compiled), "json"))
+    if format is not DiagnosticFormat.text:
+        _report(diagnostics, len(compiled), format, color)
     elif check:
         state = "stale: " + ", ".join(result.changed) if result.changed else "up to date"
         typer.echo(f"{out}: {state}")
@@ -115,7 +156,8 @@ def import_(
         Path | None, typer.Option("--out", "-o", help="write the spec to FILE (default: stdout)")
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="overwrite FILE")] = False,
-    format: FormatOpt = Format.text,
+    format: DiagnosticFormatOpt = DiagnosticFormat.text,
+    color: ColorOpt = Color.auto,
 ) -> None:
     """Write a spec (YAML) from an existing ManiSkill agent class.
 
@@ -124,12 +166,11 @@ def import_(
     Example: robospec import mani_skill.agents.robots.panda.panda:Panda --uid rs_panda -o panda.yaml
     """
     from robospec.importer.command import run_import
-    from robospec.report import render
 
     text, diagnostics = run_import(target, uid, out, force)
     if text is not None and out is None:
         sys.stdout.write(text)
-    typer.echo(render(diagnostics, 1, format.value), err=True)
+    _report(diagnostics, 1, format, color, err=True)
     raise typer.Exit(1 if has_errors(diagnostics) else 0)
 
 
@@ -189,14 +230,13 @@ def demo(
     Example: robospec demo specs/maniskill/panda.yaml -c pd_joint_delta_pos --random-actions
     """
     from robospec.maniskill.viewer import run_demo
-    from robospec.report import render as render_diagnostics
 
     if random_actions and keyframe_actions:
         raise typer.BadParameter("give at most one of --random-actions and --keyframe-actions")
     actions = "random" if random_actions else "keyframe" if keyframe_actions else "none"
     diagnostics = run_demo(spec, control_mode, keyframe, actions)
     if diagnostics:
-        typer.echo(render_diagnostics(diagnostics, 1, "text"), err=True)
+        typer.echo(render(diagnostics, 1, "text"), err=True)
         raise typer.Exit(1)
 
 

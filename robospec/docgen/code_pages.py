@@ -1,0 +1,150 @@
+"""One page per diagnostic code (``docs/codes/RSxxx.md``), written from the examples the page
+shows and from what robospec really reports for them."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from robospec.checks import CHECKS
+from robospec.codes import CODES, Code
+from robospec.docgen.code_examples import (
+    CodeExamples,
+    RunExample,
+    is_documented_only,
+    load_code_examples,
+)
+from robospec.physics import keyframe_hold, random_actions, self_contact, step_response
+
+# the physics checks of `robospec check`, whose docstrings document RS501-RS508
+PHYSICS_CHECKS = (keyframe_hold, random_actions, step_response, self_contact)
+
+LANGUAGES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml", ".urdf": "xml", ".xml": "xml"}
+LANGUAGES |= {".xacro": "xml", ".srdf": "xml", ".json": "json", ".py": "python"}
+
+
+def page_path(code: str) -> str:
+    return f"codes/{code}.md"
+
+
+def module_docs() -> dict[str, str]:
+    """Docstrings of the check modules, by each code their first sentence names: the prose the
+    rule's author wrote next to the rule."""
+    modules = [sys.modules[check.__module__] for check in CHECKS] + list(PHYSICS_CHECKS)
+    docs: dict[str, str] = {}
+    for module in modules:
+        doc = (module.__doc__ or "").strip()
+        head = doc.split("\n\n", 1)[0]
+        for code in CODES:
+            if code in head:
+                docs[code] = doc
+    return docs
+
+
+def all_code_pages(docs_dir: Path) -> dict[str, str]:
+    docstrings = module_docs()
+    return {
+        page_path(code): code_page(entry, load_code_examples(docs_dir, code), docstrings.get(code))
+        for code, entry in CODES.items()
+    }
+
+
+def code_page(entry: Code, examples: CodeExamples, docstring: str | None) -> str:
+    lines = [f"# {entry.code}: {entry.title}", ""]
+    severity = _severity(examples)
+    if severity:
+        lines += [f"Severity: **{severity}**.", ""]
+    if examples.about:
+        lines += [examples.about.strip(), ""]
+    if docstring:
+        lines += [_docstring_markdown(docstring), ""]
+    if examples.failing and examples.passing:
+        lines += _run_sections(examples)
+    elif is_documented_only(entry.code):
+        lines += [
+            "!!! note",
+            "",
+            "    This page's example is documented, not run when the docs are generated:",
+            "    " + _why_not_run(entry.code),
+            "",
+        ]
+    lines += ["[All diagnostic codes](../diagnostics.md)"]
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def _why_not_run(code: str) -> str:
+    if code.startswith("RS4"):
+        return "`robospec import` reads a Python agent class, which imports ManiSkill (seconds)."
+    if code.startswith("RS5"):
+        return "`robospec check` runs SAPIEN physics (seconds per robot); `tests/` runs them."
+    return "no spec triggers it on purpose."
+
+
+def _severity(examples: CodeExamples) -> str | None:
+    if examples.failing is None:
+        return None
+    found = {d.severity.value for d in examples.failing.diagnostics if d.code == examples.code}
+    return " or ".join(sorted(found)) or None
+
+
+def _docstring_markdown(doc: str) -> str:
+    """A check module's docstring as Markdown: reST literals (``x``) become code spans and a
+    ``Passing::`` block becomes a YAML block."""
+    body = doc.split(":", 1)[1].strip() if doc[:5] in CODES else doc
+    body = body[:1].upper() + body[1:]
+    out: list[str] = []
+    in_block = False
+    for line in body.replace("``", "`").splitlines():
+        if in_block and line.strip() and not line.startswith("    "):
+            while out and not out[-1].strip():
+                out.pop()
+            out += ["```", ""]
+            in_block = False
+        if line.rstrip().endswith("::"):
+            out += [line.rstrip()[:-1], "", "```yaml"]
+            in_block = True
+        elif in_block:
+            if line.strip() or out[-1] != "```yaml":
+                out.append(line[4:])
+        else:
+            out.append(line)
+    while out and not out[-1].strip():
+        out.pop()
+    if in_block:
+        out.append("```")
+    return "\n".join(out)
+
+
+def _run_sections(examples: CodeExamples) -> list[str]:
+    assert examples.failing and examples.passing
+    lines = ["## Failing example", ""]
+    lines += _example(examples.failing)
+    lines += ["## Passing example", ""]
+    lines += _example(examples.passing)
+    for path in examples.support_files:
+        lines += [f"`{path.name}`, used by both examples:", ""]
+        lines += _fenced(path.read_text(encoding="utf-8"), LANGUAGES.get(path.suffix, "text"))
+    lines += [
+        f"These examples are `docs/examples/codes/{examples.code}/`; the output above is what "
+        "robospec reported for them when this page was generated, and `tests/test_docs.py` "
+        "checks both.",
+        "",
+    ]
+    return lines
+
+
+def _example(example: RunExample) -> list[str]:
+    name = example.path.name
+    lines = [f"`{name}`:", ""]
+    lines += _fenced(example.text, LANGUAGES.get(example.path.suffix, "text"))
+    if example.diagnostics:
+        lines += [f"`robospec validate {name}` reports:", ""]
+        lines += _fenced("\n".join(d.format_text() for d in example.diagnostics), "text")
+    else:
+        lines += [f"`robospec validate {name}` reports nothing.", ""]
+    return lines
+
+
+def _fenced(text: str, language: str) -> list[str]:
+    fence = "````" if "```" in text else "```"
+    return [f"{fence}{language}", text.rstrip("\n"), fence, ""]
