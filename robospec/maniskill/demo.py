@@ -23,7 +23,7 @@ def main(argv: list[str] | None = None) -> int:
     from robospec.build import build_package
     from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
-    from robospec.report import render
+    from robospec.reporting import render
 
     started = time.perf_counter()
     compiled, diagnostics = compile_all(args.specs)
