@@ -240,6 +240,80 @@ def demo(
         raise typer.Exit(1)
 
 
+@app.command()
+def inspect(
+    file: Annotated[Path, typer.Argument(help="a URDF, xacro or MJCF file")],
+    format: FormatOpt = Format.text,
+) -> None:
+    """Print a robot description's active joints (qpos order, limits), mimic relations and
+    kinematic tree.
+
+    Example: robospec inspect robots/my_arm.urdf --format json
+    """
+    from robospec.authoring.commands import run_inspect
+    from robospec.report import render
+
+    text, diagnostics = run_inspect(file, format.value)
+    if text is not None:
+        sys.stdout.write(text)
+    if diagnostics:
+        typer.echo(render(diagnostics, 1, format.value), err=True)
+    raise typer.Exit(1 if text is None or has_errors(diagnostics) else 0)
+
+
+@app.command()
+def new(
+    from_urdf: Annotated[
+        Path,
+        typer.Option("--from-urdf", help="the robot description (URDF, xacro or MJCF)"),
+    ],
+    out: Annotated[Path, typer.Option("--out", "-o", help="the spec file to write")],
+    uid: Annotated[
+        str | None, typer.Option("--uid", help="uid of the spec (default: the robot's name)")
+    ] = None,
+    force: Annotated[bool, typer.Option("--force", help="overwrite SPEC")] = False,
+    format: FormatOpt = Format.text,
+) -> None:
+    """Scaffold a spec from a robot description: groups, a rest keyframe and pd_joint_pos /
+    pd_joint_delta_pos modes, ready for `robospec validate`.
+
+    Example: robospec new --from-urdf robots/my_arm.urdf -o specs/my_arm.yaml
+    """
+    from robospec.authoring.commands import run_new
+    from robospec.report import render
+
+    text, diagnostics = run_new(from_urdf, out, uid, force)
+    if diagnostics or format is Format.json:
+        typer.echo(render(diagnostics, 1, format.value), err=True)
+    failed = text is None or has_errors(diagnostics)
+    if not failed and format is Format.text:
+        typer.echo(f"wrote {out}")
+    raise typer.Exit(1 if failed else 0)
+
+
+@app.command()
+def doc(
+    spec: Annotated[Path, typer.Argument(help="the spec of the robot")],
+    out: Annotated[Path, typer.Option("--out", "-o", help="the Markdown card to write")],
+    format: FormatOpt = Format.text,
+) -> None:
+    """Write a Markdown robot card: kinematic tree (Mermaid), action layout per control mode,
+    keyframes and cameras.
+
+    Example: robospec doc specs/maniskill/panda.yaml -o panda.md
+    """
+    from robospec.authoring.commands import run_doc
+    from robospec.report import render
+
+    diagnostics = run_doc(spec, out)
+    if diagnostics:
+        typer.echo(render(diagnostics, 1, format.value), err=True)
+    if has_errors(diagnostics):
+        raise typer.Exit(1)
+    if format is Format.text:
+        typer.echo(f"wrote {out}")
+
+
 def main() -> None:
     try:
         # a fixed name, so that `python -m robospec.cli` shows and completes as `robospec`
