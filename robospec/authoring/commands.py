@@ -1,0 +1,106 @@
+"""What ``robospec inspect``, ``new`` and ``doc`` do apart from argument parsing: each returns
+its output text and diagnostics, and writes files only when it has no errors (atomically)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from robospec.diagnostics import Diagnostic, Location, error, has_errors
+
+_UID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$")  # as the spec model's
+
+
+def run_inspect(path: Path, format: str) -> tuple[str | None, list[Diagnostic]]:
+    from robospec.authoring.inspect import inspect_report, render_json, render_text
+    from robospec.authoring.source import read_description_file
+
+    source, diagnostics = read_description_file(path)
+    if source is None:
+        return None, diagnostics
+    report = inspect_report(source)
+    return (render_json(report) if format == "json" else render_text(report)), diagnostics
+
+
+def run_new(
+    description: Path, out: Path, uid: str | None, force: bool
+) -> tuple[str | None, list[Diagnostic]]:
+    """The spec text (written to ``out``) and the diagnostics."""
+    if uid is not None:
+        from robospec.builtin_uids import MANISKILL_UIDS
+
+        if not _UID.match(uid):
+            return None, [
+                error(
+                    Location("<uid>"),
+                    "RS105",
+                    f"invalid uid {uid!r}",
+                    "use letters, digits, '_', '-' and '.', starting with a letter or digit",
+                )
+            ]
+        if uid in MANISKILL_UIDS:
+            return None, [
+                error(
+                    Location("<uid>"),
+                    "RS306",
+                    f"uid '{uid}' is already registered by ManiSkill",
+                    f"use a new uid such as 'rs_{uid}'",
+                )
+            ]
+    if out.exists() and not force:
+        return None, [
+            error(
+                Location(str(out)),
+                "RS601",
+                f"{out} already exists; robospec new does not overwrite it",
+                "pass --force to replace it",
+            )
+        ]
+    from robospec.authoring.scaffold import scaffold, schema_reference
+    from robospec.authoring.source import read_description_file
+    from robospec.importer.yamlout import to_yaml
+
+    source, diagnostics = read_description_file(description)
+    if source is None:
+        return None, diagnostics
+    if not source.description.active_joints:
+        return None, [
+            *diagnostics,
+            error(
+                Location(str(description)),
+                "RS602",
+                f"'{description.name}' has no active joints: there is nothing to control",
+                "robospec agents need at least one revolute, continuous or prismatic joint",
+            ),
+        ]
+    text = to_yaml(scaffold(source, out, uid), schema_reference(out.parent))
+    diagnostics.extend(write_text(out, text))
+    return text, diagnostics
+
+
+def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
+    from robospec.authoring.card import robot_card
+    from robospec.compile import compile_spec
+
+    compiled = compile_spec(spec)
+    diagnostics = list(compiled.diagnostics)
+    if has_errors(diagnostics) or compiled.robot is None or compiled.description is None:
+        return diagnostics
+    text = robot_card(compiled.robot, compiled.description, compiled.display)
+    return diagnostics + write_text(out, text)
+
+
+def write_text(path: Path, text: str) -> list[Diagnostic]:
+    from robospec.importer.command import write_atomically
+
+    try:
+        write_atomically(path, text)
+    except OSError as exc:
+        return [
+            error(
+                Location(str(path)),
+                "RS603",
+                f"cannot write {path}: {exc.strerror or type(exc).__name__}",
+            )
+        ]
+    return []

@@ -1,0 +1,207 @@
+"""Guess joint groups for a scaffolded spec from the description alone.
+
+Rules, in order (each joint lands in exactly one group; every active joint lands in one):
+
+* **mimic** — URDF ``<mimic>`` pairs between active joints, chains collapsed onto the joint that
+  leads them (``q = m·q_leader + o``). They get a ``pd_joint_pos_mimic`` controller: PhysX mimic
+  joints go NaN within a few steps, the controller is the stable route.
+* **base** — continuous wheel joints, and the active joints that start the tree (before any
+  other active joint) whose names say base/root/odom: a mobile root.
+* **gripper** — joints named like fingers, grippers, hands or jaws, and prismatic joints that
+  come in sibling pairs (two fingers on one link). Without an arm they are the ``hand``.
+* **arm** — the longest serial chain of the remaining joints from the root to a leaf. When the
+  longest chains tie (a hand of identical fingers), there is no arm.
+* the rest — one group per branch, named from its joints' common prefix (``head``), else
+  ``finger1``, ``finger2``... when there is no arm, ``branch1``... otherwise.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from robospec.authoring.tree import leaves, root_path
+from robospec.description import Joint, RobotDescription
+
+_GRIPPER_WORDS = re.compile(
+    r"finger|gripper|grip|hand|thumb|index|middle|ring|pinky|little|claw|jaw|knuckle|palm|tip",
+    re.IGNORECASE,
+)
+_WHEEL = re.compile(r"wheel|caster", re.IGNORECASE)
+_MOBILE_ROOT = re.compile(r"base|root|odom|world|mobile", re.IGNORECASE)
+_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$")
+_GENERIC = {"", "joint", "link", "j", "l", "revolute", "prismatic"}
+
+
+@dataclass(frozen=True)
+class MimicLink:
+    follower: str
+    leader: str
+    multiplier: float = 1.0
+    offset: float = 0.0
+
+
+@dataclass
+class Groups:
+    """Group name -> joints (qpos order), in the order the spec lists them."""
+
+    groups: dict[str, list[str]] = field(default_factory=dict)
+    kinds: dict[str, str] = field(default_factory=dict)  # name -> arm|gripper|mimic|base|other
+    mimic: list[MimicLink] = field(default_factory=list)
+
+    def add(self, name: str, kind: str, joints: list[str]) -> None:
+        if joints:
+            self.groups[name] = joints
+            self.kinds[name] = kind
+
+
+def mimic_links(description: RobotDescription) -> list[MimicLink]:
+    """Mimic relations between active joints, each follower mapped onto the joint leading its
+    chain (a -> b -> c becomes a -> c with the composed multiplier and offset)."""
+    active = {j.name: j for j in description.active_joints}
+    out: list[MimicLink] = []
+    for joint in description.active_joints:
+        multiplier, offset, leader = 1.0, 0.0, joint
+        seen = {joint.name}
+        while leader.mimic is not None and leader.mimic.joint in active:
+            m = leader.mimic
+            offset = multiplier * m.offset + offset
+            multiplier = multiplier * m.multiplier
+            leader = active[m.joint]
+            if leader.name in seen:  # a mimic cycle: nobody leads it
+                break
+            seen.add(leader.name)
+        leads = leader.mimic is None or leader.mimic.joint not in active  # not in a cycle
+        if leader is not joint and leads:
+            out.append(MimicLink(joint.name, leader.name, multiplier, offset))
+    return out
+
+
+def guess_groups(description: RobotDescription) -> Groups:
+    active = list(description.active_joints)
+    order = {j.name: i for i, j in enumerate(active)}
+    mimic = mimic_links(description)
+    in_mimic = {m.follower for m in mimic} | {m.leader for m in mimic}
+
+    base = [j.name for j in active if _is_base(description, j) and j.name not in in_mimic]
+    taken = set(in_mimic) | set(base)
+    gripper = [j.name for j in active if j.name not in taken and _is_gripper(description, j)]
+    taken |= set(gripper)
+    arm, trunk = _arm_chain(description, taken)
+    taken |= set(arm)
+    rest = [j for j in active if j.name not in taken]
+
+    result = Groups(mimic=mimic)
+    reserved = set(description.joint_names) | set(description.link_names)
+    result.add("base", "base", base)
+    result.add("body" if trunk else "arm", "arm", arm)
+    hand = "gripper" if arm and not trunk else "hand"
+    if gripper and in_mimic:
+        result.add(hand, "gripper", gripper)
+        result.add(f"{hand}_mimic", "mimic", sorted(in_mimic, key=order.__getitem__))
+    elif in_mimic:
+        result.add(hand, "mimic", sorted(in_mimic, key=order.__getitem__))
+    else:
+        result.add(hand, "gripper", gripper)
+    for name, joints in _branches(description, rest, reserved | set(result.groups)):
+        result.add(name, "other", joints)
+    # a group named like a joint or link would shadow it: rename, keeping the kind
+    for name in [n for n in result.groups if n in reserved]:
+        new = _unique(f"{name}_group", reserved | set(result.groups))
+        result.groups = {new if k == name else k: v for k, v in result.groups.items()}
+        result.kinds = {new if k == name else k: v for k, v in result.kinds.items()}
+    return result
+
+
+def _is_base(description: RobotDescription, joint: Joint) -> bool:
+    if joint.type == "continuous" and (_WHEEL.search(joint.name) or _WHEEL.search(joint.child)):
+        return True
+    # a mobile root: a prismatic joint first, then only base-like active joints down to this one
+    path = [j for j in root_path(description, joint.child) if j.is_active]
+    return path[0].type == "prismatic" and all(
+        _MOBILE_ROOT.search(j.name) and not _GRIPPER_WORDS.search(j.name) for j in path
+    )
+
+
+def _is_gripper(description: RobotDescription, joint: Joint) -> bool:
+    if _GRIPPER_WORDS.search(joint.name):
+        return True
+    if joint.type != "prismatic":
+        return False
+    siblings = [
+        j
+        for j in description.active_joints
+        if j.parent == joint.parent and j.type == "prismatic" and j.name != joint.name
+    ]
+    return len(siblings) == 1
+
+
+def _arm_chain(description: RobotDescription, taken: set[str]) -> tuple[list[str], bool]:
+    """The arm's joints, and whether they are only the trunk that tied chains share."""
+    chains = [
+        [j.name for j in root_path(description, leaf) if j.is_active and j.name not in taken]
+        for leaf in leaves(description)
+    ]
+    chains = [c for c in chains if c]
+    if not chains:
+        return [], False
+    longest = max(len(c) for c in chains)
+    best = [c for c in chains if len(c) == longest]
+    # identical fingers hanging off one link (a hand): no chain is the arm
+    if len({tuple(c) for c in best}) > 1:
+        return _common_head(best), True
+    return best[0], False
+
+
+def _common_head(chains: list[list[str]]) -> list[str]:
+    head: list[str] = []
+    for names in zip(*chains, strict=False):
+        if len(set(names)) != 1:
+            break
+        head.append(names[0])
+    return head
+
+
+def _branches(
+    description: RobotDescription, joints: list[Joint], taken: set[str]
+) -> list[tuple[str, list[str]]]:
+    """Group the leftover joints by the first leftover joint on their path from the root;
+    branches that all hang off one link (a palm) are fingers."""
+    names = {j.name for j in joints}
+    by_head: dict[str, list[str]] = {}
+    for joint in joints:
+        head = next(j.name for j in root_path(description, joint.child) if j.name in names)
+        by_head.setdefault(head, []).append(joint.name)
+    out: list[tuple[str, list[str]]] = []
+    parents = {description.joint(head).parent for head in by_head}  # type: ignore[union-attr]
+    fingers = len(by_head) > 1 and len(parents) == 1 and max(map(len, by_head.values())) <= 4
+    fallback = "finger" if fingers else "branch"
+    used = set(taken)
+    for index, members in enumerate(by_head.values(), start=1):
+        name = _prefix_name(members)
+        if len(name) < 3 or name in _GENERIC or name in used or not _NAME.match(name):
+            name = _unique(f"{fallback}{index}", used)
+        used.add(name)
+        out.append((name, members))
+    return out
+
+
+def _prefix_name(members: list[str]) -> str:
+    if len(members) < 2:
+        stem = members[0]
+    else:
+        stem = members[0]
+        for other in members[1:]:
+            while not other.startswith(stem):
+                stem = stem[:-1]
+    stem = re.sub(r"[^A-Za-z0-9_]+", "_", stem)
+    stem = re.sub(r"(_?joint|_?link)?[_\d]*$", "", stem, flags=re.IGNORECASE)
+    stem = re.sub(r"^(joint|link)_?", "", stem, flags=re.IGNORECASE)
+    return stem.strip("_").lower()
+
+
+def _unique(name: str, used: set[str]) -> str:
+    candidate, n = name, 2
+    while candidate in used:
+        candidate, n = f"{name}_{n}", n + 1
+    return candidate

@@ -1,0 +1,112 @@
+"""``robospec inspect``: what a robot description holds, as text or JSON.
+
+The report is plain data (:func:`inspect_report`) rendered two ways; JSON writes an unbounded
+limit as ``null`` (strict JSON has no infinity).
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from robospec.authoring.source import DescriptionFile
+from robospec.authoring.tree import tree_rows
+from robospec.description import Joint
+
+
+def mimic_text(joint: Joint) -> str:
+    assert joint.mimic is not None
+    m = joint.mimic
+    return f"{joint.name} mimics {m.joint} ×{m.multiplier:g} + {m.offset:g}"
+
+
+def inspect_report(source: DescriptionFile) -> dict[str, Any]:
+    description = source.description
+    return {
+        "file": str(source.path),
+        "kind": source.kind,
+        "robot": source.robot_name,
+        "root_link": description.root_link,
+        "floating_root": description.floating_root,
+        "active_joints": [
+            {
+                "index": index,
+                "name": joint.name,
+                "type": joint.type,
+                "lower": joint.lower,
+                "upper": joint.upper,
+                "velocity": joint.velocity,
+                "effort": joint.effort,
+                "mimic": None
+                if joint.mimic is None
+                else {
+                    "joint": joint.mimic.joint,
+                    "multiplier": joint.mimic.multiplier,
+                    "offset": joint.mimic.offset,
+                },
+            }
+            for index, joint in enumerate(description.active_joints)
+        ],
+        "mimic": [mimic_text(j) for j in description.joints if j.mimic is not None],
+        "tree": [
+            {
+                "depth": row.depth,
+                "link": row.link,
+                "joint": row.joint.name if row.joint else None,
+                "joint_type": row.joint.type if row.joint else None,
+            }
+            for row in tree_rows(description)
+        ],
+    }
+
+
+def render_json(report: dict[str, Any]) -> str:
+    return json.dumps(report, indent=2, ensure_ascii=False) + "\n"
+
+
+_NUMERIC = (0, 3, 4, 5, 6)  # right-aligned columns
+
+
+def _number(value: float | None, unbounded: str = "-") -> str:
+    return unbounded if value is None else f"{value:.6g}"
+
+
+def render_text(report: dict[str, Any]) -> str:
+    joints = report["active_joints"]
+    head = f"{report['file']} ({report['kind']})"
+    if report["robot"]:
+        head += f": robot '{report['robot']}'"
+    root = report["root_link"] + (" (floating)" if report["floating_root"] else "")
+    lines = [f"{head}, root link {root}, {len(joints)} active joint(s)", ""]
+    if joints:
+        table = [("#", "joint", "type", "lower", "upper", "velocity", "effort")]
+        for j in joints:
+            unbounded = "-inf" if j["type"] == "continuous" else "-"
+            table.append(
+                (
+                    str(j["index"]),
+                    j["name"],
+                    j["type"],
+                    _number(j["lower"], unbounded),
+                    _number(j["upper"], unbounded.lstrip("-")),
+                    _number(j["velocity"]),
+                    _number(j["effort"]),
+                )
+            )
+        widths = [max(len(row[i]) for row in table) for i in range(len(table[0]))]
+        lines.append("active joints (qpos order):")
+        for row in table:
+            cells = [
+                cell.rjust(width) if i in _NUMERIC else cell.ljust(width)
+                for i, (cell, width) in enumerate(zip(row, widths, strict=True))
+            ]
+            lines.append("  " + "  ".join(cells).rstrip())
+        lines.append("")
+    lines.append("mimic relations:" if report["mimic"] else "mimic relations: none")
+    lines += [f"  {text}" for text in report["mimic"]]
+    lines += ["", "kinematic tree (link  <- joint, type):"]
+    for row in report["tree"]:
+        indent = "  " * (row["depth"] + 1)
+        via = f"  <- {row['joint']} ({row['joint_type']})" if row["joint"] else ""
+        lines.append(f"{indent}{row['link']}{via}")
+    return "\n".join(lines) + "\n"
