@@ -1,0 +1,101 @@
+"""taplo (the TOML engine behind VS Code's Even Better TOML and `taplo lint` in CI) checking
+TOML specs against schemas/robospec.schema.json: errors at the right line and column, and the
+repo's TOML spec clean through its own `#:schema` directive.
+
+taplo runs offline: `--no-auto-config` ignores any taplo config around, and the online schema
+catalogs stay off (they are opt-in with `--default-schema-catalogs`). Positions are taplo's:
+1-based lines and columns.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+from editor_engines import ROOT, SCHEMA, taplo_executable
+
+TWOLINK = ROOT / "specs" / "twolink.toml"
+# one reported problem: "error: MESSAGE" then, a line later, "┌─ PATH:LINE:COLUMN"
+PROBLEM = re.compile(
+    r"^error: (?P<message>.*)\n\s*┌─ (?P<path>.*):(?P<line>\d+):(?P<column>\d+)$", re.M
+)
+
+
+@dataclass(frozen=True)
+class Lint:
+    returncode: int
+    output: str
+    # each problem's (line, column) -> its message; taplo repeats an object-level problem at
+    # every key and value of that object, so one message can sit at many positions
+    problems: dict[tuple[int, int], str]
+
+
+def taplo_lint(spec: Path, *options: str) -> Lint:
+    result = subprocess.run(
+        [taplo_executable(), "lint", "--no-auto-config", "--colors", "never", *options, str(spec)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        cwd=spec.parent,
+    )
+    output = result.stdout + result.stderr
+    problems = {(int(m["line"]), int(m["column"])): m["message"] for m in PROBLEM.finditer(output)}
+    return Lint(result.returncode, output, problems)
+
+
+def write_spec(path: Path, body: str) -> Path:
+    """A TOML spec whose `#:schema` directive points at the repo's schema; ``body`` starts on
+    line 2."""
+    path.write_text(f"#:schema {SCHEMA.as_uri()}\n{body}")
+    return path
+
+
+def test_unknown_key_is_reported_at_the_key(tmp_path: Path) -> None:
+    spec = write_spec(
+        tmp_path / "unknown_key.toml",
+        'robospec = 1\nuid = "demo"\n\n[loader]\nfix_root_lnk = true\n',
+    )
+    lint = taplo_lint(spec)
+    assert lint.returncode == 1, lint.output
+    assert "fix_root_lnk" in lint.problems.get((6, 1), ""), lint.output
+
+
+def test_wrong_type_is_reported_at_the_value_only(tmp_path: Path) -> None:
+    spec = write_spec(tmp_path / "wrong_type.toml", "robospec = 1\nuid = 3\n\n[loader]\n")
+    lint = taplo_lint(spec)
+    assert lint.returncode == 1, lint.output
+    assert lint.problems == {(3, 7): '3 is not of type "string"'}, lint.output
+
+
+def test_wrong_version_type_is_reported_at_the_value(tmp_path: Path) -> None:
+    spec = write_spec(tmp_path / "wrong_version.toml", 'robospec = "x"\nuid = "demo"\n')
+    lint = taplo_lint(spec)
+    assert lint.returncode == 1, lint.output
+    assert (2, 12) in lint.problems, lint.output
+    assert '"x"' in lint.problems[(2, 12)]
+
+
+def test_schema_option_applies_the_schema_without_a_directive(tmp_path: Path) -> None:
+    spec = tmp_path / "no_directive.toml"
+    spec.write_text("robospec = 1\nuid = 3\n")
+    lint = taplo_lint(spec, "--schema", SCHEMA.as_uri())
+    assert lint.problems == {(2, 7): '3 is not of type "string"'}, lint.output
+
+
+def test_twolink_spec_lints_clean_through_its_own_directive() -> None:
+    lint = taplo_lint(TWOLINK)
+    assert lint.returncode == 0, lint.output
+
+
+def test_relative_schema_directive_resolves_against_the_spec_file(tmp_path: Path) -> None:
+    # the twolink text with one unknown key, its directive rewritten relative to where the copy
+    # lives: proves a relative directive like the committed one reaches the schema
+    relative = Path(os.path.relpath(SCHEMA, tmp_path)).as_posix()
+    body = TWOLINK.read_text().split("\n", 1)[1]
+    spec = tmp_path / "twolink_edited.toml"
+    spec.write_text(f"#:schema {relative}\nuid_typo = 1\n{body}")
+    lint = taplo_lint(spec)
+    assert "uid_typo" in lint.problems.get((2, 1), ""), lint.output
