@@ -1,0 +1,216 @@
+"""``robospec doc``: a Markdown robot card, a pure function of the compiled spec.
+
+Sections: the robot (uid, class, description file), the kinematic tree as a Mermaid
+``graph TD`` (links as nodes, joints as labelled edges, active joints drawn thick), the active
+joints, the action layout of each control mode (:mod:`.layout`), the keyframes and the cameras.
+No path of the machine appears (files are shown as the spec names them) and numbers are
+formatted the same way every time, so the card is byte-identical for the same spec.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from robospec.authoring.layout import ActionRow, mode_layout
+from robospec.authoring.tree import tree_rows
+from robospec.description import RobotDescription
+from robospec.resolved import FileRef, ResolvedRobot
+
+_MERMAID_ESCAPES = {"&": "#amp;", '"': "#quot;", "<": "#lt;", ">": "#gt;", "|": "#124;"}
+
+
+def number(value: float | None) -> str:
+    if value is None:
+        return "—"
+    if math.isinf(value):
+        return "∞" if value > 0 else "-∞"
+    return f"{value:.6g}"
+
+
+def cell(text: str) -> str:
+    """Text safe inside a Markdown table cell (inline code keeps names like a_b_c intact)."""
+    return text.replace("|", "\\|")
+
+
+def code(text: str) -> str:
+    return f"`{cell(text)}`"
+
+
+def mermaid_label(text: str) -> str:
+    return "".join(_MERMAID_ESCAPES.get(ch, ch) for ch in text)
+
+
+def node_ids(links: list[str]) -> dict[str, str]:
+    """A Mermaid-safe id per link: its name reduced to [A-Za-z0-9_], made unique by index."""
+    ids: dict[str, str] = {}
+    used: set[str] = set()
+    for index, link in enumerate(links):
+        base = "l_" + (re.sub(r"[^A-Za-z0-9_]", "_", link) or str(index))
+        candidate = base
+        while candidate in used:
+            candidate = f"{base}_{index}"
+        used.add(candidate)
+        ids[link] = candidate
+    return ids
+
+
+def description_text(ref: FileRef) -> str:
+    if ref.kind == "maniskill_assets":
+        return "{maniskill_assets}/" + ref.relative
+    if ref.kind == "maniskill_data":
+        return "{maniskill_data}/" + ref.relative
+    return ref.relative + " (relative to the spec)"
+
+
+def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_name: str) -> str:
+    lines = [f"# {robot.uid}", ""]
+    lines += _summary(robot, description, spec_name)
+    lines += _tree(description)
+    lines += _joints(description)
+    lines += _actions(robot, description)
+    lines += _keyframes(robot)
+    lines += _cameras(robot)
+    while lines and lines[-1] == "":
+        lines.pop()
+    return "\n".join(lines) + "\n"
+
+
+def _summary(robot: ResolvedRobot, description: RobotDescription, spec_name: str) -> list[str]:
+    default = robot.modes[0].name if robot.modes else "—"
+    return [
+        "| | |",
+        "| --- | --- |",
+        f"| uid | {code(robot.uid)} |",
+        f"| class | {code(robot.class_name)} |",
+        f"| spec | {code(spec_name)} |",
+        f"| description | {robot.description_kind}: {code(description_text(robot.description))} |",
+        f"| root link | {code(description.root_link)}"
+        + (" (fixed)" if robot.fix_root_link else " (free)")
+        + " |",
+        f"| active joints | {len(description.active_joint_names)} |",
+        f"| control modes | {len(robot.modes)} (default {code(default)}) |",
+        "",
+    ]
+
+
+def _tree(description: RobotDescription) -> list[str]:
+    rows = tree_rows(description)
+    ids = node_ids([row.link for row in rows])
+    lines = [
+        "## Kinematic tree",
+        "",
+        "Links are boxes; joints are edges, thick (`==>`) for active joints.",
+        "",
+        "```mermaid",
+        "graph TD",
+    ]
+    for row in rows:
+        lines.append(f'  {ids[row.link]}["{mermaid_label(row.link)}"]')
+    for row in rows:
+        joint = row.joint
+        if joint is None:
+            continue
+        arrow = "==>" if joint.is_active else "-->"
+        label = mermaid_label(f"{joint.name} ({joint.type})")
+        lines.append(f'  {ids[joint.parent]} {arrow}|"{label}"| {ids[row.link]}')
+    return [*lines, "```", ""]
+
+
+def _joints(description: RobotDescription) -> list[str]:
+    lines = [
+        "## Active joints",
+        "",
+        "| qpos | joint | type | lower | upper | mimics |",
+        "| ---: | --- | --- | ---: | ---: | --- |",
+    ]
+    for index, joint in enumerate(description.active_joints):
+        lower, upper = joint.lower, joint.upper
+        if joint.type == "continuous":
+            lower, upper = -math.inf, math.inf
+        mimic = ""
+        if joint.mimic is not None:
+            m = joint.mimic
+            mimic = f"{code(m.joint)} ×{number(m.multiplier)} + {number(m.offset)}"
+        lines.append(
+            f"| {index} | {code(joint.name)} | {joint.type} | {number(lower)} | "
+            f"{number(upper)} | {mimic} |"
+        )
+    return [*lines, ""]
+
+
+def _actions(robot: ResolvedRobot, description: RobotDescription) -> list[str]:
+    lines = [
+        "## Action layout",
+        "",
+        "Per control mode (the first is the default). A normalized action is in [-1, 1]; "
+        "low and high are then what -1 and 1 mean.",
+        "",
+    ]
+    for mode in robot.modes:
+        rows = mode_layout(robot, description, mode)
+        lines += [f"### {mode.name} ({len(rows)} dims)", ""]
+        if not rows:
+            lines += ["No action dimensions.", ""]
+            continue
+        lines += [
+            "| index | group | controller | target | low | high | normalized |",
+            "| ---: | --- | --- | --- | ---: | ---: | --- |",
+        ]
+        lines += [_action_row(row) for row in rows]
+        lines.append("")
+    return lines
+
+
+def _action_row(row: ActionRow) -> str:
+    return (
+        f"| {row.index} | {code(row.group)} | {code(row.controller)} ({row.type}) | "
+        f"{code(row.target)} | {number(row.low)} | {number(row.high)} | "
+        f"{'yes' if row.normalized else 'no'} |"
+    )
+
+
+def _keyframes(robot: ResolvedRobot) -> list[str]:
+    lines = ["## Keyframes", ""]
+    if not robot.keyframes:
+        return [*lines, "None.", ""]
+    names = [k.name for k in robot.keyframes]
+    lines += [
+        "| joint | " + " | ".join(code(n) for n in names) + " |",
+        "| --- |" + " ---: |" * len(names),
+    ]
+    lines.append(
+        "| pose p | " + " | ".join(_vector(k.p) for k in robot.keyframes) + " |",
+    )
+    lines.append(
+        "| pose q (wxyz) | " + " | ".join(_vector(k.q) for k in robot.keyframes) + " |",
+    )
+    for index, joint in enumerate(robot.active_joints):
+        values = [
+            number(k.qpos[index]) if k.qpos is not None and index < len(k.qpos) else "—"
+            for k in robot.keyframes
+        ]
+        lines.append(f"| {code(joint)} | " + " | ".join(values) + " |")
+    return [*lines, ""]
+
+
+def _vector(values: tuple[float, ...]) -> str:
+    return "[" + ", ".join(number(v) for v in values) + "]"
+
+
+def _cameras(robot: ResolvedRobot) -> list[str]:
+    lines = ["## Cameras", ""]
+    if not robot.cameras:
+        return [*lines, "None.", ""]
+    lines += [
+        "| uid | mount | p | q (wxyz) | resolution | fov (rad) | near | far |",
+        "| --- | --- | --- | --- | --- | ---: | ---: | ---: |",
+    ]
+    for camera in robot.cameras:
+        fov = number(camera.fov) if camera.fov is not None else "intrinsic"
+        lines.append(
+            f"| {code(camera.uid)} | {code(camera.mount)} | {_vector(camera.p)} | "
+            f"{_vector(camera.q)} | {camera.width}×{camera.height} | {fov} | "
+            f"{number(camera.near)} | {number(camera.far)} |"
+        )
+    return [*lines, ""]
