@@ -130,14 +130,38 @@ def build(
 @app.command()
 def schema(
     out: Annotated[Path | None, typer.Option("--out", "-o", help="write to FILE")] = None,
+    for_spec: Annotated[
+        Path | None,
+        typer.Option(
+            "--for",
+            metavar="SPEC",
+            help="narrow the schema to SPEC's robot: its joint, link, group, controller, ... "
+            "names become the allowed values",
+        ),
+    ] = None,
+    format: FormatOpt = Format.text,
 ) -> None:
-    """Print the JSON Schema of the spec format (for editors and CI).
+    """Print the JSON Schema of the spec format (for editors and CI), or with --for a schema
+    narrowed to one robot so editors complete its real joint and link names.
 
     Example: robospec schema -o schemas/robospec.schema.json
+    Example: robospec schema --for specs/maniskill/panda.yaml -o panda.schema.json
     """
     from robospec.schema import schema_text
 
-    text = schema_text()
+    if for_spec is None:
+        text = schema_text()
+    else:
+        from robospec.schema_command import narrowed_schema_text
+
+        if for_spec.is_dir():
+            raise typer.BadParameter("give one spec file, not a folder", param_hint="--for")
+        text, diagnostics = narrowed_schema_text(for_spec)
+        if text is None:
+            from robospec.report import render
+
+            typer.echo(render(diagnostics, 1, format.value), err=format is Format.text)
+            raise typer.Exit(1)
     if out is None:
         sys.stdout.write(text)
     else:

@@ -8,6 +8,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, WithJsonSche
 from pydantic_core import PydanticCustomError
 
 from robospec.expr import ExpressionError, evaluate
+from robospec.model.refs import JointPattern, LinkPattern
 
 NUMBER_SCHEMA: dict[str, Any] = {
     "anyOf": [
@@ -37,11 +38,14 @@ def _to_number(value: Any) -> float:
 Number = Annotated[float, BeforeValidator(_to_number), WithJsonSchema(NUMBER_SCHEMA)]
 """A float, also accepted as safe arithmetic text such as ``pi/2`` or ``-5*pi/8``."""
 
-PerJoint = Number | list[Number] | dict[str, Number]
+PerJoint = Number | list[Number] | dict[JointPattern, Number]
 """One value for every joint, one per joint in order, or by joint/group name."""
 
-JointSelection = str | list[str]
+JointSelection = JointPattern | list[JointPattern]
 """A joint name, a glob over active joints (``panda_joint[1-7]``, ``*``), a group, or a list."""
+
+LinkPatterns = LinkPattern | list[LinkPattern]
+"""A link name or a glob over links (``panda_*finger``), or a list of them."""
 
 
 class StrictModel(BaseModel):
@@ -70,4 +74,11 @@ class AllBut(StrictModel):
     all_but: JointSelection = Field(description="joints, globs or groups to leave out")
 
 
+class AllLinksBut(AllBut):
+    """Every link except the ones selected."""
+
+    all_but: LinkPatterns = Field(description="links or globs to leave out")  # type: ignore[assignment]
+
+
 GroupSelection = JointSelection | AllBut
+LinkSelection = LinkPatterns | AllLinksBut

@@ -13,9 +13,10 @@ from typing import Annotated, Literal
 from pydantic import Field
 
 from robospec.model.common import JointSelection, Number, PerJoint, StrictModel
+from robospec.model.refs import JointName, JointPattern, LinkName
 
 DriveMode = Literal["force", "acceleration"]
-Bound = Number | list[Number] | dict[str, Number] | None
+Bound = Number | list[Number] | dict[JointPattern, Number] | None
 
 
 class _Controller(StrictModel):
@@ -71,7 +72,7 @@ class PDJointPosConfig(_Drive):
 
 
 class MimicTarget(StrictModel):
-    joint: str = Field(description="the controlling joint")
+    joint: JointName = Field(description="the controlling joint")
     multiplier: Number = 1.0
     offset: Number = 0.0
 
@@ -80,7 +81,7 @@ class PDJointPosMimicConfig(PDJointPosConfig):
     """Joint positions where some joints follow others: q = q_joint * multiplier + offset."""
 
     type: Literal["pd_joint_pos_mimic"]  # type: ignore[assignment]
-    mimic: dict[str, str | MimicTarget] = Field(
+    mimic: dict[JointName, JointName | MimicTarget] = Field(
         default_factory=dict,
         description="mimicking joint -> controlling joint (or {joint, multiplier, offset})",
     )
@@ -109,12 +110,12 @@ class PDEEPosConfig(_Controller):
     damping: PerJoint
     force_limit: PerJoint = 1e10
     friction: PerJoint = 0.0
-    ee_link: str = Field(description="the link to control")
+    ee_link: LinkName = Field(description="the link to control")
     urdf_path: str | None = Field(
         default=None, description="URDF for the IK chain; default: the robot's own description"
     )
     frame: Literal["body_translation", "root_translation"] = "root_translation"
-    root_link_name: str | None = None
+    root_link_name: LinkName | None = None
     use_delta: bool = True
     use_target: bool = False
     interpolate: bool = False

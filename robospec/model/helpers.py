@@ -13,6 +13,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from robospec.model.common import GroupSelection, Number, Pose, StrictModel
+from robospec.model.refs import LinkName, LinkOrNamed
 
 # an attribute or method name the generated class defines
 MEMBER_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]{0,63}$"
@@ -34,11 +35,11 @@ class Tcp(StrictModel):
     mean of the two links' quaternions (as fetch does). Without it, both come from ``link``.
     """
 
-    link: str | None = Field(default=None, description="the link bound to `self.tcp`")
-    midpoint: Annotated[list[str], Field(min_length=2, max_length=2)] | None = Field(
+    link: LinkOrNamed | None = Field(default=None, description="the link bound to `self.tcp`")
+    midpoint: Annotated[list[LinkOrNamed], Field(min_length=2, max_length=2)] | None = Field(
         default=None, description="two links whose midpoint is tcp_pos"
     )
-    orientation: str | None = Field(
+    orientation: Literal["midpoint"] | LinkOrNamed | None = Field(
         default=None,
         description="tcp_pose orientation with a midpoint: a link, or 'midpoint' for the mean "
         "of the two links' quaternions",
@@ -61,7 +62,7 @@ Axis = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
 class Finger(StrictModel):
     """One finger of a two-finger grasp check."""
 
-    link: str = Field(description="the finger link, or a name from `named_links`")
+    link: LinkOrNamed = Field(description="the finger link, or a name from `named_links`")
     opening: Axis = Field(description="the axis in the finger link's frame it opens along")
 
 
@@ -113,7 +114,7 @@ class IsStanding(StrictModel):
 
 
 class ContactRule(StrictModel):
-    links: Annotated[list[str], Field(min_length=1)]
+    links: Annotated[list[LinkName], Field(min_length=1)]
     force_above: Number = Field(description="newtons")
 
 
@@ -137,8 +138,8 @@ class LinkState(StrictModel):
     trifinger -1); ``link`` reads one link.
     """
 
-    link: str | None = None
-    links: list[str] | str | None = Field(
+    link: LinkOrNamed | None = None
+    links: list[LinkOrNamed] | LinkOrNamed | None = Field(
         default=None, description="link names, or a name from `named_links` holding a list"
     )
     quantity: Literal["pose", "linear_velocity"] = "pose"
@@ -164,9 +165,9 @@ class Drive(StrictModel):
     """A closed kinematic loop: a SAPIEN drive between two links (as the Robotiq gripper
     needs), created after the articulation loads, with its x/y/z motion limited."""
 
-    parent: str = Field(description="first link")
+    parent: LinkName = Field(description="first link")
     parent_pose: Pose = Field(default_factory=Pose, description="drive frame on the first link")
-    child: str = Field(description="second link")
+    child: LinkName = Field(description="second link")
     child_pose: Pose = Field(default_factory=Pose, description="drive frame on the second link")
     limit: AxisLimit = Field(
         default_factory=lambda: AxisLimit(x=[0.0, 0.0], y=[0.0, 0.0], z=[0.0, 0.0]),
@@ -188,8 +189,5 @@ class Hooks(StrictModel):
     methods: dict[Member, PythonRef] = Field(default_factory=dict)
 
 
-NamedLink = str | list[str]
+NamedLink = LinkName | list[LinkName]
 """A link, or a list of links, bound to an agent attribute."""
-
-LinkSelection = GroupSelection
-"""Link names or globs, or ``{all_but: ...}`` for every link except those."""

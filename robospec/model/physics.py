@@ -11,6 +11,7 @@ from typing import Annotated
 from pydantic import Field
 
 from robospec.model.common import Number, StrictModel
+from robospec.model.refs import ControllerName, ControlModeName
 
 PositiveNumber = Annotated[Number, Field(gt=0)]
 Fraction = Annotated[Number, Field(ge=0)]
@@ -27,7 +28,7 @@ class KeyframeHold(StrictModel):
     max_root_drift: PositiveNumber = Field(
         default=0.05, description="largest drift of the root link's position allowed, in m"
     )
-    mode: str | None = Field(
+    mode: ControlModeName | None = Field(
         default=None,
         description="the control mode to hold with; default: the first mode whose controllers "
         "all take absolute joint positions",
@@ -91,7 +92,7 @@ class StepResponse(StrictModel):
     settling_band: Fraction = Field(
         default=0.1, description="the band, as a fraction of the step, that counts as settled"
     )
-    controllers: dict[str, StepLimits] = Field(
+    controllers: dict[ControllerName, StepLimits] = Field(
         default_factory=dict,
         description="other limits for some controllers, by name (e.g. a body meant to move slowly)",
     )

@@ -10,7 +10,15 @@ from typing import Annotated, Literal
 
 from pydantic import Field, StrictBool, model_validator
 
-from robospec.model.common import GroupSelection, JointSelection, Number, Pose, StrictModel
+from robospec.model.common import (
+    GroupSelection,
+    JointSelection,
+    LinkPatterns,
+    LinkSelection,
+    Number,
+    Pose,
+    StrictModel,
+)
 from robospec.model.controllers import ControllerConfig
 from robospec.model.helpers import (
     Drive,
@@ -19,7 +27,6 @@ from robospec.model.helpers import (
     IsFallen,
     IsStanding,
     IsStatic,
-    LinkSelection,
     LinkState,
     Member,
     NamedLink,
@@ -27,6 +34,15 @@ from robospec.model.helpers import (
     Tcp,
 )
 from robospec.model.physics import Checks
+from robospec.model.refs import (
+    ControllerName,
+    JointPattern,
+    LinkName,
+    LinkOrNamed,
+    LinkPattern,
+    LinkStateName,
+    MaterialName,
+)
 
 UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"
@@ -101,13 +117,13 @@ class Material(StrictModel):
 class LinkRule(StrictModel):
     """Physical properties for the links a name or glob matches."""
 
-    material: str | None = Field(default=None, description="a name from `materials`")
+    material: MaterialName | None = Field(default=None, description="a name from `materials`")
     patch_radius: Number | None = None
     min_patch_radius: Number | None = None
     density: Number | None = None
 
 
-JointValues = list[Number] | dict[str, Number | list[Number]]
+JointValues = list[Number] | dict[JointPattern, Number | list[Number]]
 
 
 class Keyframe(StrictModel):
@@ -123,7 +139,7 @@ class Keyframe(StrictModel):
 class Camera(StrictModel):
     """A camera mounted on a link."""
 
-    mount: str = Field(description="the link the camera is mounted on")
+    mount: LinkName = Field(description="the link the camera is mounted on")
     pose: Pose = Field(default_factory=Pose, description="pose relative to the mount link")
     width: Annotated[int, Field(gt=0, le=16384)]
     height: Annotated[int, Field(gt=0, le=16384)]
@@ -143,13 +159,13 @@ class Camera(StrictModel):
 class CollisionRule(StrictModel):
     """Set one collision-group bit on some links (``link.set_collision_group_bit``)."""
 
-    links: JointSelection = Field(description="link names or globs")
+    links: LinkPatterns = Field(description="link names or globs")
     group: Annotated[int, Field(ge=0, le=3)] = Field(description="collision group index, 0 to 3")
     bit: Annotated[int, Field(ge=0, le=31)] = Field(description="bit index, 0 to 31")
     value: Literal[0, 1] = 1
 
 
-ControlMode = str | dict[str, str | StrictBool]
+ControlMode = ControllerName | dict[str, ControllerName | StrictBool]
 """A single controller name, or ``{group: controller, ..., balance_passive_force: bool}``."""
 
 
@@ -181,7 +197,7 @@ class Spec(StrictModel):
     materials: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Material] = Field(
         default_factory=dict
     )
-    links: dict[str, LinkRule] = Field(
+    links: dict[LinkPattern, LinkRule] = Field(
         default_factory=dict, description="link rules by name or glob; each must match a link"
     )
     groups: dict[Annotated[str, Field(pattern=NAME_PATTERN)], GroupSelection] = Field(
@@ -202,7 +218,7 @@ class Spec(StrictModel):
     )
     cameras: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Camera] = Field(default_factory=dict)
     collision_rules: list[CollisionRule] = Field(default_factory=list)
-    never_collide: list[JointSelection] = Field(
+    never_collide: list[LinkPatterns] = Field(
         default_factory=list,
         description="links that must never collide: each entry is a list of link names or "
         "globs, no two of which collide (a pair, or a clique); packed into the fewest "
@@ -214,7 +230,7 @@ class Spec(StrictModel):
         description="collision-group-2 bits the scenes this robot is used in set on their own "
         "objects; never_collide leaves them free (ManiSkill's bits 29-31 are always left free)",
     )
-    tcp: str | Tcp | None = Field(
+    tcp: LinkOrNamed | Tcp | None = Field(
         default=None, description="the tool centre point: a link, or a link/midpoint mapping"
     )
     named_links: dict[Member, NamedLink] = Field(
@@ -230,7 +246,7 @@ class Spec(StrictModel):
     link_states: dict[Member, LinkState] = Field(
         default_factory=dict, description="properties reading link poses or velocities"
     )
-    proprioception: list[Member] = Field(
+    proprioception: list[LinkStateName] = Field(
         default_factory=list, description="link_states added to get_proprioception, in order"
     )
     disable_gravity: LinkSelection | None = Field(

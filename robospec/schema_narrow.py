@@ -1,0 +1,135 @@
+"""``robospec schema --for SPEC``: the spec schema narrowed to one compiled robot.
+
+Every place where a spec names a joint, link, group, controller, ... carries an
+``x-robospec-ref`` marker in the generic schema (see :mod:`robospec.model.refs`). This pass
+replaces each marked string by an ``enum`` of the names the robot really has, so an editor
+completes them and flags a misspelled one. Places that accept globs keep accepting any string
+with a glob character. A marked dictionary key becomes one ``properties`` entry per name (so
+editors complete keys too) and ``additionalProperties: false``.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from robospec.model.refs import GLOB_KINDS, REF_KEY
+
+# the resolver's test for a glob (robospec.resolve._GLOB), as a JSON Schema pattern
+GLOB_PATTERN = r"[*?\[]"
+NARROWED_ID = "https://robospec.dev/schemas/robots/{uid}.schema.json"
+
+
+@dataclass(frozen=True)
+class RobotNames:
+    """The names one compiled robot offers, by reference kind."""
+
+    uid: str
+    by_kind: Mapping[str, Sequence[str]]
+
+    def names(self, kind: str) -> list[str]:
+        if kind not in self.by_kind:
+            raise KeyError(f"no names for reference kind {kind!r}")
+        return list(dict.fromkeys(self.by_kind[kind]))
+
+
+def robot_names(compiled: Any) -> RobotNames:
+    """The names of a successfully compiled spec (:class:`robospec.compile.CompiledSpec`)."""
+    assert compiled.context is not None and compiled.description is not None
+    spec = compiled.context.spec
+    description = compiled.description
+    joints = list(description.active_joint_names)
+    links = list(description.link_names)
+    return RobotNames(
+        uid=spec.uid,
+        by_kind={
+            "joint": joints,
+            "joint-selection": [*joints, *spec.groups],
+            "link": links,
+            "link-pattern": links,
+            "link-or-named": [*links, *spec.named_links],
+            "material": list(spec.materials),
+            "controller": list(spec.controllers),
+            "control-mode": list(spec.control_modes),
+            "link-state": list(spec.link_states),
+        },
+    )
+
+
+def narrow_schema(schema: dict[str, Any], robot: RobotNames) -> dict[str, Any]:
+    """A copy of ``schema`` with every marked place limited to ``robot``'s names."""
+    narrowed = _narrow(copy.deepcopy(schema), robot)
+    for kind in robot.by_kind:
+        names = robot.names(kind)
+        # an empty enum is not allowed; nothing is the right answer for "no names"
+        listed: dict[str, Any] = {"enum": names} if names else {"not": {}}
+        narrowed["$defs"][names_def(kind)] = {
+            "type": "string",
+            "description": f"{_KIND_WORDS[kind]} of '{robot.uid}'",
+            **listed,
+        }
+    narrowed["$id"] = NARROWED_ID.format(uid=robot.uid)
+    narrowed["title"] = f"robospec spec for {robot.uid}"
+    narrowed["description"] = (
+        f"{narrowed.get('description', '')} Narrowed to the joints, links and names of "
+        f"'{robot.uid}' (robospec schema --for)."
+    ).strip()
+    return narrowed
+
+
+_KIND_WORDS = {
+    "joint": "an active joint",
+    "joint-selection": "an active joint or a group",
+    "link": "a link",
+    "link-pattern": "a link",
+    "link-or-named": "a link or a named_links attribute",
+    "material": "a material",
+    "controller": "a controller",
+    "control-mode": "a control mode",
+    "link-state": "a link_states property",
+}
+
+
+def names_def(kind: str) -> str:
+    """The ``$defs`` entry listing the names of one reference kind (``robot-joint``, ...)."""
+    return f"robot-{kind}"
+
+
+def _narrow(node: Any, robot: RobotNames) -> Any:
+    if isinstance(node, list):
+        return [_narrow(item, robot) for item in node]
+    if not isinstance(node, dict):
+        return node
+    keys = node.get("propertyNames")
+    out = {key: _narrow(value, robot) for key, value in node.items() if key != "propertyNames"}
+    if REF_KEY in out:
+        return _name_schema(out, robot)
+    if isinstance(keys, dict) and REF_KEY in keys:
+        return _keyed_object(out, keys[REF_KEY], robot)
+    if keys is not None:
+        out["propertyNames"] = _narrow(keys, robot)
+    return out
+
+
+def _name_schema(node: dict[str, Any], robot: RobotNames) -> dict[str, Any]:
+    """A marked string: its annotations stay, its type becomes the robot's names."""
+    kind = node[REF_KEY]
+    kept = {k: v for k, v in node.items() if k not in (REF_KEY, "type", "pattern")}
+    exact = {"$ref": f"#/$defs/{names_def(kind)}"}
+    if kind in GLOB_KINDS:
+        glob = {"type": "string", "pattern": GLOB_PATTERN, "description": "a glob"}
+        return {**kept, "anyOf": [exact, glob]}
+    return {**kept, **exact}
+
+
+def _keyed_object(node: dict[str, Any], kind: str, robot: RobotNames) -> dict[str, Any]:
+    """A dictionary keyed by names: one property per name, globs by pattern, nothing else."""
+    value = node.get("additionalProperties", {})
+    out = {k: v for k, v in node.items() if k != "additionalProperties"}
+    out["properties"] = {name: copy.deepcopy(value) for name in robot.names(kind)}
+    if kind in GLOB_KINDS:
+        out["patternProperties"] = {GLOB_PATTERN: copy.deepcopy(value)}
+    out["additionalProperties"] = False
+    return out
