@@ -64,6 +64,7 @@ class LspClient:
         # every publishDiagnostics per URI, in arrival order: a server may publish several times
         self._diagnostics: dict[str, list[list[JsonObject]]] = {}
         self._closed = False
+        self._unresponsive = False  # a wait timed out: close() kills instead of asking
         self._stderr_chunks: list[bytes] = []
         # settings by section, for the server's workspace/configuration requests
         self._settings: JsonObject = {}
@@ -139,6 +140,7 @@ class LspClient:
                 lambda: ready() or self._closed, timeout=timeout_s or self.timeout_s
             )
             if not finished:
+                self._unresponsive = True
                 raise LspError(f"no {what} within {timeout_s or self.timeout_s} s")
             if not ready():
                 raise LspError(f"the server exited before {what}{self._stderr_tail()}")
@@ -229,16 +231,18 @@ class LspClient:
         return result["items"] if isinstance(result, dict) else result
 
     def close(self) -> None:
-        """shutdown, exit, and make sure the process is gone."""
-        try:
-            if not self._closed:
+        """shutdown and exit as an editor does; kill a server that does not go."""
+        if not self._unresponsive and not self._closed:
+            try:
                 self.request("shutdown", None, timeout_s=5)
                 self.notify("exit", None)
-            self._process.wait(timeout=5)
-        except (LspError, subprocess.TimeoutExpired):
+            except LspError:
+                pass  # it is killed below
+        try:
+            self._process.wait(timeout=0 if self._unresponsive else 5)
+        except subprocess.TimeoutExpired:
             self._process.kill()
             self._process.wait(timeout=5)
-        finally:
-            for stream in (self._process.stdin, self._process.stdout, self._process.stderr):
-                if stream is not None:
-                    stream.close()
+        for stream in (self._process.stdin, self._process.stdout, self._process.stderr):
+            if stream is not None:
+                stream.close()
