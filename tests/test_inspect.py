@@ -1,0 +1,177 @@
+"""``robospec inspect``: active joints in qpos order with their limits, mimic relations and the
+kinematic tree of real URDF, xacro and MJCF files; malformed descriptions get the resolver's
+located diagnostics and exit 1, never a traceback."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+from cli_process import robospec
+
+from robospec.paths import maniskill_assets_dir
+
+ROOT = Path(__file__).resolve().parent.parent
+ASSETS = maniskill_assets_dir()
+needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
+TWOLINK = ROOT / "specs" / "robots" / "twolink" / "twolink.urdf.xacro"
+LIMIT = '<limit lower="-1" upper="1" effort="5" velocity="2"/>'
+
+
+def robot(path: Path, body: str) -> Path:
+    path.write_text(f'<?xml version="1.0"?>\n<robot name="r">\n{body}</robot>\n')
+    return path
+
+
+def inspect_json(path: Path) -> dict:
+    result = robospec("inspect", str(path), "--format", "json")
+    assert result.returncode == 0, result.stderr
+    return json.loads(result.stdout)
+
+
+@needs_assets
+def test_panda_active_joints_come_in_qpos_order_with_limits_velocity_and_effort() -> None:
+    assert ASSETS is not None
+    report = inspect_json(ASSETS / "robots/panda/panda_v2.urdf")
+    joints = report["active_joints"]
+    assert [j["name"] for j in joints] == [f"panda_joint{i}" for i in range(1, 8)] + [
+        "panda_finger_joint1",
+        "panda_finger_joint2",
+    ]
+    joint4 = joints[3]
+    assert (joint4["type"], joint4["lower"], joint4["upper"]) == ("revolute", -3.0718, -0.0698)
+    assert (joint4["velocity"], joint4["effort"]) == (2.175, 87.0)
+    assert [j["index"] for j in joints] == list(range(9))
+    assert report["robot"] == "panda" and report["root_link"] == "panda_link0"
+
+
+@needs_assets
+def test_panda_mimic_relation_is_printed_as_follower_mimics_leader_times_multiplier_plus_offset():
+    assert ASSETS is not None
+    result = robospec("inspect", str(ASSETS / "robots/panda/panda_v2.urdf"))
+    assert result.returncode == 0, result.stderr
+    assert "panda_finger_joint2 mimics panda_finger_joint1 ×1 + 0" in result.stdout
+    row = next(line for line in result.stdout.splitlines() if " panda_joint4 " in line)
+    assert row.split() == ["3", "panda_joint4", "revolute", "-3.0718", "-0.0698", "2.175", "87"]
+
+
+@needs_assets
+def test_inspire_hand_mimic_multipliers_and_offsets_are_reported() -> None:
+    assert ASSETS is not None
+    report = inspect_json(ASSETS / "robots/inspire_hand/RH56DFX-2LR/urdf/inspire_hand_left.urdf")
+    by_name = {j["name"]: j for j in report["active_joints"]}
+    mimic = by_name["left_hand_index_PIP_joint"]["mimic"]
+    assert mimic["joint"] == "left_hand_index_MCP_joint"
+    assert mimic["multiplier"] == pytest.approx(1.06399)
+    assert len(report["mimic"]) == sum(j["mimic"] is not None for j in report["active_joints"])
+
+
+@needs_assets
+def test_tree_indents_each_link_under_its_parent_with_the_joint_that_attaches_it() -> None:
+    assert ASSETS is not None
+    path = ASSETS / "robots/panda/panda_v2.urdf"
+    report = inspect_json(path)
+    depth = {row["link"]: row["depth"] for row in report["tree"]}
+    assert depth["panda_link0"] == 0 and depth["panda_link1"] == 1
+    assert depth["panda_leftfinger"] == depth["panda_hand"] + 1
+    text = robospec("inspect", str(path)).stdout
+    line = next(li for li in text.splitlines() if li.strip().startswith("panda_leftfinger "))
+    hand = next(li for li in text.splitlines() if li.strip().startswith("panda_hand "))
+    assert line.strip() == "panda_leftfinger  <- panda_finger_joint1 (prismatic)"
+    assert len(line) - len(line.lstrip()) == len(hand) - len(hand.lstrip()) + 2
+    # every link once; every row but the root names its joint
+    assert len(depth) == len(report["tree"])
+    assert [row["joint"] is None for row in report["tree"]].count(True) == 1
+
+
+@needs_assets
+def test_continuous_joints_are_unbounded_null_in_json_and_infinite_in_text() -> None:
+    assert ASSETS is not None
+    path = ASSETS / "robots/fetch/fetch.urdf"
+    report = inspect_json(path)
+    roll = next(j for j in report["active_joints"] if j["name"] == "upperarm_roll_joint")
+    assert (roll["type"], roll["lower"], roll["upper"]) == ("continuous", None, None)
+    row = next(
+        li for li in robospec("inspect", str(path)).stdout.splitlines() if "upperarm_roll" in li
+    )
+    assert row.split()[3:5] == ["-inf", "inf"]
+
+
+def test_xacro_files_are_expanded_before_inspection() -> None:
+    report = inspect_json(TWOLINK)
+    assert report["kind"] == "xacro" and report["robot"] == "twolink"
+    assert [j["name"] for j in report["active_joints"]] == [
+        "twolink_joint1",
+        "twolink_joint2",
+        "twolink_joint3",
+        "twolink_finger_joint1",
+        "twolink_finger_joint2",
+    ]
+    assert report["mimic"] == []
+
+
+@needs_assets
+def test_mjcf_files_are_inspected() -> None:
+    assert ASSETS is not None
+    report = inspect_json(ASSETS / "robots/humanoid/humanoid.xml")
+    assert report["kind"] == "mjcf" and report["floating_root"] is True
+    assert "right_knee" in [j["name"] for j in report["active_joints"]]
+
+
+MALFORMED = {
+    "bad_xml": ('<link name="a">\n', "RS051", 4),
+    "unknown_parent": (
+        f'<link name="a"/>\n<link name="b"/>\n<joint name="j" type="revolute">'
+        f'<parent link="nowhere"/><child link="b"/>{LIMIT}</joint>\n',
+        "RS052",
+        5,
+    ),
+    "cycle": (
+        f'<link name="a"/>\n<link name="b"/>\n'
+        f'<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>{LIMIT}</joint>\n'
+        f'<joint name="j2" type="revolute"><parent link="b"/><child link="a"/>{LIMIT}</joint>\n',
+        "RS052",
+        None,
+    ),
+    "duplicate_link": ('<link name="a"/>\n<link name="a"/>\n', "RS052", 4),
+    "unknown_mimic_target": (
+        f'<link name="a"/>\n<link name="b"/>\n<joint name="j" type="prismatic"><parent link="a"/>'
+        f'<child link="b"/>{LIMIT}\n<mimic joint="j9"/></joint>\n',
+        "RS052",
+        6,
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(MALFORMED))
+def test_malformed_description_gets_located_diagnostics_and_exit_1(
+    tmp_path: Path, case: str
+) -> None:
+    body, code, line = MALFORMED[case]
+    path = robot(tmp_path / f"{case}.urdf", body)
+    for format in ("text", "json"):
+        result = robospec("inspect", str(path), "--format", format)
+        assert result.returncode == 1
+        assert "Traceback" not in result.stderr
+        assert result.stdout == ""
+    text = robospec("inspect", str(path)).stderr
+    match = re.search(rf"{re.escape(str(path))}:(\d+):(\d+): error\[{code}\]", text)
+    assert match, text
+    if line is not None:
+        assert int(match.group(1)) == line
+
+
+def test_unknown_file_type_is_rs600(tmp_path: Path) -> None:
+    path = tmp_path / "robot.sdf"
+    path.write_text("<sdf/>")
+    result = robospec("inspect", str(path))
+    assert result.returncode == 1
+    assert f"{path}:1:1: error[RS600]" in result.stderr
+
+
+def test_missing_file_is_rs050(tmp_path: Path) -> None:
+    result = robospec("inspect", str(tmp_path / "missing.urdf"))
+    assert result.returncode == 1
+    assert "error[RS050]" in result.stderr and "Traceback" not in result.stderr
