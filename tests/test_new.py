@@ -1,0 +1,311 @@
+"""``robospec new --from-urdf``: scaffolded specs validate with 0 errors for real robots (arms,
+hands, mobile manipulators, a humanoid MJCF, a xacro arm), guess groups, turn URDF mimic joints
+into a pd_joint_pos_mimic controller, start at a safe keyframe, and never overwrite a file
+without --force. The end-to-end test registers the scaffolded Panda and steps it in ManiSkill."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from cli_process import robospec
+from ruamel.yaml import YAML
+
+from robospec.authoring.commands import run_new
+from robospec.compile import compile_spec
+from robospec.diagnostics import has_errors
+from robospec.paths import maniskill_assets_dir
+from robospec.schema import SCHEMA_ID
+
+ROOT = Path(__file__).resolve().parent.parent
+ASSETS = maniskill_assets_dir()
+needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
+TWOLINK = ROOT / "specs" / "robots" / "twolink" / "twolink.urdf.xacro"
+LIMIT = '<limit lower="{lo}" upper="{hi}" effort="5" velocity="2"/>'
+
+REAL_ROBOTS = [
+    "panda/panda_v2.urdf",
+    "xarm7/xarm7.urdf",
+    "xarm7/xarm7_ability_right_hand.urdf",
+    "allegro/allegro_hand_right.urdf",
+    "allegro/allegro_hand_left.urdf",
+    "fetch/fetch.urdf",
+    "koch/follower_arm_v1.1.urdf",
+    "so100/so100.urdf",
+    "trifinger/trifingerpro.urdf",
+    "inspire_hand/RH56DFX-2LR/urdf/inspire_hand_left.urdf",
+    "inspire_hand/RH56DFX-2LR/urdf/inspire_hand_right_floating.urdf",
+    "ability_hand/ability_hand_right.urdf",
+    "dclaw/dclaw_gripper_glb.urdf",
+    "g1_humanoid/g1_simplified_upper_body.urdf",
+    "humanoid/humanoid.xml",
+]
+
+
+def load(path: Path) -> dict:
+    return YAML(typ="safe").load(path.read_text())
+
+
+def scaffold(description: Path, out: Path, uid: str | None = None) -> dict:
+    text, diagnostics = run_new(description, out, uid, force=False)
+    assert text is not None and not has_errors(diagnostics), diagnostics
+    assert out.read_text() == text
+    return load(out)
+
+
+def validate(spec: Path) -> None:
+    compiled = compile_spec(spec)
+    errors = [d.format_text() for d in compiled.diagnostics if d.is_error]
+    assert errors == []
+    assert compiled.robot is not None
+
+
+@needs_assets
+@pytest.mark.parametrize("robot", REAL_ROBOTS)
+def test_scaffold_of_a_real_robot_validates_with_no_errors(tmp_path: Path, robot: str) -> None:
+    assert ASSETS is not None
+    out = tmp_path / "spec.yaml"
+    data = scaffold(ASSETS / "robots" / robot, out)
+    validate(out)
+    assert list(data["control_modes"]) == ["pd_joint_delta_pos", "pd_joint_pos"]
+    # every group is driven in both modes
+    for mode in data["control_modes"].values():
+        assert set(mode) == set(data["groups"])
+
+
+def test_scaffold_of_the_xacro_robot_validates_and_names_it_relative_to_the_spec(
+    tmp_path: Path,
+) -> None:
+    out = tmp_path / "nested" / "twolink.yaml"
+    data = scaffold(TWOLINK, out)
+    validate(out)
+    relative = data["description"]["xacro"]
+    assert not Path(relative).is_absolute()
+    assert (out.parent / relative).resolve() == TWOLINK.resolve()
+    assert data["uid"] == "twolink"
+    assert data["groups"] == {
+        "arm": ["twolink_joint1", "twolink_joint2", "twolink_joint3"],
+        "gripper": ["twolink_finger_joint1", "twolink_finger_joint2"],
+    }
+
+
+@needs_assets
+def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
+    tmp_path: Path,
+) -> None:
+    assert ASSETS is not None
+    out = tmp_path / "panda.yaml"
+    data = scaffold(ASSETS / "robots/panda/panda_v2.urdf", out)
+    assert data["uid"] == "rs_panda"  # 'panda' is ManiSkill's own uid
+    assert data["description"] == {"urdf": "{maniskill_assets}/robots/panda/panda_v2.urdf"}
+    assert data["groups"]["arm"] == [f"panda_joint{i}" for i in range(1, 8)]
+    gripper = data["controllers"]["gripper"]
+    assert gripper["type"] == "pd_joint_pos_mimic"
+    assert gripper["mimic"] == {"panda_finger_joint2": "panda_finger_joint1"}
+    # joint4's limits (-3.0718, -0.0698) exclude 0: mid-range; the others hold 0
+    assert data["keyframes"]["rest"]["qpos"]["arm"] == [0.0, 0.0, 0.0, -1.5708, 0.0, 0.0, 0.0]
+    delta = data["controllers"]["arm_delta_pos"]
+    assert (delta["lower"], delta["upper"], delta["use_delta"]) == (-0.1, 0.1, True)
+    absolute = data["controllers"]["arm_pos"]
+    assert (absolute["stiffness"], absolute["damping"], absolute["force_limit"]) == (
+        1e3,
+        1e2,
+        100,
+    )
+
+
+@needs_assets
+def test_fetch_scaffold_drives_its_mobile_root_with_joint_velocities(tmp_path: Path) -> None:
+    assert ASSETS is not None
+    data = scaffold(ASSETS / "robots/fetch/fetch.urdf", tmp_path / "fetch.yaml")
+    assert data["groups"]["base"] == [
+        "root_x_axis_joint",
+        "root_y_axis_joint",
+        "root_z_rotation_joint",
+    ]
+    assert data["groups"]["head"] == ["head_pan_joint", "head_tilt_joint"]
+    for mode in data["control_modes"].values():
+        assert data["controllers"][mode["base"]]["type"] == "pd_joint_vel"
+
+
+@needs_assets
+def test_hand_of_identical_fingers_gets_one_group_per_finger_and_no_arm(tmp_path: Path) -> None:
+    assert ASSETS is not None
+    data = scaffold(ASSETS / "robots/allegro/allegro_hand_right.urdf", tmp_path / "a.yaml")
+    assert list(data["groups"]) == ["finger1", "finger2", "finger3", "finger4"]
+    assert data["groups"]["finger2"] == ["joint_4.0", "joint_5.0", "joint_6.0", "joint_7.0"]
+
+
+def _robot(path: Path, name: str, body: str) -> Path:
+    path.write_text(f'<?xml version="1.0"?>\n<robot name="{name}">\n{body}</robot>\n')
+    return path
+
+
+def test_mimic_chains_collapse_onto_their_leader_and_the_keyframe_keeps_the_relation(
+    tmp_path: Path,
+) -> None:
+    body = (
+        '<link name="base"/><link name="a"/><link name="b"/><link name="c"/>\n'
+        '<joint name="ja" type="prismatic"><parent link="base"/><child link="a"/>'
+        + LIMIT.format(lo=0.1, hi=0.5)
+        + "</joint>\n"
+        '<joint name="jb" type="prismatic"><parent link="base"/><child link="b"/>'
+        + LIMIT.format(lo=0, hi=2)
+        + '<mimic joint="ja" multiplier="2" offset="0.1"/></joint>\n'
+        '<joint name="jc" type="prismatic"><parent link="base"/><child link="c"/>'
+        + LIMIT.format(lo=0, hi=5)
+        + '<mimic joint="jb" multiplier="3" offset="0.2"/></joint>\n'
+    )
+    urdf = _robot(tmp_path / "chain.urdf", "chain", body)
+    out = tmp_path / "chain.yaml"
+    data = scaffold(urdf, out)
+    validate(out)
+    (name,) = [n for n, c in data["controllers"].items() if c["type"] == "pd_joint_pos_mimic"]
+    mimic = data["controllers"][name]["mimic"]
+    assert mimic["jb"] == {"joint": "ja", "multiplier": 2.0, "offset": 0.1}
+    jc = mimic["jc"]  # jc = 3 * (2 * ja + 0.1) + 0.2 = 6 * ja + 0.5
+    assert (jc["joint"], jc["multiplier"]) == ("ja", 6.0)
+    assert jc["offset"] == pytest.approx(0.5)
+    # ja's limits exclude 0: mid-range 0.3; the followers follow it
+    qpos = data["keyframes"]["rest"]["qpos"][name]
+    assert qpos == pytest.approx([0.3, 0.7, 2.3])
+
+
+def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
+    body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
+    body += '<parent link="a"/><child link="b"/></joint>\n'
+    urdf = _robot(tmp_path / "r.urdf", "my robot (v2)!", body)
+    out = tmp_path / "r.yaml"
+    data = scaffold(urdf, out)
+    validate(out)
+    assert data["uid"] == "my_robot_v2"
+    # a continuous joint has no limits: the keyframe holds it at 0
+    assert data["keyframes"]["rest"]["qpos"]["arm"] == 0.0
+
+
+def test_modeline_points_at_the_nearest_schema_walking_up_relative(tmp_path: Path) -> None:
+    (tmp_path / "schemas").mkdir()
+    (tmp_path / "schemas" / "robospec.schema.json").write_text("{}")
+    out = tmp_path / "specs" / "robots" / "twolink.yaml"
+    scaffold(TWOLINK, out)
+    first = out.read_text().splitlines()[0]
+    assert first == "# yaml-language-server: $schema=../../schemas/robospec.schema.json"
+
+
+def test_modeline_falls_back_to_the_schema_id_without_a_schema_file(tmp_path: Path) -> None:
+    out = tmp_path / "twolink.yaml"
+    scaffold(TWOLINK, out)
+    assert out.read_text().splitlines()[0] == f"# yaml-language-server: $schema={SCHEMA_ID}"
+
+
+def test_sections_carry_comments_that_explain_them(tmp_path: Path) -> None:
+    out = tmp_path / "twolink.yaml"
+    scaffold(TWOLINK, out)
+    text = out.read_text()
+    for line in ("groups:", "keyframes:", "controllers:", "control_modes:", "description:"):
+        (found,) = [li for li in text.splitlines() if li.startswith(line)]
+        assert "#" in found, found
+
+
+def test_existing_spec_is_never_overwritten_without_force(tmp_path: Path) -> None:
+    out = tmp_path / "twolink.yaml"
+    out.write_text("mine\n")
+    result = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out))
+    assert result.returncode == 1
+    assert f"{out}:1:1: error[RS601]" in result.stderr
+    assert "Traceback" not in result.stderr
+    assert out.read_text() == "mine\n"
+    result = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "--force")
+    assert result.returncode == 0, result.stderr
+    assert out.read_text().startswith("# yaml-language-server:")
+
+
+@pytest.mark.parametrize(
+    ("uid", "code"), [("bad uid!", "RS105"), ("panda", "RS306")], ids=["invalid", "maniskill"]
+)
+def test_bad_uid_option_is_a_diagnostic_and_nothing_is_written(
+    tmp_path: Path, uid: str, code: str
+) -> None:
+    out = tmp_path / "x.yaml"
+    result = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "--uid", uid)
+    assert result.returncode == 1
+    assert f"error[{code}]" in result.stderr and "Traceback" not in result.stderr
+    assert not out.exists()
+
+
+def test_uid_option_is_used(tmp_path: Path) -> None:
+    out = tmp_path / "x.yaml"
+    assert scaffold(TWOLINK, out, uid="my_arm")["uid"] == "my_arm"
+
+
+def test_malformed_description_gets_located_diagnostics_and_no_spec(tmp_path: Path) -> None:
+    urdf = _robot(tmp_path / "bad.urdf", "bad", '<link name="a"/><link name="a"/>\n')
+    out = tmp_path / "bad.yaml"
+    result = robospec("new", "--from-urdf", str(urdf), "-o", str(out))
+    assert result.returncode == 1
+    assert f"{urdf}:3:" in result.stderr and "error[RS052]" in result.stderr
+    assert "Traceback" not in result.stderr
+    assert not out.exists()
+
+
+def test_robot_without_active_joints_is_rs602(tmp_path: Path) -> None:
+    body = '<link name="a"/><link name="b"/>\n<joint name="j" type="fixed">'
+    body += '<parent link="a"/><child link="b"/></joint>\n'
+    urdf = _robot(tmp_path / "fixed.urdf", "fixed", body)
+    out = tmp_path / "fixed.yaml"
+    result = robospec("new", "--from-urdf", str(urdf), "-o", str(out))
+    assert result.returncode == 1
+    assert "error[RS602]" in result.stderr
+    assert not out.exists()
+
+
+@pytest.mark.maniskill
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+@pytest.mark.filterwarnings("ignore::UserWarning")
+@needs_assets
+def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
+    tmp_path: Path,
+) -> None:
+    pytest.importorskip("mani_skill")
+    import gymnasium as gym
+    import numpy as np
+
+    from robospec import register
+    from robospec.physics import keyframe_hold
+    from robospec.physics.findings import Status
+    from robospec.physics.run import CheckRun
+
+    assert ASSETS is not None
+    out = tmp_path / "panda.yaml"
+    panda = ASSETS / "robots/panda/panda_v2.urdf"
+    result = robospec("new", "--from-urdf", str(panda), "-o", str(out), "--uid", "rs_new_panda")
+    assert result.returncode == 0, result.stderr
+    check = robospec("validate", str(out))
+    assert check.returncode == 0, check.stdout
+    register(out)
+    for mode in ("pd_joint_pos", "pd_joint_delta_pos"):
+        env = gym.make(
+            "Empty-v1",
+            robot_uids="rs_new_panda",
+            control_mode=mode,
+            obs_mode="state",
+            sim_backend="physx_cpu",
+            render_backend="none",
+        )
+        try:
+            env.reset(seed=0)
+            assert env.action_space.shape == (8,)
+            for _ in range(5):
+                obs, *_ = env.step(env.action_space.sample())
+            assert np.isfinite(np.asarray(obs)).all()
+        finally:
+            env.close()
+
+    compiled = compile_spec(out)
+    assert compiled.context is not None
+    run = CheckRun("rs_new_panda", compiled.context, compiled.context.spec.checks)
+    try:
+        findings = keyframe_hold.check(run)
+    finally:
+        run.close()
+    assert findings and all(f.status is Status.PASS for f in findings), findings
