@@ -12,9 +12,11 @@ from __future__ import annotations
 import os
 import re
 import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+import pytest
 from editor_engines import ROOT, SCHEMA, taplo_executable
 
 TWOLINK = ROOT / "specs" / "twolink.toml"
@@ -99,3 +101,42 @@ def test_relative_schema_directive_resolves_against_the_spec_file(tmp_path: Path
     spec.write_text(f"#:schema {relative}\nuid_typo = 1\n{body}")
     lint = taplo_lint(spec)
     assert "uid_typo" in lint.problems.get((2, 1), ""), lint.output
+
+
+@pytest.fixture(scope="module")
+def twolink_schema(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The schema narrowed to the twolink robot by `robospec schema --for`."""
+    out = tmp_path_factory.mktemp("narrowed") / "twolink.schema.json"
+    result = subprocess.run(
+        [sys.executable, "-m", "robospec.cli", "schema", "--for", str(TWOLINK), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=ROOT,
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    return out
+
+
+def test_narrowed_schema_accepts_the_twolink_spec(twolink_schema: Path) -> None:
+    lint = taplo_lint(TWOLINK, "--schema", twolink_schema.as_uri())
+    assert lint.returncode == 0, lint.output
+
+
+def test_narrowed_schema_flags_a_misspelled_joint_name(
+    twolink_schema: Path, tmp_path: Path
+) -> None:
+    text = TWOLINK.read_text().split("\n", 1)[1]
+    typo = 'twolink_joint2 = "-pi/4"'
+    assert text.count(typo) == 1
+    spec = tmp_path / "twolink_typo.toml"
+    spec.write_text(text.replace(typo, 'twolink_jointX = "-pi/4"'))
+    line_number, line = next(
+        (n, line) for n, line in enumerate(spec.read_text().splitlines(), 1) if "jointX" in line
+    )
+    lint = taplo_lint(spec, "--schema", twolink_schema.as_uri())
+    assert lint.returncode == 1, lint.output
+    # taplo reports a failed anyOf at every key and value of the table: the name is among them,
+    # and nothing outside that line is blamed
+    assert (line_number, line.index("twolink_jointX") + 1) in lint.problems, lint.output
+    assert {line for line, _ in lint.problems} == {line_number}, lint.output
