@@ -273,7 +273,7 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     from robospec import register
     from robospec.physics import keyframe_hold
     from robospec.physics.findings import Status
-    from robospec.physics.run import CheckRun
+    from robospec.physics.runner import check_paths
 
     assert ASSETS is not None
     out = tmp_path / "panda.yaml"
@@ -301,11 +301,7 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
         finally:
             env.close()
 
-    compiled = compile_spec(out)
-    assert compiled.context is not None
-    run = CheckRun("rs_new_panda", compiled.context, compiled.context.spec.checks)
-    try:
-        findings = keyframe_hold.check(run)
-    finally:
-        run.close()
+    (report,), extra = check_paths([out])  # robospec check, every check
+    assert extra == [] and not report.failed, report.all_diagnostics
+    findings = [f for f in report.findings if f.check == keyframe_hold.NAME]
     assert findings and all(f.status is Status.PASS for f in findings), findings
