@@ -80,6 +80,22 @@ def test_wrong_version_type_is_reported_at_the_value(tmp_path: Path) -> None:
     assert '"x"' in lint.problems[(2, 12)]
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="controllers are a oneOf over types: taplo only says 'not valid under any of the "
+    "schemas' at every key of the table (an allOf of if type==X then X-config would be precise)",
+)
+def test_wrong_type_in_a_controller_is_reported_at_the_value_only(tmp_path: Path) -> None:
+    spec = write_spec(
+        tmp_path / "controller_wrong_type.toml",
+        'robospec = 1\nuid = "demo"\n\n[controllers.arm]\ntype = "pd_joint_pos"\n'
+        'joints = "arm"\nlower = -1\nupper = 1\nstiffness = "hard"\ndamping = 10\n',
+    )
+    lint = taplo_lint(spec)
+    assert lint.returncode == 1, lint.output
+    assert set(lint.problems) == {(10, 13)}, lint.output
+
+
 def test_schema_option_applies_the_schema_without_a_directive(tmp_path: Path) -> None:
     spec = tmp_path / "no_directive.toml"
     spec.write_text("robospec = 1\nuid = 3\n")
