@@ -9,6 +9,8 @@ from pathlib import Path
 from robospec.checks import CHECKS
 from robospec.codes import CODES, Code
 from robospec.docgen.code_examples import (
+    ARGUMENT_CODES,
+    RESERVED_CODES,
     CodeExamples,
     RunExample,
     is_documented_only,
@@ -73,6 +75,14 @@ def code_page(entry: Code, examples: CodeExamples, docstring: str | None) -> str
 
 
 def _why_not_run(code: str) -> str:
+    if code in RESERVED_CODES:
+        return "this version of robospec does not report it."
+    if code in ARGUMENT_CODES:
+        return "it is about a command-line argument, not a spec."
+    if code.startswith("RS6"):
+        return (
+            "`robospec inspect`, `new` and `doc` report it about files named on the command line."
+        )
     if code.startswith("RS4"):
         return "`robospec import` reads a Python agent class, which imports ManiSkill (seconds)."
     if code.startswith("RS5"):
@@ -117,13 +127,11 @@ def _docstring_markdown(doc: str) -> str:
 
 def _run_sections(examples: CodeExamples) -> list[str]:
     assert examples.failing and examples.passing
+    shown: set[Path] = set()
     lines = ["## Failing example", ""]
-    lines += _example(examples.failing)
+    lines += _example(examples.failing, examples.support_files, shown)
     lines += ["## Passing example", ""]
-    lines += _example(examples.passing)
-    for path in examples.support_files:
-        lines += [f"`{path.name}`, used by both examples:", ""]
-        lines += _fenced(path.read_text(encoding="utf-8"), LANGUAGES.get(path.suffix, "text"))
+    lines += _example(examples.passing, examples.support_files, shown)
     lines += [
         f"These examples are `docs/examples/codes/{examples.code}/`; the output above is what "
         "robospec reported for them when this page was generated, and `tests/test_docs.py` "
@@ -133,10 +141,16 @@ def _run_sections(examples: CodeExamples) -> list[str]:
     return lines
 
 
-def _example(example: RunExample) -> list[str]:
+def _example(example: RunExample, support: tuple[Path, ...], shown: set[Path]) -> list[str]:
+    """The spec, the files it names that no earlier example showed, and robospec's report."""
     name = example.path.name
     lines = [f"`{name}`:", ""]
     lines += _fenced(example.text, LANGUAGES.get(example.path.suffix, "text"))
+    for path in support:
+        if path.name in example.text and path not in shown:
+            shown.add(path)
+            lines += [f"`{path.name}`:", ""]
+            lines += _fenced(path.read_text(encoding="utf-8"), LANGUAGES.get(path.suffix, "text"))
     if example.diagnostics:
         lines += [f"`robospec validate {name}` reports:", ""]
         lines += _fenced("\n".join(d.format_text() for d in example.diagnostics), "text")

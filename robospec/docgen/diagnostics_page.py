@@ -11,7 +11,8 @@ RANGES = [
     ("RS2xx", "references into the robot description and the spec"),
     ("RS3xx", "semantic checks"),
     ("RS4xx", "`robospec import` of a Python agent class"),
-    ("RS5xx", "physics checks (`robospec check`)"),
+    ("RS5xx", "physics checks (`robospec check`, `robospec demo`)"),
+    ("RS6xx", "authoring commands (`robospec inspect`, `new`, `doc`)"),
     ("RS9xx", "internal errors"),
 ]
 
