@@ -63,9 +63,10 @@ def description_text(ref: FileRef) -> str:
     return ref.relative + " (relative to the spec)"
 
 
-def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_name: str) -> str:
+def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_link: str) -> str:
+    """The card; ``spec_link`` is the spec's path relative to the card's folder."""
     lines = [f"# {robot.uid}", ""]
-    lines += _summary(robot, description, spec_name)
+    lines += _summary(robot, description, spec_link)
     lines += _tree(description)
     lines += _joints(description)
     lines += _actions(robot, description)
@@ -76,14 +77,14 @@ def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_name: s
     return "\n".join(lines) + "\n"
 
 
-def _summary(robot: ResolvedRobot, description: RobotDescription, spec_name: str) -> list[str]:
+def _summary(robot: ResolvedRobot, description: RobotDescription, spec_link: str) -> list[str]:
     default = robot.modes[0].name if robot.modes else "—"
     return [
         "| | |",
         "| --- | --- |",
         f"| uid | {code(robot.uid)} |",
         f"| class | {code(robot.class_name)} |",
-        f"| spec | {code(spec_name)} |",
+        f"| spec | [{code(spec_link)}](<{spec_link}>) |",
         f"| description | {robot.description_kind}: {code(description_text(robot.description))} |",
         f"| root link | {code(description.root_link)}"
         + (" (fixed)" if robot.fix_root_link else " (free)")

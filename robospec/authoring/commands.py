@@ -3,6 +3,7 @@ its output text and diagnostics, and writes files only when it has no errors (at
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
@@ -86,7 +87,9 @@ def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
     diagnostics = list(compiled.diagnostics)
     if has_errors(diagnostics) or compiled.robot is None or compiled.description is None:
         return diagnostics
-    text = robot_card(compiled.robot, compiled.description, compiled.display)
+    # the spec as seen from the card, so the card links to it wherever both are
+    spec_link = Path(os.path.relpath(spec.resolve(), out.resolve().parent)).as_posix()
+    text = robot_card(compiled.robot, compiled.description, spec_link)
     return diagnostics + write_text(out, text)
 
 

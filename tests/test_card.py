@@ -1,0 +1,230 @@
+"""``robospec doc``: the Markdown robot card — Mermaid kinematic tree (sanitized ids, escaped
+labels, active joints marked), the action layout of every mode computed statically (and proven
+equal to the live controllers' layout in ManiSkill), keyframes and cameras; deterministic, and
+never written for a spec with errors."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from cli_process import robospec
+
+from robospec.authoring.card import mermaid_label, node_ids
+from robospec.authoring.commands import run_doc, run_new
+from robospec.authoring.layout import mode_layout
+from robospec.compile import compile_spec
+from robospec.diagnostics import has_errors
+from robospec.paths import maniskill_assets_dir
+
+ROOT = Path(__file__).resolve().parent.parent
+MANISKILL_SPECS = ROOT / "specs" / "maniskill"
+PANDA = MANISKILL_SPECS / "panda.yaml"
+needs_assets = pytest.mark.skipif(
+    maniskill_assets_dir() is None, reason="mani_skill's assets are not installed"
+)
+
+
+def card(spec: Path, out: Path) -> str:
+    diagnostics = run_doc(spec, out)
+    assert not has_errors(diagnostics), diagnostics
+    return out.read_text()
+
+
+def section(text: str, title: str) -> list[str]:
+    lines = text.splitlines()
+    start = lines.index(title) + 1
+    end = next((i for i in range(start, len(lines)) if lines[i].startswith("## ")), len(lines))
+    return lines[start:end]
+
+
+def mermaid(text: str) -> list[str]:
+    lines = text.splitlines()
+    start = lines.index("```mermaid")
+    return lines[start + 2 : lines.index("```", start + 1)]
+
+
+@needs_assets
+def test_panda_card_has_the_robot_tree_joints_actions_keyframes_and_cameras(
+    tmp_path: Path,
+) -> None:
+    text = card(PANDA, tmp_path / "panda.md")
+    assert text.startswith("# rs_panda\n")
+    titles = [li for li in text.splitlines() if li.startswith("## ")]
+    assert titles == [
+        "## Kinematic tree",
+        "## Active joints",
+        "## Action layout",
+        "## Keyframes",
+        "## Cameras",
+    ]
+    assert "| description | urdf: `{maniskill_assets}/robots/panda/panda_v2.urdf` |" in text
+    assert "graph TD" in text
+
+
+@needs_assets
+def test_tree_has_a_node_per_link_and_an_edge_per_joint_thick_for_active_ones(
+    tmp_path: Path,
+) -> None:
+    compiled = compile_spec(PANDA)
+    assert compiled.description is not None
+    description = compiled.description
+    lines = mermaid(card(PANDA, tmp_path / "panda.md"))
+    nodes = [li for li in lines if re.fullmatch(r'  \w+\["[^"]*"\]', li)]
+    edges = [li for li in lines if "--" in li or "==" in li]
+    assert len(nodes) == len(description.links)
+    assert len(edges) == len(description.joints)
+    assert len([e for e in edges if "==>" in e]) == len(description.active_joint_names)
+    assert '  l_panda_link3 ==>|"panda_joint4 (revolute)"| l_panda_link4' in lines
+    assert '  l_panda_hand -->|"panda_hand_tcp_joint (fixed)"| l_panda_hand_tcp' in lines
+
+
+def test_node_ids_are_sanitized_and_unique_and_labels_escaped() -> None:
+    ids = node_ids(["a-b", "a_b", "end", 'x "y" <z>'])
+    assert all(re.fullmatch(r"[A-Za-z0-9_]+", i) for i in ids.values())
+    assert len(set(ids.values())) == 4
+    assert mermaid_label('say "hi" <b> | & more') == "say #quot;hi#quot; #lt;b#gt; #124; #amp; more"
+
+
+def test_odd_link_names_become_safe_mermaid(tmp_path: Path) -> None:
+    urdf = tmp_path / "odd.urdf"
+    urdf.write_text(
+        '<robot name="odd"><link name="base &quot;0&quot;"/><link name="tip|&lt;1&gt;"/>'
+        '<joint name="j &amp; k" type="revolute"><parent link="base &quot;0&quot;"/>'
+        '<child link="tip|&lt;1&gt;"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+        "</joint></robot>\n"
+    )
+    spec = tmp_path / "odd.yaml"
+    text, diagnostics = run_new(urdf, spec, None, force=False)
+    assert text is not None and not has_errors(diagnostics), diagnostics
+    lines = mermaid(card(spec, tmp_path / "odd.md"))
+    assert lines == [
+        '  l_base__0_["base #quot;0#quot;"]',
+        '  l_tip__1_["tip#124;#lt;1#gt;"]',
+        '  l_base__0_ ==>|"j #amp; k (revolute)"| l_tip__1_',
+    ]
+
+
+@needs_assets
+def test_action_layout_lists_each_dimension_with_bounds_and_normalization(tmp_path: Path) -> None:
+    text = card(PANDA, tmp_path / "panda.md")
+    rows = section(text, "## Action layout")
+    delta = rows[rows.index("### pd_joint_delta_pos (8 dims)") :]
+    assert delta[4] == (
+        "| 0 | `arm` | `arm_delta_pos` (pd_joint_pos) | `panda_joint1` | -0.1 | 0.1 | yes |"
+    )
+    assert delta[11] == (
+        "| 7 | `gripper` | `gripper` (pd_joint_pos_mimic) | `panda_finger_joint1` "
+        "| -0.01 | 0.04 | yes |"
+    )
+    ee = rows[rows.index("### pd_ee_delta_pose (7 dims)") :]
+    assert ee[7] == (
+        "| 3 | `arm` | `arm_ee_delta_pose` (pd_ee_pose) | `arm.rx` | -0.1 | 0.1 | yes |"
+    )
+    absolute = rows[rows.index("### pd_joint_pos (8 dims)") :]
+    assert "| 3 | `arm` | `arm_pos` (pd_joint_pos) | `panda_joint4` | -3.0718 | -0.0698 | no |" in (
+        absolute
+    )
+
+
+@needs_assets
+def test_keyframes_table_has_a_value_per_joint_and_cameras_their_mount_and_lens(
+    tmp_path: Path,
+) -> None:
+    text = card(MANISKILL_SPECS / "panda_wristcam.yaml", tmp_path / "p.md")
+    keyframes = section(text, "## Keyframes")
+    assert "| `panda_joint4` | -1.9635 |" in keyframes  # -5π/8
+    assert "| pose p | [0, 0, 0] |" in keyframes
+    cameras = [li for li in section(text, "## Cameras") if li.startswith("| `")]
+    assert len(cameras) == 1
+    assert cameras[0].startswith("| `hand_camera` | `camera_link` |")
+    assert "128×128" in cameras[0]
+
+
+@needs_assets
+def test_card_is_deterministic_and_names_no_machine_path(tmp_path: Path) -> None:
+    spec = tmp_path / "specs" / "fetch.yaml"
+    spec.parent.mkdir()
+    spec.write_text((MANISKILL_SPECS / "fetch.yaml").read_text())
+    first = card(spec, tmp_path / "cards" / "a.md")
+    second = card(spec, tmp_path / "cards" / "b.md")
+    assert first == second
+    assert "(<../specs/fetch.yaml>)" in first
+    assert str(tmp_path) not in first and "site-packages" not in first
+
+
+def test_spec_with_errors_gets_diagnostics_and_no_card(tmp_path: Path) -> None:
+    spec = tmp_path / "bad.yaml"
+    run_new(ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False)
+    lines = spec.read_text().splitlines()
+    line = next(i for i, text in enumerate(lines) if text.startswith("  arm: ["))
+    lines[line] = lines[line].replace("twolink_joint3", "twolink_joint9")
+    spec.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "bad.md"
+    result = robospec("doc", str(spec), "-o", str(out))
+    assert result.returncode == 1
+    assert f"{spec}:{line + 1}:" in result.stderr and "error[RS201]" in result.stderr
+    assert "Traceback" not in result.stderr
+    assert not out.exists()
+    out.write_text("old card\n")
+    assert robospec("doc", str(spec), "-o", str(out)).returncode == 1
+    assert out.read_text() == "old card\n"
+
+
+@needs_assets
+def test_doc_command_writes_the_card_linking_to_the_spec(tmp_path: Path) -> None:
+    out = tmp_path / "cards" / "panda.md"
+    result = robospec("doc", str(PANDA), "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    text = out.read_text()
+    assert text == card(PANDA, tmp_path / "cards" / "again.md")
+    (link,) = re.findall(r"\| spec \| \[`[^`]*`\]\(<([^>]*)>\) \|", text)
+    assert (out.parent / link).resolve() == PANDA.resolve()
+
+
+# -- the static layout equals ManiSkill's live controllers -----------------------------------
+
+
+@pytest.mark.maniskill
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+@pytest.mark.filterwarnings("ignore::UserWarning")
+@pytest.mark.parametrize(
+    "spec", ["panda.yaml", "fetch.yaml", "allegro_hand_right.yaml", "fixed_inspire_hand_right.yaml"]
+)
+def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: str) -> None:
+    pytest.importorskip("mani_skill")
+    import numpy as np
+
+    from robospec import register
+    from robospec.physics import action_layout
+    from robospec.physics.findings import rounded
+    from robospec.physics.run import CheckRun
+
+    compiled = compile_spec(MANISKILL_SPECS / spec)
+    assert compiled.robot is not None and compiled.context is not None
+    assert compiled.description is not None
+    register(MANISKILL_SPECS / spec)
+    run = CheckRun(compiled.robot.uid, compiled.context, compiled.context.spec.checks)
+    try:
+        live = {f.mode: f.details for f in action_layout.check(run)}
+    finally:
+        run.close()
+    assert set(live) == {m.name for m in compiled.robot.modes}
+    for mode in compiled.robot.modes:
+        static = [
+            (
+                r.index,
+                r.group,
+                r.target,
+                rounded(float(np.float32(r.low))),
+                rounded(float(np.float32(r.high))),
+                r.normalized,
+            )
+            for r in mode_layout(compiled.robot, compiled.description, mode)
+        ]
+        actual = [
+            (d["index"], d["group"], d["target"], d["low"], d["high"], d["normalized"])
+            for d in live[mode.name]
+        ]
+        assert static == actual, mode.name
