@@ -6,7 +6,9 @@ and LF are percent-encoded; in properties also ``:`` and ``,``, which would end 
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
+from pathlib import Path
 
 from robospec.diagnostics import Diagnostic
 from robospec.reporting.summary import summary_line
@@ -20,11 +22,22 @@ def escape_property(text: str) -> str:
     return escape_data(text).replace(":", "%3A").replace(",", "%2C")
 
 
+def annotation_path(file: str, root: Path | None = None) -> str:
+    """GitHub matches annotations to files by their path in the checkout (the working directory
+    of the step), with forward slashes: an absolute path inside it is made relative."""
+    path = Path(file)
+    if not path.is_absolute():
+        return file.replace("\\", "/")
+    try:
+        return Path(os.path.normpath(path)).relative_to(root or Path.cwd().resolve()).as_posix()
+    except ValueError:  # outside the checkout: GitHub cannot place it; keep the whole path
+        return path.as_posix()
+
+
 def annotation(d: Diagnostic) -> str:
     loc = d.location
     properties = {
-        # GitHub matches annotations to files by repository-relative paths with forward slashes
-        "file": loc.file.replace("\\", "/"),
+        "file": annotation_path(loc.file),
         "line": str(loc.line),
         "col": str(loc.column),
         "title": d.code,
