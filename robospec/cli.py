@@ -269,8 +269,10 @@ def inspect(
     file: Annotated[Path, typer.Argument(help="a URDF, xacro or MJCF file")],
     format: FormatOpt = Format.text,
 ) -> None:
-    """Print a robot description's active joints (qpos order, limits), mimic relations and
-    kinematic tree.
+    """Print a URDF/xacro/MJCF file's active joints, mimic relations and kinematic tree.
+
+    Active joints come in qpos order with their limits (lower, upper, velocity, effort). The
+    report goes to stdout, diagnostics to stderr.
 
     Example: robospec inspect robots/my_arm.urdf --format json
     """
@@ -298,8 +300,11 @@ def new(
     force: Annotated[bool, typer.Option("--force", help="overwrite SPEC")] = False,
     format: FormatOpt = Format.text,
 ) -> None:
-    """Scaffold a spec from a robot description: groups, a rest keyframe and pd_joint_pos /
-    pd_joint_delta_pos modes, ready for `robospec validate`.
+    """Scaffold a spec from a robot description (URDF, xacro or MJCF).
+
+    Groups are guessed (arm, gripper, base, ...), URDF mimic pairs become a pd_joint_pos_mimic
+    controller, the rest keyframe is a safe pose, and pd_joint_delta_pos / pd_joint_pos modes
+    drive every active joint: the spec passes `robospec validate` as written.
 
     Example: robospec new --from-urdf robots/my_arm.urdf -o specs/my_arm.yaml
     """
@@ -307,8 +312,10 @@ def new(
     from robospec.report import render
 
     text, diagnostics = run_new(from_urdf, out, uid, force)
-    if diagnostics or format is Format.json:
-        typer.echo(render(diagnostics, 1, format.value), err=True)
+    if format is Format.json:
+        typer.echo(render(diagnostics, 1, "json"))
+    elif diagnostics:
+        typer.echo(render(diagnostics, 1, "text"), err=True)
     failed = text is None or has_errors(diagnostics)
     if not failed and format is Format.text:
         typer.echo(f"wrote {out}")
@@ -321,8 +328,10 @@ def doc(
     out: Annotated[Path, typer.Option("--out", "-o", help="the Markdown card to write")],
     format: FormatOpt = Format.text,
 ) -> None:
-    """Write a Markdown robot card: kinematic tree (Mermaid), action layout per control mode,
-    keyframes and cameras.
+    """Write a Markdown robot card of a spec.
+
+    The card shows the kinematic tree (a Mermaid diagram), the action layout of every control
+    mode, the keyframes and the cameras. Nothing is written for a spec with errors.
 
     Example: robospec doc specs/maniskill/panda.yaml -o panda.md
     """
@@ -330,8 +339,10 @@ def doc(
     from robospec.report import render
 
     diagnostics = run_doc(spec, out)
-    if diagnostics:
-        typer.echo(render(diagnostics, 1, format.value), err=True)
+    if format is Format.json:
+        typer.echo(render(diagnostics, 1, "json"))
+    elif diagnostics:
+        typer.echo(render(diagnostics, 1, "text"), err=True)
     if has_errors(diagnostics):
         raise typer.Exit(1)
     if format is Format.text:

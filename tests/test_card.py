@@ -228,3 +228,14 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
             for d in live[mode.name]
         ]
         assert static == actual, mode.name
+
+
+def test_unwritable_card_is_rs603_and_exit_1(tmp_path: Path) -> None:
+    spec = tmp_path / "twolink.yaml"
+    run_new(ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False)
+    (tmp_path / "afile").write_text("")
+    out = tmp_path / "afile" / "card.md"
+    result = robospec("doc", str(spec), "-o", str(out))
+    assert result.returncode == 1
+    assert f"{out}:1:1: error[RS603] cannot write {out}" in result.stderr
+    assert "Traceback" not in result.stderr

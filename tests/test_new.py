@@ -305,3 +305,16 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     assert extra == [] and not report.failed, report.all_diagnostics
     findings = [f for f in report.findings if f.check == keyframe_hold.NAME]
     assert findings and all(f.status is Status.PASS for f in findings), findings
+
+
+def test_json_format_puts_the_diagnostics_report_on_stdout(tmp_path: Path) -> None:
+    import json
+
+    out = tmp_path / "twolink.yaml"
+    first = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "-f", "json")
+    assert first.returncode == 0, first.stderr
+    assert json.loads(first.stdout)["summary"]["errors"] == 0
+    again = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "-f", "json")
+    assert again.returncode == 1
+    (diagnostic,) = json.loads(again.stdout)["diagnostics"]
+    assert (diagnostic["code"], diagnostic["line"], diagnostic["column"]) == ("RS601", 1, 1)
