@@ -38,7 +38,13 @@ def _to_number(value: Any) -> float:
 Number = Annotated[float, BeforeValidator(_to_number), WithJsonSchema(NUMBER_SCHEMA)]
 """A float, also accepted as safe arithmetic text such as ``pi/2`` or ``-5*pi/8``."""
 
-PerJoint = Number | list[Number] | dict[JointPattern, Number]
+# Number's schema is fixed by WithJsonSchema, so a described variant needs its own
+ValueByName = Annotated[
+    float,
+    BeforeValidator(_to_number),
+    WithJsonSchema({**NUMBER_SCHEMA, "description": "The value for the joints this name selects."}),
+]
+PerJoint = Number | list[Number] | dict[JointPattern, ValueByName]
 """One value for every joint, one per joint in order, or by joint/group name."""
 
 JointSelection = JointPattern | list[JointPattern]
@@ -54,31 +60,52 @@ class StrictModel(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
-class Pose(StrictModel):
-    """A pose: position ``p`` and orientation as a wxyz quaternion ``q`` or as ``rpy``."""
+Vector3 = Annotated[list[Number], Field(min_length=3, max_length=3)]
+Quaternion = Annotated[list[Number], Field(min_length=4, max_length=4)]
 
-    p: Annotated[list[Number], Field(min_length=3, max_length=3)] = Field(
-        default_factory=lambda: [0.0, 0.0, 0.0], description="position [x, y, z] in metres"
+
+class Pose(StrictModel):
+    """A pose: a position `p` and an orientation, given either as a wxyz quaternion `q` or
+    as roll-pitch-yaw angles `rpy` (neither: no rotation)."""
+
+    p: Vector3 = Field(
+        default_factory=lambda: [0.0, 0.0, 0.0],
+        description="Position [x, y, z] in metres.",
+        examples=[[0.0, 0.0, 0.04]],
     )
-    q: Annotated[list[Number], Field(min_length=4, max_length=4)] | None = Field(
-        default=None, description="orientation as a quaternion [w, x, y, z]"
+    q: Quaternion | None = Field(
+        default=None,
+        description="Orientation as a unit quaternion [w, x, y, z]; leave out for no rotation.",
+        examples=[[1, 0, 0, 0]],
     )
-    rpy: Annotated[list[Number], Field(min_length=3, max_length=3)] | None = Field(
-        default=None, description="orientation as roll, pitch, yaw (fixed axes x, y, z) in radians"
+    rpy: Vector3 | None = Field(
+        default=None,
+        description="Orientation as roll, pitch and yaw about the fixed x, y and z axes, in "
+        "radians; an alternative to `q`.",
+        examples=[[0, "pi/2", 0]],
     )
 
 
 class AllBut(StrictModel):
-    """Every active joint except the ones selected."""
+    """Every active joint except the ones selected: `{all_but: gripper}`."""
 
-    all_but: JointSelection = Field(description="joints, globs or groups to leave out")
+    all_but: JointSelection = Field(
+        description="The joints, globs or groups to leave out.",
+        examples=["gripper", ["panda_finger_joint1", "panda_finger_joint2"]],
+    )
 
 
 class AllLinksBut(AllBut):
-    """Every link except the ones selected."""
+    """Every link except the ones selected: `{all_but: base_link}`."""
 
-    all_but: LinkPatterns = Field(description="links or globs to leave out")  # type: ignore[assignment]
+    all_but: LinkPatterns = Field(  # type: ignore[assignment]
+        description="The links or link globs to leave out.",
+        examples=["panda_link0", ["root", "*_base"]],
+    )
 
 
 GroupSelection = JointSelection | AllBut
+"""A joint selection, or ``{all_but: ...}`` for every active joint except some."""
+
 LinkSelection = LinkPatterns | AllLinksBut
+"""Link names or globs, or ``{all_but: ...}`` for every link except some."""

@@ -21,40 +21,53 @@ Steps = Annotated[int, Field(ge=1, le=100_000)]
 class KeyframeHold(StrictModel):
     """Hold each keyframe with a joint-position mode and measure how far the robot drifts."""
 
-    steps: Steps = Field(default=50, description="control steps to hold each keyframe")
+    steps: Steps = Field(
+        default=50, description="Control steps to hold each keyframe for.", examples=[100]
+    )
     max_joint_drift: PositiveNumber = Field(
-        default=0.05, description="largest joint drift allowed, in rad (or m for prismatic joints)"
+        default=0.05,
+        description="The largest joint drift allowed, in rad (or m for prismatic joints).",
+        examples=[0.1],
     )
     max_root_drift: PositiveNumber = Field(
-        default=0.05, description="largest drift of the root link's position allowed, in m"
+        default=0.05,
+        description="The largest drift of the root link's position allowed, in m.",
+        examples=[0.1],
     )
     mode: ControlModeName | None = Field(
         default=None,
-        description="the control mode to hold with; default: the first mode whose controllers "
-        "all take absolute joint positions",
+        description="The control mode to hold with; default: the first mode whose controllers "
+        "all take absolute joint positions.",
+        examples=["pd_joint_pos"],
     )
     pin_root: bool = Field(
         default=False,
-        description="hold a floating root in place, as on a stand, and measure only the "
-        "joints: for free-standing robots that need a balance controller to stay up",
+        description="Hold a floating root in place, as on a stand, and measure only the "
+        "joints: for free-standing robots that need a balance controller to stay up.",
+        examples=[True],
     )
 
 
 class RandomActions(StrictModel):
     """Send bounded random actions in every control mode; nothing may explode."""
 
-    steps: Steps = Field(default=60, description="control steps per mode")
-    seed: int = Field(default=0, description="seed of the random actions")
+    steps: Steps = Field(default=60, description="Control steps per mode.", examples=[100])
+    seed: int = Field(default=0, description="Seed of the random actions.", examples=[1])
     joint_limit_tolerance: Fraction = Field(
         default=0.1,
-        description="how far past a joint limit a joint may go before it counts as a violation, "
-        "in rad (or m)",
+        description="How far past a joint limit a joint may go before it counts as a "
+        "violation, in rad (or m).",
+        examples=[0.2],
     )
     max_joint_speed: PositiveNumber = Field(
-        default=200.0, description="joint speed counted as runaway, in rad/s (or m/s)"
+        default=200.0,
+        description="The joint speed counted as a runaway, in rad/s (or m/s).",
+        examples=[100],
     )
     max_root_speed: PositiveNumber = Field(
-        default=20.0, description="root link speed counted as runaway, in m/s"
+        default=20.0,
+        description="The root link speed counted as a runaway, in m/s.",
+        examples=[10],
     )
 
 
@@ -62,10 +75,29 @@ class StepLimits(StrictModel):
     """How one controller's step response is judged; every field defaults to the spec-wide
     ``step_response`` value."""
 
-    duration: PositiveNumber | None = None
-    max_rise_time: PositiveNumber | None = None
-    max_overshoot: Fraction | None = None
-    max_steady_state_error: Fraction | None = None
+    duration: PositiveNumber | None = Field(
+        default=None,
+        description="How long to watch, in seconds; default: the spec-wide value.",
+        examples=[5],
+    )
+    max_rise_time: PositiveNumber | None = Field(
+        default=None,
+        description="The longest 10%-to-90% rise time allowed, in seconds; default: the "
+        "spec-wide value.",
+        examples=[3],
+    )
+    max_overshoot: Fraction | None = Field(
+        default=None,
+        description="The largest overshoot allowed, as a fraction of the step; default: the "
+        "spec-wide value.",
+        examples=[0.8],
+    )
+    max_steady_state_error: Fraction | None = Field(
+        default=None,
+        description="The largest error at the end of the window, as a fraction of the step; "
+        "default: the spec-wide value.",
+        examples=[0.3],
+    )
 
 
 class StepResponse(StrictModel):
@@ -73,28 +105,45 @@ class StepResponse(StrictModel):
     response of each of its joints."""
 
     step: PositiveNumber = Field(
-        default=0.1, description="the commanded step for revolute joints, in rad (or rad/s)"
+        default=0.1,
+        description="The commanded step for revolute joints, in rad (or rad/s).",
+        examples=[0.05],
     )
     prismatic_step: PositiveNumber = Field(
-        default=0.01, description="the commanded step for prismatic joints, in m (or m/s)"
+        default=0.01,
+        description="The commanded step for prismatic joints, in m (or m/s).",
+        examples=[0.005],
     )
-    duration: PositiveNumber = Field(default=1.0, description="how long to watch, in seconds")
+    duration: PositiveNumber = Field(
+        default=1.0, description="How long to watch, in seconds.", examples=[2]
+    )
     max_rise_time: PositiveNumber = Field(
-        default=0.5, description="longest time from 10% to 90% of the step allowed, in seconds"
+        default=0.5,
+        description="The longest time from 10% to 90% of the step allowed, in seconds.",
+        examples=[1],
     )
     max_overshoot: Fraction = Field(
-        default=0.5, description="largest overshoot allowed, as a fraction of the step"
+        default=0.5,
+        description="The largest overshoot allowed, as a fraction of the step.",
+        examples=[0.3],
     )
     max_steady_state_error: Fraction = Field(
         default=0.2,
-        description="largest error at the end of the window allowed, as a fraction of the step",
+        description="The largest error at the end of the window allowed, as a fraction of "
+        "the step.",
+        examples=[0.1],
     )
     settling_band: Fraction = Field(
-        default=0.1, description="the band, as a fraction of the step, that counts as settled"
+        default=0.1,
+        description="The band around the target, as a fraction of the step, that counts as "
+        "settled.",
+        examples=[0.05],
     )
     controllers: dict[ControllerName, StepLimits] = Field(
         default_factory=dict,
-        description="other limits for some controllers, by name (e.g. a body meant to move slowly)",
+        description="Other limits for some controllers, by controller name (e.g. a heavy body "
+        "meant to move slowly).",
+        examples=[{"stiff_body_pos": {"duration": 5, "max_rise_time": 3}}],
     )
 
     def for_controller(self, name: str) -> StepResponse:
@@ -110,14 +159,31 @@ class SelfContact(StrictModel):
 
     min_depth: Fraction = Field(
         default=0.001,
-        description="penetration depth below which a touch is not reported, in m",
+        description="The penetration depth below which a touch is not reported, in m.",
+        examples=[0.002],
     )
 
 
 class Checks(StrictModel):
     """Thresholds of ``robospec check`` for this robot."""
 
-    keyframe_hold: KeyframeHold = Field(default_factory=KeyframeHold)
-    random_actions: RandomActions = Field(default_factory=RandomActions)
-    step_response: StepResponse = Field(default_factory=StepResponse)
-    self_contact: SelfContact = Field(default_factory=SelfContact)
+    keyframe_hold: KeyframeHold = Field(
+        default_factory=KeyframeHold,
+        description="Hold each keyframe and measure the drift.",
+        examples=[{"pin_root": True}],
+    )
+    random_actions: RandomActions = Field(
+        default_factory=RandomActions,
+        description="Random actions in every control mode.",
+        examples=[{"steps": 100}],
+    )
+    step_response: StepResponse = Field(
+        default_factory=StepResponse,
+        description="Step responses of the position and velocity controllers.",
+        examples=[{"controllers": {"stiff_body_pos": {"duration": 5, "max_rise_time": 3}}}],
+    )
+    self_contact: SelfContact = Field(
+        default_factory=SelfContact,
+        description="Links touching each other at the keyframes.",
+        examples=[{"min_depth": 0.002}],
+    )

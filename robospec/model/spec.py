@@ -52,26 +52,42 @@ ScalarArg = str | int | float | bool
 
 
 class Description(StrictModel):
-    """The robot description file: exactly one of ``urdf``, ``mjcf`` or ``xacro``.
-
-    Relative paths are taken against the spec file's folder; ``{maniskill_assets}`` stands for
-    ManiSkill's bundled asset folder.
-    """
+    """The robot description file: exactly one of `urdf`, `mjcf` or `xacro`. Relative paths
+    are taken against the spec file's folder; `{maniskill_assets}` stands for ManiSkill's
+    bundled asset folder."""
 
     urdf: str | None = Field(
-        default=None, examples=["{maniskill_assets}/robots/panda/panda_v2.urdf"]
+        default=None,
+        description="A URDF file.",
+        examples=["{maniskill_assets}/robots/panda/panda_v2.urdf"],
     )
     mjcf: str | None = Field(
-        default=None, examples=["{maniskill_assets}/robots/humanoid/humanoid.xml"]
+        default=None,
+        description="A MuJoCo MJCF file.",
+        examples=["{maniskill_assets}/robots/humanoid/humanoid.xml"],
     )
-    xacro: str | None = Field(default=None, examples=["robots/twolink/twolink.urdf.xacro"])
-    args: dict[str, ScalarArg] = Field(
-        default_factory=dict, description="xacro arguments (name := value)"
+    xacro: str | None = Field(
+        default=None,
+        description="A xacro file, expanded to URDF with `args` (expanding runs the file's "
+        "code, in a child process with limits).",
+        examples=["robots/twolink/twolink.urdf.xacro"],
+    )
+    args: dict[
+        str,
+        Annotated[
+            ScalarArg,
+            Field(description="The value of one xacro argument.", examples=[0.35]),
+        ],
+    ] = Field(
+        default_factory=dict,
+        description="Arguments for a xacro description (name := value).",
+        examples=[{"prefix": "twolink_", "link_length": 0.35}],
     )
     download: list[Annotated[str, Field(pattern=NAME_PATTERN)]] = Field(
         default_factory=list,
         description="ManiSkill asset download ids (`register_agent(asset_download_ids=...)`); "
-        "a spec whose description is not downloaded yet is checked without it",
+        "a spec whose description is not downloaded yet is checked without it.",
+        examples=[["unitree_g1"]],
     )
 
     @model_validator(mode="after")
@@ -97,165 +113,440 @@ class Description(StrictModel):
 class Loader(StrictModel):
     """How ManiSkill loads the articulation (BaseAgent class attributes)."""
 
-    fix_root_link: bool = Field(default=True, description="fix the root link in place")
+    fix_root_link: bool = Field(
+        default=True,
+        description="Fix the root link in place; false for mobile or floating robots.",
+        examples=[True],
+    )
     load_multiple_collisions: bool = Field(
-        default=False, description="load collision meshes as multiple convex shapes"
+        default=False,
+        description="Load collision meshes made of several convex parts as multiple shapes.",
+        examples=[True],
     )
     disable_self_collisions: bool = Field(
-        default=False, description="disable all collisions between the robot's own links"
+        default=False,
+        description="Disable all collisions between the robot's own links.",
+        examples=[True],
     )
 
 
 class Material(StrictModel):
-    """A physical material (PhysX friction and restitution)."""
+    """A physical material: PhysX friction and restitution, given to links by `links` rules."""
 
-    static_friction: Number
-    dynamic_friction: Number
-    restitution: Number = 0.0
+    static_friction: Number = Field(
+        description="Friction coefficient while surfaces stick.", examples=[2.0]
+    )
+    dynamic_friction: Number = Field(
+        description="Friction coefficient while surfaces slide.", examples=[2.0]
+    )
+    restitution: Number = Field(
+        default=0.0,
+        description="Bounciness, from 0 (none) to 1 (perfectly elastic).",
+        examples=[0.0],
+    )
 
 
 class LinkRule(StrictModel):
     """Physical properties for the links a name or glob matches."""
 
-    material: MaterialName | None = Field(default=None, description="a name from `materials`")
-    patch_radius: Number | None = None
-    min_patch_radius: Number | None = None
-    density: Number | None = None
+    material: MaterialName | None = Field(
+        default=None,
+        description="A material from `materials` for the links' collision shapes.",
+        examples=["gripper"],
+    )
+    patch_radius: Number | None = Field(
+        default=None,
+        description="Radius of the contact patch used for torsional friction, in m.",
+        examples=[0.1],
+    )
+    min_patch_radius: Number | None = Field(
+        default=None,
+        description="Smallest contact patch radius for torsional friction, in m.",
+        examples=[0.1],
+    )
+    density: Number | None = Field(
+        default=None,
+        description="Density of the links' collision shapes, in kg/m³.",
+        examples=[1000],
+    )
 
 
-JointValues = list[Number] | dict[JointPattern, Number | list[Number]]
+JointValue = Annotated[
+    Number | list[Number],
+    Field(
+        description="One value for every joint selected, or one per joint in order.",
+        examples=[0.04, [0, "pi/8"]],
+    ),
+]
+JointValues = list[Number] | dict[JointPattern, JointValue]
 
 
 class Keyframe(StrictModel):
     """A named robot state: root pose, joint positions and velocities."""
 
-    pose: Pose = Field(default_factory=Pose)
-    qpos: JointValues | None = Field(
-        default=None, description="all active joints in order, or by joint/group name"
+    pose: Pose = Field(
+        default_factory=Pose,
+        description="The pose of the robot's root in the world.",
+        examples=[{"p": [0, 0, 0]}],
     )
-    qvel: JointValues | None = None
+    qpos: JointValues | None = Field(
+        default=None,
+        description="Joint positions: all active joints in order, or by joint, group or glob name.",
+        examples=[{"arm": [0, "pi/8", 0, "-5*pi/8", 0, "3*pi/4", "pi/4"], "gripper": 0.04}],
+    )
+    qvel: JointValues | None = Field(
+        default=None,
+        description="Joint velocities, written like `qpos`; default: zero.",
+        examples=[{"arm": 0.0}],
+    )
+
+
+Matrix3 = Annotated[
+    list[Annotated[list[Number], Field(min_length=3, max_length=3)]],
+    Field(min_length=3, max_length=3),
+]
 
 
 class Camera(StrictModel):
     """A camera mounted on a link."""
 
-    mount: LinkName = Field(description="the link the camera is mounted on")
-    pose: Pose = Field(default_factory=Pose, description="pose relative to the mount link")
-    width: Annotated[int, Field(gt=0, le=16384)]
-    height: Annotated[int, Field(gt=0, le=16384)]
-    fov: Number | None = Field(default=None, description="vertical field of view in radians")
-    intrinsic: (
-        Annotated[
-            list[Annotated[list[Number], Field(min_length=3, max_length=3)]],
-            Field(min_length=3, max_length=3),
-        ]
-        | None
-    ) = Field(default=None, description="3x3 intrinsic matrix, instead of fov")
-    near: Number = 0.01
-    far: Number = 100.0
-    shader_pack: Literal["minimal", "default", "rt", "rt-med", "rt-fast"] = "minimal"
+    mount: LinkName = Field(
+        description="The link the camera is mounted on; it moves with it.",
+        examples=["camera_link"],
+    )
+    pose: Pose = Field(
+        default_factory=Pose,
+        description="The camera's pose relative to the mount link (x forward, z up).",
+        examples=[{"p": [0, 0, 0], "q": [1, 0, 0, 0]}],
+    )
+    width: Annotated[int, Field(gt=0, le=16384)] = Field(
+        description="Image width in pixels.", examples=[128]
+    )
+    height: Annotated[int, Field(gt=0, le=16384)] = Field(
+        description="Image height in pixels.", examples=[128]
+    )
+    fov: Number | None = Field(
+        default=None,
+        description="Vertical field of view in radians; give this or `intrinsic`.",
+        examples=["pi/2"],
+    )
+    intrinsic: Matrix3 | None = Field(
+        default=None,
+        description="The 3x3 intrinsic matrix, instead of `fov`.",
+        examples=[[[64, 0, 64], [0, 64, 64], [0, 0, 1]]],
+    )
+    near: Number = Field(default=0.01, description="Near clipping plane, in m.", examples=[0.01])
+    far: Number = Field(default=100.0, description="Far clipping plane, in m.", examples=[100])
+    shader_pack: Literal["minimal", "default", "rt", "rt-med", "rt-fast"] = Field(
+        default="minimal",
+        description="SAPIEN's shader pack: `minimal` is fastest; `rt*` are ray traced.",
+        examples=["default"],
+    )
 
 
 class CollisionRule(StrictModel):
-    """Set one collision-group bit on some links (``link.set_collision_group_bit``)."""
+    """Set one collision-group bit on some links (`link.set_collision_group_bit`), e.g. so a
+    mobile base does not collide with the ground."""
 
-    links: LinkPatterns = Field(description="link names or globs")
-    group: Annotated[int, Field(ge=0, le=3)] = Field(description="collision group index, 0 to 3")
-    bit: Annotated[int, Field(ge=0, le=31)] = Field(description="bit index, 0 to 31")
-    value: Literal[0, 1] = 1
+    links: LinkPatterns = Field(
+        description="The links: names, globs, or a list of them.",
+        examples=[["l_wheel_link", "r_wheel_link"]],
+    )
+    group: Annotated[int, Field(ge=0, le=3)] = Field(
+        description="Collision group index, 0 to 3.", examples=[2]
+    )
+    bit: Annotated[int, Field(ge=0, le=31)] = Field(
+        description="Bit index within the group, 0 to 31.", examples=[30]
+    )
+    value: Literal[0, 1] = Field(
+        default=1, description="The value to set the bit to.", examples=[1]
+    )
 
 
-ControlMode = ControllerName | dict[str, ControllerName | StrictBool]
+_GRIPPER_MATERIAL = {"static_friction": 2.0, "dynamic_friction": 2.0, "restitution": 0.0}
+_FINGER = {"material": "gripper", "patch_radius": 0.1, "min_patch_radius": 0.1}
+_REST = {"qpos": {"arm": [0, "pi/8", 0, "-5*pi/8", 0, "3*pi/4", "pi/4"], "gripper": 0.04}}
+_ARM_POS = {
+    "type": "pd_joint_pos",
+    "joints": "arm",
+    "lower": None,
+    "upper": None,
+    "stiffness": 1e3,
+    "damping": 1e2,
+    "force_limit": 100,
+    "normalize_action": False,
+}
+_HAND_CAMERA = {
+    "mount": "camera_link",
+    "pose": {"p": [0, 0, 0], "q": [1, 0, 0, 0]},
+    "width": 128,
+    "height": 128,
+    "fov": "pi/2",
+}
+_GRASP = {
+    "fingers": [
+        {"link": "finger1_link", "opening": "+y"},
+        {"link": "finger2_link", "opening": "-y"},
+    ],
+    "min_force": 0.5,
+    "max_angle": 85,
+}
+_TIP_POSES = {"links": "tip_links", "quantity": "pose", "stack_dim": -2}
+# examples from the Panda spec (specs/maniskill/panda.yaml) and the zoo, shown by editors
+
+
+ModeEntry = Annotated[
+    ControllerName | StrictBool,
+    Field(
+        description="The controller for this part of the robot (or, under "
+        "balance_passive_force, whether to balance passive forces).",
+        examples=["arm_pos"],
+    ),
+]
+ControlMode = ControllerName | dict[str, ModeEntry]
 """A single controller name, or ``{group: controller, ..., balance_passive_force: bool}``."""
+
+Name = Annotated[str, Field(pattern=NAME_PATTERN)]
+
+
+MaterialEntry = Annotated[
+    Material,
+    Field(description="A material, referred to by its name.", examples=[_GRIPPER_MATERIAL]),
+]
+
+LinkRuleEntry = Annotated[
+    LinkRule,
+    Field(description="Properties for the links this name or glob matches.", examples=[_FINGER]),
+]
+
+GroupEntry = Annotated[
+    GroupSelection,
+    Field(
+        description="The joints of one group: names, globs, other groups, or {all_but: ...}.",
+        examples=["panda_joint[1-7]"],
+    ),
+]
+
+KeyframeEntry = Annotated[Keyframe, Field(description="A robot state by name.", examples=[_REST])]
+
+ControlModeEntry = Annotated[
+    ControlMode,
+    Field(
+        description="One controller, or {name: controller, ...} with optional "
+        "balance_passive_force: true/false.",
+        examples=[{"arm": "arm_pos", "gripper": "gripper"}],
+    ),
+]
+
+CameraEntry = Annotated[Camera, Field(description="A camera by its uid.", examples=[_HAND_CAMERA])]
+
+NeverCollideEntry = Annotated[
+    LinkPatterns,
+    Field(
+        description="Links no two of which collide: a pair, a glob, or a list of names and globs.",
+        examples=[["panda_link5", "panda_hand"]],
+    ),
+]
+
+NamedLinkEntry = Annotated[
+    NamedLink, Field(description="A link, or a list of links.", examples=["panda_leftfinger"])
+]
+
+GraspingEntry = Annotated[
+    Grasping, Field(description="A grasp check by its method name.", examples=[_GRASP])
+]
+
+LinkStateEntry = Annotated[
+    LinkState,
+    Field(description="A property reading link poses or velocities.", examples=[_TIP_POSES]),
+]
 
 
 class Spec(StrictModel):
-    """A robot for ManiSkill, version 1."""
+    """A robot for ManiSkill, version 1: a robospec spec compiles to a registered ManiSkill
+    agent (a `BaseAgent` subclass)."""
 
-    robospec: Literal[1] = Field(description="spec format version")
+    robospec: Literal[1] = Field(description="The spec format version; always 1.", examples=[1])
     uid: Annotated[str, Field(pattern=UID_PATTERN)] = Field(
-        description="the agent uid passed to gym.make(robot_uids=...)"
+        description="The agent uid passed to gym.make(robot_uids=...).", examples=["rs_panda"]
     )
     override: bool = Field(
         default=False,
-        description="replace an agent already registered under this uid (e.g. ManiSkill's "
-        "'panda', so tasks that choose poses by uid use this robot)",
+        description="Replace an agent already registered under this uid (e.g. ManiSkill's "
+        "'panda', so tasks that choose poses by uid use this robot).",
+        examples=[True],
     )
     extends: PythonRef | None = Field(
         default=None,
-        description="a Python agent class to subclass ('module:Class'); the spec then "
-        "overrides only the data it declares",
+        description="A Python agent class to subclass ('module:Class'); the spec then "
+        "overrides only the data it declares.",
         examples=["mani_skill.agents.robots.panda.panda:Panda"],
     )
     class_name: Annotated[str, Field(pattern=CLASS_NAME_PATTERN)] | None = Field(
-        default=None, description="Python class name; default: derived from uid"
+        default=None,
+        description="The Python class name; default: derived from uid.",
+        examples=["RsPanda"],
     )
     description: Description | None = Field(
-        default=None, description="the robot description; optional only with `extends`"
+        default=None,
+        description="The robot description file; optional only with `extends`.",
+        examples=[{"urdf": "{maniskill_assets}/robots/panda/panda_v2.urdf"}],
     )
-    loader: Loader = Field(default_factory=Loader)
-    materials: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Material] = Field(
-        default_factory=dict
+    loader: Loader = Field(
+        default_factory=Loader,
+        description="How ManiSkill loads the articulation.",
+        examples=[{"fix_root_link": True, "disable_self_collisions": False}],
     )
-    links: dict[LinkPattern, LinkRule] = Field(
-        default_factory=dict, description="link rules by name or glob; each must match a link"
+    materials: dict[
+        Name,
+        MaterialEntry,
+    ] = Field(
+        default_factory=dict,
+        description="Physical materials by name, for `links` rules to use.",
+        examples=[{"gripper": _GRIPPER_MATERIAL}],
     )
-    groups: dict[Annotated[str, Field(pattern=NAME_PATTERN)], GroupSelection] = Field(
-        default_factory=dict, description="named joint selections"
+    links: dict[
+        LinkPattern,
+        LinkRuleEntry,
+    ] = Field(
+        default_factory=dict,
+        description="Link rules by link name or glob; each must match a link.",
+        examples=[{"panda_*finger": _FINGER}],
+    )
+    groups: dict[
+        Name,
+        GroupEntry,
+    ] = Field(
+        default_factory=dict,
+        description="Named joint selections, usable wherever joints are named.",
+        examples=[
+            {"arm": "panda_joint[1-7]", "gripper": ["panda_finger_joint1", "panda_finger_joint2"]}
+        ],
     )
     passive_joints: JointSelection | None = Field(
-        default=None, description="joints no control mode needs to drive"
+        default=None,
+        description="Joints no control mode needs to drive (otherwise an undriven joint is "
+        "an error).",
+        examples=[["caster_joint"]],
     )
-    keyframes: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Keyframe] = Field(
-        default_factory=dict
-    )
-    controllers: dict[Annotated[str, Field(pattern=NAME_PATTERN)], ControllerConfig] = Field(
-        default_factory=dict, description="controller configs, defined once, reused by modes"
-    )
-    control_modes: dict[Annotated[str, Field(pattern=NAME_PATTERN)], ControlMode] = Field(
+    keyframes: dict[Name, KeyframeEntry] = Field(
         default_factory=dict,
-        description="ordered; the first is the default. Required unless `extends` gives them",
+        description="Named robot states (root pose, joint positions and velocities).",
+        examples=[{"rest": _REST}],
     )
-    cameras: dict[Annotated[str, Field(pattern=NAME_PATTERN)], Camera] = Field(default_factory=dict)
-    collision_rules: list[CollisionRule] = Field(default_factory=list)
-    never_collide: list[LinkPatterns] = Field(
+    controllers: dict[
+        Name,
+        Annotated[
+            ControllerConfig,
+            Field(
+                description="A controller config; `type` says which ManiSkill controller, "
+                "`extends` builds on another controller.",
+                examples=[_ARM_POS],
+            ),
+        ],
+    ] = Field(
+        default_factory=dict,
+        description="Controller configs by name, defined once and reused by control modes.",
+        examples=[{"arm_pos": _ARM_POS}],
+    )
+    control_modes: dict[
+        Name,
+        ControlModeEntry,
+    ] = Field(
+        default_factory=dict,
+        description="Control modes by name, in order; the first is the default. Required "
+        "unless `extends` gives them.",
+        examples=[{"pd_joint_pos": {"arm": "arm_pos", "gripper": "gripper"}}],
+    )
+    cameras: dict[Name, CameraEntry] = Field(
+        default_factory=dict,
+        description="Cameras by uid, each mounted on a link.",
+        examples=[{"hand_camera": _HAND_CAMERA}],
+    )
+    collision_rules: list[CollisionRule] = Field(
         default_factory=list,
-        description="links that must never collide: each entry is a list of link names or "
+        description="Collision-group bits to set on links, e.g. so wheels ignore the ground.",
+        examples=[[{"links": ["l_wheel_link", "r_wheel_link"], "group": 2, "bit": 30}]],
+    )
+    never_collide: list[NeverCollideEntry] = Field(
+        default_factory=list,
+        description="Links that must never collide: each entry is a list of link names or "
         "globs, no two of which collide (a pair, or a clique); packed into the fewest "
-        "collision-group bits",
+        "collision-group bits.",
         examples=[[["panda_link5", "panda_hand"], "panda_*finger"]],
     )
     scene_collision_bits: list[Annotated[int, Field(ge=0, le=31)]] = Field(
         default_factory=list,
-        description="collision-group-2 bits the scenes this robot is used in set on their own "
-        "objects; never_collide leaves them free (ManiSkill's bits 29-31 are always left free)",
+        description="Collision-group-2 bits the scenes this robot is used in set on their own "
+        "objects; never_collide leaves them free (ManiSkill's bits 29-31 are always left free).",
+        examples=[[28]],
     )
     tcp: LinkOrNamed | Tcp | None = Field(
-        default=None, description="the tool centre point: a link, or a link/midpoint mapping"
+        default=None,
+        description="The tool centre point: a link, or a link/midpoint mapping.",
+        examples=["panda_hand_tcp"],
     )
-    named_links: dict[Member, NamedLink] = Field(
+    named_links: dict[
+        Member,
+        NamedLinkEntry,
+    ] = Field(
         default_factory=dict,
-        description="agent attributes bound to links after loading (e.g. finger1_link)",
+        description="Agent attributes bound to links after loading (e.g. finger1_link).",
+        examples=[{"finger1_link": "panda_leftfinger", "finger2_link": "panda_rightfinger"}],
     )
-    grasping: dict[Member, Grasping] = Field(
-        default_factory=dict, description="two-finger grasp checks by method name (is_grasping)"
+    grasping: dict[Member, GraspingEntry] = Field(
+        default_factory=dict,
+        description="Two-finger grasp checks by method name (e.g. is_grasping).",
+        examples=[{"is_grasping": _GRASP}],
     )
-    is_static: IsStatic | None = None
-    is_standing: IsStanding | None = None
-    is_fallen: IsFallen | None = None
-    link_states: dict[Member, LinkState] = Field(
-        default_factory=dict, description="properties reading link poses or velocities"
+    is_static: IsStatic | None = Field(
+        default=None,
+        description="Defines `is_static(threshold)`: the selected joints are nearly still.",
+        examples=[{"joints": "arm", "threshold": 0.2}],
+    )
+    is_standing: IsStanding | None = Field(
+        default=None,
+        description="Defines `is_standing()`: the root is in a height band (and upright).",
+        examples=[{"height": {"above": 0.5, "below": 1.0}}],
+    )
+    is_fallen: IsFallen | None = Field(
+        default=None,
+        description="Defines `is_fallen()`: the root is low, or some links touch something.",
+        examples=[{"height": {"below": 0.3}}],
+    )
+    link_states: dict[
+        Member,
+        LinkStateEntry,
+    ] = Field(
+        default_factory=dict,
+        description="Properties reading link poses or velocities, by name.",
+        examples=[{"tip_poses": _TIP_POSES}],
     )
     proprioception: list[LinkStateName] = Field(
-        default_factory=list, description="link_states added to get_proprioception, in order"
+        default_factory=list,
+        description="`link_states` entries added to get_proprioception, in order.",
+        examples=[["tip_poses"]],
     )
     disable_gravity: LinkSelection | None = Field(
-        default=None, description="links that ignore gravity (e.g. all but a quadruped's root)"
+        default=None,
+        description="Links that ignore gravity (e.g. all but a quadruped's root).",
+        examples=[{"all_but": "base_link"}],
     )
-    drives: list[Drive] = Field(default_factory=list, description="closed-loop drives")
-    hooks: Hooks = Field(default_factory=Hooks)
+    drives: list[Drive] = Field(
+        default_factory=list,
+        description="Drives that close kinematic loops between two links (e.g. a Robotiq "
+        "gripper's linkage).",
+        examples=[[{"parent": "left_outer_finger", "child": "left_inner_finger_pad"}]],
+    )
+    hooks: Hooks = Field(
+        default_factory=Hooks,
+        description="Python functions and members for what no declaration covers.",
+        examples=[{"after_init": "my_robots.hooks:after_init"}],
+    )
     checks: Checks = Field(
-        default_factory=Checks, description="thresholds of `robospec check` for this robot"
+        default_factory=Checks,
+        description="Thresholds of `robospec check` for this robot.",
+        examples=[{"keyframe_hold": {"pin_root": True}}],
     )
 
     @model_validator(mode="after")
