@@ -318,3 +318,20 @@ def test_json_format_puts_the_diagnostics_report_on_stdout(tmp_path: Path) -> No
     assert again.returncode == 1
     (diagnostic,) = json.loads(again.stdout)["diagnostics"]
     assert (diagnostic["code"], diagnostic["line"], diagnostic["column"]) == ("RS601", 1, 1)
+
+
+def test_gripper_words_must_start_a_name_part(tmp_path: Path) -> None:
+    limit = LIMIT.format(lo=-1, hi=1)
+    body = '<link name="l0"/><link name="l1"/><link name="l2"/><link name="l3"/>\n'
+    for name, parent, child in (
+        ("shoulder", "l0", "l1"),
+        ("steering", "l1", "l2"),  # "ring" inside a word: not a finger
+        ("l_gripper_joint", "l2", "l3"),
+    ):
+        body += f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
+        body += f'<child link="{child}"/>{limit}</joint>\n'
+    urdf = _robot(tmp_path / "words.urdf", "words", body)
+    out = tmp_path / "words.yaml"
+    data = scaffold(urdf, out)
+    validate(out)
+    assert data["groups"] == {"arm": ["shoulder", "steering"], "gripper": ["l_gripper_joint"]}

@@ -23,12 +23,15 @@ from dataclasses import dataclass, field
 from robospec.authoring.tree import leaves, root_path
 from robospec.description import Joint, RobotDescription
 
+# words that start a name part ("l_gripper_finger_joint", "thumb_q1"), not any substring:
+# "steering" is no ring, "multiple" no tip
 _GRIPPER_WORDS = re.compile(
-    r"finger|gripper|grip|hand|thumb|index|middle|ring|pinky|little|claw|jaw|knuckle|palm|tip",
+    r"(?<![a-z])(finger|grip|hand|thumb|index|middle|ring|pinky|little|claw|jaw|knuckle|palm"
+    r"|tip)",
     re.IGNORECASE,
 )
-_WHEEL = re.compile(r"wheel|caster", re.IGNORECASE)
-_MOBILE_ROOT = re.compile(r"base|root|odom|world|mobile", re.IGNORECASE)
+_WHEEL = re.compile(r"(?<![a-z])(wheel|caster)", re.IGNORECASE)
+_MOBILE_ROOT = re.compile(r"(?<![a-z])(base|root|odom|world|mobile)", re.IGNORECASE)
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$")
 _GENERIC = {"", "joint", "link", "j", "l", "revolute", "prismatic"}
 
