@@ -44,7 +44,8 @@ ValueByName = Annotated[
     BeforeValidator(_to_number),
     WithJsonSchema({**NUMBER_SCHEMA, "description": "The value for the joints this name selects."}),
 ]
-PerJoint = Number | list[Number] | dict[JointPattern, ValueByName]
+# the map first, as JointValues (robospec.model.spec) says why
+PerJoint = dict[JointPattern, ValueByName] | Number | list[Number]
 """One value for every joint, one per joint in order, or by joint/group name."""
 
 JointSelection = JointPattern | list[JointPattern]

@@ -16,7 +16,7 @@ from robospec.model.common import JointSelection, Number, PerJoint, StrictModel,
 from robospec.model.refs import JointName, JointPattern, LinkName
 
 DriveMode = Literal["force", "acceleration"]
-Bound = Number | list[Number] | dict[JointPattern, ValueByName] | None
+Bound = dict[JointPattern, ValueByName] | Number | list[Number] | None
 
 
 def _type(name: str, what: str) -> Any:

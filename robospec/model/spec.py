@@ -178,7 +178,9 @@ JointValue = Annotated[
         examples=[0.04, [0, "pi/8"]],
     ),
 ]
-JointValues = list[Number] | dict[JointPattern, JointValue]
+# the map first: yaml-language-server blames a failing anyOf on its first branch, and a
+# misspelled joint key should be reported as that, not as "not a list"
+JointValues = dict[JointPattern, JointValue] | list[Number]
 
 
 class Keyframe(StrictModel):
