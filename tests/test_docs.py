@@ -1,29 +1,298 @@
+"""The docs site: generated pages are current, every diagnostic code has an example that really
+produces it, the site builds with MkDocs in strict mode, and what the user guide shows (spec
+snippets, commands and their output, generated code) is what robospec really does."""
+
 from __future__ import annotations
 
+import importlib.util
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import textwrap
 from pathlib import Path
 
+import pytest
+
 from robospec.codes import CODES
-from robospec.docgen import diagnostics_markdown
+from robospec.compile import compile_spec
+from robospec.diagnostics import has_errors
+from robospec.docgen import generated_pages, stale_pages
+from robospec.docgen.code_examples import (
+    ARGUMENT_CODES,
+    RESERVED_CODES,
+    is_documented_only,
+    load_code_examples,
+)
+from robospec.docgen.code_pages import module_docs
 
 ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+EXAMPLES = DOCS / "examples"
+GUIDE_PAGES = ["index.md", "tutorial.md", "cli.md", "editors.md", "ci.md"]
+REGENERATE = "run: python -m robospec.docgen --write docs"
+
+# the passing example of RS055 still warns with RS055 until ManiSkill downloads the robot
+PASS_MAY_WARN_WITH_OWN_CODE = {"RS055"}
+
+# a fenced block, with the `<!-- ... -->` line before it if there is one: `<!-- generated:
+# FILE -->` (an excerpt of a file robospec writes) or `<!-- not a spec -->` (YAML of other tools)
+FENCE = re.compile(
+    r"^(?:<!-- (?P<marker>[^>]*) -->\n)?( *)```(?P<lang>\w*)\n(?P<body>.*?)^\2```$", re.M | re.S
+)
+NOT_A_SPEC = "not a spec"
 
 
-def test_the_diagnostics_reference_is_generated_from_the_code() -> None:
-    committed = (ROOT / "docs/diagnostics.md").read_text(encoding="utf-8")
-    assert committed == diagnostics_markdown(), (
-        "run: python -m robospec.docgen > docs/diagnostics.md"
-    )
+def fenced_blocks(page: str, language: str) -> list[tuple[str, str | None]]:
+    """(body, the marker before it) of each block of ``language`` on ``page``."""
+    text = (DOCS / page).read_text(encoding="utf-8")
+    return [(m["body"], m["marker"]) for m in FENCE.finditer(text) if m["lang"] == language]
 
 
-def test_every_code_is_documented_and_codes_are_well_formed() -> None:
-    text = (ROOT / "docs/diagnostics.md").read_text(encoding="utf-8")
+# -- generated pages
+
+
+def test_generated_pages_equal_the_generator_output() -> None:
+    pages = generated_pages(DOCS)
+    assert stale_pages(DOCS, pages) == [], REGENERATE
+
+
+def test_the_diagnostics_table_links_a_page_for_every_code() -> None:
+    table = (DOCS / "diagnostics.md").read_text(encoding="utf-8")
     for code in CODES:
-        assert f"| {code} |" in text
+        assert f"| [{code}](codes/{code}.md) |" in table
+        assert (DOCS / "codes" / f"{code}.md").is_file(), REGENERATE
         assert len(code) == 5 and code.startswith("RS") and code[2:].isdigit()
 
 
+def test_generated_pages_name_no_path_of_this_machine() -> None:
+    for name, text in generated_pages(DOCS).items():
+        assert str(ROOT) not in text, name
+        assert str(Path.home()) not in text, name
+
+
+def test_the_field_reference_has_every_field_of_the_schema() -> None:
+    from robospec.schema import spec_schema
+
+    reference = (DOCS / "reference.md").read_text(encoding="utf-8")
+    schema = spec_schema()
+    for name, model in [("Top level", schema), *schema["$defs"].items()]:
+        section = reference.split(f"\n## {name}\n", 1)[1].split("\n## ", 1)[0]
+        for field in model.get("properties", {}):
+            assert f"| `{field}` |" in section, (name, field)
+
+
+# -- one page per code, from examples that really produce the code
+
+
+@pytest.mark.parametrize("code", list(CODES))
+def test_each_code_has_a_failing_and_a_passing_example_or_a_documented_one(code: str) -> None:
+    examples = load_code_examples(DOCS, code)
+    if examples.failing is None and examples.passing is None:
+        assert is_documented_only(code), (
+            f"{code} has no example: add docs/examples/codes/{code}/fail.yaml and pass.yaml"
+        )
+        documented = (examples.about or "") + module_docs().get(code, "")
+        assert documented.strip(), f"{code} needs docs/examples/codes/{code}/about.md"
+        if code not in RESERVED_CODES and code not in module_docs():
+            assert "```" in documented, f"{code}'s about.md needs an example"
+        return
+    assert examples.failing is not None, f"{code} has a passing example but no failing one"
+    assert examples.passing is not None, f"{code} has a failing example but no passing one"
+    failing = examples.failing
+    assert failing.codes == {code}, [d.format_text() for d in failing.diagnostics]
+    passing = examples.passing
+    assert not passing.error_codes, [d.format_text() for d in passing.diagnostics]
+    if code in PASS_MAY_WARN_WITH_OWN_CODE:
+        assert code not in passing.error_codes
+    else:
+        assert code not in passing.codes, [d.format_text() for d in passing.diagnostics]
+
+
+def _reporting_sources() -> list[Path]:
+    """robospec's modules, less the code table and the docs generator (which name every code)."""
+    return [
+        p
+        for p in (ROOT / "robospec").rglob("*.py")
+        if p.name != "codes.py" and "docgen" not in p.parts
+    ]
+
+
+@pytest.mark.parametrize("code", sorted(RESERVED_CODES))
+def test_a_reserved_code_is_reported_nowhere(code: str) -> None:
+    for source in _reporting_sources():
+        assert f'"{code}"' not in source.read_text(encoding="utf-8"), source
+
+
+@pytest.mark.parametrize("code", sorted(ARGUMENT_CODES))
+def test_an_argument_code_is_reported_somewhere(code: str) -> None:
+    assert any(f'"{code}"' in p.read_text(encoding="utf-8") for p in _reporting_sources())
+
+
+def test_every_example_folder_belongs_to_a_code() -> None:
+    for folder in (EXAMPLES / "codes").iterdir():
+        assert folder.name in CODES, folder
+
+
+def test_a_code_page_shows_the_real_report_of_its_examples() -> None:
+    page = (DOCS / "codes" / "RS201.md").read_text(encoding="utf-8")
+    assert "fail.yaml:6:51: error[RS201] unknown joint 'panda_joint77'" in page
+    assert "hint: did you mean 'panda_joint7'?" in page
+    assert "`robospec validate pass.yaml` reports nothing." in page
+
+
+# -- the site builds in strict mode
+
+
+def _mkdocs(config: Path, site: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(config), "-d", str(site)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+needs_mkdocs = pytest.mark.skipif(
+    importlib.util.find_spec("mkdocs") is None, reason="mkdocs is in the dev extra"
+)
+
+
+@needs_mkdocs
+def test_the_site_builds_in_strict_mode(tmp_path: Path) -> None:
+    result = _mkdocs(ROOT / "mkdocs.yml", tmp_path / "site")
+    assert result.returncode == 0, result.stderr
+    assert (tmp_path / "site" / "tutorial" / "index.html").is_file()
+    assert (tmp_path / "site" / "codes" / "RS201" / "index.html").is_file()
+
+
+def _site_copy(tmp_path: Path) -> Path:
+    shutil.copytree(DOCS, tmp_path / "docs")
+    shutil.copy(ROOT / "mkdocs.yml", tmp_path / "mkdocs.yml")
+    return tmp_path / "mkdocs.yml"
+
+
+@needs_mkdocs
+def test_strict_mode_fails_on_a_broken_link(tmp_path: Path) -> None:
+    config = _site_copy(tmp_path)
+    page = tmp_path / "docs" / "cli.md"
+    page.write_text(page.read_text() + "\n[gone](no-such-page.md)\n", encoding="utf-8")
+    result = _mkdocs(config, tmp_path / "site")
+    assert result.returncode != 0 and "no-such-page.md" in result.stderr
+
+
+@needs_mkdocs
+def test_strict_mode_fails_on_a_page_missing_from_the_nav(tmp_path: Path) -> None:
+    config = _site_copy(tmp_path)
+    (tmp_path / "docs" / "orphan.md").write_text("# Orphan\n", encoding="utf-8")
+    result = _mkdocs(config, tmp_path / "site")
+    assert result.returncode != 0 and "orphan.md" in result.stderr
+
+
+# -- the user guide shows what robospec really does
+
+
+def _example_specs() -> list[Path]:
+    return sorted(p for p in (EXAMPLES / "tutorial").iterdir() if p.suffix in (".yaml", ".toml"))
+
+
+@pytest.mark.parametrize("spec", _example_specs(), ids=lambda p: p.name)
+def test_every_tutorial_example_validates(spec: Path) -> None:
+    result = compile_spec(spec)
+    assert not has_errors(result.diagnostics), [d.format_text() for d in result.diagnostics]
+
+
+@pytest.mark.parametrize("page", GUIDE_PAGES)
+def test_every_yaml_snippet_of_the_guide_is_part_of_an_example_that_validates(page: str) -> None:
+    sources = {p: p.read_text(encoding="utf-8") for p in _example_specs()}
+    sources |= {p: p.read_text(encoding="utf-8") for p in (ROOT / "specs").rglob("*.yaml")}
+    for body, marker in fenced_blocks(page, "yaml"):
+        if marker == NOT_A_SPEC:
+            continue
+        lines = body.splitlines(keepends=True)
+        found = [p for p, text in sources.items() if _contains_lines(text, lines)]
+        assert found, f"{page}: this snippet is in no example spec:\n{body}"
+        if "robospec: 1" in body and body.startswith("# yaml-language-server"):
+            assert any(sources[p] == body for p in found), f"{page}: a whole spec must equal one"
+        assert any(not has_errors(compile_spec(p).diagnostics) for p in found), found
+
+
+def _contains_lines(text: str, lines: list[str]) -> bool:
+    """Whether ``lines`` occur in ``text`` as whole, consecutive lines."""
+    all_lines = text.splitlines(keepends=True)
+    size = len(lines)
+    return any(all_lines[i : i + size] == lines for i in range(len(all_lines) - size + 1))
+
+
+def _console_commands(page: str) -> list[tuple[str, str]]:
+    """(command, expected output) for each `$ robospec ...` line of the page's console blocks."""
+    found = []
+    for body, _ in fenced_blocks(page, "console"):
+        for chunk in re.split(r"^\$ ", body, flags=re.M)[1:]:
+            command, _, output = chunk.partition("\n")
+            found.append((command, output))
+    return found
+
+
+def _run_console(command: str, cwd: Path) -> str:
+    args = shlex.split(command)
+    assert args[0] == "robospec", command
+    env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "100"}
+    env["MS_ASSET_DIR"] = str(cwd / "no-maniskill-downloads")  # the same on every machine
+    env.pop("FORCE_COLOR", None)
+    result = subprocess.run(
+        [sys.executable, "-m", "robospec.cli", *args[1:]],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        timeout=300,
+        env=env,
+    )
+    return "\n".join(line for line in result.stdout.splitlines() if not _is_sapien_noise(line))
+
+
+def _is_sapien_noise(line: str) -> bool:
+    """SAPIEN's import-time complaints about Vulkan on a machine without a GPU."""
+    return "vulkan" in line.lower() or line.strip().startswith("warn(")
+
+
+def _workdir(tmp_path: Path) -> Path:
+    """A folder holding docs/examples as the commands name them, for commands that write."""
+    shutil.copytree(EXAMPLES, tmp_path / "docs" / "examples")
+    return tmp_path
+
+
+def _has_maniskill() -> bool:
+    return importlib.util.find_spec("mani_skill") is not None
+
+
+@pytest.mark.parametrize("page", GUIDE_PAGES)
+def test_every_command_of_the_guide_prints_what_the_guide_shows(page: str, tmp_path: Path) -> None:
+    cwd = _workdir(tmp_path)
+    for command, expected in _console_commands(page):
+        if command.startswith("robospec check") and not _has_maniskill():
+            continue  # needs the maniskill extra
+        assert _run_console(command, cwd) == expected.rstrip("\n"), command
+
+
+def test_generated_code_shown_in_the_tutorial_is_what_build_writes(tmp_path: Path) -> None:
+    cwd = _workdir(tmp_path)
+    blocks = [
+        (body, marker.removeprefix("generated: "))
+        for body, marker in fenced_blocks("tutorial.md", "python")
+        if marker and marker.startswith("generated: ")
+    ]
+    assert blocks
+    _run_console("robospec build docs/examples/tutorial/my_panda.yaml -o my_robots", cwd)
+    for body, file in blocks:
+        assert body in (cwd / file).read_text(encoding="utf-8"), textwrap.shorten(body, 80)
+
+
 def test_every_example_spec_carries_the_schema_modeline() -> None:
-    for spec in (ROOT / "specs").rglob("*"):
+    for spec in [*(ROOT / "specs").rglob("*"), *_example_specs()]:
         if spec.suffix in (".yaml", ".yml"):
             assert spec.read_text().startswith("# yaml-language-server: $schema="), spec
         elif spec.suffix == ".toml":
