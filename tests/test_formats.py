@@ -20,7 +20,9 @@ from cli_process import robospec
 from jsonschema import Draft202012Validator, FormatChecker
 
 from robospec.codes import CODES
-from robospec.diagnostics import Location, error
+from robospec.compile import compile_all
+from robospec.diagnostics import Location, error, sort_key
+from robospec.reporting import render
 from robospec.reporting.github import annotation
 from robospec.reporting.sarif import sarif_log
 from robospec.reporting.source import span_width
@@ -63,6 +65,20 @@ def test_text_shows_the_source_line_and_underlines_the_misspelled_joint() -> Non
     assert carets.strip(" |") == "^" * len("panda_joint77")
     assert hint == "    hint: did you mean 'panda_joint7'?"
     assert summary == "1 file(s) checked: 1 error(s), 0 warning(s)"
+
+
+def test_text_first_lines_are_exactly_the_diagnostics_one_line_form() -> None:
+    # the one-line form (Diagnostic.format_text, SpecError, other reports) and the excerpt
+    # renderer must not drift apart: tools grep these lines
+    compiled, diagnostics = compile_all([NEGATIVE])
+    for item in compiled:
+        diagnostics.extend(item.diagnostics)
+    text = render(diagnostics, len(compiled), "text")
+    headers = [
+        line for line in text.splitlines() if re.match(r"\S+:\d+:\d+: (error|warning)\[", line)
+    ]
+    assert headers == [d.format_text().splitlines()[0] for d in sorted(diagnostics, key=sort_key)]
+    assert len(headers) > 30
 
 
 def test_text_underlines_a_key_and_a_quoted_value() -> None:
