@@ -339,9 +339,11 @@ def test_sarif_rules_link_to_their_docs_when_the_project_has_urls() -> None:
     assert sarif_errors(document) == []
     driver = document["runs"][0]["tool"]["driver"]
     assert driver["informationUri"] == "https://example.org/robospec"
+    for rule in driver["rules"]:  # the pages the URIs name exist
+        assert (ROOT / "docs/codes" / f"{rule['id']}.md").is_file()
     assert [r["helpUri"] for r in driver["rules"]] == [
-        "https://example.org/docs/diagnostics.md#rs101",
-        "https://example.org/docs/diagnostics.md#rs201",
+        "https://example.org/docs/codes/RS101.md",
+        "https://example.org/docs/codes/RS201.md",
     ]
 
 

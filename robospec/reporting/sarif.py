@@ -43,8 +43,8 @@ def rule(code: str, docs_url: str | None) -> dict[str, object]:
     known = CODES.get(code)
     if known is not None:
         entry["shortDescription"] = {"text": known.title}
-    if docs_url:
-        entry["helpUri"] = f"{docs_url.rstrip('/')}/diagnostics.md#{code.lower()}"
+    if docs_url:  # each code has its page, docs/codes/RSxxx.md
+        entry["helpUri"] = f"{docs_url.rstrip('/')}/codes/{code}.md"
     return entry
 
 
@@ -81,8 +81,12 @@ def result(d: Diagnostic, rule_index: int, root: Path) -> dict[str, object]:
 def sarif_log(
     diagnostics: Sequence[Diagnostic], root: Path, urls: dict[str, str] | None = None
 ) -> dict[str, object]:
-    """The SARIF log of ``diagnostics`` (relative paths in them are relative to ``root``);
-    ``urls`` (default: the package metadata) gives informationUri and the rules' helpUri."""
+    """The SARIF log of ``diagnostics`` (relative paths in them are relative to ``root``).
+
+    ``urls`` (default: the package's ``[project.urls]``) gives the driver's informationUri
+    (``homepage``) and each rule's helpUri under ``documentation``, the URL at which the docs/
+    folder is browsable as Markdown (a repository's docs/ folder); without them both are left
+    out, which SARIF allows."""
     urls = project_urls() if urls is None else urls
     codes = sorted({d.code for d in diagnostics})
     index = {code: i for i, code in enumerate(codes)}
