@@ -297,3 +297,31 @@ def test_every_example_spec_carries_the_schema_modeline() -> None:
             assert spec.read_text().startswith("# yaml-language-server: $schema="), spec
         elif spec.suffix == ".toml":
             assert spec.read_text().startswith("#:schema "), spec
+
+
+def test_reference_values_read_back_as_the_schema_holds_them() -> None:
+    """Defaults and examples are shown as YAML flow text; reading that text back as YAML must
+    give the schema's value, or the reference would show a spec something else."""
+    from ruamel.yaml import YAML
+
+    from robospec.docgen.reference_page import yaml_flow
+    from robospec.schema import spec_schema
+
+    values: list[object] = []
+
+    def collect(node: object) -> None:
+        if isinstance(node, dict):
+            values.extend(node.get("examples", []))
+            if "default" in node:
+                values.append(node["default"])
+            for child in node.values():
+                collect(child)
+        elif isinstance(node, list):
+            for child in node:
+                collect(child)
+
+    collect(spec_schema())
+    assert len(values) > 50
+    reader = YAML(typ="safe", pure=True)
+    for value in values:
+        assert reader.load(yaml_flow(value)) == value, yaml_flow(value)

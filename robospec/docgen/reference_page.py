@@ -30,7 +30,8 @@ def reference_markdown() -> str:
         "Unknown keys are errors everywhere (RS101). A *name* is a key you choose:",
         "letters, digits, `_`, `.` and `-`, at most 64 characters. A *joint selection* is a",
         "joint name, a glob over the active joints (`panda_joint[1-7]`) or a group's name; a",
-        "*link pattern* is a link name or a glob over link names.",
+        "*link pattern* is a link name or a glob over link names. Defaults and examples are",
+        "written as a YAML spec would write them.",
         "",
     ]
     for name in _model_order(schema, defs):
@@ -90,10 +91,53 @@ def _model_section(name: str, model: Schema) -> list[str]:
     return lines
 
 
+# a model's default longer than this reads better as "the defaults of its fields"
+LONG_DEFAULT = 40
+
+
 def _default(spec: Schema) -> str:
     if "default" not in spec:
         return ""
-    return f"`{json.dumps(spec['default'], ensure_ascii=False)}`"
+    text = yaml_flow(spec["default"])
+    if len(text) > LONG_DEFAULT and "$ref" in spec:
+        return "its fields' defaults"
+    return f"`{text}`"
+
+
+# characters that make a plain YAML scalar mean something else, or not parse
+_YAML_SPECIAL = set(":{}[],#&*!|>'\"%@`")
+
+
+def yaml_flow(value: Any) -> str:
+    """``value`` as YAML flow style, as a spec would write it: ``{p: [0, 0, 0.5]}``."""
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        plain = (
+            value
+            and not (_YAML_SPECIAL & set(value))
+            and value == value.strip()
+            and value.lower() not in ("null", "true", "false", "yes", "no", "~")
+            and not _looks_numeric(value)
+        )
+        return value if plain else json.dumps(value, ensure_ascii=False)
+    if isinstance(value, list):
+        return "[" + ", ".join(yaml_flow(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{yaml_flow(k)}: {yaml_flow(v)}" for k, v in value.items()) + "}"
+    return json.dumps(value)
+
+
+def _looks_numeric(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return text.startswith(("-", "+", "."))
+    return True
 
 
 def _describe(spec: Schema) -> str:
@@ -103,7 +147,7 @@ def _describe(spec: Schema) -> str:
         parts.append(text if text.endswith(".") else text + ".")
     examples = spec.get("examples") or _nested_examples(spec)
     if examples:
-        shown = ", ".join(f"`{json.dumps(e, ensure_ascii=False)}`" for e in examples)
+        shown = ", ".join(f"`{yaml_flow(e)}`" for e in examples)
         parts.append(f"*Example:* {shown}")
     return " ".join(parts)
 
@@ -122,9 +166,9 @@ def type_text(spec: Schema) -> str:
         name = spec["$ref"].rsplit("/", 1)[-1]
         return f"[{name}](#{name.lower()})"
     if "const" in spec:
-        return f"`{json.dumps(spec['const'])}`"
+        return f"`{yaml_flow(spec['const'])}`"
     if "enum" in spec:
-        return "one of " + ", ".join(f"`{v}`" for v in spec["enum"])
+        return "one of " + ", ".join(f"`{yaml_flow(v)}`" for v in spec["enum"])
     if "then" in spec and "else" in spec:  # e.g. a controller: `extends` or a typed config
         return f"{type_text(spec['then'])} or {type_text(spec['else'])}"
     branches = spec.get("oneOf") or spec.get("anyOf")
