@@ -11,6 +11,7 @@ editors complete keys too) and ``additionalProperties: false``.
 from __future__ import annotations
 
 import copy
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -19,6 +20,7 @@ from robospec.model.refs import GLOB_KINDS, REF_KEY
 
 # the resolver's test for a glob (robospec.resolve._GLOB), as a JSON Schema pattern
 GLOB_PATTERN = r"[*?\[]"
+KEYS_KEY = "x-robospec-keys"
 NARROWED_ID = "https://robospec.dev/schemas/robots/{uid}.schema.json"
 
 
@@ -61,6 +63,7 @@ def robot_names(compiled: Any) -> RobotNames:
 def narrow_schema(schema: dict[str, Any], robot: RobotNames) -> dict[str, Any]:
     """A copy of ``schema`` with every marked place limited to ``robot``'s names."""
     narrowed = _narrow(copy.deepcopy(schema), robot)
+    _ExampleFilter(narrowed, robot).apply(narrowed)
     for kind in robot.by_kind:
         names = robot.names(kind)
         # an empty enum is not allowed; nothing is the right answer for "no names"
@@ -124,6 +127,83 @@ def _name_schema(node: dict[str, Any], robot: RobotNames) -> dict[str, Any]:
     return {**kept, **exact}
 
 
+class _ExampleFilter:
+    """The generic schema's examples name the Panda's joints and links; an editor offering
+    them for another robot would suggest errors. Wherever a schema can hold names, keep only
+    the string examples that are this robot's names (or globs where globs are allowed), else
+    its first name where the place is one name; drop structured examples there, which would
+    need a validator to check."""
+
+    def __init__(self, schema: dict[str, Any], robot: RobotNames) -> None:
+        self.defs: dict[str, Any] = schema.get("$defs", {})
+        self.robot = robot
+        self._def_kinds: dict[str, frozenset[str]] = {}
+
+    def apply(self, node: Any) -> None:
+        if isinstance(node, list):
+            for item in node:
+                self.apply(item)
+            return
+        if not isinstance(node, dict):
+            return
+        if "examples" in node:
+            kinds = self.kinds(node)
+            if kinds:
+                own = self.own_examples(node["examples"], kinds)
+                if not own and self.names_directly(node):
+                    own = [n for kind in sorted(kinds) for n in self.robot.names(kind)][:1]
+                node["examples"] = own
+                if not node["examples"]:
+                    del node["examples"]
+        for key, value in node.items():
+            if key != "examples":
+                self.apply(value)
+
+    def kinds(self, node: Any) -> frozenset[str]:
+        """The kinds of names anywhere under ``node``, following references."""
+        if isinstance(node, list):
+            return frozenset().union(*(self.kinds(item) for item in node))
+        if not isinstance(node, dict):
+            return frozenset()
+        found: set[str] = {node[KEYS_KEY]} if KEYS_KEY in node else set()
+        ref = node.get("$ref")
+        if isinstance(ref, str) and ref.startswith("#/$defs/"):
+            found |= self.def_kinds(ref[len("#/$defs/") :])
+        for key, value in node.items():
+            if key not in ("examples", "default"):
+                found |= self.kinds(value)
+        return frozenset(found)
+
+    def def_kinds(self, name: str) -> frozenset[str]:
+        for kind in self.robot.by_kind:
+            if name == names_def(kind):
+                return frozenset({kind})
+        if name not in self._def_kinds:
+            self._def_kinds[name] = frozenset()  # a recursive model stops here
+            self._def_kinds[name] = self.kinds(self.defs.get(name, {}))
+        return self._def_kinds[name]
+
+    def own_examples(self, examples: list[Any], kinds: frozenset[str]) -> list[Any]:
+        names = [n for kind in sorted(kinds) for n in self.robot.names(kind)]
+        globs = bool(kinds & GLOB_KINDS)
+        own = [
+            e
+            for e in examples
+            if isinstance(e, str) and (e in names or (globs and re.search(GLOB_PATTERN, e)))
+        ]
+        return own
+
+    @staticmethod
+    def names_directly(node: dict[str, Any]) -> bool:
+        """Whether ``node`` itself is one name (maybe or a glob, or null), not a structure."""
+        alternatives = [node, *node.get("anyOf", [])]
+        refs = [a.get("$ref", "") for a in alternatives]
+        return any(r.startswith("#/$defs/robot-") for r in refs) and all(
+            r.startswith("#/$defs/robot-") or a.get("type") in ("string", "null")
+            for a, r in zip(alternatives[1:], refs[1:], strict=True)
+        )
+
+
 def _keyed_object(node: dict[str, Any], kind: str, robot: RobotNames) -> dict[str, Any]:
     """A dictionary keyed by names: one property per name, globs by pattern, nothing else."""
     value = node.get("additionalProperties", {})
@@ -132,4 +212,5 @@ def _keyed_object(node: dict[str, Any], kind: str, robot: RobotNames) -> dict[st
     if kind in GLOB_KINDS:
         out["patternProperties"] = {GLOB_PATTERN: copy.deepcopy(value)}
     out["additionalProperties"] = False
+    out[KEYS_KEY] = kind  # an annotation: which names the keys are (read by _ExampleFilter)
     return out

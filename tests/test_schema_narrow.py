@@ -189,3 +189,42 @@ def test_schema_for_a_folder_is_a_usage_error() -> None:
     result = robospec("schema", "--for", "specs")
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
+
+
+def name_places(node: Any) -> list[dict[str, Any]]:
+    """Every narrowed place: a schema referring to one of the robot's name lists."""
+    if isinstance(node, list):
+        return [p for item in node for p in name_places(item)]
+    if not isinstance(node, dict):
+        return []
+    refs = [node.get("$ref", "")] + [alt.get("$ref", "") for alt in node.get("anyOf", [])]
+    own = [node] if any(r.startswith("#/$defs/robot-") for r in refs) else []
+    return own + [p for value in node.values() for p in name_places(value)]
+
+
+def with_examples(node: Any) -> list[dict[str, Any]]:
+    if isinstance(node, list):
+        return [p for item in node for p in with_examples(item)]
+    if not isinstance(node, dict):
+        return []
+    own = [node] if "examples" in node else []
+    return own + [
+        p for key, value in node.items() if key != "examples" for p in with_examples(value)
+    ]
+
+
+@pytest.mark.parametrize("spec", ["fetch.yaml", "humanoid.yaml"])
+def test_every_example_in_a_narrowed_schema_is_valid_for_that_robot(spec: str) -> None:
+    # the generic schema's examples are Panda names; fetch and the humanoid have none of them
+    schema = narrowed(ROOT / "specs/maniskill" / spec)
+    assert len(name_places(schema)) > 20
+    problems = []
+    for place in with_examples(schema):
+        validator = jsonschema.Draft202012Validator({**place, "$defs": schema["$defs"]})
+        problems += [
+            (place.get("title"), e) for e in place["examples"] if not validator.is_valid(e)
+        ]
+    assert not problems
+    # the places that name a link still offer one as an example
+    mount = schema["$defs"]["Camera"]["properties"]["mount"]
+    assert mount["examples"][0] in schema["$defs"]["robot-link"]["enum"]
