@@ -23,6 +23,7 @@ from pathlib import Path
 
 from robospec.compile import compile_spec
 from robospec.diagnostics import Diagnostic, Location
+from robospec.reporting import render
 
 EXAMPLES_FOLDER = Path("examples") / "codes"
 ABOUT_FILE = "about.md"
@@ -47,10 +48,12 @@ def is_documented_only(code: str) -> bool:
 
 @dataclass(frozen=True)
 class RunExample:
-    """One example spec and what robospec reports for it."""
+    """One example spec and what robospec reports for it: the diagnostics, and the text
+    ``robospec validate`` prints for them in the example's folder."""
 
     path: Path
     diagnostics: tuple[Diagnostic, ...]
+    report: str
 
     @property
     def text(self) -> str:
@@ -105,7 +108,9 @@ def _spec_named(files: list[Path], stem: str) -> Path | None:
 
 
 def run_example(path: Path) -> RunExample:
-    """Compile ``path`` as ``robospec validate`` does, naming files relative to its folder.
+    """Compile ``path`` as ``robospec validate`` does and render its text report, naming files
+    relative to the example's folder (as if run there), so pages read the same wherever they
+    are generated.
 
     ManiSkill's download folder is pointed at a folder that does not exist meanwhile, so an
     example of a robot that is not downloaded reads the same on a machine that has it.
@@ -113,24 +118,31 @@ def run_example(path: Path) -> RunExample:
     saved = os.environ.get(ASSET_DIR_VARIABLE)
     os.environ[ASSET_DIR_VARIABLE] = str(path.parent / NO_DOWNLOADS)
     try:
-        result = compile_spec(path, display=path.name)
+        # the full path, so the report can quote the source lines it points at
+        result = compile_spec(path, display=str(path))
     finally:
         if saved is None:
             del os.environ[ASSET_DIR_VARIABLE]
         else:
             os.environ[ASSET_DIR_VARIABLE] = saved
     folders = (str(path.parent.resolve()) + os.sep, str(path.parent) + os.sep)
-    return RunExample(path, tuple(_relative(d, folders) for d in result.diagnostics))
+    report = _strip(render(result.diagnostics, 1, "text"), folders)
+    diagnostics = tuple(_relative(d, folders) for d in result.diagnostics)
+    return RunExample(path, diagnostics, report)
+
+
+def _strip(text: str, folders: tuple[str, ...]) -> str:
+    for folder in folders:
+        text = text.replace(folder, "")
+    return text
 
 
 def _relative(diagnostic: Diagnostic, folders: tuple[str, ...]) -> Diagnostic:
     """Files named by their absolute path (or from the working folder) are named relative to
-    the example's folder, so the pages are the same wherever they are generated."""
+    the example's folder."""
 
     def strip(text: str) -> str:
-        for folder in folders:
-            text = text.replace(folder, "")
-        return text
+        return _strip(text, folders)
 
     location = diagnostic.location
     return Diagnostic(

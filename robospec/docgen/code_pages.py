@@ -151,11 +151,9 @@ def _example(example: RunExample, support: tuple[Path, ...], shown: set[Path]) -
             shown.add(path)
             lines += [f"`{path.name}`:", ""]
             lines += _fenced(path.read_text(encoding="utf-8"), LANGUAGES.get(path.suffix, "text"))
-    if example.diagnostics:
-        lines += [f"`robospec validate {name}` reports:", ""]
-        lines += _fenced("\n".join(d.format_text() for d in example.diagnostics), "text")
-    else:
-        lines += [f"`robospec validate {name}` reports nothing.", ""]
+    folder = f"docs/examples/codes/{example.path.parent.name}/"
+    lines += [f"In `{folder}`, robospec prints:", ""]
+    lines += _fenced(f"$ robospec validate {name}\n{example.report}", "console")
     return lines
 
 
