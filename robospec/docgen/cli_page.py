@@ -9,7 +9,15 @@ from typer.testing import CliRunner
 from robospec.cli import app
 
 # a fixed terminal, so the text does not depend on who generates it
-HELP_ENV = {"COLUMNS": "100", "NO_COLOR": "1", "TERM": "dumb"}
+# (None unsets a variable of the caller's environment that would force colour or a width)
+HELP_ENV: dict[str, str | None] = {
+    "COLUMNS": "100",
+    "LINES": "50",
+    "NO_COLOR": "1",
+    "TERM": "dumb",
+    "FORCE_COLOR": None,
+    "TTY_COMPATIBLE": None,
+}
 
 
 def command_names() -> list[str]:
