@@ -171,6 +171,10 @@ def type_text(spec: Schema) -> str:
         return "one of " + ", ".join(f"`{yaml_flow(v)}`" for v in spec["enum"])
     if "then" in spec and "else" in spec:  # e.g. a controller: `extends` or a typed config
         return f"{type_text(spec['then'])} or {type_text(spec['else'])}"
+    conditional = spec.get("allOf", [])
+    if conditional and all(isinstance(b, dict) and "then" in b for b in conditional):
+        # one `if <discriminator> then <model>` per case, as schema.py writes tagged unions
+        return " or ".join(type_text(branch["then"]) for branch in conditional)
     branches = spec.get("oneOf") or spec.get("anyOf")
     if branches:
         parts: list[str] = []
