@@ -165,12 +165,6 @@ def _mkdocs(config: Path, site: Path) -> subprocess.CompletedProcess[str]:
     )
 
 
-needs_mkdocs = pytest.mark.skipif(
-    importlib.util.find_spec("mkdocs") is None, reason="mkdocs is in the dev extra"
-)
-
-
-@needs_mkdocs
 def test_the_site_builds_in_strict_mode(tmp_path: Path) -> None:
     result = _mkdocs(ROOT / "mkdocs.yml", tmp_path / "site")
     assert result.returncode == 0, result.stderr
@@ -184,7 +178,6 @@ def _site_copy(tmp_path: Path) -> Path:
     return tmp_path / "mkdocs.yml"
 
 
-@needs_mkdocs
 def test_strict_mode_fails_on_a_broken_link(tmp_path: Path) -> None:
     config = _site_copy(tmp_path)
     page = tmp_path / "docs" / "cli.md"
@@ -193,7 +186,6 @@ def test_strict_mode_fails_on_a_broken_link(tmp_path: Path) -> None:
     assert result.returncode != 0 and "no-such-page.md" in result.stderr
 
 
-@needs_mkdocs
 def test_strict_mode_fails_on_a_page_missing_from_the_nav(tmp_path: Path) -> None:
     config = _site_copy(tmp_path)
     (tmp_path / "docs" / "orphan.md").write_text("# Orphan\n", encoding="utf-8")
