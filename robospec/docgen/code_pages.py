@@ -86,7 +86,10 @@ def _why_not_run(code: str) -> str:
     if code.startswith("RS4"):
         return "`robospec import` reads a Python agent class, which imports ManiSkill (seconds)."
     if code.startswith("RS5"):
-        return "`robospec check` runs SAPIEN physics (seconds per robot); `tests/` runs them."
+        return (
+            "`robospec check` runs SAPIEN physics (seconds per robot); "
+            "`tests/test_physics_checks.py` runs a passing and a failing robot for each check."
+        )
     return "no spec triggers it on purpose."
 
 
