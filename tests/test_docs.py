@@ -207,18 +207,23 @@ def test_every_tutorial_example_validates(spec: Path) -> None:
 
 
 @pytest.mark.parametrize("page", GUIDE_PAGES)
-def test_every_yaml_snippet_of_the_guide_is_part_of_an_example_that_validates(page: str) -> None:
-    sources = {p: p.read_text(encoding="utf-8") for p in _example_specs()}
-    sources |= {p: p.read_text(encoding="utf-8") for p in (ROOT / "specs").rglob("*.yaml")}
-    for body, marker in fenced_blocks(page, "yaml"):
-        if marker == NOT_A_SPEC:
-            continue
-        lines = body.splitlines(keepends=True)
-        found = [p for p, text in sources.items() if _contains_lines(text, lines)]
-        assert found, f"{page}: this snippet is in no example spec:\n{body}"
-        if "robospec: 1" in body and body.startswith("# yaml-language-server"):
-            assert any(sources[p] == body for p in found), f"{page}: a whole spec must equal one"
-        assert any(not has_errors(compile_spec(p).diagnostics) for p in found), found
+def test_every_spec_snippet_of_the_guide_is_part_of_an_example_that_validates(page: str) -> None:
+    specs = [
+        *_example_specs(),
+        *(ROOT / "specs").rglob("*.yaml"),
+        *(ROOT / "specs").rglob("*.toml"),
+    ]
+    sources = {p: p.read_text(encoding="utf-8") for p in specs}
+    for language, suffix in (("yaml", ".yaml"), ("toml", ".toml")):
+        for body, marker in fenced_blocks(page, language):
+            if marker == NOT_A_SPEC:
+                continue
+            lines = body.splitlines(keepends=True)
+            found = [p for p in specs if p.suffix == suffix and _contains_lines(sources[p], lines)]
+            assert found, f"{page}: this snippet is in no example spec:\n{body}"
+            if "robospec: 1" in body and body.startswith("# yaml-language-server"):
+                assert any(sources[p] == body for p in found), f"{page}: a whole spec must be one"
+            assert any(not has_errors(compile_spec(p).diagnostics) for p in found), found
 
 
 def _contains_lines(text: str, lines: list[str]) -> bool:
