@@ -55,8 +55,8 @@ def schema_text(schema: dict[str, Any] | None = None) -> str:
 
 def _allow_controller_extends(schema: dict[str, Any]) -> None:
     """A controller with ``extends`` is a partial config of any type: validate it against
-    :data:`CONTROLLER_EXTENSION` (every controller field, none required) instead of the
-    discriminated union of complete configs."""
+    :data:`CONTROLLER_EXTENSION` (every controller field, none required); any other controller
+    against the config its ``type`` names."""
     controllers = schema["properties"]["controllers"]
     (pattern, union), *_ = controllers["patternProperties"].items()
     members = [_ref_target(schema, member["$ref"]) for member in union["oneOf"]]
@@ -65,7 +65,38 @@ def _allow_controller_extends(schema: dict[str, Any]) -> None:
         "description": union.get("description", ""),
         "if": {"type": "object", "required": ["extends"]},
         "then": {"$ref": f"#/$defs/{CONTROLLER_EXTENSION}"},
-        "else": {key: value for key, value in union.items() if key != "description"},
+        # in the models' order (pydantic's discriminator mapping is sorted by name)
+        "else": _dispatch_on_type(
+            {
+                member["properties"]["type"]["const"]: ref["$ref"]
+                for member, ref in zip(members, union["oneOf"], strict=True)
+            }
+        ),
+    }
+
+
+def _dispatch_on_type(mapping: dict[str, str]) -> dict[str, Any]:
+    """``if type is X then X's config`` for each type, instead of pydantic's ``oneOf``: a
+    validator then reports a bad field at the field, not "no oneOf member matched" at every
+    key of the controller (taplo does the latter)."""
+    return {
+        "type": "object",
+        "required": ["type"],
+        "properties": {
+            "type": {
+                "enum": list(mapping),
+                "description": "Which ManiSkill controller this is; its other fields follow "
+                "from it.",
+                "examples": ["pd_joint_pos"],
+            }
+        },
+        "allOf": [
+            {
+                "if": {"properties": {"type": {"const": name}}, "required": ["type"]},
+                "then": {"$ref": ref},
+            }
+            for name, ref in mapping.items()
+        ],
     }
 
 

@@ -17,12 +17,14 @@ SCHEMA = spec_schema()
 
 
 def object_schemas(node: Any, where: str = "#") -> Iterator[tuple[str, dict[str, Any]]]:
-    """Every schema with `properties`, anywhere in the document, with a readable place."""
+    """Every schema with `properties`, anywhere in the document, with a readable place; `if`
+    conditions only test a value (`type` is X), they define no field."""
     if isinstance(node, dict):
         if isinstance(node.get("properties"), dict):
             yield where, node
         for key, value in node.items():
-            yield from object_schemas(value, f"{where}/{key}")
+            if key != "if":
+                yield from object_schemas(value, f"{where}/{key}")
     elif isinstance(node, list):
         for index, item in enumerate(node):
             yield from object_schemas(item, f"{where}/{index}")
@@ -119,8 +121,9 @@ def test_an_extends_controller_offers_exactly_the_fields_of_the_controller_types
     extension = SCHEMA["$defs"][CONTROLLER_EXTENSION]
     controller_fields: set[str] = set()
     for member in SCHEMA["properties"]["controllers"]["patternProperties"].values():
-        for ref in member["else"]["oneOf"]:
-            controller_fields |= set(SCHEMA["$defs"][ref["$ref"].rsplit("/", 1)[-1]]["properties"])
+        for case in member["else"]["allOf"]:
+            name = case["then"]["$ref"].rsplit("/", 1)[-1]
+            controller_fields |= set(SCHEMA["$defs"][name]["properties"])
     assert set(extension["properties"]) == controller_fields | {"extends"}
     assert extension["required"] == ["extends"]
     assert extension["additionalProperties"] is False
