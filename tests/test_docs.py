@@ -178,12 +178,13 @@ def _site_copy(tmp_path: Path) -> Path:
     return tmp_path / "mkdocs.yml"
 
 
-def test_strict_mode_fails_on_a_broken_link(tmp_path: Path) -> None:
+@pytest.mark.parametrize("target", ["no-such-page.md", "reference.md#no-such-model"])
+def test_strict_mode_fails_on_a_broken_link(target: str, tmp_path: Path) -> None:
     config = _site_copy(tmp_path)
     page = tmp_path / "docs" / "cli.md"
-    page.write_text(page.read_text() + "\n[gone](no-such-page.md)\n", encoding="utf-8")
+    page.write_text(page.read_text() + f"\n[gone]({target})\n", encoding="utf-8")
     result = _mkdocs(config, tmp_path / "site")
-    assert result.returncode != 0 and "no-such-page.md" in result.stderr
+    assert result.returncode != 0 and target.split("#")[-1] in result.stderr
 
 
 def test_strict_mode_fails_on_a_page_missing_from_the_nav(tmp_path: Path) -> None:
