@@ -66,8 +66,9 @@ def narrow_schema(schema: dict[str, Any], robot: RobotNames) -> dict[str, Any]:
     _ExampleFilter(narrowed, robot).apply(narrowed)
     for kind in robot.by_kind:
         names = robot.names(kind)
-        # an empty enum is not allowed; nothing is the right answer for "no names"
-        listed: dict[str, Any] = {"enum": names} if names else {"not": {}}
+        # no names (no materials, or control modes inherited through `extends`): any string,
+        # and the compiler has the last word, rather than a schema that rejects everything
+        listed: dict[str, Any] = {"enum": names} if names else {}
         narrowed["$defs"][names_def(kind)] = {
             "type": "string",
             "description": f"{_KIND_WORDS[kind]} of '{robot.uid}'",

@@ -21,10 +21,14 @@ from robospec.schema_command import narrowed_schema_text
 
 ROOT = Path(__file__).resolve().parent.parent
 SPEC_FILES = sorted(
-    p for p in (ROOT / "specs").rglob("*") if p.suffix in (".yaml", ".yml", ".toml")
+    p
+    for folder in ("specs", "tests/specs/positive")
+    for p in (ROOT / folder).rglob("*")
+    if p.suffix in (".yaml", ".yml", ".toml")
 )
 PANDA = ROOT / "specs/maniskill/panda.yaml"
 MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
+GENERIC = spec_schema()
 
 
 def load_spec_data(path: Path) -> Any:
@@ -63,11 +67,14 @@ def panda_data() -> Any:
 
 
 @pytest.mark.parametrize("path", SPEC_FILES, ids=lambda p: str(p.relative_to(ROOT)))
-def test_every_shipped_spec_is_valid_under_its_own_narrowed_schema(path: Path) -> None:
-    schema = narrowed(path)
-    jsonschema.Draft202012Validator.check_schema(schema)
-    problems = errors(schema, load_spec_data(path))
-    assert not problems, [(list(e.absolute_path), e.message[:200]) for e in problems]
+def test_every_shipped_spec_is_valid_under_the_schema_and_its_own_narrowed_schema(
+    path: Path,
+) -> None:
+    data = load_spec_data(path)
+    for schema in (GENERIC, narrowed(path)):
+        jsonschema.Draft202012Validator.check_schema(schema)
+        problems = errors(schema, data)
+        assert not problems, [(list(e.absolute_path), e.message[:200]) for e in problems]
 
 
 def test_narrowed_schema_has_its_own_id_and_no_markers_left(panda_schema: dict) -> None:
