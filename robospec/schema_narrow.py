@@ -2,10 +2,11 @@
 
 Every place where a spec names a joint, link, group, controller, ... carries an
 ``x-robospec-ref`` marker in the generic schema (see :mod:`robospec.model.refs`). This pass
-replaces each marked string by an ``enum`` of the names the robot really has, so an editor
-completes them and flags a misspelled one. Places that accept globs keep accepting any string
-with a glob character. A marked dictionary key becomes one ``properties`` entry per name (so
-editors complete keys too) and ``additionalProperties: false``.
+replaces each marked string by a reference to a ``$defs/robot-<kind>`` enum of the names the
+robot really has, so an editor completes them and flags a misspelled one. Places that accept
+globs keep accepting any string with a glob character. A marked dictionary key becomes one
+``properties`` entry per name (so editors complete keys too) and ``additionalProperties:
+false``. Examples are narrowed too: the generic ones name the Panda's links.
 """
 
 from __future__ import annotations
@@ -14,9 +15,12 @@ import copy
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.model.refs import GLOB_KINDS, REF_KEY
+
+if TYPE_CHECKING:
+    from robospec.compile import CompiledSpec
 
 # the resolver's test for a glob (robospec.resolve._GLOB), as a JSON Schema pattern
 GLOB_PATTERN = r"[*?\[]"
@@ -37,8 +41,8 @@ class RobotNames:
         return list(dict.fromkeys(self.by_kind[kind]))
 
 
-def robot_names(compiled: Any) -> RobotNames:
-    """The names of a successfully compiled spec (:class:`robospec.compile.CompiledSpec`)."""
+def robot_names(compiled: CompiledSpec) -> RobotNames:
+    """The names of a successfully compiled spec."""
     assert compiled.context is not None and compiled.description is not None
     spec = compiled.context.spec
     description = compiled.description
@@ -128,6 +132,20 @@ def _name_schema(node: dict[str, Any], robot: RobotNames) -> dict[str, Any]:
     return {**kept, **exact}
 
 
+def _keyed_object(node: dict[str, Any], kind: str, robot: RobotNames) -> dict[str, Any]:
+    """A dictionary keyed by names: one property per name, globs by pattern, nothing else."""
+    if not robot.names(kind):
+        return node  # no names to list: any key, and the compiler has the last word
+    value = node.get("additionalProperties", {})
+    out = {k: v for k, v in node.items() if k != "additionalProperties"}
+    out["properties"] = {name: copy.deepcopy(value) for name in robot.names(kind)}
+    if kind in GLOB_KINDS:
+        out["patternProperties"] = {GLOB_PATTERN: copy.deepcopy(value)}
+    out["additionalProperties"] = False
+    out[KEYS_KEY] = kind  # an annotation: which names the keys are (read by _ExampleFilter)
+    return out
+
+
 class _ExampleFilter:
     """The generic schema's examples name the Panda's joints and links; an editor offering
     them for another robot would suggest errors. Wherever a schema can hold names, keep only
@@ -187,31 +205,18 @@ class _ExampleFilter:
     def own_examples(self, examples: list[Any], kinds: frozenset[str]) -> list[Any]:
         names = [n for kind in sorted(kinds) for n in self.robot.names(kind)]
         globs = bool(kinds & GLOB_KINDS)
-        own = [
+        return [
             e
             for e in examples
             if isinstance(e, str) and (e in names or (globs and re.search(GLOB_PATTERN, e)))
         ]
-        return own
 
     @staticmethod
     def names_directly(node: dict[str, Any]) -> bool:
-        """Whether ``node`` itself is one name (maybe or a glob, or null), not a structure."""
+        """Whether ``node`` is a single name (or a glob, or null), not a structure of them."""
         alternatives = [node, *node.get("anyOf", [])]
         refs = [a.get("$ref", "") for a in alternatives]
         return any(r.startswith("#/$defs/robot-") for r in refs) and all(
             r.startswith("#/$defs/robot-") or a.get("type") in ("string", "null")
             for a, r in zip(alternatives[1:], refs[1:], strict=True)
         )
-
-
-def _keyed_object(node: dict[str, Any], kind: str, robot: RobotNames) -> dict[str, Any]:
-    """A dictionary keyed by names: one property per name, globs by pattern, nothing else."""
-    value = node.get("additionalProperties", {})
-    out = {k: v for k, v in node.items() if k != "additionalProperties"}
-    out["properties"] = {name: copy.deepcopy(value) for name in robot.names(kind)}
-    if kind in GLOB_KINDS:
-        out["patternProperties"] = {GLOB_PATTERN: copy.deepcopy(value)}
-    out["additionalProperties"] = False
-    out[KEYS_KEY] = kind  # an annotation: which names the keys are (read by _ExampleFilter)
-    return out
