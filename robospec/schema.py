@@ -1,10 +1,10 @@
 """The JSON Schema of the spec format, generated from the pydantic models (one source of truth).
 ``schemas/robospec.schema.json`` is this text; a test keeps the two equal.
 
-Two things the models cannot say by themselves are added here, both derived from the models:
-the defaults of fields whose default is built by a factory (``default_factory``), and the
-``extends`` form of a controller, which :mod:`robospec.model.build` merges away before the
-models ever see it.
+What the models cannot say by themselves is added here, derived from the models: the
+defaults of fields whose default is built by a factory (``default_factory``); the ``extends``
+form of a controller, which :mod:`robospec.model.build` merges away before the models ever see
+it; and a dispatch on a controller's ``type`` that validators report precisely.
 """
 
 from __future__ import annotations
@@ -48,9 +48,9 @@ def spec_schema() -> dict[str, Any]:
 
 
 def schema_text(schema: dict[str, Any] | None = None) -> str:
-    return json.dumps(spec_schema() if schema is None else schema, indent=2, ensure_ascii=False) + (
-        "\n"
-    )
+    """``schema`` (default: the spec schema) as the text robospec writes: stable, indented."""
+    chosen = spec_schema() if schema is None else schema
+    return json.dumps(chosen, indent=2, ensure_ascii=False) + "\n"
 
 
 def _allow_controller_extends(schema: dict[str, Any]) -> None:
