@@ -115,7 +115,8 @@ class Loader(StrictModel):
 
     fix_root_link: bool = Field(
         default=True,
-        description="Fix the root link in place; false for mobile or floating robots.",
+        description="Fix the root link in place; false for robots that stand or fall freely "
+        "(humanoids, quadrupeds).",
         examples=[True],
     )
     load_multiple_collisions: bool = Field(
