@@ -80,11 +80,6 @@ def test_wrong_version_type_is_reported_at_the_value(tmp_path: Path) -> None:
     assert '"x"' in lint.problems[(2, 12)]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="controllers are a oneOf over types: taplo only says 'not valid under any of the "
-    "schemas' at every key of the table (an allOf of if type==X then X-config would be precise)",
-)
 def test_wrong_type_in_a_controller_is_reported_at_the_value_only(tmp_path: Path) -> None:
     spec = write_spec(
         tmp_path / "controller_wrong_type.toml",

@@ -205,14 +205,6 @@ def test_narrowed_schema_completes_joint_names_in_a_group_list(
     assert labels(server.completion(uri, 5, 6)) >= PANDA_JOINTS
 
 
-# yaml-language-server settles a failing anyOf on its first branch: qpos is anyOf [list, map,
-# null], so a misspelled key is blamed on the map not being a list instead of on the name
-QPOS_BLAMES_THE_TYPE = pytest.mark.xfail(
-    strict=True,
-    reason="narrowed qpos: anyOf puts the list branch first (use propertyNames or map first)",
-)
-
-
 @pytest.mark.parametrize(
     ("body", "name_at", "named"),
     [
@@ -220,14 +212,12 @@ QPOS_BLAMES_THE_TYPE = pytest.mark.xfail(
             "keyframes:\n  rest:\n    qpos: {panda_joint8: 0}\n",
             (5, 11),
             "panda_joint8",
-            marks=QPOS_BLAMES_THE_TYPE,
             id="keyframe-qpos-flow",
         ),
         pytest.param(
             "keyframes:\n  rest:\n    qpos:\n      panda_joint8: 0\n",
             (6, 6),
             "panda_joint8",
-            marks=QPOS_BLAMES_THE_TYPE,
             id="keyframe-qpos-block",
         ),
         pytest.param(
