@@ -26,7 +26,9 @@ app = typer.Typer(
 )
 
 
-class Format(str, enum.Enum):
+class ReportFormat(str, enum.Enum):
+    """Formats of the commands that print a report of their own (check, inspect)."""
+
     text = "text"
     json = "json"
 
@@ -34,7 +36,7 @@ class Format(str, enum.Enum):
 PathsArg = Annotated[
     list[Path], typer.Argument(metavar="SPEC", help="spec files, or folders to search")
 ]
-FormatOpt = Annotated[Format, typer.Option("--format", "-f", help="diagnostic format")]
+ReportFormatOpt = Annotated[ReportFormat, typer.Option("--format", "-f", help="report format")]
 
 
 DiagnosticFormatOpt = Annotated[
@@ -66,6 +68,25 @@ def _report(
     colored = use_color(color.value, sys.stderr if err else sys.stdout, os.environ)
     # click strips ANSI codes from non-terminals unless told the colour is wanted
     typer.echo(render(diagnostics, files, fmt.value, color=colored), err=err, color=colored)
+
+
+def _finish(
+    diagnostics: Sequence[Diagnostic],
+    failed: bool,
+    fmt: DiagnosticFormat,
+    color: Color,
+    done: str,
+) -> None:
+    """End a command that writes one file: text says ``done`` (diagnostics on stderr), the
+    machine formats print the diagnostics report (on stdout) whatever happened."""
+    if fmt is not DiagnosticFormat.text:
+        _report(diagnostics, 1, fmt, color)
+    else:
+        if diagnostics:
+            _report(diagnostics, 1, fmt, color, err=True)
+        if not failed:
+            typer.echo(done)
+    raise typer.Exit(1 if failed else 0)
 
 
 @app.command()
@@ -139,7 +160,8 @@ def schema(
             "names become the allowed values",
         ),
     ] = None,
-    format: FormatOpt = Format.text,
+    format: DiagnosticFormatOpt = DiagnosticFormat.text,
+    color: ColorOpt = Color.auto,
 ) -> None:
     """Print the JSON Schema of the spec format (for editors and CI), or with --for a schema
     narrowed to one robot so editors complete its real joint and link names.
@@ -158,9 +180,7 @@ def schema(
             raise typer.BadParameter("give one spec file, not a folder", param_hint="--for")
         text, diagnostics = narrowed_schema_text(for_spec)
         if text is None:
-            from robospec.report import render
-
-            typer.echo(render(diagnostics, 1, format.value), err=format is Format.text)
+            _report(diagnostics, 1, format, color, err=format is DiagnosticFormat.text)
             raise typer.Exit(1)
     if out is None:
         sys.stdout.write(text)
@@ -207,7 +227,7 @@ def check(
             "--steps", "-n", min=1, help="control steps for keyframe holds and random actions"
         ),
     ] = None,
-    format: FormatOpt = Format.text,
+    format: ReportFormatOpt = ReportFormat.text,
     gpu: Annotated[
         bool, typer.Option("--gpu", help="run on physx_cuda with many parallel envs")
     ] = False,
@@ -260,14 +280,15 @@ def demo(
     actions = "random" if random_actions else "keyframe" if keyframe_actions else "none"
     diagnostics = run_demo(spec, control_mode, keyframe, actions)
     if diagnostics:
-        typer.echo(render(diagnostics, 1, "text"), err=True)
+        _report(diagnostics, 1, DiagnosticFormat.text, Color.auto, err=True)
         raise typer.Exit(1)
 
 
 @app.command()
 def inspect(
     file: Annotated[Path, typer.Argument(help="a URDF, xacro or MJCF file")],
-    format: FormatOpt = Format.text,
+    format: ReportFormatOpt = ReportFormat.text,
+    color: ColorOpt = Color.auto,
 ) -> None:
     """Print a URDF/xacro/MJCF file's active joints, mimic relations and kinematic tree.
 
@@ -277,13 +298,12 @@ def inspect(
     Example: robospec inspect robots/my_arm.urdf --format json
     """
     from robospec.authoring.commands import run_inspect
-    from robospec.report import render
 
     text, diagnostics = run_inspect(file, format.value)
     if text is not None:
         sys.stdout.write(text)
     if diagnostics:
-        typer.echo(render(diagnostics, 1, format.value), err=True)
+        _report(diagnostics, 1, DiagnosticFormat(format.value), color, err=True)
     raise typer.Exit(1 if text is None or has_errors(diagnostics) else 0)
 
 
@@ -298,7 +318,8 @@ def new(
         str | None, typer.Option("--uid", help="uid of the spec (default: the robot's name)")
     ] = None,
     force: Annotated[bool, typer.Option("--force", help="overwrite SPEC")] = False,
-    format: FormatOpt = Format.text,
+    format: DiagnosticFormatOpt = DiagnosticFormat.text,
+    color: ColorOpt = Color.auto,
 ) -> None:
     """Scaffold a spec from a robot description (URDF, xacro or MJCF).
 
@@ -309,24 +330,17 @@ def new(
     Example: robospec new --from-urdf robots/my_arm.urdf -o specs/my_arm.yaml
     """
     from robospec.authoring.commands import run_new
-    from robospec.report import render
 
     text, diagnostics = run_new(from_urdf, out, uid, force)
-    if format is Format.json:
-        typer.echo(render(diagnostics, 1, "json"))
-    elif diagnostics:
-        typer.echo(render(diagnostics, 1, "text"), err=True)
-    failed = text is None or has_errors(diagnostics)
-    if not failed and format is Format.text:
-        typer.echo(f"wrote {out}")
-    raise typer.Exit(1 if failed else 0)
+    _finish(diagnostics, text is None or has_errors(diagnostics), format, color, f"wrote {out}")
 
 
 @app.command()
 def doc(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot")],
     out: Annotated[Path, typer.Option("--out", "-o", help="the Markdown card to write")],
-    format: FormatOpt = Format.text,
+    format: DiagnosticFormatOpt = DiagnosticFormat.text,
+    color: ColorOpt = Color.auto,
 ) -> None:
     """Write a Markdown robot card of a spec.
 
@@ -336,17 +350,9 @@ def doc(
     Example: robospec doc specs/maniskill/panda.yaml -o panda.md
     """
     from robospec.authoring.commands import run_doc
-    from robospec.report import render
 
     diagnostics = run_doc(spec, out)
-    if format is Format.json:
-        typer.echo(render(diagnostics, 1, "json"))
-    elif diagnostics:
-        typer.echo(render(diagnostics, 1, "text"), err=True)
-    if has_errors(diagnostics):
-        raise typer.Exit(1)
-    if format is Format.text:
-        typer.echo(f"wrote {out}")
+    _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
 
 
 def main() -> None:
