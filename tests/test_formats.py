@@ -379,3 +379,23 @@ def test_import_reports_in_github_format_on_stderr() -> None:
 def test_an_unknown_format_or_colour_is_a_usage_error() -> None:
     assert robospec("validate", "--format", "xml", MISSPELLED).returncode == 2
     assert robospec("validate", "--color", "sometimes", MISSPELLED).returncode == 2
+
+
+def test_text_excerpt_follows_a_spec_edited_in_the_same_process(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # one process (a notebook calling register) reports twice on a file edited in between, and
+    # on a same-named file in another folder: each excerpt shows the line as it is now
+    spec = tmp_path / "a" / "robot.yaml"
+    spec.parent.mkdir()
+    diagnostic = error(Location("robot.yaml", 2, 1), "RS101", "unknown key 'x'")
+    monkeypatch.chdir(spec.parent)
+    spec.write_text("robospec: 1\nfirst_version: 1\n")
+    assert "first_version" in render([diagnostic], 1, "text")
+    spec.write_text("robospec: 1\nsecond_version_of_it: 1\n")
+    assert "second_version_of_it" in render([diagnostic], 1, "text")
+    other = tmp_path / "b" / "robot.yaml"
+    other.parent.mkdir()
+    other.write_text("robospec: 1\nanother_folder: 1\n")
+    monkeypatch.chdir(other.parent)
+    assert "another_folder" in render([diagnostic], 1, "text")

@@ -21,15 +21,24 @@ _PLAIN_END = set(",[]{}=")
 _CLOSING = {"{": "}", "[": "]"}
 
 
-@functools.lru_cache(maxsize=32)
 def _lines(file: str) -> tuple[str, ...] | None:
     path = Path(file)
     try:
         info = path.stat()
-        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_SOURCE_BYTES:
-            return None
-        data = path.read_bytes()
     except (OSError, ValueError):
+        return None
+    if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_SOURCE_BYTES:
+        return None
+    # keyed by where the file is now and its state, not by the name a diagnostic gives: in a
+    # long-lived process (register in a notebook) the file changes, or the working folder does
+    return _read_lines(str(path.resolve()), info.st_mtime_ns, info.st_size)
+
+
+@functools.lru_cache(maxsize=32)
+def _read_lines(path: str, mtime_ns: int, size: int) -> tuple[str, ...] | None:
+    try:
+        data = Path(path).read_bytes()
+    except OSError:
         return None
     return tuple(_LINE_BREAK.split(data.decode("utf-8", errors="replace")))
 
