@@ -56,12 +56,20 @@ def test_build_output_is_byte_identical_across_runs_and_hash_seeds(tmp_path: Pat
     assert snapshot(first) == snapshot(second)
 
 
-def test_generated_files_name_no_path_of_this_machine(tmp_path: Path) -> None:
+@pytest.mark.parametrize("specs", ["specs/", str(ROOT / "specs")], ids=["relative", "absolute"])
+def test_generated_files_name_no_path_of_this_machine(tmp_path: Path, specs: str) -> None:
     out = tmp_path / "agents"
-    assert build(out).returncode == 0
+    assert build(out, specs=specs).returncode == 0
     for name, data in snapshot(out).items():
         assert str(ROOT).encode() not in data, name
         assert str(tmp_path).encode() not in data, name
+
+
+def test_build_output_is_the_same_for_absolute_and_relative_spec_paths(tmp_path: Path) -> None:
+    relative, absolute = tmp_path / "a" / "agents", tmp_path / "b" / "agents"
+    assert build(relative, specs="specs/twolink.toml").returncode == 0
+    assert build(absolute, specs=str(ROOT / "specs/twolink.toml")).returncode == 0
+    assert snapshot(relative) == snapshot(absolute)
 
 
 def test_build_refuses_to_overwrite_a_file_it_did_not_generate(tmp_path: Path) -> None:
