@@ -49,6 +49,7 @@ _CODES = [
     Code("RS207", "joint pattern matches no joint"),
     Code("RS208", "controller inheritance is circular"),
     Code("RS209", "group definition is circular"),
+    Code("RS210", "group has the name of a joint"),
     Code("RS220", "Python reference cannot be used"),
     # -- semantic checks
     Code("RS301", "joint driven by more than one controller"),

@@ -235,7 +235,7 @@ class Resolver:
                 out.extend(self.select(item, (*path, index), stack=stack))
             return out
         name = str(selection)
-        if name in self.spec.groups:
+        if name in self.spec.groups and self.description.joint(name) is None:
             return self.group(name, path, stack)
         joint = self.description.joint(name)
         if joint is not None:
@@ -567,6 +567,18 @@ class Resolver:
             return Resolution(None, self.description, self.diagnostics)
         description = self.description
         for name in spec.groups:
+            if description.joint(name) is not None:
+                # a selection names a group or a joint by the same word: one of them would be
+                # unreachable, and the group would select itself (a false "circular" error)
+                self.diagnostics.append(
+                    error(
+                        self.at_key(("groups", name)),
+                        "RS210",
+                        f"group '{name}' has the name of a joint",
+                        f"rename the group (e.g. '{name}_group')",
+                    )
+                )
+                continue
             self.group(name, ("groups", name), ())
 
         urdf_config = self.urdf_config()
