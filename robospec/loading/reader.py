@@ -81,6 +81,7 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     from ruamel.yaml import YAML
     from ruamel.yaml.constructor import DuplicateKeyError
     from ruamel.yaml.error import MarkedYAMLError, YAMLError
+    from ruamel.yaml.reader import ReaderError
 
     yaml = YAML(typ="rt")
     try:
@@ -90,6 +91,8 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     except MarkedYAMLError as exc:
         message = " ".join(p for p in (exc.context, exc.problem) if p) or "YAML syntax error"
         return None, [_marked(exc, source, "RS002", message)]
+    except ReaderError as exc:
+        return None, [_unreadable_character(exc, text, source)]
     except (YAMLError, RecursionError, ValueError) as exc:
         return None, [error(Location(source.file), "RS002", f"YAML error: {exc}")]
     try:
@@ -97,6 +100,23 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     except _TooBig as exc:
         return None, [error(source.key(exc.path), "RS006", str(exc))]
     return data, []
+
+
+def _unreadable_character(exc: Any, text: str, source: SourceMap) -> Diagnostic:
+    """A character YAML forbids (a control character): located by its offset in the text,
+    which is all ruamel's reader gives."""
+    position = exc.position if isinstance(exc.position, int) else 0
+    line = text.count("\n", 0, position) + 1
+    column = position - (text.rfind("\n", 0, position) + 1) + 1
+    character = exc.character  # an int (the code point), or a str in some ruamel versions
+    code_point = ord(character) if isinstance(character, str) else int(character)
+    shown = f"U+{code_point:04X}"
+    return error(
+        Location(source.file, line, column),
+        "RS002",
+        f"YAML does not allow the character {shown} here",
+        "control characters (other than tab and line breaks) must be escaped in a quoted string",
+    )
 
 
 def _duplicate_message(exc: Any) -> str:
