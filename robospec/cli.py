@@ -331,8 +331,9 @@ def new(
     """
     from robospec.authoring.commands import run_new
 
-    text, diagnostics = run_new(from_urdf, out, uid, force)
-    _finish(diagnostics, text is None or has_errors(diagnostics), format, color, f"wrote {out}")
+    written, diagnostics = run_new(from_urdf, out, uid, force)
+    done = "wrote " + ", ".join(str(path) for path in written or [])
+    _finish(diagnostics, written is None, format, color, done)
 
 
 @app.command()

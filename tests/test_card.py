@@ -96,8 +96,8 @@ def test_odd_link_names_become_safe_mermaid(tmp_path: Path) -> None:
         "</joint></robot>\n"
     )
     spec = tmp_path / "odd.yaml"
-    text, diagnostics = run_new(urdf, spec, None, force=False)
-    assert text is not None and not has_errors(diagnostics), diagnostics
+    written, diagnostics = run_new(urdf, spec, None, force=False)
+    assert written is not None and not has_errors(diagnostics), diagnostics
     lines = mermaid(card(spec, tmp_path / "odd.md"))
     assert lines == [
         '  l_base__0_["base #quot;0#quot;"]',

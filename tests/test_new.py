@@ -15,7 +15,7 @@ from robospec.authoring.commands import run_new
 from robospec.compile import compile_spec
 from robospec.diagnostics import has_errors
 from robospec.paths import maniskill_assets_dir
-from robospec.schema import SCHEMA_ID
+from robospec.schema import schema_text
 
 ROOT = Path(__file__).resolve().parent.parent
 ASSETS = maniskill_assets_dir()
@@ -47,9 +47,9 @@ def load(path: Path) -> dict:
 
 
 def scaffold(description: Path, out: Path, uid: str | None = None) -> dict:
-    text, diagnostics = run_new(description, out, uid, force=False)
-    assert text is not None and not has_errors(diagnostics), diagnostics
-    assert out.read_text() == text
+    written, diagnostics = run_new(description, out, uid, force=False)
+    assert written is not None and not has_errors(diagnostics), diagnostics
+    assert written[0] == out
     return load(out)
 
 
@@ -192,10 +192,16 @@ def test_modeline_points_at_the_nearest_schema_walking_up_relative(tmp_path: Pat
     assert first == "# yaml-language-server: $schema=../../schemas/robospec.schema.json"
 
 
-def test_modeline_falls_back_to_the_schema_id_without_a_schema_file(tmp_path: Path) -> None:
-    out = tmp_path / "twolink.yaml"
+def test_without_a_schema_to_name_new_writes_one_beside_the_spec(tmp_path: Path) -> None:
+    out = tmp_path / "robots" / "twolink.yaml"
     scaffold(TWOLINK, out)
-    assert out.read_text().splitlines()[0] == f"# yaml-language-server: $schema={SCHEMA_ID}"
+    assert out.read_text().splitlines()[0] == "# yaml-language-server: $schema=robospec.schema.json"
+    assert (out.parent / "robospec.schema.json").read_text() == schema_text()
+    # the next spec in that folder names the same file, and nothing is rewritten
+    second = tmp_path / "robots" / "second.yaml"
+    written, _ = run_new(TWOLINK, second, "second", force=False)
+    assert written == [second]
+    assert second.read_text().splitlines()[0].endswith("$schema=robospec.schema.json")
 
 
 def test_sections_carry_comments_that_explain_them(tmp_path: Path) -> None:

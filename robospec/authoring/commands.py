@@ -25,8 +25,9 @@ def run_inspect(path: Path, format: str) -> tuple[str | None, list[Diagnostic]]:
 
 def run_new(
     description: Path, out: Path, uid: str | None, force: bool
-) -> tuple[str | None, list[Diagnostic]]:
-    """The spec text (written to ``out``) and the diagnostics."""
+) -> tuple[list[Path] | None, list[Diagnostic]]:
+    """The files written (the spec at ``out``, and the schema its modeline names when there was
+    none to name) and the diagnostics; None when nothing was written."""
     if uid is not None:
         from robospec.builtin_uids import MANISKILL_UIDS
 
@@ -57,7 +58,7 @@ def run_new(
                 "pass --force to replace it",
             )
         ]
-    from robospec.authoring.scaffold import scaffold, schema_reference
+    from robospec.authoring.scaffold import SCHEMA_BESIDE, scaffold, schema_reference
     from robospec.authoring.source import read_description_file
     from robospec.importer.yamlout import to_yaml
 
@@ -74,9 +75,18 @@ def run_new(
                 "robospec agents need at least one revolute, continuous or prismatic joint",
             ),
         ]
-    text = to_yaml(scaffold(source, out, uid), schema_reference(out.parent))
-    diagnostics.extend(write_text(out, text))
-    return text, diagnostics
+    written = [out]
+    reference = schema_reference(out.parent)
+    if reference is None:
+        # no schema to point at: put one beside the spec, so that editors check and complete
+        # it offline from the first keystroke (the next spec in this folder will find it)
+        from robospec.schema import schema_text
+
+        reference = SCHEMA_BESIDE
+        written.append(out.parent / SCHEMA_BESIDE)
+        diagnostics.extend(write_text(written[-1], schema_text()))
+    diagnostics.extend(write_text(out, to_yaml(scaffold(source, out, uid), reference)))
+    return (None if has_errors(diagnostics) else written), diagnostics
 
 
 def run_doc(spec: Path, out: Path) -> list[Diagnostic]:

@@ -5,9 +5,10 @@ is driven in both control modes, the keyframe lies inside the limits and keeps m
 
 * Description path: ``{maniskill_assets}/...`` for a file inside ManiSkill's assets (portable
   across machines), otherwise relative to the spec's folder.
-* Schema modeline: the nearest ``schemas/robospec.schema.json`` walking up from the spec's
-  folder, as a relative path; when there is none, the schema's ``$id`` URL (nothing else is
-  written beside the spec).
+* Schema modeline: the nearest ``schemas/robospec.schema.json`` or ``robospec.schema.json``
+  walking up from the spec's folder, as a relative path; when there is none, the command writes
+  ``robospec.schema.json`` beside the spec (editors then work offline, and the next spec written
+  to that folder finds it).
 * uid: ``--uid``, else the robot's name made a valid uid; a name ManiSkill already registers
   gets an ``rs_`` prefix (robospec refuses to shadow ManiSkill's agents by accident).
 * Gains are ManiSkill's Panda's (stiffness 1e3, damping 1e2, force_limit 100); wheels and mobile
@@ -27,9 +28,10 @@ from robospec.authoring.source import DescriptionFile
 from robospec.builtin_uids import MANISKILL_UIDS
 from robospec.importer.specdata import KeyPath, SpecDoc
 from robospec.paths import maniskill_assets_dir
-from robospec.schema import SCHEMA_ID
 
-SCHEMA_FILE = Path("schemas") / "robospec.schema.json"
+SCHEMA_BESIDE = "robospec.schema.json"
+# where a project keeps the schema, nearest first at each folder walking up
+SCHEMA_FILES = (Path("schemas") / SCHEMA_BESIDE, Path(SCHEMA_BESIDE))
 UID_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$")  # as the spec model's
 
 GAINS: dict[str, Any] = {"stiffness": 1e3, "damping": 1e2, "force_limit": 100}
@@ -46,12 +48,14 @@ def default_uid(robot_name: str | None, path: Path) -> str:
     return uid
 
 
-def schema_reference(spec_dir: Path) -> str:
+def schema_reference(spec_dir: Path) -> str | None:
+    """The schema a spec in ``spec_dir`` should name, relative to it; None when there is none."""
     folder = spec_dir.resolve()
     for parent in (folder, *folder.parents):
-        if (parent / SCHEMA_FILE).is_file():
-            return Path(os.path.relpath(parent / SCHEMA_FILE, folder)).as_posix()
-    return SCHEMA_ID
+        for candidate in SCHEMA_FILES:
+            if (parent / candidate).is_file():
+                return Path(os.path.relpath(parent / candidate, folder)).as_posix()
+    return None
 
 
 def description_reference(source: DescriptionFile, spec_dir: Path) -> str:
