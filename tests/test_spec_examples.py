@@ -42,3 +42,9 @@ def test_every_shipped_spec_validates() -> None:
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     assert not has_errors(diagnostics), [d.format_text() for d in diagnostics]
+
+
+def test_a_field_missing_from_an_extended_controller_is_reported_once_at_the_base() -> None:
+    # arm_delta extends arm_pos, which lacks stiffness: the child's copy of the gap is not news
+    result = compile_spec(HERE / "negative" / "extends_missing_field.yaml")
+    assert [(d.code, d.location.line) for d in result.diagnostics] == [("RS103", 8)]

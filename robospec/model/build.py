@@ -32,6 +32,19 @@ class SpecModelResult:
     diagnostics: list[Diagnostic]
     # for fields merged through ``extends``: merged path -> the path where it was written
     origins: dict[KeyPath, KeyPath] = field(default_factory=dict)
+    # controller name -> the controller it extends
+    bases: dict[str, str] = field(default_factory=dict)
+
+    def first_lacking(self, path: KeyPath) -> KeyPath:
+        """Where a required controller field missing at ``path`` is missing first: the root of
+        its ``extends`` chain (every controller in the chain lacks it, and the children's errors
+        would only repeat the base's)."""
+        if len(path) != 3 or path[0] != "controllers" or not isinstance(path[1], str):
+            return path
+        name = path[1]
+        while name in self.bases:
+            name = self.bases[name]
+        return ("controllers", name, path[2])
 
     def origin(self, path: KeyPath) -> KeyPath:
         for length in range(len(path), 0, -1):
@@ -114,6 +127,7 @@ def _merge_extends(
             merged[name] = {k: v for k, v in body.items() if k != "extends"}
             return merged[name]
         base = resolve(base_name, (*chain, name))
+        result.bases[name] = base_name
         combined = dict(base) if isinstance(base, dict) else {}
         for key in combined:
             base_path = ("controllers", base_name, key)
@@ -144,6 +158,8 @@ def _diagnostics_from(
             path = (*path, err["loc"][-1])
         else:
             path, _ = _data_path(err["loc"], data)
+        if kind == "missing":
+            path = result.first_lacking((*path, err["loc"][-1]))[:-1]
         if kind == "union_tag_invalid" and isinstance(_node(data, path), dict):
             path = (*path, "type")
         code = _ERROR_CODES.get(kind, "RS102")
