@@ -17,23 +17,15 @@ import pytest
 from editor_engines import ROOT, SCHEMA, yaml_language_server_argv
 from lsp_client import JsonObject, LspClient
 
+from robospec.model.controllers import CONTROLLER_TYPES as CONTROLLER_TYPE_NAMES
+
 PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
 YAML_SPECS = sorted((ROOT / "specs").rglob("*.yaml"))
 PANDA_JOINTS = {f"panda_joint{i}" for i in range(1, 8)} | {
     "panda_finger_joint1",
     "panda_finger_joint2",
 }
-CONTROLLER_TYPES = {
-    "pd_joint_pos",
-    "pd_joint_pos_mimic",
-    "pd_joint_vel",
-    "pd_joint_pos_vel",
-    "pd_ee_pos",
-    "pd_ee_pose",
-    "pd_base_vel",
-    "pd_base_forward_vel",
-    "passive",
-}
+CONTROLLER_TYPES = set(CONTROLLER_TYPE_NAMES)
 # files under this folder get the schema from the yaml.schemas setting, not from a modeline
 SETTINGS_MAPPED_GLOB = "**/mapped-by-settings/*.yaml"
 ERROR = 1  # LSP DiagnosticSeverity.Error

@@ -4,12 +4,9 @@ its output text and diagnostics, and writes files only when it has no errors (at
 from __future__ import annotations
 
 import os
-import re
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
-
-_UID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$")  # as the spec model's
 
 
 def run_inspect(path: Path, format: str) -> tuple[str | None, list[Diagnostic]]:
@@ -30,16 +27,11 @@ def run_new(
     none to name) and the diagnostics; None when nothing was written."""
     if uid is not None:
         from robospec.builtin_uids import MANISKILL_UIDS
+        from robospec.uid_option import invalid_uid
 
-        if not _UID.match(uid):
-            return None, [
-                error(
-                    Location("<uid>"),
-                    "RS105",
-                    f"invalid uid {uid!r}",
-                    "use letters, digits, '_', '-' and '.', starting with a letter or digit",
-                )
-            ]
+        problem = invalid_uid(uid)
+        if problem is not None:
+            return None, [problem]
         if uid in MANISKILL_UIDS:
             return None, [
                 error(

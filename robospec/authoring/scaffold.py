@@ -32,7 +32,6 @@ from robospec.paths import maniskill_assets_dir
 SCHEMA_BESIDE = "robospec.schema.json"
 # where a project keeps the schema, nearest first at each folder walking up
 SCHEMA_FILES = (Path("schemas") / SCHEMA_BESIDE, Path(SCHEMA_BESIDE))
-UID_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$")  # as the spec model's
 
 GAINS: dict[str, Any] = {"stiffness": 1e3, "damping": 1e2, "force_limit": 100}
 BASE_VELOCITY: dict[str, Any] = {"lower": -1.0, "upper": 1.0, "damping": 1e3, "force_limit": 500}

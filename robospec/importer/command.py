@@ -3,28 +3,21 @@
 from __future__ import annotations
 
 import os
-import re
 import tempfile
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
-
-UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"  # as the spec model's
 
 
 def run_import(
     target: str, uid: str | None, out: Path | None, force: bool
 ) -> tuple[str | None, list[Diagnostic]]:
     """The spec text (also written to ``out`` when given) and the diagnostics."""
-    if uid is not None and not re.match(UID_PATTERN, uid):
-        return None, [
-            error(
-                Location("<uid>"),
-                "RS105",
-                f"invalid uid {uid!r}",
-                "use letters, digits, '_', '-' and '.', starting with a letter or digit",
-            )
-        ]
+    from robospec.uid_option import invalid_uid
+
+    problem = invalid_uid(uid) if uid is not None else None
+    if problem is not None:
+        return None, [problem]
     if out is not None and out.exists() and not force:
         return None, [
             error(

@@ -1,0 +1,21 @@
+"""A uid given on the command line (``robospec import --uid``, ``robospec new --uid``), checked
+against the spec model's own pattern before anything is written."""
+
+from __future__ import annotations
+
+import re
+
+from robospec.diagnostics import Diagnostic, Location, error
+from robospec.model.spec import UID_PATTERN
+
+
+def invalid_uid(uid: str) -> Diagnostic | None:
+    """RS105 when ``uid`` could not be a spec's uid, else None."""
+    if re.match(UID_PATTERN, uid):
+        return None
+    return error(
+        Location("<uid>"),
+        "RS105",
+        f"invalid uid {uid!r}",
+        "use letters, digits, '_', '-' and '.', starting with a letter or digit",
+    )
