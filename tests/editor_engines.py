@@ -8,6 +8,7 @@ scripts/setup instead of skipping it: CI installs them, so a skip would hide a b
 from __future__ import annotations
 
 import shutil
+import subprocess
 import sys
 from pathlib import Path
 
@@ -39,3 +40,16 @@ def taplo_executable() -> str:
     if on_path is None:
         pytest.fail("taplo is missing (the dev extra's taplo wheel): run scripts/setup")
     return on_path
+
+
+def narrowed_schema(spec: Path, out: Path) -> Path:
+    """Write the schema narrowed to ``spec``'s robot by `robospec schema --for` to ``out``."""
+    result = subprocess.run(
+        [sys.executable, "-m", "robospec.cli", "schema", "--for", str(spec), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=ROOT,
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    return out

@@ -12,12 +12,11 @@ from __future__ import annotations
 import os
 import re
 import subprocess
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from editor_engines import ROOT, SCHEMA, taplo_executable
+from editor_engines import ROOT, SCHEMA, narrowed_schema, taplo_executable
 
 TWOLINK = ROOT / "specs" / "twolink.toml"
 # one reported problem: "error: MESSAGE" then, a line later, "┌─ PATH:LINE:COLUMN"
@@ -117,16 +116,7 @@ def test_relative_schema_directive_resolves_against_the_spec_file(tmp_path: Path
 @pytest.fixture(scope="module")
 def twolink_schema(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The schema narrowed to the twolink robot by `robospec schema --for`."""
-    out = tmp_path_factory.mktemp("narrowed") / "twolink.schema.json"
-    result = subprocess.run(
-        [sys.executable, "-m", "robospec.cli", "schema", "--for", str(TWOLINK), "-o", str(out)],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        cwd=ROOT,
-    )
-    assert result.returncode == 0, result.stdout + result.stderr
-    return out
+    return narrowed_schema(TWOLINK, tmp_path_factory.mktemp("narrowed") / "twolink.schema.json")
 
 
 def test_narrowed_schema_accepts_the_twolink_spec(twolink_schema: Path) -> None:

@@ -8,13 +8,11 @@ Positions are LSP's: 0-based lines and columns.
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from editor_engines import ROOT, SCHEMA, yaml_language_server_argv
+from editor_engines import ROOT, SCHEMA, narrowed_schema, yaml_language_server_argv
 from lsp_client import JsonObject, LspClient
 
 from robospec.model.controllers import CONTROLLER_TYPES as CONTROLLER_TYPE_NAMES
@@ -159,16 +157,7 @@ def test_completion_of_controller_type_offers_every_controller_type(
 @pytest.fixture(scope="module")
 def panda_schema(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The schema narrowed to the Panda by `robospec schema --for`."""
-    out = tmp_path_factory.mktemp("narrowed") / "panda.schema.json"
-    result = subprocess.run(
-        [sys.executable, "-m", "robospec.cli", "schema", "--for", str(PANDA), "-o", str(out)],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        cwd=ROOT,
-    )
-    assert result.returncode == 0, result.stdout + result.stderr
-    return out
+    return narrowed_schema(PANDA, tmp_path_factory.mktemp("narrowed") / "panda.schema.json")
 
 
 def test_narrowed_schema_completes_joint_names_in_keyframe_qpos(
