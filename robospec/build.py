@@ -15,7 +15,7 @@ from pathlib import Path
 
 from robospec.compile import CompiledSpec
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.output import module_name_for, package_init, robot_files
+from robospec.output import checked_robot_files, module_name_for, package_init
 
 MANIFEST = "_robospec_manifest.txt"
 
@@ -28,18 +28,29 @@ class BuildResult:
 
 
 def plan_package(compiled: list[CompiledSpec], out_dir: Path) -> dict[str, str]:
+    """The package's files ``{name: text}`` (specs that cannot be emitted are left out)."""
+    return _plan(compiled, out_dir)[0]
+
+
+def _plan(compiled: list[CompiledSpec], out_dir: Path) -> tuple[dict[str, str], list[Diagnostic]]:
+    """The package's files, and an RS105 diagnostic for each spec that cannot be emitted."""
     out_dir = out_dir.resolve()
     taken: set[str] = set()
     files: dict[str, str] = {}
+    problems: list[Diagnostic] = []
     modules: list[tuple[str, str, str]] = []
     for item in sorted(compiled, key=lambda c: c.display):
         assert item.robot is not None
         module = module_name_for(item.robot.uid, taken)
-        files.update(robot_files(item.robot, module, out_dir))
+        robot_files, problem = checked_robot_files(item.robot, module, out_dir, item.display)
+        if problem is not None or robot_files is None:
+            problems.extend([problem] if problem is not None else [])
+            continue
+        files.update(robot_files)
         modules.append((module, item.robot.uid, item.robot.class_name))
     files["__init__.py"] = package_init(modules)
     files[MANIFEST] = "".join(f"{name}\n" for name in sorted(files))
-    return files
+    return files, problems
 
 
 def _previous_manifest(out_dir: Path) -> set[str]:
@@ -61,7 +72,10 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
             )
         )
         return result
-    files = plan_package(compiled, out_dir)
+    files, problems = _plan(compiled, out_dir)
+    if problems:
+        result.diagnostics.extend(problems)
+        return result
     result.files = files
     previous = _previous_manifest(out_dir)
     existing = {p.name for p in out_dir.iterdir()} if out_dir.is_dir() else set()

@@ -8,6 +8,7 @@ neither pydantic nor ruamel nor lxml.
 
 from __future__ import annotations
 
+import atexit
 import hashlib
 import importlib.util
 import json
@@ -15,12 +16,17 @@ import os
 import shutil
 import sys
 import tempfile
+import warnings
 from collections.abc import Iterable
 from pathlib import Path
 from types import ModuleType
+from typing import TYPE_CHECKING
 
 from robospec.builtin_uids import Overrides, override_allowed
 from robospec.diagnostics import Location, SpecError, error
+
+if TYPE_CHECKING:
+    from robospec.compile import CompiledSpec
 
 CACHE_FORMAT = "1"
 SPEC_SUFFIXES = (".yaml", ".yml", ".toml")
@@ -103,7 +109,8 @@ def register(
         if not _entry_is_fresh(entry):
             cold.append((file, entry))
     if cold:
-        _compile_entries(cold, [f for f, _ in entries], overrides)
+        placed = _compile_entries(cold, [f for f, _ in entries], overrides)
+        entries = [(file, placed.get(file, entry)) for file, entry in entries]
     return _load_entries(entries, overrides)
 
 
@@ -111,20 +118,32 @@ def _entry_is_fresh(entry: Path) -> bool:
     try:
         manifest = json.loads((entry / "manifest.json").read_text(encoding="utf-8"))
         deps = manifest["deps"]
-        module_file = entry / manifest["module_file"]
-        if _file_hash(str(module_file)) != manifest["module_sha256"]:
+        module_file = _module_file(entry, manifest)
+        if module_file is None or _file_hash(str(module_file)) != manifest["module_sha256"]:
             return False  # a corrupted or edited entry is rebuilt, never trusted
         return all(_file_hash(path) == digest for path, digest in deps)
-    except (OSError, ValueError, KeyError, TypeError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return False
+
+
+def _module_file(entry: Path, manifest: dict[str, object]) -> Path | None:
+    """The entry's module, named by the manifest: a plain file name inside the entry only."""
+    name = manifest.get("module_file")
+    if not isinstance(name, str) or not name.endswith(".py") or name != os.path.basename(name):
+        return None
+    if name.startswith(".") or os.sep in name or (os.altsep and os.altsep in name):
+        return None
+    path = entry / name
+    return path if path.is_file() and not path.is_symlink() else None
 
 
 def _compile_entries(
     cold: list[tuple[Path, Path]], all_files: list[Path], overrides: Overrides
-) -> None:
+) -> dict[Path, Path]:
+    """Compile the cold specs into their cache entries; returns ``{spec: entry}`` for each,
+    which is a temporary folder instead when the cache cannot be written."""
     from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
-    from robospec.output import module_name_for, robot_files
 
     compiled, diagnostics = compile_all(all_files, overrides=overrides)
     for item in compiled:
@@ -132,30 +151,87 @@ def _compile_entries(
     if has_errors(diagnostics):
         raise SpecError([d for d in diagnostics if d.is_error])
     by_path = {item.path: item for item in compiled}
+    placed: dict[Path, Path] = {}
     for file, entry in cold:
         item = by_path[file]
-        assert item.robot is not None
-        module = module_name_for(item.robot.uid, set())
-        entry.parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=".tmp-", dir=entry.parent))
         try:
-            files = robot_files(item.robot, module, entry)
-            for name, text in files.items():
-                (staging / name).write_text(text, encoding="utf-8")
-            deps = [str(file.resolve()), *_dependencies(item.robot)]
-            manifest = {
-                "uid": item.robot.uid,
-                "class_name": item.robot.class_name,
-                "override": item.robot.override,
-                "module_file": f"{module}.py",
-                "module_sha256": _sha256(files[f"{module}.py"].encode()),
-                "deps": [[path, _file_hash(path)] for path in deps],
-            }
-            (staging / "manifest.json").write_text(json.dumps(manifest, indent=1))
-            shutil.rmtree(entry, ignore_errors=True)
-            os.replace(staging, entry)
-        finally:
-            shutil.rmtree(staging, ignore_errors=True)
+            _store(item, file, entry)
+            placed[file] = entry
+        except OSError as exc:
+            fallback = _fallback_root() / entry.name
+            warnings.warn(
+                f"robospec: cannot write the cache entry {entry} ({exc}); "
+                f"compiled into {fallback} for this process instead",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+            _store(item, file, fallback)
+            placed[file] = fallback
+    return placed
+
+
+def _store(item: CompiledSpec, file: Path, entry: Path) -> None:
+    """Write the entry in a staging folder beside it, then rename it into place."""
+    from robospec.output import checked_robot_files, module_name_for
+
+    assert item.robot is not None
+    module = module_name_for(item.robot.uid, set())
+    # files name each other relative to the folder they live in: emit for this entry's folder
+    files, problem = checked_robot_files(item.robot, module, entry, item.display)
+    if problem is not None or files is None:
+        raise SpecError([problem] if problem is not None else [])
+    entry.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=".tmp-", dir=entry.parent))
+    try:
+        for name, text in files.items():
+            (staging / name).write_text(text, encoding="utf-8")
+        deps = [str(file.resolve()), *_dependencies(item.robot)]
+        manifest = {
+            "uid": item.robot.uid,
+            "class_name": item.robot.class_name,
+            "override": item.robot.override,
+            "module_file": f"{module}.py",
+            "module_sha256": _sha256(files[f"{module}.py"].encode()),
+            "deps": [[path, _file_hash(path)] for path in deps],
+        }
+        (staging / "manifest.json").write_text(json.dumps(manifest, indent=1))
+        _install(staging, entry)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _install(staging: Path, entry: Path) -> None:
+    """Rename ``staging`` to ``entry``, replacing a stale or broken entry (a folder, a file or a
+    link); an entry another process has just written for the same key is kept."""
+    try:
+        os.replace(staging, entry)  # atomic while the entry is absent (or an empty folder)
+        return
+    except OSError:
+        if _entry_is_fresh(entry):
+            return  # a concurrent register() wrote the same key: same content
+    # move the old entry aside in one rename, so no reader ever sees a half-deleted entry
+    aside = Path(tempfile.mkdtemp(prefix=".old-", dir=entry.parent)) / "entry"
+    try:
+        os.replace(entry, aside)
+    except FileNotFoundError:
+        pass
+    try:
+        os.replace(staging, entry)
+    finally:
+        shutil.rmtree(aside.parent, ignore_errors=True)
+
+
+_FALLBACK: list[Path] = []
+
+
+def _fallback_root() -> Path:
+    """A private temporary cache for this process, removed at exit: generated modules name
+    their files relative to themselves, so the folder must outlive registration."""
+    if not _FALLBACK:
+        root = Path(tempfile.mkdtemp(prefix="robospec-cache-"))
+        atexit.register(shutil.rmtree, root, ignore_errors=True)
+        _FALLBACK.append(root)
+    return _FALLBACK[0]
 
 
 def _dependencies(robot: object) -> list[str]:
@@ -214,7 +290,12 @@ def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dic
                         )
                     ]
                 )
-        module = _exec_module(module_name, entry / manifest["module_file"])
+        module_file = _module_file(entry, manifest)
+        if module_file is None:  # checked fresh a moment ago: someone broke it since
+            raise SpecError(
+                [error(Location(str(entry)), "RS900", "the cache entry changed while loading")]
+            )
+        module = _exec_module(module_name, module_file)
         loaded[uid] = getattr(module, manifest["class_name"])
     return loaded
 

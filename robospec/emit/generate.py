@@ -90,9 +90,12 @@ class _Context:
         self.asset_folders: set[str] = set()
         self.uses_here = False
         self.imports = helpers.Imports()
-        # the spec as the generated module names it: relative to the module, so that the output
-        # is the same whatever folder (or absolute path) the build was started with
-        self.spec_label = Path(os.path.relpath(robot.spec_path, module_dir)).as_posix()
+        # the spec as the generated module's docstrings name it: relative to the module, so that
+        # the output is the same whatever folder (or absolute path) the build was started with;
+        # just its file name when that path climbs out of the module's folder, where it would
+        # spell this machine's folders ("../../../home/me/specs/x.yaml")
+        relative = Path(os.path.relpath(robot.spec_path, module_dir)).as_posix()
+        self.spec_label = Path(robot.spec_path).name if relative.startswith("../") else relative
 
     def path_expr(self, ref: FileRef, *, is_description: bool = False) -> ast.expr:
         if ref.kind in ("maniskill_assets", "maniskill_data") and ref.generated_text is None:

@@ -53,11 +53,26 @@ def template(source: str, **holes: ast.expr) -> list[ast.stmt]:
 
 
 def function(name: str, source: str, **holes: ast.expr) -> ast.FunctionDef:
-    """A ``def`` from a template, renamed to ``name`` (an identifier checked by the caller)."""
+    """A ``def`` from a template, renamed to ``name`` (checked: it may come from a spec)."""
     (node,) = template(source, **holes)
     assert isinstance(node, ast.FunctionDef)
-    node.name = name
+    node.name = identifier(name)
     return node
+
+
+def identifier(name: str) -> str:
+    """``name`` if it is a plain Python identifier, else :class:`UnsafeIdentifier`.
+
+    Every identifier that comes from a spec (class, member and attribute names) passes here:
+    the model's patterns allow keywords such as ``class`` or ``None``, which would not parse."""
+    from robospec.emit.generate import safe_identifier
+
+    return safe_identifier(name)
+
+
+def self_attribute(name: str) -> ast.Attribute:
+    """``self.<name>`` for a member name from a spec."""
+    return ast.Attribute(ast.Name("self", ast.Load()), identifier(name), ast.Load())
 
 
 def constant(value: Any) -> ast.expr:
@@ -70,7 +85,7 @@ def link_expr(name: str, robot: ResolvedRobot | None) -> ast.expr:
     """A link by name: ``self.<attribute>`` for one of ``robot``'s named links, else
     ``links_map[name]`` (always, with no robot: before the named links are bound)."""
     if robot is not None and any(attribute == name for attribute, _ in robot.named_links):
-        return ast.Attribute(ast.Name("self", ast.Load()), name, ast.Load())
+        return self_attribute(name)
     (expr,) = template("self.robot.links_map[NAME]", NAME=ast.Constant(name))
     assert isinstance(expr, ast.Expr)
     return expr.value
@@ -78,7 +93,7 @@ def link_expr(name: str, robot: ResolvedRobot | None) -> ast.expr:
 
 def links_expr(links: tuple[str, ...] | str, robot: ResolvedRobot) -> ast.expr:
     if isinstance(links, str):  # a named link holding a list
-        return ast.Attribute(ast.Name("self", ast.Load()), links, ast.Load())
+        return self_attribute(links)
     return ast.List([link_expr(n, robot) for n in links], ast.Load())
 
 
@@ -373,9 +388,9 @@ def generate_proprioception(robot: ResolvedRobot) -> ast.FunctionDef | None:
     values: list[ast.expr] = []
     for name in robot.proprioception:
         state = states[name]
-        (stmt,) = template("self." + name + ("()" if state.method else ""))
-        assert isinstance(stmt, ast.Expr)
-        value = stmt.value
+        value: ast.expr = self_attribute(name)
+        if state.method:
+            value = ast.Call(value, [], [])
         if not state.single:
             count = (
                 ast.Call(
@@ -444,7 +459,7 @@ def generate_after_init_helpers(robot: ResolvedRobot) -> list[ast.stmt]:
     """``_after_init`` statements binding named links and the tcp, and disabling gravity."""
     body: list[ast.stmt] = []
     for attribute, value in robot.named_links:
-        target = ast.Attribute(ast.Name("self", ast.Load()), attribute, ast.Store())
+        target = ast.Attribute(ast.Name("self", ast.Load()), identifier(attribute), ast.Store())
         bound = (
             link_expr(value, None)
             if isinstance(value, str)
