@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import os
 import re
+import stat
+import sys
 from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.loading.prescan import prescan
 from robospec.loading.source import KeyPath, LoadedSpec, SourceMap
 
 SPEC_SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml"}
@@ -16,9 +20,10 @@ MAX_DEPTH = 64
 
 
 class _TooBig(Exception):
-    def __init__(self, message: str, path: KeyPath) -> None:
+    def __init__(self, message: str, path: KeyPath, code: str = "RS006") -> None:
         super().__init__(message)
         self.path = path
+        self.code = code
 
 
 def read_spec(path: Path, display: str | None = None) -> tuple[LoadedSpec | None, list[Diagnostic]]:
@@ -33,20 +38,46 @@ def read_spec(path: Path, display: str | None = None) -> tuple[LoadedSpec | None
                 "use .yaml, .yml or .toml",
             )
         ]
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        return None, [error(Location(display), "RS001", f"cannot read spec: {exc.strerror}")]
+    raw, problem = _read_regular_file(path, display)
+    if raw is None:
+        return None, [problem] if problem else []
     return parse_spec_bytes(raw, display, fmt)
+
+
+def _read_regular_file(path: Path, display: str) -> tuple[bytes | None, Diagnostic | None]:
+    """The file's bytes, refusing what is not a plain file (a FIFO would block the read
+    forever) and what is too large by its size, before reading it."""
+    try:
+        status = path.stat()
+        if not stat.S_ISREG(status.st_mode):
+            what = "a folder" if stat.S_ISDIR(status.st_mode) else "not a regular file"
+            return None, error(Location(display), "RS001", f"cannot read spec: it is {what}")
+        if status.st_size > MAX_BYTES:
+            return None, _too_large(display)
+        # O_NONBLOCK: should the path become a FIFO after the check, opening it cannot hang
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(descriptor, "rb") as handle:
+            raw = handle.read(MAX_BYTES + 1)
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        return None, error(Location(display), "RS001", f"cannot read spec: {reason}")
+    return raw, None
+
+
+def _too_large(display: str) -> Diagnostic:
+    return error(
+        Location(display),
+        "RS006",
+        f"spec is larger than {MAX_BYTES // 1024} KiB",
+        "a spec is a few KiB; is this the right file?",
+    )
 
 
 def parse_spec_bytes(
     raw: bytes, display: str, fmt: str
 ) -> tuple[LoadedSpec | None, list[Diagnostic]]:
     if len(raw) > MAX_BYTES:
-        return None, [
-            error(Location(display), "RS006", f"spec is larger than {MAX_BYTES // 1024} KiB")
-        ]
+        return None, [_too_large(display)]
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -58,6 +89,9 @@ def parse_spec_bytes(
     if text.startswith("\ufeff"):
         text = text[1:]
     source = SourceMap(display)
+    limit = prescan(text, indentation_nests=fmt == "yaml")
+    if limit is not None:
+        return None, [error(Location(display, limit.line, limit.column), "RS006", limit.message)]
     if fmt == "yaml":
         data, diagnostics = _load_yaml(text, source)
     else:
@@ -93,13 +127,33 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         return None, [_marked(exc, source, "RS002", message)]
     except ReaderError as exc:
         return None, [_unreadable_character(exc, text, source)]
-    except (YAMLError, RecursionError, ValueError) as exc:
+    except ValueError as exc:
+        return None, [_value_error(exc, text, source, "YAML")]
+    except (YAMLError, RecursionError) as exc:
         return None, [error(Location(source.file), "RS002", f"YAML error: {exc}")]
     try:
         data = _walk_yaml(document, (), source, [0])
     except _TooBig as exc:
-        return None, [error(source.key(exc.path), "RS006", str(exc))]
+        return None, [error(source.key(exc.path), exc.code, str(exc))]
     return data, []
+
+
+def _value_error(exc: ValueError, text: str, source: SourceMap, language: str) -> Diagnostic:
+    """A value the parser could not convert; in practice an integer with more digits than
+    Python converts (``sys.get_int_max_str_digits``), located at the first such digit run."""
+    limit = sys.get_int_max_str_digits() if hasattr(sys, "get_int_max_str_digits") else 4300
+    long_number = re.compile("[0-9][0-9_]{" + str(max(limit, 1)) + ",}")
+    found = long_number.search(text)
+    if found is None:
+        return error(Location(source.file), "RS002", f"{language}: {exc}")
+    line = text.count("\n", 0, found.start()) + 1
+    column = found.start() - (text.rfind("\n", 0, found.start()) + 1) + 1
+    return error(
+        Location(source.file, line, column),
+        "RS002",
+        f"{language}: a number with more than {limit} digits",
+        "no value in a spec needs that many digits",
+    )
 
 
 def _unreadable_character(exc: Any, text: str, source: SourceMap) -> Diagnostic:
@@ -149,13 +203,16 @@ def _walk_yaml(node: Any, path: KeyPath, source: SourceMap, count: list[int]) ->
         result: dict[str, Any] = {}
         for key in node:
             if not isinstance(key, (str, int, float, bool)) and key is not None:
-                raise _TooBig("keys must be plain scalars", path)
+                raise _TooBig("keys must be plain scalars, not lists or mappings", path, "RS002")
             name = str(key) if key is not None else "null"
             child = (*path, name)
-            line, column = node.lc.key(key)
-            source.keys[child] = (line + 1, column + 1)
-            vline, vcolumn = node.lc.value(key)
-            source.values[child] = (vline + 1, vcolumn + 1)
+            position = (node.lc.data or {}).get(key)
+            if position is None:
+                # a key merged in with `<<: *anchor` has no position of its own: use the map's
+                source.keys[child] = source.values[child] = source.values.get(path, (1, 1))
+            else:
+                source.keys[child] = (position[0] + 1, position[1] + 1)
+                source.values[child] = (position[2] + 1, position[3] + 1)
             result[name] = _walk_yaml(node[key], child, source, count)
         return result
     if isinstance(node, CommentedSeq):
@@ -198,6 +255,8 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
             message = message[: match.start()].strip()
         code = "RS003" if "overwrite" in message.lower() else "RS002"
         return None, [error(location, code, f"TOML: {message}")]
+    except ValueError as exc:  # an integer longer than Python converts
+        return None, [_value_error(exc, text, source, "TOML")]
     except RecursionError:
         return None, [error(Location(source.file), "RS006", "TOML nested too deeply")]
     from robospec.loading.toml_positions import toml_positions
