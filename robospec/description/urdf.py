@@ -541,7 +541,8 @@ def _articulation(
         )
         chosen = base
     order = bfs_order(chosen, children)
-    dropped = [name for name in links if name not in set(order)]
+    articulated = set(order)  # built once: rebuilding it per link made this quadratic
+    dropped = [name for name in links if name not in articulated]
     # The usual "world --floating--> base" pattern drops only the empty world link: expected.
     if dropped and not (chosen != base and dropped == [base]):
         shown = ", ".join(f"'{name}'" for name in dropped[:5])
