@@ -1,15 +1,39 @@
 """`robospec build`: a package of generated agent modules, written all at once or not at all.
 
-Output is deterministic (specs in sorted order, no timestamps). A file robospec did not
-generate is never overwritten: every file we write is listed in ``MANIFEST``, and only
-files listed there by an earlier build may be replaced or removed.
+Output is deterministic (specs in sorted order, no timestamps). A file robospec did not generate
+is never overwritten: every file we write is listed in ``MANIFEST``, and only files listed there
+by an earlier build may be replaced or removed. Anything in the folder that is not a regular file
+(a symbolic link, a folder) is never ours: a link is never followed, replaced or removed.
+
+How a build is written, so that nothing is lost:
+
+- **One build at a time.** The whole compare-and-write step holds an advisory ``fcntl.flock`` on
+  the output folder's parent directory (no lock file is left behind). A second concurrent
+  ``robospec build`` of the same folder waits, then compares against the first one's result.
+- **Staged, then renamed.** The new files are written to a staging folder beside the output
+  (``.<name>.robospec-*``), then put in place by renames, never by writing into the output:
+  - no output folder yet: one ``rename(staging, out)``;
+  - the folder holds only our files: the two folders are swapped in one atomic
+    ``renameat2(RENAME_EXCHANGE)`` (Linux); elsewhere by two renames, the old folder first
+    moved aside to ``.<name>.robospec-*.old``;
+  - the folder also holds the user's files: ours are replaced one rename at a time, the
+    manifest last. A kill midway leaves each file whole, old or new, and the next build
+    finishes the job.
+- **Recovery.** Before comparing, a build (under the lock) puts back an old folder left aside by
+  a killed two-rename swap when the output is missing, and removes leftover staging folders.
+  So a build killed at any point leaves the previous output, or the new one, complete.
 """
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import errno
 import os
 import shutil
+import sys
 import tempfile
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -56,9 +80,14 @@ def _plan(compiled: list[CompiledSpec], out_dir: Path) -> tuple[dict[str, str], 
 def _previous_manifest(out_dir: Path) -> set[str]:
     try:
         text = (out_dir / MANIFEST).read_text(encoding="utf-8")
-    except OSError:
+    except (OSError, UnicodeDecodeError):
         return set()
     return {line for line in text.splitlines() if line and "/" not in line and line != ".."}
+
+
+def _is_ours(path: Path, previous: set[str]) -> bool:
+    """A file an earlier build wrote: listed in its manifest, and still a plain file."""
+    return path.name in previous and path.is_file() and not path.is_symlink()
 
 
 def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -> BuildResult:
@@ -77,11 +106,33 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
         result.diagnostics.extend(problems)
         return result
     result.files = files
+    # a link to the output folder is kept: we build into the folder it names
+    target = Path(os.path.realpath(out_dir))
+    if check:
+        _compare(target, files, result)
+        return result
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        with _locked(target.parent):
+            _recover(target)
+            stale = _compare(target, files, result)
+            if not result.diagnostics and result.changed:
+                _write_atomically(target, files, stale)
+    except OSError as exc:  # a file in the way, no permission, a full disk: nothing is lost
+        reason = exc.strerror or str(exc)
+        result.diagnostics.append(
+            error(Location(str(out_dir)), "RS603", f"cannot write {out_dir}: {reason}")
+        )
+    return result
+
+
+def _compare(out_dir: Path, files: dict[str, str], result: BuildResult) -> list[str]:
+    """Fill ``result`` with refusals and changed names; return our stale files to remove."""
     previous = _previous_manifest(out_dir)
-    existing = {p.name for p in out_dir.iterdir()} if out_dir.is_dir() else set()
+    existing = {p.name: p for p in out_dir.iterdir()} if out_dir.is_dir() else {}
     for name in sorted(files):
         current = out_dir / name
-        if name in existing and name not in previous and name != MANIFEST:
+        if name in existing and name != MANIFEST and not _is_ours(current, previous):
             result.diagnostics.append(
                 error(
                     Location(str(current)),
@@ -90,34 +141,69 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
                     "move it away or pick another -o folder",
                 )
             )
-        elif not current.is_file() or current.read_text(encoding="utf-8") != files[name]:
+        elif not _same_bytes(current, files[name]):
             result.changed.append(name)
-    stale = sorted((previous & existing) - set(files))
+    stale = sorted(n for n in previous if n in existing and n not in files)
+    stale = [n for n in stale if _is_ours(out_dir / n, previous)]
     result.changed.extend(stale)
-    if result.diagnostics or check or not result.changed:
-        return result
-    _write_atomically(out_dir, files, stale, existing)
-    return result
+    return stale
 
 
-def _write_atomically(
-    out_dir: Path, files: dict[str, str], stale: list[str], existing: set[str]
-) -> None:
-    out_dir.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.", dir=out_dir.parent))
+def _same_bytes(path: Path, text: str) -> bool:
     try:
-        for name, text in files.items():
-            (staging / name).write_text(text, encoding="utf-8", newline="\n")
-        ours = set(files) | set(stale) | {MANIFEST, "__pycache__"}
+        return path.is_file() and path.read_bytes() == text.encode("utf-8")
+    except OSError:
+        return False
+
+
+@contextlib.contextmanager
+def _locked(folder: Path) -> Iterator[None]:
+    """Hold an exclusive advisory lock on ``folder`` (a directory can be flock'ed directly)."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: builds are atomic per rename, but not serialized
+        yield
+        return
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # closing releases the lock
+
+
+def _staging_prefix(out_dir: Path) -> str:
+    return f".{out_dir.name}.robospec-"
+
+
+def _recover(out_dir: Path) -> None:
+    """Undo what a killed build left beside ``out_dir`` (we hold the lock: nobody is writing)."""
+    prefix = _staging_prefix(out_dir)
+    leftovers = sorted(out_dir.parent.glob(prefix + "*"))
+    if not out_dir.exists() and not out_dir.is_symlink():
+        aside = [p for p in leftovers if p.name.endswith(".old") and p.is_dir()]
+        if aside:
+            os.replace(aside[-1], out_dir)  # killed between the two renames: put it back
+            leftovers.remove(aside[-1])
+    for path in leftovers:
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path, ignore_errors=True)
+
+
+def _write_atomically(out_dir: Path, files: dict[str, str], stale: list[str]) -> None:
+    staging = Path(tempfile.mkdtemp(prefix=_staging_prefix(out_dir), dir=out_dir.parent))
+    try:
+        for name in sorted(files):
+            with open(staging / name, "w", encoding="utf-8", newline="\n") as handle:
+                handle.write(files[name])
+                handle.flush()
+                os.fsync(handle.fileno())  # the rename must not publish empty files on a crash
         if not out_dir.exists():
             os.replace(staging, out_dir)  # one rename: all the files appear at once
             return
-        if existing <= ours:
-            # only our files are there: swap the folders, so a reader sees old or new
-            backup = staging.with_name(staging.name + ".old")
-            os.replace(out_dir, backup)
-            os.replace(staging, out_dir)
-            shutil.rmtree(backup, ignore_errors=True)
+        ours = set(files) | set(stale) | {MANIFEST, "__pycache__"}
+        if {p.name for p in out_dir.iterdir()} <= ours:
+            _swap(staging, out_dir)  # only our files are there: a reader sees old or new
             return
         # the folder holds the user's files too: replace ours one by one, manifest last
         for name in sorted(files, key=lambda n: n == MANIFEST):
@@ -126,3 +212,36 @@ def _write_atomically(
             (out_dir / name).unlink(missing_ok=True)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _swap(staging: Path, out_dir: Path) -> None:
+    """Put ``staging`` at ``out_dir``; the old folder ends at ``staging``'s path, then goes."""
+    if not _exchange(staging, out_dir):
+        aside = staging.with_name(staging.name + ".old")
+        os.replace(out_dir, aside)  # a kill here is undone by _recover
+        os.replace(staging, out_dir)
+        staging = aside
+    shutil.rmtree(staging, ignore_errors=True)
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(first: Path, second: Path) -> bool:
+    """Swap two paths in one atomic step (Linux ``renameat2``); False where unsupported."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        renameat2 = ctypes.CDLL(None, use_errno=True).renameat2
+    except (OSError, AttributeError):  # an old C library
+        return False
+    done = renameat2(
+        _AT_FDCWD, os.fsencode(first), _AT_FDCWD, os.fsencode(second), _RENAME_EXCHANGE
+    )
+    if done == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):  # not on this file system
+        return False
+    raise OSError(code, os.strerror(code), str(second))

@@ -1,0 +1,258 @@
+"""Nothing lost: a killed, concurrent or obstructed `robospec build` never leaves a broken folder.
+
+Real `robospec build` processes are killed with SIGKILL at random moments and run two at a time;
+the output folder must always hold one complete build (the previous one or the new one), and
+files that robospec did not write (including symbolic links and what they point at) stay as they
+were.
+"""
+
+from __future__ import annotations
+
+import os
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL and flock are POSIX")
+
+
+def build_command(specs: Path, out: Path) -> list[str]:
+    return [sys.executable, "-m", "robospec.cli", "build", str(specs), "-o", str(out)]
+
+
+def build(specs: Path, out: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        build_command(specs, out), cwd=ROOT, capture_output=True, text=True, timeout=120
+    )
+
+
+def snapshot(folder: Path) -> dict[str, bytes]:
+    """The build as a reader sees it: every plain file (bytecode caches aside)."""
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+def leftovers(out: Path) -> list[str]:
+    return sorted(p.name for p in out.parent.iterdir() if p.name != out.name)
+
+
+@pytest.fixture
+def versions(tmp_path: Path) -> tuple[Path, Path]:
+    """Two spec folders whose builds differ: v2 changes a module, and adds one (a TOML + xacro
+    spec and a YAML spec in both)."""
+    old, new = tmp_path / "v1", tmp_path / "v2"
+    for folder in (old, new):
+        shutil.copytree(ROOT / "specs/robots/twolink", folder / "robots/twolink")
+        shutil.copy(ROOT / "specs/twolink.toml", folder / "twolink.toml")
+        shutil.copy(ROOT / "tests/specs/positive/minimal.yaml", folder / "minimal.yaml")
+    minimal = new / "minimal.yaml"
+    minimal.write_text(minimal.read_text().replace("stiffness: 1e3", "stiffness: 2e3"))
+    (new / "extra.yaml").write_text(minimal.read_text().replace("uid: rs_test", "uid: rs_extra"))
+    return old, new
+
+
+@pytest.fixture
+def built(versions: tuple[Path, Path], tmp_path: Path) -> dict[str, dict[str, bytes]]:
+    """The complete output of each version, built once, undisturbed."""
+    states = {}
+    for version in versions:
+        out = tmp_path / "reference" / version.name / "agents"
+        result = build(version, out)
+        assert result.returncode == 0, result.stdout + result.stderr
+        states[version.name] = snapshot(out)
+    assert states["v1"] != states["v2"]
+    return states
+
+
+def kill_after(command: list[str], delay: float) -> None:
+    process = subprocess.Popen(
+        command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
+    )
+    time.sleep(delay)
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+
+
+def build_seconds(specs: Path, out: Path) -> float:
+    start = time.monotonic()
+    assert build(specs, out).returncode == 0
+    return time.monotonic() - start
+
+
+def test_a_build_killed_at_any_moment_leaves_the_old_or_the_new_output_complete(
+    versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
+) -> None:
+    old, new = versions
+    out = tmp_path / "run" / "agents"
+    duration = build_seconds(new, tmp_path / "timing" / "agents")
+    assert build(old, out).returncode == 0
+    rng = random.Random(6)
+    seen: list[str] = []
+    for _ in range(24):
+        # from "still compiling" to "just finished": most kills land near the renames
+        kill_after(build_command(new, out), rng.uniform(0.5, 1.15) * duration)
+        state = snapshot(out)  # the folder must exist and hold one whole build
+        assert state in (built["v1"], built["v2"]), sorted(state)
+        seen.append("new" if state == built["v2"] else "old")
+        if state == built["v2"]:
+            assert build(old, out).returncode == 0  # start the next round from the old build
+    # the next build recovers: the new output, and nothing left beside it
+    assert build(new, out).returncode == 0
+    assert snapshot(out) == built["v2"]
+    assert leftovers(out) == []
+    assert "old" in seen and "new" in seen, seen  # the kills did land on both sides
+
+
+def test_a_killed_build_beside_the_users_files_keeps_them_and_every_file_whole(
+    versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
+) -> None:
+    old, new = versions
+    out = tmp_path / "run" / "agents"
+    assert build(old, out).returncode == 0
+    (out / "NOTES.txt").write_text("mine\n")
+    duration = build_seconds(new, tmp_path / "timing" / "agents")
+    rng = random.Random(7)
+    for _ in range(12):
+        kill_after(build_command(new, out), rng.uniform(0.5, 1.15) * duration)
+        state = snapshot(out)
+        assert state.pop("NOTES.txt") == b"mine\n"
+        for name, data in state.items():  # each file is whole: as in one build or the other
+            assert data in (built["v1"].get(name), built["v2"].get(name)), name
+        assert set(built["v1"]) <= set(state)  # nothing of the old build is missing
+    assert build(new, out).returncode == 0  # the next build completes the job
+    state = snapshot(out)
+    assert state.pop("NOTES.txt") == b"mine\n"
+    assert state == built["v2"]
+    assert leftovers(out) == []
+
+
+def test_a_build_killed_between_its_two_renames_is_put_back_by_the_next(
+    versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
+) -> None:
+    # Where renameat2 cannot swap the folders, the old folder is moved aside, then the new one
+    # into place. A kill between the two leaves exactly this: no output, the old one aside.
+    old, _ = versions
+    out = tmp_path / "run" / "agents"
+    assert build(old, out).returncode == 0
+    os.replace(out, out.with_name(".agents.robospec-k1ll3d.old"))
+    (out.parent / ".agents.robospec-st4g3").mkdir()  # a staging folder it was filling
+    result = build(old, out)
+    assert result.returncode == 0, result.stdout
+    assert "up to date" in result.stdout  # recovered the previous build: nothing to rewrite
+    assert snapshot(out) == built["v1"]
+    assert leftovers(out) == []
+
+
+def test_two_concurrent_builds_of_one_folder_leave_one_complete_build(
+    versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
+) -> None:
+    old, new = versions
+    for round_ in range(8):
+        out = tmp_path / f"round{round_}" / "agents"
+        if round_ % 2:  # half the rounds start from an existing build, half from nothing
+            assert build(old, out).returncode == 0
+        processes = [
+            subprocess.Popen(
+                build_command(specs, out),
+                cwd=ROOT,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.STDOUT,
+                text=True,
+            )
+            for specs in (old, new)
+        ]
+        outputs = [p.communicate(timeout=120)[0] for p in processes]
+        assert [p.returncode for p in processes] == [0, 0], outputs
+        assert snapshot(out) in (built["v1"], built["v2"])
+        assert leftovers(out) == []
+
+
+def test_a_symlink_in_the_output_folder_is_never_followed_or_replaced(
+    versions: tuple[Path, Path], tmp_path: Path
+) -> None:
+    old, _ = versions
+    out = tmp_path / "run" / "agents"
+    assert build(old, out).returncode == 0
+    elsewhere = tmp_path / "elsewhere.py"
+    elsewhere.write_text("# the user's\n")
+    # the user replaced a generated module by a link to their own file
+    (out / "twolink.py").unlink()
+    (out / "twolink.py").symlink_to(elsewhere)
+    (out / "data").symlink_to(tmp_path)  # and keeps a link to a folder there
+    result = build(old, out)
+    assert result.returncode == 1
+    assert "RS001" in result.stdout and "twolink.py" in result.stdout
+    assert (out / "twolink.py").is_symlink() and os.readlink(out / "twolink.py") == str(elsewhere)
+    assert elsewhere.read_text() == "# the user's\n"
+    assert (out / "data").is_symlink()
+
+
+def test_a_link_to_the_output_folder_is_kept_and_its_target_built(
+    versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
+) -> None:
+    old, _ = versions
+    real = tmp_path / "real" / "agents"
+    real.mkdir(parents=True)
+    link = tmp_path / "linked" / "agents"
+    link.parent.mkdir()
+    link.symlink_to(real)
+    assert build(old, link).returncode == 0
+    assert link.is_symlink()
+    assert snapshot(real) == built["v1"]
+    assert build(old, link).returncode == 0  # again, with our files there: a folder swap
+    assert link.is_symlink() and snapshot(real) == built["v1"]
+
+
+@pytest.mark.parametrize("name", ["__init__.py", "twolink.urdf"])
+def test_a_user_file_named_like_a_generated_one_is_not_overwritten(
+    versions: tuple[Path, Path], tmp_path: Path, name: str
+) -> None:
+    old, _ = versions
+    out = tmp_path / "agents"
+    out.mkdir()
+    (out / name).write_text("# my own\n")
+    result = build(old, out)
+    assert result.returncode == 1
+    assert "refusing to overwrite" in result.stdout
+    assert (out / name).read_text() == "# my own\n"
+    assert sorted(p.name for p in out.iterdir()) == [name]
+
+
+def test_an_output_folder_that_cannot_be_written_is_a_diagnostic(
+    versions: tuple[Path, Path], tmp_path: Path
+) -> None:
+    old, _ = versions
+    blocker = tmp_path / "afile"
+    blocker.write_text("not a folder\n")
+    result = build(old, blocker / "agents")
+    assert result.returncode == 1
+    assert "error[RS603]" in result.stdout
+    assert "Traceback" not in result.stdout + result.stderr
+
+
+def test_toml_and_xacro_output_is_identical_across_hash_seeds(
+    versions: tuple[Path, Path], tmp_path: Path
+) -> None:
+    old, _ = versions
+    states = []
+    for seed in ("0", "1", "31337"):
+        out = tmp_path / seed / "agents"
+        result = subprocess.run(
+            build_command(old, out),
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            timeout=120,
+            env={**os.environ, "PYTHONHASHSEED": seed},
+        )
+        assert result.returncode == 0, result.stdout
+        states.append(snapshot(out))
+    assert "twolink.urdf" in states[0]  # the xacro expansion is part of what is compared
+    assert states[0] == states[1] == states[2]
