@@ -62,6 +62,11 @@ def _spec_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
     return files
 
 
+def cache_salt() -> str:
+    """What else a cache entry depends on: the cache layout, robospec's and ManiSkill's versions."""
+    return CACHE_FORMAT + "/" + _robospec_version()
+
+
 def _robospec_version() -> str:
     from importlib.metadata import PackageNotFoundError, version
 
@@ -92,19 +97,11 @@ def register(
         paths = [paths]
     root = Path(cache_dir) if cache_dir is not None else cache_root()
     files = _spec_files(paths)
-    salt = CACHE_FORMAT + "/" + _robospec_version()
+    salt = cache_salt()
     entries: list[tuple[Path, Path]] = []
     cold: list[tuple[Path, Path]] = []
     for file in files:
-        try:
-            key = _sha256(
-                salt.encode() + b"\0" + str(file.resolve()).encode() + b"\0" + file.read_bytes()
-            )
-        except OSError as exc:
-            raise SpecError(
-                [error(Location(str(file)), "RS001", f"cannot read spec: {exc.strerror}")]
-            ) from None
-        entry = root / key[:40]
+        entry = _entry_for(file, root, salt)
         entries.append((file, entry))
         if not _entry_is_fresh(entry):
             cold.append((file, entry))
@@ -112,6 +109,19 @@ def register(
         placed = _compile_entries(cold, [f for f, _ in entries], overrides)
         entries = [(file, placed.get(file, entry)) for file, entry in entries]
     return _load_entries(entries, overrides)
+
+
+def _entry_for(file: Path, root: Path, salt: str) -> Path:
+    """The cache entry of a spec: named by a hash of robospec's version, the spec's path and
+    its bytes, never by anything the spec says (its uid cannot steer where files go)."""
+    try:
+        data = file.read_bytes()
+    except OSError as exc:
+        raise SpecError(
+            [error(Location(str(file)), "RS001", f"cannot read spec: {exc.strerror}")]
+        ) from None
+    key = _sha256(salt.encode() + b"\0" + str(file.resolve()).encode() + b"\0" + data)
+    return root / key[:40]
 
 
 def _entry_is_fresh(entry: Path) -> bool:
