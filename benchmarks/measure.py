@@ -1,0 +1,87 @@
+"""Timing fresh processes: wall time, peak memory, medians and spreads.
+
+Every benchmark measures what a user gets from a fresh process. Children run with bytecode
+caching on (``PYTHONDONTWRITEBYTECODE`` removed), as after ``pip install``, which compiles
+every module once: a benchmark that recompiled robospec's sources in every run would measure
+this machine's environment, not robospec. One unmeasured warm-up run per command writes those
+caches (and warms the OS file cache) before the measured runs.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PYTHON = sys.executable
+
+
+def child_env(**extra: str) -> dict[str, str]:
+    """The environment of a measured child: this one, bytecode caching on, plus ``extra``."""
+    env = {key: value for key, value in os.environ.items() if key != "PYTHONDONTWRITEBYTECODE"}
+    env.update(extra)
+    return env
+
+
+@dataclass(frozen=True)
+class Run:
+    """One finished child process."""
+
+    seconds: float
+    peak_rss_kib: int  # ru_maxrss of the child alone (KiB on Linux)
+    returncode: int
+    output: str  # stdout and stderr, interleaved
+
+
+def run(args: list[str], env: dict[str, str], cwd: Path = ROOT) -> Run:
+    """Run ``args`` to completion: its wall time, exit status, output and its own peak RSS
+    (from ``wait4``, so no other child's peak counts).
+
+    Output goes to a file, not a pipe, so the child cannot block on a full pipe while this
+    process waits for it.
+    """
+    with tempfile.TemporaryFile(mode="w+") as out:
+        started = time.perf_counter()
+        child = subprocess.Popen(args, cwd=cwd, env=env, stdout=out, stderr=subprocess.STDOUT)
+        _, status, usage = os.wait4(child.pid, 0)
+        seconds = time.perf_counter() - started
+        child.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        return Run(seconds, usage.ru_maxrss, child.returncode, out.read())
+
+
+@dataclass(frozen=True)
+class Sample:
+    """Repeated runs of one command: median and spread of wall time, the last output."""
+
+    times: tuple[float, ...]
+    peak_rss_kib: int
+    returncode: int
+    output: str
+
+    @property
+    def median(self) -> float:
+        return statistics.median(self.times)
+
+    @property
+    def spread(self) -> str:
+        return f"{min(self.times):.2f}–{max(self.times):.2f}"
+
+
+def sample(args: list[str], env: dict[str, str], repeat: int, warm_up: bool = True) -> Sample:
+    """Run ``args`` ``repeat`` times (after one unmeasured warm-up run unless told not to)."""
+    if warm_up:
+        run(args, env)
+    runs = [run(args, env) for _ in range(repeat)]
+    return Sample(
+        tuple(run.seconds for run in runs),
+        max(run.peak_rss_kib for run in runs),
+        runs[-1].returncode,
+        runs[-1].output,
+    )
