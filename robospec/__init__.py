@@ -7,8 +7,22 @@ pipeline and ManiSkill load only when used.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from robospec.diagnostics import Diagnostic, SpecError
-from robospec.registration import register
+
+if TYPE_CHECKING:
+    from robospec.registration import register
 
 __version__ = "0.1.0"
 __all__ = ["Diagnostic", "SpecError", "__version__", "register"]
+
+
+def __getattr__(name: str) -> Any:
+    # registration's imports (shutil, tempfile, hashlib, ...) are not needed by the CLI's
+    # validate, which imports this package first
+    if name == "register":
+        from robospec.registration import register
+
+        return register
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

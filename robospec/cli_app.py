@@ -1,4 +1,7 @@
-"""The `robospec` command line. Exit codes: 0 no errors, 1 errors, 2 usage error."""
+"""The `robospec` commands (a typer app). Exit codes: 0 no errors, 1 errors, 2 usage error.
+
+The entry point is robospec.cli.main: it runs a plain `robospec validate` without building this
+app (robospec.fast_validate) and hands every other command line to it."""
 
 from __future__ import annotations
 
@@ -356,15 +359,4 @@ def doc(
     _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
 
 
-def main() -> None:
-    try:
-        # a fixed name, so that `python -m robospec.cli` shows and completes as `robospec`
-        app(prog_name="robospec")
-    except KeyboardInterrupt:
-        sys.exit(130)
-
-
-if __name__ == "__main__":
-    main()
-
-__all__ = ["app", "main"]
+__all__ = ["app"]

@@ -1,0 +1,91 @@
+"""A plain `robospec validate` skips the typer app (robospec.fast_validate) and answers exactly
+as the typer command does: same stdout, stderr and exit status, for every format and colour
+choice; every other command line (help, usage errors, completion) goes to typer."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from robospec import fast_validate
+
+ROOT = Path(__file__).resolve().parent.parent
+TYPER_PATH = "import sys; from robospec.cli_app import app; app(prog_name='robospec')"
+BAD = "tests/specs/negative/misspelled_joint.yaml"
+GOOD = "specs/maniskill/panda.yaml"
+
+
+def _run(prefix: list[str], args: list[str], env: dict[str, str]) -> tuple[str, str, int]:
+    result = subprocess.run(
+        [sys.executable, *prefix, *args], cwd=ROOT, capture_output=True, text=True, env=env
+    )
+    return result.stdout, result.stderr, result.returncode
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["validate", BAD],
+        ["validate", GOOD],
+        ["validate", GOOD, BAD, "--format", "json"],
+        ["validate", "-f", "github", BAD],
+        ["validate", "--format=sarif", BAD],
+        ["validate", "--color", "always", BAD],
+        ["validate", "--color=never", "tests/specs/negative"],
+        ["validate", "no/such/spec.yaml"],
+        ["validate", "specs/maniskill", "--format", "json", "--color", "auto"],
+    ],
+)
+def test_plain_validate_prints_and_exits_as_the_typer_command(args: list[str]) -> None:
+    assert fast_validate.parse(args, {}) is not None
+    env = {**os.environ, "NO_COLOR": ""}
+    fast = _run(["-m", "robospec.cli"], args, env)
+    typer_path = _run(["-c", TYPER_PATH], args, env)
+    assert fast == typer_path
+    assert fast[2] in (0, 1) and fast[0]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["validate"],
+        ["validate", "--help"],
+        ["validate", BAD, "--format", "yaml"],
+        ["validate", BAD, "--colour", "always"],
+        ["validate", BAD, "-f"],
+        ["validate", "-fjson", BAD],
+        ["validate", "--", BAD],
+        ["build", BAD, "-o", "out"],
+        [],
+    ],
+)
+def test_other_command_lines_are_left_to_typer(args: list[str]) -> None:
+    assert fast_validate.parse(args, {}) is None
+
+
+def test_completion_is_left_to_typer() -> None:
+    assert fast_validate.parse(["validate", BAD], {"_ROBOSPEC_COMPLETE": "complete_bash"}) is None
+
+
+def test_usage_errors_still_come_from_typer_with_exit_2() -> None:
+    _, stderr, code = _run(
+        ["-m", "robospec.cli"], ["validate", BAD, "--format", "yaml"], {**os.environ}
+    )
+    assert code == 2 and "Invalid value" in stderr
+
+
+def test_plain_validate_imports_no_typer_click_or_rich() -> None:
+    probe = (
+        "import sys\n"
+        f"sys.argv = ['robospec', 'validate', {BAD!r}]\n"
+        "from robospec.cli import main\n"
+        "try:\n    main()\nexcept SystemExit as exit:\n    code = exit.code\n"
+        "loaded = sorted(m for m in sys.modules if m.split('.')[0] in ('typer', 'click', 'rich'))\n"
+        "print('EXIT', code, 'LOADED', loaded)\n"
+    )
+    stdout, _, _ = _run(["-c", probe], [], dict(os.environ))
+    assert stdout.strip().endswith("EXIT 1 LOADED []")
