@@ -3,7 +3,10 @@ way (subclass ManiSkill's Panda with the same misspelling, then `gym.make` until
 
 from __future__ import annotations
 
-from measure import PYTHON, child_env, sample
+import sys
+from collections import Counter
+
+from measure import PYTHON, child_env, run, sample
 from section import Section
 
 TITLE = "Time to the first error for a misspelled joint"
@@ -56,4 +59,41 @@ its error has a location. Validating the (correct) panda spec takes {validate_ok
 (peak memory {validate_ok.peak_rss_kib / 1024:.0f} MiB) and imports neither torch, SAPIEN nor
 ManiSkill.
 """
-    return Section(TITLE, body, speedup >= TARGET_SPEEDUP)
+    return Section(TITLE, body + _import_breakdown(), speedup >= TARGET_SPEEDUP)
+
+
+def _import_breakdown() -> str:
+    """Where `robospec validate`'s start-up goes: ``-X importtime`` self times, summed by top
+    package (one run; importtime's own bookkeeping inflates them a little)."""
+    args = [PYTHON, "-X", "importtime", "-m", "robospec.cli", "validate", BAD_SPEC]
+    output = run(args, child_env()).output
+    by_package: Counter[str] = Counter()
+    for line in output.splitlines():
+        if not line.startswith("import time:") or "|" not in line:
+            continue
+        fields = line.removeprefix("import time:").split("|")
+        if not fields[0].strip().isdigit():
+            continue  # the header line
+        module = fields[2].strip()
+        top = module.split(".")[0]
+        if top == "robospec" and "." in module:
+            top = ".".join(module.split(".")[:2])
+        elif top.lstrip("_") in sys.stdlib_module_names or top.startswith("_"):
+            top = "(standard library)"
+        by_package[top] += int(fields[0])
+    total = sum(by_package.values())
+    rows = [f"| {name} | {micros / 1000:.0f} |" for name, micros in by_package.most_common(12)]
+    rest = total - sum(micros for _, micros in by_package.most_common(12))
+    return "\n".join(
+        [
+            "",
+            "Where the start-up of that `robospec validate` goes (`-X importtime` self times",
+            f"summed by package, one run; {total / 1000:.0f} ms of imports in all):",
+            "",
+            "| package | ms |",
+            "| --- | ---: |",
+            *rows,
+            f"| everything else | {rest / 1000:.0f} |",
+            "",
+        ]
+    )
