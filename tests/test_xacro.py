@@ -7,7 +7,14 @@ import sys
 import time
 from pathlib import Path
 
-from robospec.description.xacro import expand_xacro
+import pytest
+
+from robospec.description.xacro import (
+    DEFAULT_MEMORY_BYTES,
+    DEFAULT_TIMEOUT_S,
+    configured_limits,
+    expand_xacro,
+)
 
 HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 TAIL = "</robot>\n"
@@ -158,3 +165,171 @@ def test_printing_from_the_file_cannot_corrupt_the_answer(tmp_path: Path) -> Non
     text, diags = expand_xacro(str(path), {})
     assert diags == []
     assert text is not None and '<link name="a"/>' in text
+
+
+# -- a xacro file is code: what it can do, and what the limits do about it ---------------------
+
+# xacro's expression "sandbox" refuses names with "__", but strings can be glued together: these
+# properties reach the os module, as any xacro file could. OS['system'](...) runs a shell.
+ESCAPE_TO_OS = """\
+  <xacro:property name="S"
+    value="${python.vars(python.type)['_'+'_subclasses_'+'_'](python.type(1).mro()[-1])}"/>
+  <xacro:property name="W"
+    value="${[c for c in S if python.repr(c) == &quot;&lt;class 'os._wrap_close'&gt;&quot;][0]}"/>
+  <xacro:property name="F" value="${python.vars(W)['_'+'_init_'+'_']}"/>
+  <xacro:property name="G" value="${python.vars(python.type(F))['_'+'_globals_'+'_']}"/>
+  <xacro:property name="OS" value="${python.vars(python.type(G))['_'+'_get_'+'_'](G, F)}"/>
+"""
+
+
+def test_the_sandbox_escape_used_below_really_reaches_os(tmp_path: Path) -> None:
+    path = write(tmp_path, ESCAPE_TO_OS + "  <link name=\"${OS['getcwd']()}\"/>\n")
+    text, diags = expand_xacro(str(path), {})
+    assert diags == []
+    assert text is not None and f'<link name="{tmp_path}"/>' in text
+
+
+def test_a_process_the_file_leaves_running_is_killed_when_expansion_ends(tmp_path: Path) -> None:
+    survivor = tmp_path / "SURVIVED"
+    shell = f"(sleep 2; touch {survivor}) &amp;"
+    path = write(tmp_path, ESCAPE_TO_OS + f"  <link name=\"a${{OS['system']('{shell}')}}\"/>\n")
+    start = time.monotonic()
+    text, diags = expand_xacro(str(path), {})
+    assert time.monotonic() - start < 5  # nothing it started holds the expansion up
+    assert diags == [] and text is not None and '<link name="a0"/>' in text
+    time.sleep(3)
+    assert not survivor.exists(), "a process started by the xacro file outlived the expansion"
+
+
+def test_a_process_started_before_a_runaway_loop_dies_with_it(tmp_path: Path) -> None:
+    survivor = tmp_path / "SURVIVED"
+    shell = f"(sleep 3; touch {survivor}) &amp;"
+    path = write(
+        tmp_path,
+        ESCAPE_TO_OS
+        + f"  <xacro:property name=\"started\" value=\"${{OS['system']('{shell}')}}\"/>\n"
+        + '  <link name="${started + python.sum(python.range(10**12))}"/>\n',
+    )
+    start = time.monotonic()
+    _, diags = expand_xacro(str(path), {}, timeout_s=1.5)
+    assert time.monotonic() - start < 5
+    assert [d.code for d in diags] == ["RS054"] and "time limit of 1.5 s" in diags[0].message
+    time.sleep(4)
+    assert not survivor.exists()
+
+
+def test_a_fork_that_keeps_the_answer_pipe_open_cannot_hold_the_expansion(tmp_path: Path) -> None:
+    # the forked copy carries on expanding the same file; it must not keep us waiting
+    path = write(
+        tmp_path,
+        ESCAPE_TO_OS
+        + '  <xacro:property name="pid" value="${OS[\'fork\']()}"/>\n'
+        + "  <link name=\"a${OS['sleep'] if pid else python.sum(python.range(10**12))}\"/>\n",
+    )
+    start = time.monotonic()
+    expand_xacro(str(path), {}, timeout_s=5)
+    assert time.monotonic() - start < 8
+
+
+@pytest.mark.parametrize(
+    "flood",
+    [
+        "OS['write'](1, b'x' * 65536)",  # its stdout
+        "OS['write'](2, b'x' * 65536)",  # its stderr
+        "xacro.message('x' * 65536)",  # xacro's own printing
+    ],
+    ids=["stdout", "stderr", "xacro.message"],
+)
+def test_output_flooding_is_stopped_at_the_output_limit(tmp_path: Path, flood: str) -> None:
+    path = write(
+        tmp_path, ESCAPE_TO_OS + f'  <link name="${{[{flood} for i in python.range(10**9)]}}"/>\n'
+    )
+    start = time.monotonic()
+    text, diags = expand_xacro(str(path), {}, timeout_s=60)
+    assert time.monotonic() - start < 30
+    assert text is None
+    assert [d.code for d in diags] == ["RS054"]
+    assert "printed more than 64 MiB" in diags[0].message
+
+
+def test_a_file_including_itself_stops_at_once_with_a_short_hint(tmp_path: Path) -> None:
+    path = write(tmp_path, '  <xacro:include filename="robot.urdf.xacro"/>\n')
+    start = time.monotonic()
+    _, diags = expand_xacro(str(path), {})
+    assert time.monotonic() - start < 5
+    assert [d.code for d in diags] == ["RS053"]
+    assert "nested more than 50 deep" in diags[0].message
+    assert diags[0].hint is not None and len(diags[0].hint) < 1000 and "more" in diags[0].hint
+
+
+def test_two_files_including_each_other_stop_at_once(tmp_path: Path) -> None:
+    write(tmp_path, '  <xacro:include filename="robot.urdf.xacro"/>\n', name="other.xacro")
+    path = write(tmp_path, '  <xacro:include filename="other.xacro"/>\n')
+    start = time.monotonic()
+    _, diags = expand_xacro(str(path), {})
+    assert time.monotonic() - start < 5
+    assert [d.code for d in diags] == ["RS053"] and "nested" in diags[0].message
+
+
+def test_limits_come_from_the_environment(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("ROBOSPEC_XACRO_TIMEOUT", "1.5")
+    monkeypatch.setenv("ROBOSPEC_XACRO_MEMORY_MB", "200")
+    assert configured_limits() == (1.5, 200 << 20)
+    slow = write(tmp_path, '  <link name="${python.sum(python.range(10**12))}"/>\n')
+    start = time.monotonic()
+    _, diags = expand_xacro(str(slow), {})
+    assert time.monotonic() - start < 6
+    assert "time limit of 1.5 s" in diags[0].message
+    big = write(tmp_path, "  <link name=\"${'x' * 10**10}\"/>\n", name="big.xacro")
+    _, diags = expand_xacro(str(big), {})
+    assert "memory limit of 200 MiB" in diags[0].message
+
+
+@pytest.mark.parametrize("value", ["", "0", "-5", "nan", "inf", "lots"])
+def test_a_limit_set_to_nonsense_keeps_the_default(
+    monkeypatch: pytest.MonkeyPatch, value: str
+) -> None:
+    monkeypatch.setenv("ROBOSPEC_XACRO_TIMEOUT", value)
+    monkeypatch.setenv("ROBOSPEC_XACRO_MEMORY_MB", value)
+    assert configured_limits() == (DEFAULT_TIMEOUT_S, DEFAULT_MEMORY_BYTES)
+
+
+# An audit hook in a real `robospec validate` process: every process it would start is printed.
+AUDIT = """\
+import sys
+def hook(event, args):
+    if event in ("subprocess.Popen", "os.system", "os.posix_spawn", "os.fork", "os.exec",
+                 "os.spawn", "os.startfile"):
+        print("STARTED", event, repr(args)[:300], file=sys.stderr)
+sys.addaudithook(hook)
+from robospec.cli import main
+sys.argv = ["robospec", "validate", *sys.argv[1:]]
+main()
+"""
+
+
+@pytest.mark.parametrize(
+    "spec", ["specs/maniskill/panda.yaml", "tests/specs/positive/minimal.yaml"]
+)
+def test_validating_a_spec_without_xacro_starts_no_process(spec: str) -> None:
+    root = Path(__file__).resolve().parent.parent
+    result = subprocess.run(
+        [sys.executable, "-c", AUDIT, spec], cwd=root, capture_output=True, text=True, timeout=120
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "STARTED" not in result.stderr, result.stderr
+    assert "xacro" not in result.stderr
+
+
+def test_the_audit_hook_sees_the_xacro_child_of_a_xacro_spec() -> None:
+    # the control for the test above: the hook does see the child when there is one
+    root = Path(__file__).resolve().parent.parent
+    result = subprocess.run(
+        [sys.executable, "-c", AUDIT, "specs/twolink.toml"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "STARTED subprocess.Popen" in result.stderr and "_xacro_child.py" in result.stderr

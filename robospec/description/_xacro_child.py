@@ -5,6 +5,7 @@ runs the code in it, so this must happen in a throwaway process whose memory is 
 xacro is imported. Usage::
 
     python -c BOOTSTRAP <this file> <xacro path> <memory bytes> <cpu seconds> <args as JSON>
+        <output bytes> <include depth>
 
 It writes exactly one JSON object to the stdout it was started with:
 
@@ -13,12 +14,15 @@ It writes exactly one JSON object to the stdout it was started with:
 - ``{"ok": false, "kind": "xml", "message": ..., "file": ..., "line": ..., "column": ...}``
 - ``{"ok": false, "kind": "xacro", "message": ..., "file": ..., "files": [...]}``
 
+Everything else it (or the xacro file) prints goes to stderr, a file capped by ``RLIMIT_FSIZE``.
+
 This module imports only the standard library (and xacro, after the limits are in place) so that
 it does not depend on how robospec is installed.
 """
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import sys
@@ -28,15 +32,25 @@ from typing import Any
 _MAX_MESSAGE = 4000
 
 
-def _set_limits(memory_bytes: int, cpu_seconds: int) -> None:
+def _set_limits(memory_bytes: int, cpu_seconds: int, output_bytes: int) -> None:
     try:
         import resource
     except ImportError:  # not POSIX: only the parent's wall-clock timeout protects us
         return
     # Soft and hard alike, so that code inside the xacro file cannot raise the limit again.
-    limits = [(resource.RLIMIT_AS, memory_bytes), (resource.RLIMIT_CPU, cpu_seconds)]
+    limits = [
+        (resource.RLIMIT_AS, memory_bytes),
+        (resource.RLIMIT_CPU, cpu_seconds),
+        (resource.RLIMIT_FSIZE, output_bytes),  # printing without end fills no disk
+    ]
     if hasattr(resource, "RLIMIT_CORE"):
         limits.append((resource.RLIMIT_CORE, 0))  # a crash must not leave a core dump behind
+    # Python ignores SIGXFSZ, which turns the output limit into an error the file's code could
+    # catch and loop on; by default the signal ends the process, which the parent reports.
+    import signal
+
+    if hasattr(signal, "SIGXFSZ"):
+        signal.signal(signal.SIGXFSZ, signal.SIG_DFL)
     for which, value in limits:
         _soft, hard = resource.getrlimit(which)
         if hard != resource.RLIM_INFINITY:
@@ -47,7 +61,7 @@ def _set_limits(memory_bytes: int, cpu_seconds: int) -> None:
             pass
 
 
-def _caused_by_memory(exc: BaseException | None) -> bool:
+def _caused_by(exc: BaseException | None, test: Any) -> bool:
     # xacro wraps evaluation errors in XacroException(exc=...), so look through the whole chain.
     seen: set[int] = set()
     stack: list[Any] = [exc]
@@ -56,7 +70,7 @@ def _caused_by_memory(exc: BaseException | None) -> bool:
         if e is None or id(e) in seen:
             continue
         seen.add(id(e))
-        if isinstance(e, MemoryError):
+        if test(e):
             return True
         stack.extend([getattr(e, "exc", None), e.__cause__, e.__context__])
     return False
@@ -69,11 +83,28 @@ def _message(exc: BaseException) -> str:
     return text
 
 
-def _expand(path: str, mappings: dict[str, str]) -> dict[str, Any]:
+def _limit_include_depth(xacro: Any, depth: int) -> None:
+    """Stop an include that nests deeper than ``depth`` (a file including itself) at once,
+    instead of after a thousand levels of Python recursion."""
+    parse = xacro.parse
+
+    def limited_parse(inp: Any, filename: Any = None) -> Any:
+        stack = xacro.filestack or []
+        if inp is None and len(stack) > depth:
+            raise xacro.XacroException(
+                f"xacro:include nested more than {depth} deep (does a file include itself?)"
+            )
+        return parse(inp, filename)
+
+    xacro.parse = limited_parse
+
+
+def _expand(path: str, mappings: dict[str, str], include_depth: int) -> dict[str, Any]:
     import xml.parsers.expat
 
     import xacro
 
+    _limit_include_depth(xacro, include_depth)
     try:
         doc = xacro.process_file(path, mappings=mappings)
         return {"ok": True, "urdf": doc.toprettyxml(indent="  ")}
@@ -91,8 +122,10 @@ def _expand(path: str, mappings: dict[str, str]) -> dict[str, Any]:
             "files": files,
         }
     except BaseException as e:  # anything the file's code raises is the file's problem
-        if _caused_by_memory(e):
+        if _caused_by(e, lambda x: isinstance(x, MemoryError)):
             return {"ok": False, "kind": "memory"}
+        if _caused_by(e, lambda x: isinstance(x, OSError) and x.errno == errno.EFBIG):
+            return {"ok": False, "kind": "output"}  # over RLIMIT_FSIZE, SIGXFSZ ignored again
         files = [f for f in (xacro.filestack or []) if f]
         return {
             "ok": False,
@@ -104,8 +137,8 @@ def _expand(path: str, mappings: dict[str, str]) -> dict[str, Any]:
 
 
 def main(argv: list[str]) -> int:
-    path, memory, cpu, args_json = argv
-    _set_limits(int(memory), int(cpu))
+    path, memory, cpu, args_json, output, include_depth = argv
+    _set_limits(int(memory), int(cpu), int(output))
     # The result goes to the original stdout; anything the xacro file manages to print goes to
     # stderr, so it cannot corrupt the JSON answer.
     result_fd = os.dup(1)
@@ -113,7 +146,7 @@ def main(argv: list[str]) -> int:
     sys.stdout = sys.stderr
     mappings = json.loads(args_json)
     try:
-        result = _expand(path, mappings)
+        result = _expand(path, mappings, int(include_depth))
         answer = json.dumps(result, ensure_ascii=True)
     except MemoryError:
         answer = json.dumps({"ok": False, "kind": "memory"})

@@ -1,10 +1,22 @@
 """Expand xacro files in a child process with time and memory limits.
 
-A xacro file is a program: ``${...}`` and ``$(eval ...)`` evaluate Python expressions, and
-``${2**2**34}`` alone exhausts memory. So expansion never happens in the robospec process: a fresh
-interpreter runs ``_xacro_child.py`` with ``RLIMIT_AS`` set before xacro is imported, in the xacro
-file's folder, with no stdin, and is killed (with everything it started) after a wall-clock
-timeout. xacro is never imported here.
+A xacro file is a program: ``${...}`` and ``$(eval ...)`` evaluate Python expressions (its
+"sandbox" can be escaped to reach ``os``), and ``${2**2**34}`` alone exhausts memory. So expansion
+never happens in the robospec process: a fresh interpreter runs ``_xacro_child.py`` in the xacro
+file's folder, with no stdin, in a process group of its own, with limits set before xacro is
+imported:
+
+- wall clock: ``timeout_s`` (default 20 s, or ``ROBOSPEC_XACRO_TIMEOUT`` seconds); CPU time
+  (``RLIMIT_CPU``) a little above it, in case this process dies and cannot kill;
+- memory: ``memory_bytes`` of address space (``RLIMIT_AS``; default 1 GiB, or
+  ``ROBOSPEC_XACRO_MEMORY_MB`` MiB);
+- output: what it prints goes to a file capped by ``RLIMIT_FSIZE`` (64 MiB); its answer comes
+  through a pipe only it holds, read up to ``memory_bytes``;
+- include depth: 50 nested ``xacro:include``s (a file including itself stops there, at once);
+- processes: when the child ends, for any reason, its whole process group is killed, so nothing
+  the file started (``os.system("... &")``, a fork) outlives the expansion.
+
+xacro is never imported here.
 """
 
 from __future__ import annotations
@@ -17,6 +29,8 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -37,24 +51,57 @@ _BOOTSTRAP = (
 
 # How much of the child's stderr to keep when it dies without an answer.
 _STDERR_TAIL = 2000
+# How many files of an include chain a hint names.
+_MAX_CHAIN = 6
 
 _TIME_HINT = "expanding a xacro file runs it: look for runaway recursion or expressions"
 _MEMORY_HINT = "expanding a xacro file runs it: look for huge numbers, strings or repetitions"
+
+
+DEFAULT_TIMEOUT_S = 20.0
+DEFAULT_MEMORY_BYTES = 1 << 30
+TIMEOUT_ENV = "ROBOSPEC_XACRO_TIMEOUT"
+MEMORY_ENV = "ROBOSPEC_XACRO_MEMORY_MB"
+OUTPUT_LIMIT_BYTES = 64 << 20
+MAX_INCLUDE_DEPTH = 50
+
+
+def configured_limits() -> tuple[float, int]:
+    """(timeout in seconds, memory in bytes): the defaults, or what the environment sets.
+    A value that is not a positive number is ignored (limits are never switched off)."""
+    timeout_s, memory_bytes = DEFAULT_TIMEOUT_S, DEFAULT_MEMORY_BYTES
+    try:
+        value = float(os.environ.get(TIMEOUT_ENV, ""))
+        if math.isfinite(value) and value > 0:
+            timeout_s = value
+    except ValueError:
+        pass
+    try:
+        value = float(os.environ.get(MEMORY_ENV, ""))
+        if math.isfinite(value) and value > 0:
+            memory_bytes = int(value * (1 << 20))
+    except ValueError:
+        pass
+    return timeout_s, memory_bytes
 
 
 def expand_xacro(
     path: str,
     args: Mapping[str, str],
     *,
-    timeout_s: float = 20.0,
-    memory_bytes: int = 1 << 30,
+    timeout_s: float | None = None,
+    memory_bytes: int | None = None,
 ) -> tuple[str | None, list[Diagnostic]]:
     """Expand the xacro file at ``path`` with ``args`` (``xacro:arg`` values).
 
     Returns the expanded URDF text and no diagnostics, or ``None`` and diagnostics located at the
-    xacro file (RS053: xacro reported an error; RS054: the expansion hit ``timeout_s`` or
-    ``memory_bytes``). Never raises on bad input.
+    xacro file (RS053: xacro reported an error; RS054: the expansion hit ``timeout_s``,
+    ``memory_bytes`` or the output limit). Limits not given come from :func:`configured_limits`.
+    Never raises on bad input.
     """
+    default_timeout, default_memory = configured_limits()
+    timeout_s = default_timeout if timeout_s is None else timeout_s
+    memory_bytes = default_memory if memory_bytes is None else memory_bytes
     where = Location(path)
     abs_path = os.path.abspath(path)
     if not os.path.isfile(abs_path):
@@ -80,6 +127,15 @@ def expand_xacro(
         return result["urdf"], []
     if result.get("kind") == "memory":
         return None, [_memory_error(where, memory_bytes)]
+    if result.get("kind") == "output":
+        return None, [
+            error(
+                where,
+                "RS054",
+                f"xacro expansion printed more than {_bytes(OUTPUT_LIMIT_BYTES)} and was stopped",
+                "expanding a xacro file runs it: look for messages printed in a loop",
+            )
+        ]
     return None, [_xacro_error(path, abs_path, result)]
 
 
@@ -100,8 +156,10 @@ def _run_child(
         str(int(memory_bytes)),
         str(cpu_seconds),
         json.dumps(mappings),
+        str(OUTPUT_LIMIT_BYTES),
+        str(MAX_INCLUDE_DEPTH),
     ]
-    # stderr goes to a file: a xacro file printing without end must not fill our memory.
+    # Its prints go to a file (capped in the child by RLIMIT_FSIZE), never into our memory.
     with tempfile.TemporaryFile() as err:
         proc = subprocess.Popen(
             cmd,
@@ -111,26 +169,82 @@ def _run_child(
             cwd=os.path.dirname(abs_path),
             start_new_session=True,  # its own process group, so the kill reaches any children
         )
-        killed = False
+        answer = _AnswerReader(proc, limit=max(1 << 20, memory_bytes))
         try:
-            out, _ = proc.communicate(timeout=timeout_s)
-        except subprocess.TimeoutExpired:
-            killed = True
+            finished = _wait_unreaped(proc, timeout_s)
+        finally:
+            # Always, even after a clean exit: whatever the file started dies with the group.
+            # The child is not reaped yet, so its pid (the group's id) cannot have been reused.
             _kill(proc)
-            out, _ = proc.communicate()
-        if not killed and _died_of_cpu_limit(proc.returncode):
-            killed = True
+            proc.wait()
+            answer.join()
+        killed = not finished or _died_of_signal(proc.returncode, "SIGXCPU")
+        flooded = _died_of_signal(proc.returncode, "SIGXFSZ")
         err.seek(0, os.SEEK_END)
         size = err.tell()
         err.seek(max(0, size - _STDERR_TAIL))
         stderr = err.read().decode("utf-8", "replace")
     if killed:
         return None, stderr, True
+    if flooded:
+        return {"ok": False, "kind": "output"}, stderr, False
+    if answer.overflowed:
+        return {"ok": False, "kind": "memory"}, stderr, False
     try:
-        answer = json.loads(out.decode("ascii"))
+        parsed = json.loads(answer.data().decode("ascii"))
     except (UnicodeDecodeError, ValueError):
         return None, stderr, False
-    return (answer if isinstance(answer, dict) else None), stderr, False
+    return (parsed if isinstance(parsed, dict) else None), stderr, False
+
+
+class _AnswerReader:
+    """Drain the child's answer pipe in a thread, keeping at most ``limit`` bytes."""
+
+    def __init__(self, proc: subprocess.Popen[bytes], limit: int) -> None:
+        assert proc.stdout is not None
+        self._pipe = proc.stdout
+        self._limit = limit
+        self._chunks: list[bytes] = []
+        self._size = 0
+        self.overflowed = False
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while chunk := self._pipe.read(1 << 16):
+            if self._size + len(chunk) > self._limit:
+                self.overflowed = True
+                continue  # keep draining so the writer is not blocked; the kill ends it
+            self._chunks.append(chunk)
+            self._size += len(chunk)
+
+    def join(self) -> None:
+        self._thread.join()
+        self._pipe.close()
+
+    def data(self) -> bytes:
+        return b"".join(self._chunks)
+
+
+def _wait_unreaped(proc: subprocess.Popen[bytes], timeout_s: float) -> bool:
+    """Wait until the child exits (True) or ``timeout_s`` passes (False), without reaping it."""
+    waitid = getattr(os, "waitid", None)
+    if waitid is None:  # e.g. macOS: reap it; the group kill right after is still best effort
+        try:
+            proc.wait(timeout=timeout_s)
+            return True
+        except subprocess.TimeoutExpired:
+            return False
+    deadline = time.monotonic() + timeout_s
+    pause = 0.001
+    while True:
+        if waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT) is not None:
+            return True
+        left = deadline - time.monotonic()
+        if left <= 0:
+            return False
+        time.sleep(min(pause, left))
+        pause = min(pause * 2, 0.02)
 
 
 def _kill(proc: subprocess.Popen[bytes]) -> None:
@@ -140,12 +254,12 @@ def _kill(proc: subprocess.Popen[bytes]) -> None:
         else:
             proc.kill()
     except (ProcessLookupError, PermissionError):
-        pass  # it ended between the timeout and the kill
+        pass  # the group is already gone
 
 
-def _died_of_cpu_limit(returncode: int | None) -> bool:
-    sigxcpu = getattr(signal, "SIGXCPU", None)
-    return returncode is not None and sigxcpu is not None and returncode == -sigxcpu
+def _died_of_signal(returncode: int | None, name: str) -> bool:
+    number = getattr(signal, name, None)
+    return returncode is not None and number is not None and returncode == -number
 
 
 def _seconds(timeout_s: float) -> str:
@@ -197,8 +311,11 @@ def _xacro_error(path: str, abs_path: str, result: Mapping[str, Any]) -> Diagnos
     hint = None
     files = [f for f in result.get("files") or [] if isinstance(f, str)]
     if len(files) > 1:
-        chain = " <- ".join(_display_path(path, abs_path, f) for f in reversed(files))
-        hint = f"included as {chain}"
+        shown_files = [_display_path(path, abs_path, f) for f in reversed(files)]
+        if len(shown_files) > _MAX_CHAIN:  # a runaway include: the innermost and the top
+            hidden = len(shown_files) - _MAX_CHAIN
+            shown_files = [*shown_files[: _MAX_CHAIN - 1], f"({hidden} more)", shown_files[-1]]
+        hint = f"included as {' <- '.join(shown_files)}"
     return error(
         Location(shown, max(1, line or 1), max(1, column if isinstance(column, int) else 1)),
         "RS053",
