@@ -5,6 +5,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+import pytest
+
 from robospec.compile import compile_spec
 from robospec.emit.generate import RESERVED_NAMES, emit_module
 
@@ -122,3 +124,46 @@ def test_hostile_names_reach_the_module_only_as_string_constants(tmp_path: Path)
     namespace: dict[str, object] = {}
     exec(compile(source.split("import numpy")[0], "<docstring>", "exec"), namespace)
     assert not (tmp_path / "CANARY").exists()
+
+
+KEYWORD_MEMBER_SPEC = """robospec: 1
+uid: rs_keyword_member
+description: {urdf: "{maniskill_assets}/robots/panda/panda_v2.urdf"}
+controllers:
+  arm: {type: pd_joint_pos, joints: "*", lower: null, upper: null, stiffness: 1e3, damping: 1e2}
+control_modes: {pd_joint_pos: {all: arm}}
+named_links: {class: panda_hand}
+link_states: {None: {link: panda_hand}}
+proprioception: [None]
+"""
+
+
+def test_a_member_named_like_a_python_keyword_is_rs105_not_a_traceback(tmp_path: Path) -> None:
+    # the model's name pattern allows 'class' and 'None'; emitting them as members cannot parse
+    import subprocess
+    import sys
+
+    spec = tmp_path / "keyword.yaml"
+    spec.write_text(KEYWORD_MEMBER_SPEC)
+    result = subprocess.run(
+        [sys.executable, "-m", "robospec.cli", "build", str(spec), "-o", str(tmp_path / "out")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert result.returncode == 1
+    assert "error[RS105]" in result.stdout and "'class'" in result.stdout
+    assert "Traceback" not in result.stdout + result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.maniskill
+def test_register_reports_a_keyword_member_as_rs105(tmp_path: Path) -> None:
+    pytest.importorskip("mani_skill")
+    import robospec
+
+    spec = tmp_path / "keyword.yaml"
+    spec.write_text(KEYWORD_MEMBER_SPEC)
+    with pytest.raises(robospec.SpecError) as caught:
+        robospec.register(spec, cache_dir=tmp_path / "cache")
+    assert [d.code for d in caught.value.diagnostics] == ["RS105"]
