@@ -313,38 +313,95 @@ def spec_text(robot: dict[str, object], *, cameras: bool = True) -> str:
     return "\n".join(lines) + "\n"
 
 
+def toml_quoted(text: str) -> str:
+    """A TOML basic string for any text: escapes quotes, backslashes and control characters."""
+    out = ['"']
+    for c in text:
+        code = ord(c)
+        if c in '"\\':
+            out.append("\\" + c)
+        elif code < 0x20 or code == 0x7F or c in "\u2028\u2029\ufeff":
+            out.append(f"\\u{code:04x}")
+        else:
+            out.append(c)
+    out.append('"')
+    return "".join(out)
+
+
+def toml_spec_text(robot: dict[str, object]) -> str:
+    """The same robot as :func:`spec_text`, written in TOML (cameras included)."""
+    q = {key: toml_quoted(str(value)) for key, value in robot.items()}
+    lines = ["robospec = 1", f"uid = {q['uid']}", f"tcp = {q['link']}"]
+    if robot["class"] is not None:
+        lines.append(f"class_name = {q['class']}")
+    lines += [
+        "[description]",
+        f"urdf = {toml_quoted(str(robot['folder']) + '/robot.urdf')}",
+        f"[materials.{q['material']}]",
+        "static_friction = 1",
+        "dynamic_friction = 1",
+        f"[links.{q['link']}]",
+        f"material = {q['material']}",
+        "[groups]",
+        f"{q['group']} = [{q['joint']}]",
+        f"[keyframes.{q['keyframe']}.qpos]",
+        f"{q['joint']} = 0.5",
+        f"[controllers.{q['controller']}]",
+        'type = "pd_joint_pos"',
+        f"joints = {q['group']}",
+        "lower = -1",
+        "upper = 1",
+        "stiffness = 10",
+        "damping = 1",
+        f"[control_modes.{q['mode']}]",
+        f"{q['mode_key']} = {q['controller']}",
+        f"[cameras.{q['camera']}]",
+        f"mount = {q['link']}",
+        "width = 8",
+        "height = 8",
+        "fov = 1",
+        "[named_links]",
+        f"{q['member']} = {q['link']}",
+        "[[collision_rules]]",
+        f"links = [{q['link']}]",
+        "group = 2",
+        "bit = 30",
+    ]
+    return "\n".join(lines) + "\n"
+
+
 @settings(
     max_examples=int(os.environ.get("ROBOSPEC_INJECTION_EXAMPLES", "300")),
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )
-@given(hostile_robots())
+@given(hostile_robots(), st.sampled_from(["yaml", "toml"]))
 def test_hostile_text_in_any_field_reaches_the_module_only_as_string_constants(
-    robot: dict[str, object],
+    robot: dict[str, object], spec_format: str
 ) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp) / str(robot["folder"])
         folder.mkdir()
         names = (str(robot["base"]), str(robot["link"]), str(robot["joint"]))
         write_urdf(folder / "robot.urdf", *names)
-        spec_path = Path(tmp) / (str(robot["spec_file"]) + ".yaml")
-        spec_path.write_text(spec_text(robot), encoding="utf-8")
+        spec_path = Path(tmp) / f"{robot['spec_file']}.{spec_format}"
+        text = spec_text(robot) if spec_format == "yaml" else toml_spec_text(robot)
+        spec_path.write_text(text, encoding="utf-8")
         result = compile_spec(spec_path)
         assert not [d for d in result.diagnostics if d.code == "RS900"], [
             d.format_text() for d in result.diagnostics
         ]
         if result.robot is None:
-            event(
-                "refused: " + ",".join(sorted({d.code for d in result.diagnostics if d.is_error}))
-            )
+            codes = ",".join(sorted({d.code for d in result.diagnostics if d.is_error}))
+            event(f"{spec_format}: refused by the compiler ({codes})")
             return  # refused with diagnostics: nothing is emitted, nothing to inject into
         try:
             source = emit_module(result.robot, Path(tmp) / "out")
         except ValueError as exc:  # UnsafeIdentifier: build and register report RS105
             assert "not a valid Python identifier" in str(exc)
-            event("refused by the emitter")
+            event(f"{spec_format}: refused by the emitter")
             return
-        event("emitted")
+        event(f"{spec_format}: emitted")
         derived = derived_identifiers(
             {
                 "class": [result.robot.class_name],
