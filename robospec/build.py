@@ -27,16 +27,14 @@ How a build is written, so that nothing is lost:
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import errno
 import os
 import shutil
-import sys
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from robospec.atomic_rename import exchange
 from robospec.compile import CompiledSpec
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.output import checked_robot_files, module_name_for, package_init
@@ -216,32 +214,9 @@ def _write_atomically(out_dir: Path, files: dict[str, str], stale: list[str]) ->
 
 def _swap(staging: Path, out_dir: Path) -> None:
     """Put ``staging`` at ``out_dir``; the old folder ends at ``staging``'s path, then goes."""
-    if not _exchange(staging, out_dir):
+    if not exchange(staging, out_dir):
         aside = staging.with_name(staging.name + ".old")
         os.replace(out_dir, aside)  # a kill here is undone by _recover
         os.replace(staging, out_dir)
         staging = aside
     shutil.rmtree(staging, ignore_errors=True)
-
-
-_RENAME_EXCHANGE = 2
-_AT_FDCWD = -100
-
-
-def _exchange(first: Path, second: Path) -> bool:
-    """Swap two paths in one atomic step (Linux ``renameat2``); False where unsupported."""
-    if not sys.platform.startswith("linux"):
-        return False
-    try:
-        renameat2 = ctypes.CDLL(None, use_errno=True).renameat2
-    except (OSError, AttributeError):  # an old C library
-        return False
-    done = renameat2(
-        _AT_FDCWD, os.fsencode(first), _AT_FDCWD, os.fsencode(second), _RENAME_EXCHANGE
-    )
-    if done == 0:
-        return True
-    code = ctypes.get_errno()
-    if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):  # not on this file system
-        return False
-    raise OSError(code, os.strerror(code), str(second))

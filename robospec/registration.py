@@ -219,7 +219,12 @@ def _install(staging: Path, entry: Path) -> None:
     except OSError:
         if _entry_is_fresh(entry):
             return  # a concurrent register() wrote the same key: same content
-    # move the old entry aside in one rename, so no reader ever sees a half-deleted entry
+    from robospec.atomic_rename import exchange
+
+    if exchange(staging, entry):  # one step: a reader sees the old entry or the new one
+        _remove(staging)  # now the old entry
+        return
+    # elsewhere: move the old entry aside in one rename, then put the new one in its place
     aside = Path(tempfile.mkdtemp(prefix=".old-", dir=entry.parent)) / "entry"
     try:
         os.replace(entry, aside)
@@ -229,6 +234,13 @@ def _install(staging: Path, entry: Path) -> None:
         os.replace(staging, entry)
     finally:
         shutil.rmtree(aside.parent, ignore_errors=True)
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        path.unlink(missing_ok=True)
 
 
 _FALLBACK: list[Path] = []
