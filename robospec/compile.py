@@ -109,11 +109,19 @@ def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:
     diagnostics: list[Diagnostic] = []
     for path in paths:
         if path.is_dir():
-            found.extend(
-                sorted(
-                    p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES and p.is_file()
-                )
+            inside = sorted(
+                p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES and p.is_file()
             )
+            if not inside:
+                # a folder named by mistake (or named like a spec) must not pass as "all valid"
+                diagnostics.append(
+                    error(
+                        Location(str(path)),
+                        "RS001",
+                        "no spec files (.yaml, .yml, .toml) in this folder",
+                    )
+                )
+            found.extend(inside)
         elif path.exists():
             found.append(path)
         else:

@@ -88,6 +88,9 @@ def parse_spec_bytes(
         ]
     if text.startswith("\ufeff"):
         text = text[1:]
+    if not text.strip():
+        # YAML rejects a tab that starts a line even when nothing follows: still just empty
+        return None, [error(Location(display), "RS004", "spec is empty")]
     source = SourceMap(display)
     limit = prescan(text, indentation_nests=fmt == "yaml")
     if limit is not None:
@@ -121,21 +124,63 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     try:
         document = yaml.load(text)
     except DuplicateKeyError as exc:
-        return None, [_marked(exc, source, "RS003", _duplicate_message(exc))]
+        return None, [_marked(exc, text, source, "RS003", _duplicate_message(exc))]
     except MarkedYAMLError as exc:
         message = " ".join(p for p in (exc.context, exc.problem) if p) or "YAML syntax error"
-        return None, [_marked(exc, source, "RS002", message)]
+        return None, [_marked(exc, text, source, "RS002", message)]
     except ReaderError as exc:
         return None, [_unreadable_character(exc, text, source)]
     except ValueError as exc:
         return None, [_value_error(exc, text, source, "YAML")]
     except (YAMLError, RecursionError) as exc:
         return None, [error(Location(source.file), "RS002", f"YAML error: {exc}")]
+    too_big = _alias_expansion(document, source)
+    if too_big is not None:
+        return None, [too_big]
     try:
         data = _walk_yaml(document, (), source, [0])
     except _TooBig as exc:
         return None, [error(source.key(exc.path), exc.code, str(exc))]
     return data, []
+
+
+def _alias_expansion(document: Any, source: SourceMap) -> Diagnostic | None:
+    """Count what the document expands to, each shared (aliased) node counted once per use
+    but measured once, before walking it: an alias bomb is refused in time linear in its text.
+    Located at the top-level key whose value crosses the limit."""
+    from ruamel.yaml.comments import CommentedMap, CommentedSeq
+
+    sizes: dict[int, int] = {}
+
+    def size(node: Any) -> int:
+        known = sizes.get(id(node))
+        if known is not None:
+            return known
+        total = 1
+        if isinstance(node, CommentedMap):
+            total += sum(size(child) for child in node.values())
+        elif isinstance(node, CommentedSeq):
+            total += sum(size(child) for child in node)
+        sizes[id(node)] = total
+        return total
+
+    if size(document) <= MAX_NODES:
+        return None
+    line, column, running = 1, 1, 1
+    if isinstance(document, CommentedMap):
+        for key, value in document.items():
+            running += size(value)
+            if running > MAX_NODES:
+                position = (document.lc.data or {}).get(key)
+                if position is not None:
+                    line, column = position[0] + 1, position[1] + 1
+                break
+    return error(
+        Location(source.file, line, column),
+        "RS006",
+        f"spec expands to more than {MAX_NODES} values (alias bomb?)",
+        "an alias (*name) repeats its anchor's whole value each time it is used",
+    )
 
 
 def _value_error(exc: ValueError, text: str, source: SourceMap, language: str) -> Diagnostic:
@@ -178,11 +223,21 @@ def _duplicate_message(exc: Any) -> str:
     return f"duplicate key '{match.group(1)}'" if match else "duplicate key"
 
 
-def _marked(exc: Any, source: SourceMap, code: str, message: str) -> Diagnostic:
+def _marked(exc: Any, text: str, source: SourceMap, code: str, message: str) -> Diagnostic:
     mark = exc.problem_mark or exc.context_mark
     if mark is None:
         return error(Location(source.file), code, message)
-    return error(Location(source.file, mark.line + 1, mark.column + 1), code, message)
+    line, column = _within_text(text, mark.line + 1, mark.column + 1)
+    return error(Location(source.file, line, column), code, message)
+
+
+def _within_text(text: str, line: int, column: int) -> tuple[int, int]:
+    """A position the file has: the parser's mark for "end of input" lies on the line after
+    a final newline, which an editor does not show; point past the last character instead."""
+    lines = text.splitlines() or [""]
+    if line <= len(lines):
+        return line, column
+    return len(lines), len(lines[-1]) + 1
 
 
 def _spend(path: KeyPath, count: list[int]) -> None:
