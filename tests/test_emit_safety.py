@@ -139,7 +139,7 @@ proprioception: [None]
 
 
 def test_a_member_named_like_a_python_keyword_is_rs105_not_a_traceback(tmp_path: Path) -> None:
-    # the model's name pattern allows 'class' and 'None'; emitting them as members cannot parse
+    # 'class' and 'None' match the name pattern, but no class can define them
     import subprocess
     import sys
 
@@ -152,7 +152,8 @@ def test_a_member_named_like_a_python_keyword_is_rs105_not_a_traceback(tmp_path:
         timeout=120,
     )
     assert result.returncode == 1
-    assert "error[RS105]" in result.stdout and "'class'" in result.stdout
+    assert f"{spec}:7:15: error[RS105] 'class' is a Python keyword" in result.stderr
+    assert f"{spec}:8:15: error[RS105] 'None' is a Python keyword" in result.stderr
     assert "Traceback" not in result.stdout + result.stderr
     assert not (tmp_path / "out").exists()
 
@@ -166,4 +167,5 @@ def test_register_reports_a_keyword_member_as_rs105(tmp_path: Path) -> None:
     spec.write_text(KEYWORD_MEMBER_SPEC)
     with pytest.raises(robospec.SpecError) as caught:
         robospec.register(spec, cache_dir=tmp_path / "cache")
-    assert [d.code for d in caught.value.diagnostics] == ["RS105"]
+    found = [(d.code, d.location.line) for d in caught.value.diagnostics]
+    assert found == [("RS105", 7), ("RS105", 8)]

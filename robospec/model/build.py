@@ -23,6 +23,7 @@ _ERROR_CODES = {
     "missing": "RS103",
     "union_tag_not_found": "RS103",
     "extra_forbidden": "RS101",
+    "python_keyword": "RS105",
 }
 
 
@@ -167,7 +168,7 @@ def _diagnostics_from(
         message, hint = _message(kind, err, path, data)
         if kind == "missing":
             location = loaded.source.key(source_path)
-        elif kind == "extra_forbidden":
+        elif kind == "extra_forbidden" or err["loc"][-1:] == ("[key]",):
             location = loaded.source.key(source_path)
         else:
             location = loaded.source.value(source_path)

@@ -8,9 +8,11 @@ arithmetic ManiSkill's versions do, so tasks get the same numbers.
 
 from __future__ import annotations
 
+import keyword
 from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import AfterValidator, Field, model_validator
+from pydantic_core import PydanticCustomError
 
 from robospec.model.common import GroupSelection, Number, Pose, StrictModel
 from robospec.model.refs import LinkName, LinkOrNamed
@@ -21,7 +23,29 @@ MEMBER_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]{0,63}$"
 _DOTTED = r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*"
 PYTHON_REF_PATTERN = rf"^{_DOTTED}:{_DOTTED}$"
 
-Member = Annotated[str, Field(pattern=MEMBER_PATTERN)]
+
+def _not_a_keyword(name: str) -> str:
+    # the pattern admits `class` or `None`, which are no names in Python: the generated class
+    # could not define them
+    if keyword.iskeyword(name):
+        raise PydanticCustomError(
+            "python_keyword",
+            "'{name}' is a Python keyword, not a name",
+            {"name": name},
+        )
+    return name
+
+
+# for editors too: the schema says which names are out
+NOT_A_KEYWORD_SCHEMA = {"not": {"enum": sorted(keyword.kwlist)}}
+
+# a name the generated class defines (a member, the class itself)
+PythonName = Annotated[
+    str,
+    Field(pattern=MEMBER_PATTERN, json_schema_extra=NOT_A_KEYWORD_SCHEMA),
+    AfterValidator(_not_a_keyword),
+]
+Member = PythonName
 PythonRef = Annotated[str, Field(pattern=PYTHON_REF_PATTERN)]
 
 PairOfLinks = Annotated[list[LinkOrNamed], Field(min_length=2, max_length=2)]

@@ -30,6 +30,7 @@ from robospec.model.helpers import (
     LinkState,
     Member,
     NamedLink,
+    PythonName,
     PythonRef,
     Tcp,
 )
@@ -46,7 +47,6 @@ from robospec.model.refs import (
 
 UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"
-CLASS_NAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]{0,63}$"
 
 ScalarArg = str | int | float | bool
 
@@ -385,7 +385,7 @@ class Spec(StrictModel):
         "overrides only the data it declares.",
         examples=["mani_skill.agents.robots.panda.panda:Panda"],
     )
-    class_name: Annotated[str, Field(pattern=CLASS_NAME_PATTERN)] | None = Field(
+    class_name: PythonName | None = Field(
         default=None,
         description="The Python class name; default: derived from uid.",
         examples=["RsPanda"],
