@@ -31,9 +31,10 @@ def load_description(
     """
     given_text = text is not None
     if text is None:
+        from robospec.description.urdf import read_file_bytes
+
         try:
-            with open(path, "rb") as handle:
-                text = handle.read()
+            text = read_file_bytes(path)  # a regular file only: a FIFO would block the read
         except OSError as exc:
             reason = exc.strerror or type(exc).__name__
             return None, [

@@ -56,6 +56,7 @@ from robospec.description.urdf import (
     line_of,
     parse_root,
     parse_xml,
+    read_file_bytes,
 )
 from robospec.diagnostics import Diagnostic, Location, error, warning
 
@@ -70,8 +71,7 @@ Defaults = dict[str, Any]
 
 
 def _read_bytes(file: str) -> bytes:
-    with open(file, "rb") as handle:
-        return handle.read()
+    return read_file_bytes(file)
 
 
 def _merge(base: Mapping[str, Any], *incoming: Mapping[str, Any]) -> dict[str, Any]:
@@ -143,6 +143,7 @@ def parse_mjcf(
         if included is not None:
             file_of[included[0]] = included[1]
             top.extend(child for child in included[0] if isinstance(child.tag, str))
+            _check_nested_includes(included[0], included[1], path, diagnostics)
     if any(d.is_error for d in diagnostics):
         return None, diagnostics
 
@@ -267,6 +268,36 @@ def _read_include(
     included, included_diagnostics = parse_xml(data, full)
     diagnostics.extend(included_diagnostics)
     return (included, full) if included is not None else None
+
+
+def _check_nested_includes(
+    included: etree._Element, file: str, model: str, diagnostics: list[Diagnostic]
+) -> None:
+    """ManiSkill's loader reads ``<include>`` one level deep (as we do), so one inside an
+    included file is dropped without a word: an error when it names the model or the file
+    itself again (a cycle MuJoCo refuses), else a warning that its contents are not loaded."""
+    for nested in included.findall("include"):
+        target = nested.get("file") or ""
+        full = os.path.join(os.path.dirname(model), target)
+        if os.path.realpath(full) in (os.path.realpath(model), os.path.realpath(file)):
+            diagnostics.append(
+                error(
+                    at(file, nested),
+                    INVALID_STRUCTURE,
+                    f"include cycle: '{os.path.basename(file)}' includes '{target}', "
+                    "which is already being read",
+                )
+            )
+        else:
+            diagnostics.append(
+                warning(
+                    at(file, nested),
+                    INVALID_STRUCTURE,
+                    f'<include file="{target}"> inside an included file is not read by '
+                    "ManiSkill's MJCF loader: its contents are not part of the robot",
+                    "include it from the main model file instead",
+                )
+            )
 
 
 def _is_articulation(body: etree._Element) -> bool:

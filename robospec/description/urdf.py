@@ -13,8 +13,11 @@ fingertip pads come after both fingers; fetch's head and arm joints interleave).
 
 from __future__ import annotations
 
+import errno
 import math
+import os
 import re
+import stat
 from collections import deque
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -47,6 +50,18 @@ _LXML_POSITION_SUFFIX = re.compile(r",\s*line \d+, column \d+\s*$")
 
 # --------------------------------------------------------------------------------------------
 # Helpers shared with the MJCF parser
+
+
+def read_file_bytes(path: str) -> bytes:
+    """A description file's bytes. Only a regular file is opened: reading a FIFO (or a device)
+    named as a description would wait for a writer forever. Raises OSError as ``open`` does."""
+    status = os.stat(path)
+    if stat.S_ISDIR(status.st_mode):
+        raise IsADirectoryError(errno.EISDIR, "it is a folder", path)
+    if not stat.S_ISREG(status.st_mode):
+        raise OSError(errno.EINVAL, "not a regular file", path)
+    with open(path, "rb") as handle:
+        return handle.read()
 
 
 def line_of(element: etree._Element) -> int:
