@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 from collections import Counter
 
-from measure import PYTHON, child_env, run, sample
+from measure import PYTHON, child_env, interleaved, run
 from section import Section
 
 TITLE = "Time to the first error for a misspelled joint"
@@ -35,9 +35,15 @@ except Exception as exc:
 
 def measure(repeat: int) -> Section:
     env = child_env()
-    validate = sample([PYTHON, "-m", "robospec.cli", "validate", BAD_SPEC], env, repeat)
-    hand = sample([PYTHON, "-c", HAND_WRITTEN_MISTAKE], env, repeat)
-    validate_ok = sample([PYTHON, "-m", "robospec.cli", "validate", GOOD_SPEC], env, repeat)
+    samples = interleaved(
+        {
+            "validate": lambda: ([PYTHON, "-m", "robospec.cli", "validate", BAD_SPEC], env),
+            "hand": lambda: ([PYTHON, "-c", HAND_WRITTEN_MISTAKE], env),
+            "validate_ok": lambda: ([PYTHON, "-m", "robospec.cli", "validate", GOOD_SPEC], env),
+        },
+        repeat,
+    )
+    validate, hand, validate_ok = samples["validate"], samples["hand"], samples["validate_ok"]
     first_error = next((line for line in validate.output.splitlines() if "error[" in line), "")
     hand_error = next(
         (

@@ -15,6 +15,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -74,14 +75,34 @@ class Sample:
         return f"{min(self.times):.2f}–{max(self.times):.2f}"
 
 
+Command = Callable[[], tuple[list[str], dict[str, str]]]
+"""Makes the arguments and environment of one run (a cold-cache run needs a new folder each
+time)."""
+
+
 def sample(args: list[str], env: dict[str, str], repeat: int, warm_up: bool = True) -> Sample:
     """Run ``args`` ``repeat`` times (after one unmeasured warm-up run unless told not to)."""
-    if warm_up:
-        run(args, env)
-    runs = [run(args, env) for _ in range(repeat)]
-    return Sample(
-        tuple(run.seconds for run in runs),
-        max(run.peak_rss_kib for run in runs),
-        runs[-1].returncode,
-        runs[-1].output,
-    )
+    return interleaved({"only": lambda: (args, env)}, repeat, warm_up)["only"]
+
+
+def interleaved(
+    commands: dict[str, Command], repeat: int, warm_up: bool = True
+) -> dict[str, Sample]:
+    """Run the commands in turn, ``repeat`` rounds (after one unmeasured warm-up round unless
+    told not to), so that a change in the machine's load during the benchmark hits every
+    command alike instead of whichever ran in that stretch."""
+    runs: dict[str, list[Run]] = {name: [] for name in commands}
+    for round_ in range(repeat + 1 if warm_up else repeat):
+        for name, command in commands.items():
+            result = run(*command())
+            if round_ > 0 or not warm_up:
+                runs[name].append(result)
+    return {
+        name: Sample(
+            tuple(result.seconds for result in done),
+            max(result.peak_rss_kib for result in done),
+            done[-1].returncode,
+            done[-1].output,
+        )
+        for name, done in runs.items()
+    }

@@ -3,9 +3,10 @@
 
 from __future__ import annotations
 
+import shutil
 import tempfile
 
-from measure import PYTHON, child_env, sample
+from measure import PYTHON, child_env, interleaved
 from section import Section
 
 TITLE = "Import-time registration of every example spec"
@@ -14,21 +15,35 @@ REGISTER = "import mani_skill.envs, robospec; robospec.register('specs/')"
 
 
 def measure(repeat: int) -> Section:
-    baseline = sample([PYTHON, "-c", "import mani_skill.envs"], child_env(), repeat)
-    # cold: every run gets a fresh, empty cache folder, so every spec compiles
-    cold_times = []
-    for _ in range(repeat):
-        with tempfile.TemporaryDirectory(prefix="robospec-bench-cold-") as cache:
-            cold = sample([PYTHON, "-c", REGISTER], child_env(ROBOSPEC_CACHE_DIR=cache), 1, False)
-            _check(cold.returncode, cold.output)
-            cold_times.append(cold.median)
-    with tempfile.TemporaryDirectory(prefix="robospec-bench-warm-") as cache:
-        # the warm-up run fills the cache; the measured runs hit it
-        warm = sample([PYTHON, "-c", REGISTER], child_env(ROBOSPEC_CACHE_DIR=cache), repeat)
-        _check(warm.returncode, warm.output)
-    cold_median = sorted(cold_times)[len(cold_times) // 2]
-    cold_spread = f"{min(cold_times):.2f}–{max(cold_times):.2f}"
+    cold_caches: list[str] = []
+
+    def cold() -> tuple[list[str], dict[str, str]]:
+        # a fresh, empty cache folder in every run, so that every spec compiles
+        cold_caches.append(tempfile.mkdtemp(prefix="robospec-bench-cold-"))
+        return [PYTHON, "-c", REGISTER], child_env(ROBOSPEC_CACHE_DIR=cold_caches[-1])
+
+    warm_cache = tempfile.mkdtemp(prefix="robospec-bench-warm-")
+    try:
+        # the warm-up round fills the warm cache; the measured rounds hit it
+        samples = interleaved(
+            {
+                "baseline": lambda: ([PYTHON, "-c", "import mani_skill.envs"], child_env()),
+                "cold": cold,
+                "warm": lambda: (
+                    [PYTHON, "-c", REGISTER],
+                    child_env(ROBOSPEC_CACHE_DIR=warm_cache),
+                ),
+            },
+            repeat,
+        )
+    finally:
+        for folder in [warm_cache, *cold_caches]:
+            shutil.rmtree(folder, ignore_errors=True)
+    for sample in samples.values():
+        _check(sample.returncode, sample.output)
+    baseline, cold_run, warm = samples["baseline"], samples["cold"], samples["warm"]
     base = baseline.median
+    cold_median, cold_spread = cold_run.median, cold_run.spread
     cold_overhead = (cold_median - base) / base
     warm_overhead = (warm.median - base) / base
     register = "+ `robospec.register('specs/')`"
