@@ -134,7 +134,7 @@ def _compare(out_dir: Path, files: dict[str, str], result: BuildResult) -> list[
             result.diagnostics.append(
                 error(
                     Location(str(current)),
-                    "RS001",
+                    "RS604",
                     "refusing to overwrite a file robospec did not generate",
                     "move it away or pick another -o folder",
                 )

@@ -2,7 +2,7 @@
 
 Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
 into the robot description, RS3xx semantic checks, RS4xx `robospec import`, RS5xx physics
-checks (`robospec check`), RS6xx authoring commands (`robospec inspect`, `new`, `doc`), RS9xx
+checks (`robospec check`), RS6xx writing files and the authoring commands (`robospec build`, `inspect`, `new`, `doc`), RS9xx
 internal errors.
 """
 
@@ -105,11 +105,12 @@ _CODES = [
     Code("RS511", "no CUDA device for --gpu"),
     Code("RS512", "no render device for --render"),
     Code("RS513", "robospec demo cannot open the viewer"),
-    # -- authoring commands: robospec inspect, new, doc (RS600-RS619)
+    # -- writing files, authoring commands: robospec build, inspect, new, doc (RS600-RS619)
     Code("RS600", "file is not a robot description robospec reads"),
     Code("RS601", "spec file already exists"),
     Code("RS602", "robot has no active joints to control"),
     Code("RS603", "output file cannot be written"),
+    Code("RS604", "output would overwrite a file robospec did not write"),
     # -- internal
     Code("RS900", "internal error"),
 ]

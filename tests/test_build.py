@@ -79,7 +79,7 @@ def test_build_refuses_to_overwrite_a_file_it_did_not_generate(tmp_path: Path) -
     mine.write_text("# my own work\n")
     result = build(out)
     assert result.returncode == 1
-    assert "refusing to overwrite" in result.stdout
+    assert "error[RS604] refusing to overwrite" in result.stdout
     assert mine.read_text() == "# my own work\n"
     assert sorted(p.name for p in out.iterdir()) == ["rs_panda.py"]  # nothing half-written
 

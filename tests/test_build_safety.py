@@ -188,7 +188,7 @@ def test_a_symlink_in_the_output_folder_is_never_followed_or_replaced(
     (out / "data").symlink_to(tmp_path)  # and keeps a link to a folder there
     result = build(old, out)
     assert result.returncode == 1
-    assert "RS001" in result.stdout and "twolink.py" in result.stdout
+    assert "RS604" in result.stdout and "twolink.py" in result.stdout
     assert (out / "twolink.py").is_symlink() and os.readlink(out / "twolink.py") == str(elsewhere)
     assert elsewhere.read_text() == "# the user's\n"
     assert (out / "data").is_symlink()
