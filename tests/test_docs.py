@@ -21,7 +21,6 @@ from robospec.compile import compile_spec
 from robospec.diagnostics import has_errors
 from robospec.docgen import generated_pages, stale_pages
 from robospec.docgen.code_examples import (
-    ARGUMENT_CODES,
     RESERVED_CODES,
     is_documented_only,
     load_code_examples,
@@ -124,11 +123,6 @@ def _reporting_sources() -> list[Path]:
 def test_a_reserved_code_is_reported_nowhere(code: str) -> None:
     for source in _reporting_sources():
         assert f'"{code}"' not in source.read_text(encoding="utf-8"), source
-
-
-@pytest.mark.parametrize("code", sorted(ARGUMENT_CODES))
-def test_an_argument_code_is_reported_somewhere(code: str) -> None:
-    assert any(f'"{code}"' in p.read_text(encoding="utf-8") for p in _reporting_sources())
 
 
 def test_every_example_folder_belongs_to_a_code() -> None:

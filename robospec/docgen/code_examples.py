@@ -11,8 +11,8 @@ Codes that no spec triggers through ``robospec validate`` are *documented*: thei
 only ``about.md`` with an example (or a check module's docstring documents them), and the page
 says the example is not run when the docs are generated. They are RS4xx (``robospec import``
 of Python classes), RS5xx (``robospec check``'s physics), RS6xx (``inspect``/``new``/``doc`` on
-files named on the command line), RS9xx (internal), :data:`ARGUMENT_CODES` (command-line
-arguments) and :data:`RESERVED_CODES` (listed, but not reported by this version).
+files named on the command line), RS9xx (internal) and :data:`RESERVED_CODES` (listed, but
+not reported by this version).
 """
 
 from __future__ import annotations
@@ -36,14 +36,12 @@ NO_DOWNLOADS = ".no-maniskill-downloads"
 
 # ranges whose examples are documented rather than run at docs-generation time
 DOCUMENTED_PREFIXES = ("RS4", "RS5", "RS6", "RS9")
-# reported about command-line arguments (a package name, a --uid), never about a spec's content
-ARGUMENT_CODES = frozenset({"RS105"})
 # in the code table, but no code path of this version reports them (a test keeps that true)
 RESERVED_CODES = frozenset({"RS203", "RS308"})
 
 
 def is_documented_only(code: str) -> bool:
-    return code.startswith(DOCUMENTED_PREFIXES) or code in ARGUMENT_CODES | RESERVED_CODES
+    return code.startswith(DOCUMENTED_PREFIXES) or code in RESERVED_CODES
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,6 @@ from pathlib import Path
 from robospec.checks import CHECKS
 from robospec.codes import CODES, Code
 from robospec.docgen.code_examples import (
-    ARGUMENT_CODES,
     RESERVED_CODES,
     CodeExamples,
     RunExample,
@@ -83,8 +82,6 @@ def code_page(entry: Code, examples: CodeExamples, docstring: str | None) -> str
 
 
 def _why_not_run(code: str) -> str:
-    if code in ARGUMENT_CODES:
-        return "it is about a command-line argument, not a spec."
     if code.startswith("RS6"):
         return (
             "`robospec inspect`, `new` and `doc` report it about files named on the command line."
