@@ -141,7 +141,18 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         data = _walk_yaml(document, (), source, [0])
     except _TooBig as exc:
         return None, [error(source.key(exc.path), exc.code, str(exc))]
+    _keep_within_text(source, text)
     return data, []
+
+
+def _keep_within_text(source: SourceMap, text: str) -> None:
+    """ruamel places an empty value at the end of the file (``key:`` on the last line) on the
+    line after it; move such positions onto the last line so every diagnostic names a line."""
+    last = len(text.splitlines()) or 1
+    for table in (source.keys, source.values):
+        for path, (line, column) in table.items():
+            if line > last:
+                table[path] = _within_text(text, line, column)
 
 
 def _alias_expansion(document: Any, source: SourceMap) -> Diagnostic | None:
