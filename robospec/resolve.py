@@ -134,7 +134,12 @@ class Resolver:
             ref = FileRef("maniskill_assets", in_assets, assets / in_assets)
         else:
             ref = FileRef("file", text, (self.spec_file.parent / text).resolve())
-        if not ref.absolute.is_file():
+        try:
+            found = ref.absolute.is_file()
+        except OSError as exc:  # a name too long for the file system, a loop of links, ...
+            self.err(path, "RS050", f"cannot use '{text}' as a file: {exc.strerror or exc}")
+            return None
+        if not found:
             if may_be_missing:
                 return ref
             self.err(

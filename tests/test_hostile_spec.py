@@ -168,6 +168,15 @@ SPEC_CASES = [
     Hostile("huge_integer.toml", _text("robospec = " + "9" * 5000 + "\n"), "RS002", 1, 12),
     Hostile("merge_key.yaml", _text("base: &b {robospec: 1}\n<<: *b\nuid: 5\n"), "RS101", 1),
     Hostile("complex_key.yaml", _text("? [a, b]\n: 1\n"), "RS002", 1),
+    # a description path longer than the file system allows (found by atheris)
+    Hostile(
+        "long_description_path.yaml",
+        _text(GOOD_YAML.replace("{maniskill_assets}/robots/panda/panda_v2.urdf", "x" * 300)),
+        "RS050",
+        3,
+    ),
+    # ruamel's round-trip parser raises NotImplementedError on this comment (found by atheris)
+    Hostile("comment_overlap.yaml", _text("a:\n  b:  # c\n     y\n\n"), "RS002", 2, 7),
     Hostile("folder.yaml", _folder, "RS001", 1, 1),
     Hostile("fifo.yaml", _fifo, "RS001", 1, 1),
     Hostile(
@@ -338,3 +347,13 @@ def test_a_real_process_prints_no_traceback(name: str, tmp_path: Path) -> None:
         assert "Traceback" not in result.stderr + result.stdout
         assert f"[{case.code}]" in result.stderr + result.stdout
         assert not (tmp_path / "o").exists()
+
+
+def test_a_spec_path_longer_than_the_file_system_allows_is_rs001(
+    tmp_path: Path, runner: CliRunner
+) -> None:
+    path = tmp_path / ("x" * 300 + ".yaml")
+    result = runner.invoke(app, ["validate", str(path), "--format", "json"])
+    assert result.exit_code == 1
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    assert [e[1:] for e in _json_errors(result.stdout)] == [("RS001", 1, 1)]

@@ -132,6 +132,8 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         return None, [_unreadable_character(exc, text, source)]
     except ValueError as exc:
         return None, [_value_error(exc, text, source, "YAML")]
+    except NotImplementedError as exc:  # ruamel's round-trip reader and some comment layouts
+        return None, [_comment_overlap(exc, text, source)]
     except (YAMLError, RecursionError) as exc:
         return None, [error(Location(source.file), "RS002", f"YAML error: {exc}")]
     too_big = _alias_expansion(document, source)
@@ -191,6 +193,24 @@ def _alias_expansion(document: Any, source: SourceMap) -> Diagnostic | None:
         "RS006",
         f"spec expands to more than {MAX_NODES} values (alias bomb?)",
         "an alias (*name) repeats its anchor's whole value each time it is used",
+    )
+
+
+_COMMENT_TOKEN = re.compile(r"CommentToken\(.*?line: (\d+), col: (\d+)\)")
+
+
+def _comment_overlap(exc: NotImplementedError, text: str, source: SourceMap) -> Diagnostic:
+    """ruamel.yaml's round-trip parser gives up on some comments placed between a key and a
+    value it has not finished ("overlap in comment"); it names the comment token's 0-based
+    position only in its message."""
+    found = _COMMENT_TOKEN.search(str(exc))
+    line, column = (int(found.group(1)) + 1, int(found.group(2)) + 1) if found else (1, 1)
+    line, column = _within_text(text, line, column)
+    return error(
+        Location(source.file, line, column),
+        "RS002",
+        "YAML: this comment cannot be read where it is (ruamel.yaml gives up on it)",
+        "move the comment onto a line of its own",
     )
 
 
