@@ -357,3 +357,15 @@ def test_a_spec_path_longer_than_the_file_system_allows_is_rs001(
     assert result.exit_code == 1
     assert result.exception is None or isinstance(result.exception, SystemExit)
     assert [e[1:] for e in _json_errors(result.stdout)] == [("RS001", 1, 1)]
+
+
+def test_an_anchor_defined_twice_prints_nothing_on_stderr(tmp_path: Path) -> None:
+    # YAML lets a later anchor replace an earlier one; ruamel warned about it on stderr,
+    # naming its own source file, around robospec's diagnostics
+    path = tmp_path / "anchors.yaml"
+    path.write_text(
+        GOOD_YAML.replace("lower: 0,", "lower: &v 0,").replace("upper: 0.04", "upper: &v 0.04")
+    )
+    result = robospec_process("validate", str(path))
+    assert result.returncode == 0, result.stdout
+    assert result.stderr == ""

@@ -6,6 +6,7 @@ import os
 import re
 import stat
 import sys
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -122,7 +123,11 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
 
     yaml = YAML(typ="rt")
     try:
-        document = yaml.load(text)
+        with warnings.catch_warnings():
+            # ruamel warns (on stderr, naming its own source file) about an anchor defined
+            # twice, which YAML allows: the later one wins, as aliases after it show
+            warnings.simplefilter("ignore")
+            document = yaml.load(text)
     except DuplicateKeyError as exc:
         return None, [_marked(exc, text, source, "RS003", _duplicate_message(exc))]
     except MarkedYAMLError as exc:
