@@ -103,13 +103,10 @@ def validate(
     Example: robospec validate specs/ --format json
     Example: robospec validate specs/ --format github   (annotations in GitHub Actions)
     """
-    from robospec.compile import compile_all
+    from robospec.fast_validate import ValidateArgs, run
 
-    compiled, diagnostics = compile_all(paths)
-    for item in compiled:
-        diagnostics.extend(item.diagnostics)
-    _report(diagnostics, len(compiled), format, color)
-    raise typer.Exit(1 if has_errors(diagnostics) else 0)
+    # the same run as the plain form that skips typer (robospec.fast_validate)
+    raise typer.Exit(run(ValidateArgs(list(paths), format.value, color.value)))
 
 
 @app.command()
