@@ -139,6 +139,15 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         return None, [_value_error(exc, text, source, "YAML")]
     except NotImplementedError as exc:  # ruamel's round-trip reader and some comment layouts
         return None, [_comment_overlap(exc, text, source)]
+    except TypeError:  # a mapping key that is itself a mapping holding a list: unhashable
+        line, column = _first_collection_key(text)
+        return None, [
+            error(
+                Location(source.file, line, column),
+                "RS002",
+                "YAML: keys must be plain scalars, not lists or mappings",
+            )
+        ]
     except (YAMLError, RecursionError) as exc:
         return None, [error(Location(source.file), "RS002", f"YAML error: {exc}")]
     too_big = _alias_expansion(document, source)
@@ -199,6 +208,37 @@ def _alias_expansion(document: Any, source: SourceMap) -> Diagnostic | None:
         f"spec expands to more than {MAX_NODES} values (alias bomb?)",
         "an alias (*name) repeats its anchor's whole value each time it is used",
     )
+
+
+def _first_collection_key(text: str) -> tuple[int, int]:
+    """Where the first mapping key that is a list or a mapping starts (1:1 if none is found),
+    from the parser's events: ruamel's constructor fails on it without saying where."""
+    from ruamel.yaml import YAML
+    from ruamel.yaml.events import (
+        AliasEvent,
+        CollectionEndEvent,
+        CollectionStartEvent,
+        MappingStartEvent,
+        ScalarEvent,
+    )
+
+    frames: list[list[Any]] = []  # per open collection: [is_mapping, items seen]
+    try:
+        for event in YAML(typ="rt").parse(text):
+            if isinstance(event, (ScalarEvent, AliasEvent, CollectionStartEvent)):
+                at_key = bool(frames) and frames[-1][0] and frames[-1][1] % 2 == 0
+                if isinstance(event, CollectionStartEvent) and at_key:
+                    mark = event.start_mark
+                    return _within_text(text, mark.line + 1, mark.column + 1)
+                if frames:
+                    frames[-1][1] += 1
+                if isinstance(event, CollectionStartEvent):
+                    frames.append([isinstance(event, MappingStartEvent), 0])
+            elif isinstance(event, CollectionEndEvent) and frames:
+                frames.pop()
+    except Exception:  # the events are only a locator: a file they cannot read stays at 1:1
+        pass
+    return 1, 1
 
 
 _COMMENT_TOKEN = re.compile(r"CommentToken\(.*?line: (\d+), col: (\d+)\)")
