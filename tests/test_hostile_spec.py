@@ -168,6 +168,8 @@ SPEC_CASES = [
     Hostile("huge_integer.toml", _text("robospec = " + "9" * 5000 + "\n"), "RS002", 1, 12),
     Hostile("merge_key.yaml", _text("base: &b {robospec: 1}\n<<: *b\nuid: 5\n"), "RS101", 1),
     Hostile("complex_key.yaml", _text("? [a, b]\n: 1\n"), "RS002", 1),
+    # a tagged list has no item positions in ruamel: RS900 before (found by atheris)
+    Hostile("tagged_list.yaml", _text("robospec: 1\nuid: !tag [x, y]\n"), "RS102", 2, 6),
     # a mapping key holding a list is unhashable: ruamel raised TypeError (found by atheris)
     Hostile("unhashable_key.yaml", _text("a: 1\nb:\n  {x: [1]}: 2\n"), "RS002", 3, 3),
     # a description path longer than the file system allows (found by atheris)

@@ -350,8 +350,13 @@ def _walk_yaml(node: Any, path: KeyPath, source: SourceMap, count: list[int]) ->
         items = []
         for index, item in enumerate(node):
             child = (*path, index)
-            line, column = node.lc.item(index)
-            source.keys[child] = source.values[child] = (line + 1, column + 1)
+            position = (node.lc.data or {}).get(index)
+            if position is None:
+                # an item ruamel did not place (e.g. in a sequence merged with `<<:`): the
+                # sequence's own position
+                source.keys[child] = source.values[child] = source.values.get(path, (1, 1))
+            else:
+                source.keys[child] = source.values[child] = (position[0] + 1, position[1] + 1)
             items.append(_walk_yaml(item, child, source, count))
         return items
     if isinstance(node, bool) or node is None:
