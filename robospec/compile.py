@@ -10,7 +10,8 @@ from robospec.builtin_uids import MANISKILL_UIDS, Overrides, override_allowed
 from robospec.checks import CheckContext, run_checks
 from robospec.description.model import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
-from robospec.loading.reader import SPEC_SUFFIXES, read_spec
+from robospec.discovery import discover
+from robospec.loading.reader import read_spec
 from robospec.loading.source import LoadedSpec
 from robospec.model import build_spec
 from robospec.resolve import Resolver
@@ -101,45 +102,6 @@ def _compile_into(result: CompiledSpec, overrides: Overrides) -> None:
         result.context = context
     if not has_errors(result.diagnostics):
         result.robot = resolution.robot
-
-
-def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:
-    """Spec files named directly, or found under folders (sorted, so output is stable)."""
-    found: list[Path] = []
-    diagnostics: list[Diagnostic] = []
-    for path in paths:
-        try:
-            found.extend(_specs_at(path, diagnostics))
-        except OSError as exc:  # a name too long for the file system, a loop of links, ...
-            reason = exc.strerror or type(exc).__name__
-            diagnostics.append(error(Location(str(path)), "RS001", f"cannot read: {reason}"))
-    unique: list[Path] = []
-    for p in found:
-        if p not in unique:
-            unique.append(p)
-    return unique, diagnostics
-
-
-def _specs_at(path: Path, diagnostics: list[Diagnostic]) -> list[Path]:
-    """The spec named, or the spec files under a folder; a diagnostic when there are none."""
-    if path.is_dir():
-        inside = sorted(
-            p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES and p.is_file()
-        )
-        if not inside:
-            # a folder named by mistake (or named like a spec) must not pass as "all valid"
-            diagnostics.append(
-                error(
-                    Location(str(path)),
-                    "RS001",
-                    "no spec files (.yaml, .yml, .toml) in this folder",
-                )
-            )
-        return inside
-    if path.exists():
-        return [path]
-    diagnostics.append(error(Location(str(path)), "RS001", "no such file or folder"))
-    return []
 
 
 def compile_all(

@@ -29,7 +29,6 @@ if TYPE_CHECKING:
     from robospec.compile import CompiledSpec
 
 CACHE_FORMAT = "1"
-SPEC_SUFFIXES = (".yaml", ".yml", ".toml")
 
 
 def cache_root() -> Path:
@@ -49,17 +48,6 @@ def _file_hash(path: str) -> str | None:
         return _sha256(Path(path).read_bytes())
     except OSError:
         return None
-
-
-def _spec_files(paths: Iterable[str | os.PathLike[str]]) -> list[Path]:
-    files: list[Path] = []
-    for entry in paths:
-        path = Path(entry)
-        if path.is_dir():
-            files.extend(sorted(p for p in path.rglob("*") if p.suffix.lower() in SPEC_SUFFIXES))
-        else:
-            files.append(path)
-    return files
 
 
 def cache_salt() -> str:
@@ -96,7 +84,11 @@ def register(
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     root = Path(cache_dir) if cache_dir is not None else cache_root()
-    files = _spec_files(paths)
+    from robospec.discovery import discover
+
+    files, problems = discover([Path(p) for p in paths])
+    if problems:  # a missing path, a folder without specs: never "registered nothing" quietly
+        raise SpecError(problems)
     salt = cache_salt()
     entries: list[tuple[Path, Path]] = []
     cold: list[tuple[Path, Path]] = []
@@ -114,12 +106,12 @@ def register(
 def _entry_for(file: Path, root: Path, salt: str) -> Path:
     """The cache entry of a spec: named by a hash of robospec's version, the spec's path and
     its bytes, never by anything the spec says (its uid cannot steer where files go)."""
-    try:
-        data = file.read_bytes()
-    except OSError as exc:
-        raise SpecError(
-            [error(Location(str(file)), "RS001", f"cannot read spec: {exc.strerror}")]
-        ) from None
+    from robospec.loading.reader import read_spec_file_bytes
+
+    # as validate reads it: a FIFO is refused (reading it would block), a huge file by its size
+    data, problem = read_spec_file_bytes(file, str(file))
+    if data is None:
+        raise SpecError([problem] if problem else [])
     key = _sha256(salt.encode() + b"\0" + str(file.resolve()).encode() + b"\0" + data)
     return root / key[:40]
 

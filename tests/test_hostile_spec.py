@@ -193,11 +193,6 @@ SPEC_CASES = [
 if os.geteuid() != 0:  # root reads a chmod 000 file anyway
     SPEC_CASES.append(Hostile("unreadable.yaml", _unreadable, "RS001", 1, 1))
 
-# register() reads a FIFO to hash it (and waits forever for a writer), and takes a folder
-# with no specs in it for an empty list of specs: robospec/registration.py's to fix
-_NOT_FOR_REGISTER = {"fifo.yaml", "folder.yaml"}
-
-
 def _make(case: Hostile, folder: Path) -> Path:
     path = folder / case.name
     case.make(path)
@@ -290,7 +285,7 @@ def test_build_into_an_existing_folder_leaves_it_as_it_was(
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
-@pytest.mark.parametrize("case", [c.param() for c in SPEC_CASES if c.name not in _NOT_FOR_REGISTER])
+@pytest.mark.parametrize("case", [c.param() for c in SPEC_CASES])
 def test_register_raises_spec_error_with_the_located_code_and_registers_nothing(
     case: Hostile, tmp_path: Path
 ) -> None:

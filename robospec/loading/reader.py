@@ -39,13 +39,13 @@ def read_spec(path: Path, display: str | None = None) -> tuple[LoadedSpec | None
                 "use .yaml, .yml or .toml",
             )
         ]
-    raw, problem = _read_regular_file(path, display)
+    raw, problem = read_spec_file_bytes(path, display)
     if raw is None:
         return None, [problem] if problem else []
     return parse_spec_bytes(raw, display, fmt)
 
 
-def _read_regular_file(path: Path, display: str) -> tuple[bytes | None, Diagnostic | None]:
+def read_spec_file_bytes(path: Path, display: str) -> tuple[bytes | None, Diagnostic | None]:
     """The file's bytes, refusing what is not a plain file (a FIFO would block the read
     forever) and what is too large by its size, before reading it."""
     try:
