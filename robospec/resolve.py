@@ -136,8 +136,13 @@ class Resolver:
             ref = FileRef("file", text, (self.spec_file.parent / text).resolve())
         try:
             found = ref.absolute.is_file()
+            exists = found or ref.absolute.exists()
         except OSError as exc:  # a name too long for the file system, a loop of links, ...
             self.err(path, "RS050", f"cannot use '{text}' as a file: {exc.strerror or exc}")
+            return None
+        if exists and not found:  # a folder or a FIFO: there, but not a file to read
+            what = "a folder" if ref.absolute.is_dir() else "not a regular file"
+            self.err(path, "RS050", f"cannot use '{text}' as a file: it is {what}")
             return None
         if not found:
             if may_be_missing:

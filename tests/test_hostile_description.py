@@ -421,3 +421,22 @@ def test_a_real_process_prints_no_traceback(name: str, tmp_path: Path) -> None:
         assert result.returncode == 1, result.stderr
         assert "Traceback" not in result.stderr + result.stdout
         assert f"[{case.code}]" in result.stderr + result.stdout
+
+
+@pytest.mark.parametrize(
+    ("make", "says"), [(_folder, "it is a folder"), (_fifo, "it is not a regular file")]
+)
+def test_a_description_path_that_is_no_file_says_what_it_is_at_the_spec(
+    tmp_path: Path, make: Callable[[Path], None], says: str
+) -> None:
+    make(tmp_path / "robot.urdf")
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: rs_thing\ndescription: {urdf: robot.urdf}\n"
+        "controllers: {all: {type: pd_joint_pos, joints: '*', lower: null, upper: null,\n"
+        "                    stiffness: 1e3, damping: 1e2}}\n"
+        "control_modes: {pd_joint_pos: {all: all}}\n"
+    )
+    errors = [d for d in compile_spec(spec).diagnostics if d.is_error]
+    assert [(d.code, d.location.line) for d in errors] == [("RS050", 3)]
+    assert errors[0].message == f"cannot use 'robot.urdf' as a file: {says}"
