@@ -7,7 +7,7 @@ folders the shipped specs use, and compiled. A crash is any exception, an intern
     python fuzz/fuzz_validate.py --seconds 600            # atheris, if installed
     python fuzz/fuzz_validate.py --seconds 600 --hypothesis
 
-With atheris (``pip install atheris``; Linux wheels) the run is coverage-guided, seeded with
+With atheris (``pip install -e ".[fuzz]"``; Linux wheels) the run is coverage-guided, seeded with
 specs/ and tests/specs/positive, and extra arguments go to libFuzzer (e.g. a corpus folder to
 keep, ``-jobs=4``). Without it, or with ``--hypothesis``, the property tests of
 tests/test_fuzz_properties.py run round after round, each with ``ROBOSPEC_FUZZ_SCALE``
