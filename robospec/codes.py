@@ -2,8 +2,8 @@
 
 Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
 into the robot description, RS3xx semantic checks, RS4xx `robospec import`, RS5xx physics
-checks (`robospec check`), RS6xx writing files and the authoring commands (`robospec build`, `inspect`, `new`, `doc`), RS9xx
-internal errors.
+checks (`robospec check`), RS6xx writing files and the authoring commands (`robospec build`,
+`inspect`, `new`, `doc`), RS9xx internal errors.
 """
 
 from __future__ import annotations

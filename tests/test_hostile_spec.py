@@ -193,6 +193,7 @@ SPEC_CASES = [
 if os.geteuid() != 0:  # root reads a chmod 000 file anyway
     SPEC_CASES.append(Hostile("unreadable.yaml", _unreadable, "RS001", 1, 1))
 
+
 def _make(case: Hostile, folder: Path) -> Path:
     path = folder / case.name
     case.make(path)
