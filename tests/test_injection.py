@@ -36,6 +36,7 @@ import tokenize
 from pathlib import Path
 
 import pytest
+from ast_names import identifiers
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from lxml import etree
@@ -213,27 +214,6 @@ CODE_RUNNERS = frozenset(
     }
 )
 VOCABULARY = emitter_vocabulary()
-
-
-def identifiers(tree: ast.AST) -> set[str]:
-    names: set[str] = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Name):
-            names.add(node.id)
-        elif isinstance(node, ast.Attribute):
-            names.add(node.attr)
-        elif isinstance(node, (ast.FunctionDef, ast.ClassDef)):
-            names.add(node.name)
-        elif isinstance(node, ast.alias):
-            names.update((node.asname or node.name).split("."))
-            names.update(node.name.split("."))
-        elif isinstance(node, ast.ImportFrom) and node.module:
-            names.update(node.module.split("."))
-        elif isinstance(node, ast.keyword) and node.arg:
-            names.add(node.arg)
-        elif isinstance(node, ast.arg):
-            names.add(node.arg)
-    return names
 
 
 def derived_identifiers(names: dict[str, list[str]]) -> set[str]:
