@@ -136,6 +136,13 @@ def test_hand_of_identical_fingers_gets_one_group_per_finger_and_no_arm(tmp_path
     assert data["groups"]["finger2"] == ["joint_4.0", "joint_5.0", "joint_6.0", "joint_7.0"]
 
 
+def test_a_cad_assembly_name_gives_way_to_the_file_name_for_the_uid(tmp_path: Path) -> None:
+    body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
+    body += '<parent link="a"/><child link="b"/></joint>\n'
+    urdf = _robot(tmp_path / "so_arm.urdf", "SO_5DOF_ARM100_8j_URDF.SLDASM", body)
+    assert scaffold(urdf, tmp_path / "so_arm.yaml")["uid"] == "so_arm"
+
+
 def _robot(path: Path, name: str, body: str) -> Path:
     path.write_text(f'<?xml version="1.0"?>\n<robot name="{name}">\n{body}</robot>\n')
     return path

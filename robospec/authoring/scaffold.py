@@ -38,9 +38,17 @@ BASE_VELOCITY: dict[str, Any] = {"lower": -1.0, "upper": 1.0, "damping": 1e3, "f
 DELTA = 0.1
 
 
+# robot names that CAD exporters write (SolidWorks' sw_urdf_exporter: "ARM_URDF.SLDASM"):
+# the assembly's file name, not what anyone calls the robot
+_CAD_EXPORT_NAME = re.compile(r"\.(SLDASM|SLDPRT)$", re.IGNORECASE)
+
+
 def default_uid(robot_name: str | None, path: Path) -> str:
-    """The robot's name as a valid uid (the file's stem when the description has no name)."""
-    raw = robot_name or path.name.split(".")[0]
+    """The robot's name as a valid uid (the file's stem when the description has no name, or
+    only the CAD assembly's name)."""
+    raw = robot_name or ""
+    if not raw or _CAD_EXPORT_NAME.search(raw):
+        raw = path.name.split(".")[0]
     uid = re.sub(r"[^A-Za-z0-9_.\-]+", "_", raw).lstrip("_.-")[:64].rstrip("_") or "robot"
     if uid in MANISKILL_UIDS:
         uid = f"rs_{uid}"[:64]
