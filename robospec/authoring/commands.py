@@ -96,7 +96,7 @@ def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
 
 
 def write_text(path: Path, text: str) -> list[Diagnostic]:
-    from robospec.importer.command import write_atomically
+    from robospec.atomic_rename import write_atomically
 
     try:
         write_atomically(path, text)

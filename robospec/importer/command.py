@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
+from robospec.atomic_rename import write_atomically
 from robospec.diagnostics import Diagnostic, Location, error
 
 
@@ -34,15 +33,3 @@ def run_import(
     if result.text is not None and out is not None:
         write_atomically(out, result.text)
     return result.text, result.diagnostics
-
-
-def write_atomically(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, staging = tempfile.mkstemp(prefix=".robospec-", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(staging, path)
-    except BaseException:
-        Path(staging).unlink(missing_ok=True)
-        raise
