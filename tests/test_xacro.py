@@ -302,7 +302,8 @@ import sys
 def hook(event, args):
     if event in ("subprocess.Popen", "os.system", "os.posix_spawn", "os.fork", "os.exec",
                  "os.spawn", "os.startfile"):
-        print("STARTED", event, repr(args)[:300], file=sys.stderr)
+        # the whole call: its length depends on where the checkout lives
+        print("STARTED", event, repr(args), file=sys.stderr)
 sys.addaudithook(hook)
 from robospec.cli import main
 sys.argv = ["robospec", "validate", *sys.argv[1:]]
