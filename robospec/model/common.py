@@ -5,10 +5,9 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, WithJsonSchema
-from pydantic_core import PydanticCustomError
 
-from robospec.expr import ExpressionError, evaluate
 from robospec.model.refs import JointPattern, LinkPattern
+from robospec.model.rules import _to_number, origin
 
 NUMBER_SCHEMA: dict[str, Any] = {
     "anyOf": [
@@ -20,19 +19,6 @@ NUMBER_SCHEMA: dict[str, Any] = {
         },
     ]
 }
-
-
-def _to_number(value: Any) -> float:
-    if isinstance(value, bool):
-        raise PydanticCustomError("number", "expected a number, got a boolean")
-    if isinstance(value, (int, float)):
-        return float(value)
-    if isinstance(value, str):
-        try:
-            return evaluate(value)
-        except ExpressionError as exc:
-            raise PydanticCustomError("expression", str(exc)) from None
-    raise PydanticCustomError("number", "expected a number or arithmetic over pi")
 
 
 Number = Annotated[float, BeforeValidator(_to_number), WithJsonSchema(NUMBER_SCHEMA)]
@@ -58,7 +44,9 @@ LinkPatterns = LinkPattern | list[LinkPattern]
 class StrictModel(BaseModel):
     """Every spec model: unknown keys are errors, instances are immutable."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    # defer_build: `validate` runs the frozen schema (robospec.model.frozen); these models
+    # build theirs only when asked (the JSON Schema, the freezer, the importer)
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
 
 Vector3 = Annotated[list[Number], Field(min_length=3, max_length=3)]
@@ -70,7 +58,7 @@ class Pose(StrictModel):
     as roll-pitch-yaw angles `rpy` (neither: no rotation)."""
 
     p: Vector3 = Field(
-        default_factory=lambda: [0.0, 0.0, 0.0],
+        default_factory=origin,
         description="Position [x, y, z] in metres.",
         examples=[[0.0, 0.0, 0.04]],
     )

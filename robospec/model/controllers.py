@@ -12,6 +12,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
+from robospec.model import rules
 from robospec.model.common import JointSelection, Number, PerJoint, StrictModel, ValueByName
 from robospec.model.refs import JointName, JointPattern, LinkName
 
@@ -368,14 +369,4 @@ ControllerConfig = Annotated[
     Field(discriminator="type"),
 ]
 
-CONTROLLER_TYPES: tuple[str, ...] = (
-    "pd_joint_pos",
-    "pd_joint_pos_mimic",
-    "pd_joint_vel",
-    "pd_joint_pos_vel",
-    "pd_ee_pos",
-    "pd_ee_pose",
-    "pd_base_vel",
-    "pd_base_forward_vel",
-    "passive",
-)
+CONTROLLER_TYPES = rules.CONTROLLER_TYPES

@@ -12,28 +12,17 @@ import keyword
 from typing import Annotated, Literal
 
 from pydantic import AfterValidator, Field, model_validator
-from pydantic_core import PydanticCustomError
 
+from robospec.model import rules
 from robospec.model.common import GroupSelection, Number, Pose, StrictModel
 from robospec.model.refs import LinkName, LinkOrNamed
+from robospec.model.rules import _not_a_keyword
 
 # an attribute or method name the generated class defines
 MEMBER_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]{0,63}$"
 # "package.module:attribute" or "package.module:Class.attribute"
 _DOTTED = r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*"
 PYTHON_REF_PATTERN = rf"^{_DOTTED}:{_DOTTED}$"
-
-
-def _not_a_keyword(name: str) -> str:
-    # the pattern admits `class` or `None`, which are no names in Python: the generated class
-    # could not define them
-    if keyword.iskeyword(name):
-        raise PydanticCustomError(
-            "python_keyword",
-            "'{name}' is a Python keyword, not a name",
-            {"name": name},
-        )
-    return name
 
 
 # for editors too: the schema says which names are out
@@ -77,15 +66,7 @@ class Tcp(StrictModel):
         examples=["midpoint", "finger1_link"],
     )
 
-    @model_validator(mode="after")
-    def _complete(self) -> Tcp:
-        if self.link is None and self.midpoint is None:
-            raise ValueError("give a link, a midpoint, or both")
-        if self.midpoint is not None and self.orientation is None:
-            raise ValueError("a midpoint tcp needs an orientation: a link name or 'midpoint'")
-        if self.midpoint is None and self.orientation is not None:
-            raise ValueError("orientation is only for a midpoint tcp")
-        return self
+    _complete = model_validator(mode="after")(rules.tcp_complete)
 
 
 Axis = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
@@ -182,11 +163,7 @@ class HeightBand(StrictModel):
         default=None, description="The root must be lower than this.", examples=[1.0]
     )
 
-    @model_validator(mode="after")
-    def _some_bound(self) -> HeightBand:
-        if self.above is None and self.below is None:
-            raise ValueError("give above, below, or both")
-        return self
+    _some_bound = model_validator(mode="after")(rules.some_bound)
 
 
 class IsStanding(StrictModel):
@@ -230,11 +207,7 @@ class IsFallen(StrictModel):
         examples=[{"links": ["torso_link"], "force_above": 1.0}],
     )
 
-    @model_validator(mode="after")
-    def _exactly_one(self) -> IsFallen:
-        if (self.height is None) == (self.contact is None):
-            raise ValueError("give exactly one of height and contact")
-        return self
+    _exactly_one = model_validator(mode="after")(rules.height_or_contact)
 
 
 class LinkState(StrictModel):
@@ -271,11 +244,7 @@ class LinkState(StrictModel):
         examples=[True],
     )
 
-    @model_validator(mode="after")
-    def _exactly_one(self) -> LinkState:
-        if (self.link is None) == (self.links is None):
-            raise ValueError("give exactly one of link and links")
-        return self
+    _exactly_one = model_validator(mode="after")(rules.link_or_links)
 
 
 class AxisLimit(StrictModel):
@@ -314,7 +283,9 @@ class Drive(StrictModel):
         examples=[{"p": [0, 0.0103, 0.0141]}],
     )
     limit: AxisLimit = Field(
-        default_factory=lambda: AxisLimit(x=[0.0, 0.0], y=[0.0, 0.0], z=[0.0, 0.0]),
+        # a default the validator builds (as data, not a factory): a frozen schema can hold it
+        default={"x": [0.0, 0.0], "y": [0.0, 0.0], "z": [0.0, 0.0]},
+        validate_default=True,
         description="Lower/upper translation per axis; axes not named are free. Default: "
         "all three locked at 0.",
         examples=[{"x": [0, 0], "y": [0, 0], "z": [0, 0]}],

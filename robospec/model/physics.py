@@ -12,6 +12,7 @@ from pydantic import Field
 
 from robospec.model.common import Number, StrictModel
 from robospec.model.refs import ControllerName, ControlModeName
+from robospec.model.rules import StepResponseBehaviour
 
 PositiveNumber = Annotated[Number, Field(gt=0)]
 Fraction = Annotated[Number, Field(ge=0)]
@@ -100,7 +101,7 @@ class StepLimits(StrictModel):
     )
 
 
-class StepResponse(StrictModel):
+class StepResponse(StrictModel, StepResponseBehaviour):
     """Command a small step to every position- or velocity-controlled group and time the
     response of each of its joints."""
 
@@ -145,13 +146,6 @@ class StepResponse(StrictModel):
         "meant to move slowly).",
         examples=[{"stiff_body_pos": {"duration": 5, "max_rise_time": 3}}],
     )
-
-    def for_controller(self, name: str) -> StepResponse:
-        """These settings with ``controllers[name]``'s fields in place of the spec-wide ones."""
-        limits = self.controllers.get(name)
-        if limits is None:
-            return self
-        return self.model_copy(update={k: getattr(limits, k) for k in limits.model_fields_set})
 
 
 class SelfContact(StrictModel):

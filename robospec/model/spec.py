@@ -10,6 +10,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, StrictBool, model_validator
 
+from robospec.model import rules
 from robospec.model.common import (
     GroupSelection,
     JointSelection,
@@ -51,7 +52,7 @@ NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"
 ScalarArg = str | int | float | bool
 
 
-class Description(StrictModel):
+class Description(StrictModel, rules.DescriptionBehaviour):
     """The robot description file: exactly one of `urdf`, `mjcf` or `xacro`. Relative paths
     are taken against the spec file's folder; `{maniskill_assets}` stands for ManiSkill's
     bundled asset folder."""
@@ -90,24 +91,7 @@ class Description(StrictModel):
         examples=[["unitree_g1"]],
     )
 
-    @model_validator(mode="after")
-    def _exactly_one(self) -> Description:
-        given = [k for k in ("urdf", "mjcf", "xacro") if getattr(self, k) is not None]
-        if len(given) != 1:
-            raise ValueError("give exactly one of urdf, mjcf or xacro")
-        if self.args and self.xacro is None:
-            raise ValueError("args are only for xacro descriptions")
-        return self
-
-    @property
-    def kind(self) -> Literal["urdf", "mjcf", "xacro"]:
-        if self.urdf is not None:
-            return "urdf"
-        return "mjcf" if self.mjcf is not None else "xacro"
-
-    @property
-    def path(self) -> str:
-        return self.urdf or self.mjcf or self.xacro or ""
+    _exactly_one = model_validator(mode="after")(rules.one_description)
 
 
 class Loader(StrictModel):
@@ -552,10 +536,4 @@ class Spec(StrictModel):
         examples=[{"keyframe_hold": {"pin_root": True}}],
     )
 
-    @model_validator(mode="after")
-    def _description_or_base(self) -> Spec:
-        if self.extends is None and self.description is None:
-            raise ValueError("give a description (or extend a Python agent class)")
-        if self.extends is None and not self.control_modes:
-            raise ValueError("give at least one control mode")
-        return self
+    _description_or_base = model_validator(mode="after")(rules.description_or_base)
