@@ -18,9 +18,7 @@ from robospec.description.model import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.loading.source import KeyPath, LoadedSpec
 from robospec.model.build import SpecModelResult
-from robospec.model.common import AllBut, Pose
-from robospec.model.controllers import MimicTarget
-from robospec.model.spec import Keyframe, Spec
+from robospec.model.frozen import AllBut, Keyframe, MimicTarget, Pose, Spec
 from robospec.paths import maniskill_assets_dir, maniskill_data_dir, split_assets, split_data
 from robospec.resolved import (
     FileRef,

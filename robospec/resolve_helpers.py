@@ -10,9 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import error
-from robospec.model.common import AllBut
-from robospec.model.helpers import HeightBand
-from robospec.model.spec import Spec
+from robospec.model.frozen import AllBut, HeightBand, Spec
 from robospec.pyrefs import check_ref
 from robospec.resolved import (
     PythonRef,

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 from robospec.description.model import RobotDescription
 from robospec.diagnostics import Location
 from robospec.loading.source import KeyPath
-from robospec.model.spec import Spec
+from robospec.model.frozen import Spec
 from robospec.resolved import ResolvedRobot
 
 

@@ -16,8 +16,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from robospec.description.model import Joint, Link, RobotDescription
-from robospec.model.common import AllBut
-from robospec.model.spec import Spec
+from robospec.model.frozen import AllBut, Spec
 
 _GLOB = re.compile(r"[*?\[]")
 

@@ -10,11 +10,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from pydantic import ValidationError
+from pydantic_core import ValidationError
 
 from robospec.diagnostics import Diagnostic, error
 from robospec.loading.source import KeyPath, LoadedSpec
-from robospec.model.spec import Spec
+from robospec.model.core import validator_for
+from robospec.model.frozen import Spec
 from robospec.suggest import did_you_mean
 
 _ERROR_CODES = {
@@ -85,7 +86,8 @@ def build_spec(loaded: LoadedSpec) -> SpecModelResult:
     if diagnostics:
         return result
     try:
-        result.spec = Spec.model_validate(data)
+        # the frozen schema: pydantic's validation of robospec.model.spec.Spec, without pydantic
+        result.spec = validator_for("Spec").validate_python(data)
     except ValidationError as exc:
         diagnostics.extend(_diagnostics_from(exc, data, loaded, result))
     return result
@@ -217,7 +219,7 @@ def _message(kind: str, err: Any, path: KeyPath, data: Any) -> tuple[str, str | 
         known = _known_fields(err, parent)
         return f"unknown key '{key}'{_describe(path[:-1])}", did_you_mean(key, known)
     if kind == "union_tag_invalid":
-        from robospec.model.controllers import CONTROLLER_TYPES
+        from robospec.model.rules import CONTROLLER_TYPES
 
         got = str(_node(data, path))
         hint = did_you_mean(got, CONTROLLER_TYPES) or "types: " + ", ".join(CONTROLLER_TYPES)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from robospec.compile import CompiledSpec, compile_all
 from robospec.diagnostics import Diagnostic, Location, SpecError, error, has_errors
-from robospec.model.physics import Checks
+from robospec.model.frozen import Checks
 from robospec.physics import (
     action_layout,
     keyframe_hold,
