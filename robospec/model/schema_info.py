@@ -1,62 +1,63 @@
-"""Which keys a spec model accepts at a given place, for did-you-mean hints on unknown keys."""
+"""Which keys a spec model accepts at a given place, for did-you-mean hints on unknown keys.
+
+Read from the frozen pydantic-core schema (:mod:`robospec.model.frozen`) by following
+pydantic's error location through it, so a hint loads no pydantic.
+"""
 
 from __future__ import annotations
 
-import types
-import typing
-from typing import Any, get_args, get_origin
+from typing import Any
 
-from pydantic import BaseModel
+from robospec.model import frozen
+
+# schemas that wrap one other schema: the place is the same
+_WRAPPERS = frozenset({"default", "nullable", "function-before", "function-after", "model"})
 
 
 def fields_for(loc: tuple[Any, ...], data: Any = None) -> list[str]:
-    from robospec.model.spec import Spec
-
-    candidates: list[Any] = [Spec]
+    """The field names of the models an error location ``loc`` can point into."""
+    root = frozen.SCHEMAS["Spec"]
+    definitions = {d["ref"]: d for d in root.get("definitions", [])}
+    places = _members(root, definitions)
     for element in loc:
-        following: list[Any] = []
-        for tp in candidates:
-            following.extend(_step(tp, element))
-        candidates = following
+        following = [n for place in places for n in _step(place, element, definitions)]
+        # an element that names no field, key or item is a union member's label
+        # (`AllBut`, `list[str]`): the place stays, its other members fall away later
+        places = following or places
     names: list[str] = []
-    for tp in candidates:
-        for model in _models(tp):
-            names.extend(n for n in model.model_fields if n not in names)
+    for place in places:
+        if place["type"] == "model-fields":
+            names.extend(n for n in place["fields"] if n not in names)
     return names
 
 
-def _unwrap(tp: Any) -> list[Any]:
-    origin = get_origin(tp)
-    if origin is typing.Annotated:
-        return _unwrap(get_args(tp)[0])
-    if origin in (typing.Union, types.UnionType):
-        out: list[Any] = []
-        for arg in get_args(tp):
-            out.extend(_unwrap(arg))
+def _members(schema: Any, definitions: dict[str, Any]) -> list[dict[str, Any]]:
+    """The schemas a value at this place is checked against, wrappers and unions unwrapped."""
+    kind = schema["type"]
+    if kind == "definitions":
+        return _members(schema["schema"], definitions)
+    if kind == "definition-ref":
+        return _members(definitions[schema["schema_ref"]], definitions)
+    if kind in _WRAPPERS:
+        return _members(schema["schema"], definitions)
+    if kind == "union":
+        out: list[dict[str, Any]] = []
+        for choice in schema["choices"]:
+            out.extend(_members(choice[0] if isinstance(choice, tuple) else choice, definitions))
         return out
-    return [tp]
+    return [schema]
 
 
-def _models(tp: Any) -> list[type[BaseModel]]:
-    return [t for t in _unwrap(tp) if isinstance(t, type) and issubclass(t, BaseModel)]
-
-
-def _step(tp: Any, element: Any) -> list[Any]:
-    out: list[Any] = []
-    for member in _unwrap(tp):
-        if isinstance(member, type) and issubclass(member, BaseModel):
-            if element in member.model_fields:
-                out.append(member.model_fields[element].annotation)
-            continue
-        origin = get_origin(member)
-        if origin is dict and isinstance(element, str):
-            out.append(get_args(member)[1])
-        elif origin is list and isinstance(element, int):
-            out.append(get_args(member)[0])
-    if not out:
-        # a discriminated-union tag: pick the member whose `type` literal is the tag
-        for model in _models(tp):
-            field = model.model_fields.get("type")
-            if field is not None and element in get_args(field.annotation):
-                out.append(model)
-    return out
+def _step(place: dict[str, Any], element: Any, definitions: dict[str, Any]) -> list[Any]:
+    kind = place["type"]
+    if kind == "model-fields" and element in place["fields"]:
+        inner = place["fields"][element]["schema"]
+    elif kind == "dict" and isinstance(element, str):
+        inner = place.get("values_schema")
+    elif kind == "list" and isinstance(element, int):
+        inner = place.get("items_schema")
+    elif kind == "tagged-union" and element in place["choices"]:
+        inner = place["choices"][element]
+    else:
+        return []
+    return _members(inner, definitions) if inner is not None else []
