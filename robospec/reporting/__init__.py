@@ -8,7 +8,6 @@ import enum
 from collections.abc import Sequence
 
 from robospec.diagnostics import Diagnostic, sort_key
-from robospec.reporting import as_json, github, sarif, text
 from robospec.reporting.summary import summary, summary_line
 
 
@@ -22,13 +21,23 @@ class Format(str, enum.Enum):
 def render(diagnostics: Sequence[Diagnostic], files: int, fmt: str, *, color: bool = False) -> str:
     """The report of ``diagnostics`` over ``files`` checked files; ``color`` only affects text."""
     ordered = sorted(diagnostics, key=sort_key)
+    # each format is imported when asked for: SARIF's package metadata alone costs more
+    # than a whole `robospec validate` of a small spec
     kind = Format(fmt)
     if kind is Format.json:
+        from robospec.reporting import as_json
+
         return as_json.render(ordered, files)
     if kind is Format.github:
+        from robospec.reporting import github
+
         return github.render(ordered, files)
     if kind is Format.sarif:
+        from robospec.reporting import sarif
+
         return sarif.render(ordered)
+    from robospec.reporting import text
+
     return text.render(ordered, files, color=color)
 
 
