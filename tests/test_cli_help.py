@@ -38,13 +38,14 @@ def _bash_complete(*words: str) -> list[str]:
     a user installs."""
     bash = shutil.which("bash")
     assert bash, "bash is needed to test shell completion"
-    script = subprocess.run(
+    shown = subprocess.run(
         [sys.executable, "-m", "robospec.cli", "--show-completion", "bash"],
         capture_output=True,
         text=True,
-        check=True,
         cwd=ROOT,
-    ).stdout
+    )
+    assert shown.returncode == 0, shown.stdout + shown.stderr
+    script = shown.stdout
     # the script calls `robospec` by name: put this interpreter's console script on PATH
     env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}"}
     quoted = " ".join(shlex.quote(word) for word in ("robospec", *words))
