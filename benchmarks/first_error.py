@@ -62,10 +62,34 @@ def measure(repeat: int) -> Section:
 
 robospec is **{speedup:.1f}×** faster to the first error (target: ≥ {TARGET_SPEEDUP:.0f}×), and
 its error has a location. Validating the (correct) panda spec takes {validate_ok.median:.3f} s
-(peak memory {validate_ok.peak_rss_kib / 1024:.0f} MiB) and imports neither torch, SAPIEN nor
-ManiSkill.
+(peak memory {validate_ok.peak_rss_kib / 1024:.0f} MiB) and {_heavy_imports(GOOD_SPEC)}.
 """
     return Section(TITLE, body + _import_breakdown(), speedup >= TARGET_SPEEDUP)
+
+
+HEAVY = {"torch": "torch", "sapien": "SAPIEN", "mani_skill": "ManiSkill", "pydantic": "pydantic"}
+LOADED = """
+import sys
+from robospec.cli import main
+sys.argv = ["robospec", "validate", sys.argv[1]]
+try:
+    main()
+except SystemExit:
+    pass
+print("LOADED:", " ".join(sorted({m.split(".")[0] for m in sys.modules})))
+"""
+
+
+def _heavy_imports(spec: str) -> str:
+    """Which heavy packages validating ``spec`` loads, measured in a child (pydantic's models
+    are frozen ahead of time: robospec/model/freeze.py; pydantic-core alone runs them)."""
+    output = run([PYTHON, "-c", LOADED, spec], child_env()).output
+    line = next((ln for ln in output.splitlines() if ln.startswith("LOADED:")), "LOADED:")
+    loaded = set(line.removeprefix("LOADED:").split())
+    names = [label for module, label in HEAVY.items() if module in loaded]
+    if names:
+        return "imports " + ", ".join(names)
+    return "imports none of " + ", ".join(HEAVY.values()) + " (pydantic-core alone validates)"
 
 
 def _import_breakdown() -> str:
