@@ -38,12 +38,10 @@ def _bash_complete(*words: str) -> list[str]:
     a user installs."""
     bash = shutil.which("bash")
     assert bash, "bash is needed to test shell completion"
-    shown = subprocess.run(
-        [sys.executable, "-m", "robospec.cli", "--show-completion", "bash"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    )
+    # typer finds the shell from the parent process (shellingham), as when a user types
+    # `robospec --show-completion` in bash; a second command keeps bash from exec-ing python
+    show = f"{shlex.quote(sys.executable)} -m robospec.cli --show-completion\nexit $?"
+    shown = subprocess.run([bash, "--norc", "-c", show], capture_output=True, text=True, cwd=ROOT)
     assert shown.returncode == 0, shown.stdout + shown.stderr
     script = shown.stdout
     # the script calls `robospec` by name: put this interpreter's console script on PATH
