@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from cli_process import robospec
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -55,17 +56,31 @@ def test_a_missing_path_is_a_located_error_not_a_traceback() -> None:
     assert "Traceback" not in result.stderr
 
 
-def test_validate_never_imports_torch_sapien_or_maniskill() -> None:
+HEAVY = ("torch", "sapien", "mani_skill", "trimesh", "yourdfpy")
+
+
+@pytest.mark.parametrize(
+    ("entry", "heavy"),
+    [
+        # the typer app (which itself imports pydantic)
+        ("from robospec.cli import app; app(['validate', 'specs/'])", HEAVY),
+        # the plain command, as typed: it validates with the frozen models
+        # (tests/test_frozen_model.py), on pydantic-core, and never loads pydantic
+        (
+            "sys.argv = ['robospec', 'validate', 'specs/']; from robospec.cli import main; main()",
+            (*HEAVY, "pydantic"),
+        ),
+    ],
+    ids=["typer-app", "plain-validate"],
+)
+def test_validate_never_imports_the_heavy_packages(entry: str, heavy: tuple[str, ...]) -> None:
     probe = (
         "import sys\n"
-        "from robospec.cli import app\n"
         "try:\n"
-        "    app(['validate', 'specs/'])\n"
+        f"    {entry}\n"
         "except SystemExit as exit:\n"
         "    assert exit.code == 0, exit.code\n"
-        "heavy = sorted(m for m in ('torch', 'sapien', 'mani_skill', 'trimesh', 'yourdfpy')\n"
-        "               if m in sys.modules)\n"
-        "print('HEAVY', heavy)\n"
+        f"print('HEAVY', sorted(m for m in {heavy!r} if m in sys.modules))\n"
     )
     result = subprocess.run(
         [sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, timeout=120
