@@ -26,9 +26,15 @@ def validator_for(name: str) -> SchemaValidator:
 def schema_for(name: str) -> Any:
     if frozen_schemas_usable():
         return frozen.SCHEMAS[name]
-    from robospec.model.freeze import live_schema
+    return _live_schemas()[name]
 
-    return live_schema(name, records())
+
+@functools.cache
+def _live_schemas() -> dict[str, Any]:
+    # every model is rebuilt to make them, so they are made once for all
+    from robospec.model.freeze import live_schemas
+
+    return live_schemas(records())
 
 
 def frozen_schemas_usable() -> bool:

@@ -109,10 +109,10 @@ def frozen_schemas(records: dict[str, Any] | None = None) -> dict[str, Any]:
     return out
 
 
-def live_schema(name: str, records: dict[str, Any]) -> Any:
-    """One model's schema with the refs replaced by what they stand for: what a pydantic-core
+def live_schemas(records: dict[str, Any]) -> dict[str, Any]:
+    """Every model's schema with the refs replaced by what they stand for: what a pydantic-core
     other than the frozen module's validates with (see :mod:`robospec.model.core`)."""
-    return _materialize(frozen_schemas(records)[name])
+    return {name: _materialize(tree) for name, tree in frozen_schemas(records).items()}
 
 
 def _convert(node: Any, where: str, records: dict[str, Any]) -> Any:
@@ -240,8 +240,7 @@ def _class_source(cls: type[StrictModel]) -> str:
         mixins.append(f"rules.{base.__name__}")
     doc = (cls.__doc__ or cls.__name__).strip().split("\n\n")[0]
     doc = " ".join(line.strip() for line in doc.splitlines()).replace("\\", "\\\\")
-    own = {n: f for n, f in cls.model_fields.items()}
-    fields = ", ".join(f"{n!r}: FieldSpec({f.is_required()})" for n, f in own.items())
+    fields = ", ".join(f"{n!r}: FieldSpec({f.is_required()})" for n, f in cls.model_fields.items())
     return (
         f"\n\nclass {cls.__name__}({', '.join(model_bases + mixins)}):\n"
         f'    """{doc.replace(chr(34) * 3, chr(39) * 3)}"""\n\n'
