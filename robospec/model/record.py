@@ -9,7 +9,6 @@ compares and hashes as a frozen pydantic model does, without importing pydantic.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -94,15 +93,6 @@ class Record:
     def __setstate__(self, state: dict[str, Any]) -> None:
         object.__setattr__(self, "__dict__", state["fields"])
         object.__setattr__(self, "__pydantic_fields_set__", state["fields_set"])
-
-    def __copy__(self) -> Any:
-        return self.model_copy()
-
-    def __deepcopy__(self, memo: dict[int, Any]) -> Any:
-        clone = object.__new__(type(self))
-        object.__setattr__(clone, "__dict__", copy.deepcopy(self.__dict__, memo))
-        object.__setattr__(clone, "__pydantic_fields_set__", set(self.__pydantic_fields_set__))
-        return clone
 
 
 def _dump(value: Any, exclude_none: bool) -> Any:
