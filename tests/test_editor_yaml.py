@@ -15,7 +15,7 @@ import pytest
 from editor_engines import ROOT, SCHEMA, narrowed_schema, yaml_language_server_argv
 from lsp_client import JsonObject, LspClient
 
-from robospec.model.controllers import CONTROLLER_TYPES as CONTROLLER_TYPE_NAMES
+from robospec.model.rules import CONTROLLER_TYPES as CONTROLLER_TYPE_NAMES
 
 PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
 YAML_SPECS = sorted((ROOT / "specs").rglob("*.yaml"))

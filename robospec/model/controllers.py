@@ -12,7 +12,6 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
-from robospec.model import rules
 from robospec.model.common import JointSelection, Number, PerJoint, StrictModel, ValueByName
 from robospec.model.refs import JointName, JointPattern, LinkName
 
@@ -368,5 +367,3 @@ ControllerConfig = Annotated[
     | PassiveConfig,
     Field(discriminator="type"),
 ]
-
-CONTROLLER_TYPES = rules.CONTROLLER_TYPES
