@@ -16,6 +16,7 @@ from robospec.diagnostics import Diagnostic, error
 from robospec.loading.source import KeyPath, LoadedSpec
 from robospec.model.core import validator_for
 from robospec.model.frozen import Spec
+from robospec.model.schema_info import fields_for
 from robospec.suggest import did_you_mean
 
 _ERROR_CODES = {
@@ -215,8 +216,7 @@ def _message(kind: str, err: Any, path: KeyPath, data: Any) -> tuple[str, str | 
         return f"missing required field '{field_name}'{where}", None
     if kind == "extra_forbidden":
         key = str(err["loc"][-1])
-        parent = _node(data, path[:-1])
-        known = _known_fields(err, parent)
+        known = fields_for(err["loc"][:-1])
         return f"unknown key '{key}'{_describe(path[:-1])}", did_you_mean(key, known)
     if kind == "union_tag_invalid":
         from robospec.model.rules import CONTROLLER_TYPES
@@ -250,9 +250,3 @@ def _node(data: Any, path: KeyPath) -> Any:
         except (KeyError, IndexError, TypeError):
             return None
     return node
-
-
-def _known_fields(err: Any, parent: Any) -> list[str]:
-    from robospec.model.schema_info import fields_for
-
-    return fields_for(err["loc"][:-1], parent)

@@ -14,7 +14,7 @@ from robospec.model import frozen
 _WRAPPERS = frozenset({"default", "nullable", "function-before", "function-after", "model"})
 
 
-def fields_for(loc: tuple[Any, ...], data: Any = None) -> list[str]:
+def fields_for(loc: tuple[Any, ...]) -> list[str]:
     """The field names of the models an error location ``loc`` can point into."""
     root = frozen.SCHEMAS["Spec"]
     definitions = {d["ref"]: d for d in root.get("definitions", [])}
