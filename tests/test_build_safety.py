@@ -86,22 +86,44 @@ def build_seconds(specs: Path, out: Path) -> float:
     return time.monotonic() - start
 
 
+class KillDelays:
+    """Delays that home in on the moment a build finishes, whatever the machine's speed.
+
+    One timed build is only a first guess: on a loaded CI machine later builds may take twice as
+    long, and kills timed from the guess would all land while compiling. So this is a staircase:
+    after a kill that left the old output the next delay is longer, after one that left the new
+    output shorter. The delays settle around the renames, where the interesting kills are, and
+    land on both sides of them however far off the first guess was.
+    """
+
+    STEP = 1.2
+
+    def __init__(self, first_guess: float, seed: int) -> None:
+        self.centre = first_guess
+        self.rng = random.Random(seed)
+
+    def next(self) -> float:
+        return self.centre * self.rng.uniform(0.8, 1.1)
+
+    def landed(self, *, finished: bool) -> None:
+        self.centre = self.centre / self.STEP if finished else self.centre * self.STEP
+
+
 def test_a_build_killed_at_any_moment_leaves_the_old_or_the_new_output_complete(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:
     old, new = versions
     out = tmp_path / "run" / "agents"
-    duration = build_seconds(new, tmp_path / "timing" / "agents")
+    delays = KillDelays(build_seconds(new, tmp_path / "timing" / "agents"), seed=6)
     assert build(old, out).returncode == 0
-    rng = random.Random(6)
     seen: list[str] = []
     for _ in range(24):
-        # from "still compiling" to "just finished": most kills land near the renames
-        kill_after(build_command(new, out), rng.uniform(0.5, 1.15) * duration)
+        kill_after(build_command(new, out), delays.next())
         state = snapshot(out)  # the folder must exist and hold one whole build
         assert state in (built["v1"], built["v2"]), sorted(state)
         seen.append("new" if state == built["v2"] else "old")
-        if state == built["v2"]:
+        delays.landed(finished=seen[-1] == "new")
+        if seen[-1] == "new":
             assert build(old, out).returncode == 0  # start the next round from the old build
     # the next build recovers: the new output, and nothing left beside it
     assert build(new, out).returncode == 0
@@ -117,15 +139,17 @@ def test_a_killed_build_beside_the_users_files_keeps_them_and_every_file_whole(
     out = tmp_path / "run" / "agents"
     assert build(old, out).returncode == 0
     (out / "NOTES.txt").write_text("mine\n")
-    duration = build_seconds(new, tmp_path / "timing" / "agents")
-    rng = random.Random(7)
+    delays = KillDelays(build_seconds(new, tmp_path / "timing" / "agents"), seed=7)
     for _ in range(12):
-        kill_after(build_command(new, out), rng.uniform(0.5, 1.15) * duration)
+        kill_after(build_command(new, out), delays.next())
         state = snapshot(out)
         assert state.pop("NOTES.txt") == b"mine\n"
         for name, data in state.items():  # each file is whole: as in one build or the other
             assert data in (built["v1"].get(name), built["v2"].get(name)), name
         assert set(built["v1"]) <= set(state)  # nothing of the old build is missing
+        delays.landed(finished=state == built["v2"])
+        if state == built["v2"]:
+            assert build(old, out).returncode == 0  # start the next round from the old build
     assert build(new, out).returncode == 0  # the next build completes the job
     state = snapshot(out)
     assert state.pop("NOTES.txt") == b"mine\n"
