@@ -15,6 +15,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -109,22 +110,43 @@ class KillDelays:
         self.centre = self.centre / self.STEP if finished else self.centre * self.STEP
 
 
+def killed_builds(
+    versions: tuple[Path, Path],
+    built: dict[str, dict[str, bytes]],
+    out: Path,
+    tmp_path: Path,
+    *,
+    rounds: int,
+    seed: int,
+) -> Iterator[dict[str, bytes]]:
+    """Build the new version into `out` and kill it, `rounds` times; yield what each kill left.
+
+    A round whose build finished before its kill is followed by a build of the old version, so
+    every round kills a real old-to-new build.
+    """
+    old, new = versions
+    delays = KillDelays(build_seconds(new, tmp_path / "timing" / "agents"), seed=seed)
+    for _ in range(rounds):
+        kill_after(build_command(new, out), delays.next())
+        state = snapshot(out)
+        finished = all(state.get(name) == data for name, data in built["v2"].items())
+        yield state
+        delays.landed(finished=finished)
+        if finished:
+            assert build(old, out).returncode == 0
+
+
 def test_a_build_killed_at_any_moment_leaves_the_old_or_the_new_output_complete(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:
     old, new = versions
     out = tmp_path / "run" / "agents"
-    delays = KillDelays(build_seconds(new, tmp_path / "timing" / "agents"), seed=6)
     assert build(old, out).returncode == 0
     seen: list[str] = []
-    for _ in range(24):
-        kill_after(build_command(new, out), delays.next())
-        state = snapshot(out)  # the folder must exist and hold one whole build
+    for state in killed_builds(versions, built, out, tmp_path, rounds=24, seed=6):
+        # the folder must exist and hold one whole build
         assert state in (built["v1"], built["v2"]), sorted(state)
         seen.append("new" if state == built["v2"] else "old")
-        delays.landed(finished=seen[-1] == "new")
-        if seen[-1] == "new":
-            assert build(old, out).returncode == 0  # start the next round from the old build
     # the next build recovers: the new output, and nothing left beside it
     assert build(new, out).returncode == 0
     assert snapshot(out) == built["v2"]
@@ -139,17 +161,11 @@ def test_a_killed_build_beside_the_users_files_keeps_them_and_every_file_whole(
     out = tmp_path / "run" / "agents"
     assert build(old, out).returncode == 0
     (out / "NOTES.txt").write_text("mine\n")
-    delays = KillDelays(build_seconds(new, tmp_path / "timing" / "agents"), seed=7)
-    for _ in range(12):
-        kill_after(build_command(new, out), delays.next())
-        state = snapshot(out)
+    for state in killed_builds(versions, built, out, tmp_path, rounds=12, seed=7):
         assert state.pop("NOTES.txt") == b"mine\n"
         for name, data in state.items():  # each file is whole: as in one build or the other
             assert data in (built["v1"].get(name), built["v2"].get(name)), name
         assert set(built["v1"]) <= set(state)  # nothing of the old build is missing
-        delays.landed(finished=state == built["v2"])
-        if state == built["v2"]:
-            assert build(old, out).returncode == 0  # start the next round from the old build
     assert build(new, out).returncode == 0  # the next build completes the job
     state = snapshot(out)
     assert state.pop("NOTES.txt") == b"mine\n"
