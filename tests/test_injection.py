@@ -33,6 +33,7 @@ import subprocess
 import sys
 import tempfile
 import tokenize
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -138,19 +139,26 @@ def file_name_legal(text: str) -> str:
     return "d" + name if name in ("", ".", "..") else name
 
 
-def yaml_quoted(text: str) -> str:
-    """A YAML double-quoted scalar for any text: escapes whatever YAML forbids or would fold."""
+def double_quoted(text: str, control: Callable[[int], bool]) -> str:
+    """``text`` in double quotes: quotes and backslashes escaped with a backslash, each code
+    point that ``control`` picks (and the line and paragraph separators and the BOM, which
+    editors and parsers treat as line breaks or drop) as a ``\\uXXXX`` escape."""
     out = ['"']
     for c in text:
         code = ord(c)
         if c in '"\\':
             out.append("\\" + c)
-        elif code < 0x20 or 0x7F <= code <= 0x9F or c in "\u2028\u2029\ufeff":
+        elif control(code) or c in "\u2028\u2029\ufeff":
             out.append(f"\\u{code:04x}")
         else:
             out.append(c)
     out.append('"')
     return "".join(out)
+
+
+def yaml_quoted(text: str) -> str:
+    """A YAML double-quoted scalar for any text: escapes whatever YAML forbids or would fold."""
+    return double_quoted(text, lambda code: code < 0x20 or 0x7F <= code <= 0x9F)
 
 
 def write_urdf(path: Path, base: str, link: str, joint: str) -> None:
@@ -295,17 +303,7 @@ def spec_text(robot: dict[str, object], *, cameras: bool = True) -> str:
 
 def toml_quoted(text: str) -> str:
     """A TOML basic string for any text: escapes quotes, backslashes and control characters."""
-    out = ['"']
-    for c in text:
-        code = ord(c)
-        if c in '"\\':
-            out.append("\\" + c)
-        elif code < 0x20 or code == 0x7F or c in "\u2028\u2029\ufeff":
-            out.append(f"\\u{code:04x}")
-        else:
-            out.append(c)
-    out.append('"')
-    return "".join(out)
+    return double_quoted(text, lambda code: code < 0x20 or code == 0x7F)
 
 
 def toml_spec_text(robot: dict[str, object]) -> str:
