@@ -12,11 +12,11 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
-from robospec.model.common import JointSelection, Number, PerJoint, StrictModel, ValueByName
-from robospec.model.refs import JointName, JointPattern, LinkName
+from robospec.model.common import JointSelection, Number, PerJoint, StrictModel
+from robospec.model.refs import JointName, LinkName
 
 DriveMode = Literal["force", "acceleration"]
-Bound = dict[JointPattern, ValueByName] | Number | list[Number] | None
+Bound = PerJoint | None
 
 
 def _type(name: str, what: str) -> Any:
@@ -68,6 +68,20 @@ def _interpolate() -> Any:
     )
 
 
+def _force_limit() -> Any:
+    return Field(
+        default=1e10,
+        description="The largest force (N) or torque (N·m) the drive may apply to each joint.",
+        examples=[100],
+    )
+
+
+def _friction() -> Any:
+    return Field(
+        default=0.0, description="Friction of each joint, set on the joint.", examples=[0.05]
+    )
+
+
 class _Controller(StrictModel):
     joints: JointSelection = Field(
         description="The joints this controller drives, in action order: a joint, a group, a "
@@ -82,14 +96,8 @@ class _Drive(_Controller):
         "with one per joint, or a mapping by joint or group name.",
         examples=[1e2, {"arm": 1e2, "gripper": 1e2}],
     )
-    force_limit: PerJoint = Field(
-        default=1e10,
-        description="The largest force (N) or torque (N·m) the drive may apply to each joint.",
-        examples=[100],
-    )
-    friction: PerJoint = Field(
-        default=0.0, description="Friction of each joint, set on the joint.", examples=[0.05]
-    )
+    force_limit: PerJoint = _force_limit()
+    friction: PerJoint = _friction()
 
 
 class PassiveConfig(_Drive):
@@ -260,14 +268,8 @@ class PDEEPosConfig(_Controller):
     damping: PerJoint = Field(
         description="Drive damping (the D gain) of each arm joint.", examples=[1e2]
     )
-    force_limit: PerJoint = Field(
-        default=1e10,
-        description="The largest force (N) or torque (N·m) the drive may apply to each joint.",
-        examples=[100],
-    )
-    friction: PerJoint = Field(
-        default=0.0, description="Friction of each joint, set on the joint.", examples=[0.05]
-    )
+    force_limit: PerJoint = _force_limit()
+    friction: PerJoint = _friction()
     ee_link: LinkName = Field(
         description="The link to control; it need not be the last link of the arm.",
         examples=["panda_hand_tcp"],

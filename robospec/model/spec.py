@@ -19,6 +19,7 @@ from robospec.model.common import (
     Number,
     Pose,
     StrictModel,
+    Vector3,
 )
 from robospec.model.controllers import ControllerConfig
 from robospec.model.helpers import (
@@ -188,10 +189,7 @@ class Keyframe(StrictModel):
     )
 
 
-Matrix3 = Annotated[
-    list[Annotated[list[Number], Field(min_length=3, max_length=3)]],
-    Field(min_length=3, max_length=3),
-]
+Matrix3 = Annotated[list[Vector3], Field(min_length=3, max_length=3)]
 
 
 class Camera(StrictModel):
