@@ -11,7 +11,9 @@ from typing import Any
 from robospec.model import frozen
 
 # schemas that wrap one other schema: the place is the same
-_WRAPPERS = frozenset({"default", "nullable", "function-before", "function-after", "model"})
+_WRAPPERS = frozenset(
+    {"definitions", "default", "nullable", "function-before", "function-after", "model"}
+)
 
 
 def fields_for(loc: tuple[Any, ...]) -> list[str]:
@@ -34,8 +36,6 @@ def fields_for(loc: tuple[Any, ...]) -> list[str]:
 def _members(schema: Any, definitions: dict[str, Any]) -> list[dict[str, Any]]:
     """The schemas a value at this place is checked against, wrappers and unions unwrapped."""
     kind = schema["type"]
-    if kind == "definitions":
-        return _members(schema["schema"], definitions)
     if kind == "definition-ref":
         return _members(definitions[schema["schema_ref"]], definitions)
     if kind in _WRAPPERS:
