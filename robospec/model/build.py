@@ -169,9 +169,7 @@ def _diagnostics_from(
         code = _ERROR_CODES.get(kind, "RS102")
         source_path = result.origin(path)
         message, hint = _message(kind, err, path, data)
-        if kind == "missing":
-            location = loaded.source.key(source_path)
-        elif kind == "extra_forbidden" or err["loc"][-1:] == ("[key]",):
+        if kind in ("missing", "extra_forbidden") or err["loc"][-1:] == ("[key]",):
             location = loaded.source.key(source_path)
         else:
             location = loaded.source.value(source_path)
