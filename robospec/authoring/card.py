@@ -13,7 +13,7 @@ import math
 import re
 
 from robospec.authoring.layout import ActionRow, mode_layout
-from robospec.authoring.tree import tree_rows
+from robospec.authoring.tree import KinematicTree
 from robospec.description import RobotDescription
 from robospec.resolved import FileRef, ResolvedRobot
 
@@ -96,7 +96,7 @@ def _summary(robot: ResolvedRobot, description: RobotDescription, spec_link: str
 
 
 def _tree(description: RobotDescription) -> list[str]:
-    rows = tree_rows(description)
+    rows = KinematicTree(description).rows()
     ids = node_ids([row.link for row in rows])
     lines = [
         "## Kinematic tree",

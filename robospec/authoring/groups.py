@@ -20,7 +20,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from robospec.authoring.tree import leaves, root_path
+from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint, RobotDescription
 
 # words that start a name part ("l_gripper_finger_joint", "thumb_q1"), not any substring:
@@ -83,14 +83,15 @@ def mimic_links(description: RobotDescription) -> list[MimicLink]:
 def guess_groups(description: RobotDescription) -> Groups:
     active = list(description.active_joints)
     order = {j.name: i for i, j in enumerate(active)}
+    tree = KinematicTree(description)
     mimic = mimic_links(description)
     in_mimic = {m.follower for m in mimic} | {m.leader for m in mimic}
 
-    base = [j.name for j in active if _is_base(description, j) and j.name not in in_mimic]
+    base = [j.name for j in active if _is_base(tree, j) and j.name not in in_mimic]
     taken = set(in_mimic) | set(base)
     gripper = [j.name for j in active if j.name not in taken and _is_gripper(description, j)]
     taken |= set(gripper)
-    arm, trunk = _arm_chain(description, taken)
+    arm, trunk = _arm_chain(tree, taken)
     taken |= set(arm)
     rest = [j for j in active if j.name not in taken]
 
@@ -106,7 +107,7 @@ def guess_groups(description: RobotDescription) -> Groups:
         result.add(hand, "mimic", sorted(in_mimic, key=order.__getitem__))
     else:
         result.add(hand, "gripper", gripper)
-    for name, joints in _branches(description, rest, reserved | set(result.groups)):
+    for name, joints in _branches(description, tree, rest, reserved | set(result.groups)):
         result.add(name, "other", joints)
     # a group named like a joint or link would shadow it: rename, keeping the kind
     for name in [n for n in result.groups if n in reserved]:
@@ -116,11 +117,11 @@ def guess_groups(description: RobotDescription) -> Groups:
     return result
 
 
-def _is_base(description: RobotDescription, joint: Joint) -> bool:
+def _is_base(tree: KinematicTree, joint: Joint) -> bool:
     if joint.type == "continuous" and (_WHEEL.search(joint.name) or _WHEEL.search(joint.child)):
         return True
     # a mobile root: a prismatic joint first, then only base-like active joints down to this one
-    path = [j for j in root_path(description, joint.child) if j.is_active]
+    path = [j for j in tree.root_path(joint.child) if j.is_active]
     return path[0].type == "prismatic" and all(
         _MOBILE_ROOT.search(j.name) and not _GRIPPER_WORDS.search(j.name) for j in path
     )
@@ -139,11 +140,11 @@ def _is_gripper(description: RobotDescription, joint: Joint) -> bool:
     return len(siblings) == 1
 
 
-def _arm_chain(description: RobotDescription, taken: set[str]) -> tuple[list[str], bool]:
+def _arm_chain(tree: KinematicTree, taken: set[str]) -> tuple[list[str], bool]:
     """The arm's joints, and whether they are only the trunk that tied chains share."""
     chains = [
-        [j.name for j in root_path(description, leaf) if j.is_active and j.name not in taken]
-        for leaf in leaves(description)
+        [j.name for j in tree.root_path(leaf) if j.is_active and j.name not in taken]
+        for leaf in tree.leaves()
     ]
     chains = [c for c in chains if c]
     if not chains:
@@ -166,14 +167,14 @@ def _common_head(chains: list[list[str]]) -> list[str]:
 
 
 def _branches(
-    description: RobotDescription, joints: list[Joint], taken: set[str]
+    description: RobotDescription, tree: KinematicTree, joints: list[Joint], taken: set[str]
 ) -> list[tuple[str, list[str]]]:
     """Group the leftover joints by the first leftover joint on their path from the root;
     branches that all hang off one link (a palm) are fingers."""
     names = {j.name for j in joints}
     by_head: dict[str, list[str]] = {}
     for joint in joints:
-        head = next(j.name for j in root_path(description, joint.child) if j.name in names)
+        head = next(j.name for j in tree.root_path(joint.child) if j.name in names)
         by_head.setdefault(head, []).append(joint.name)
     out: list[tuple[str, list[str]]] = []
     parents = {description.joint(head).parent for head in by_head}  # type: ignore[union-attr]

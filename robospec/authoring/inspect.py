@@ -10,7 +10,7 @@ import json
 from typing import Any
 
 from robospec.authoring.source import DescriptionFile
-from robospec.authoring.tree import tree_rows
+from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint
 
 
@@ -55,7 +55,7 @@ def inspect_report(source: DescriptionFile) -> dict[str, Any]:
                 "joint": row.joint.name if row.joint else None,
                 "joint_type": row.joint.type if row.joint else None,
             }
-            for row in tree_rows(description)
+            for row in KinematicTree(description).rows()
         ],
     }
 

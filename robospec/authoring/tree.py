@@ -18,46 +18,41 @@ class TreeRow:
     joint: Joint | None  # the joint attaching ``link`` to its parent; None for the root
 
 
-def children(description: RobotDescription) -> dict[str, list[Joint]]:
-    out: dict[str, list[Joint]] = {link.name: [] for link in description.links}
-    for joint in description.joints:
-        out.setdefault(joint.parent, []).append(joint)
-    return out
+class KinematicTree:
+    """A description's links indexed both ways, built once: the group guesser asks for the root
+    path of every joint, and rebuilding the maps per question made it quadratic."""
 
+    def __init__(self, description: RobotDescription) -> None:
+        self.root = description.root_link
+        self.below: dict[str, list[Joint]] = {link.name: [] for link in description.links}
+        for joint in description.joints:
+            self.below.setdefault(joint.parent, []).append(joint)
+        # link -> the joint that attaches it to its parent (every link but the root)
+        self.up: dict[str, Joint] = {joint.child: joint for joint in description.joints}
 
-def tree_rows(description: RobotDescription) -> list[TreeRow]:
-    """Every link once, depth first from the root, each with the joint that attaches it."""
-    below = children(description)
-    rows: list[TreeRow] = []
-    stack: list[tuple[int, str, Joint | None]] = [(0, description.root_link, None)]
-    seen: set[str] = set()
-    while stack:
-        depth, link, joint = stack.pop()
-        if link in seen:  # the parser rejects cycles; this only guards the walk
-            continue
-        seen.add(link)
-        rows.append(TreeRow(depth, link, joint))
-        for child in reversed(below.get(link, [])):
-            stack.append((depth + 1, child.child, child))
-    return rows
+    def rows(self) -> list[TreeRow]:
+        """Every link once, depth first from the root, each with the joint that attaches it."""
+        rows: list[TreeRow] = []
+        stack: list[tuple[int, str, Joint | None]] = [(0, self.root, None)]
+        seen: set[str] = set()
+        while stack:
+            depth, link, joint = stack.pop()
+            if link in seen:  # the parser rejects cycles; this only guards the walk
+                continue
+            seen.add(link)
+            rows.append(TreeRow(depth, link, joint))
+            for child in reversed(self.below.get(link, [])):
+                stack.append((depth + 1, child.child, child))
+        return rows
 
+    def root_path(self, link: str) -> list[Joint]:
+        """The joints from the root down to ``link``, in that order."""
+        path: list[Joint] = []
+        while link in self.up and len(path) <= len(self.up):
+            joint = self.up[link]
+            path.append(joint)
+            link = joint.parent
+        return path[::-1]
 
-def parent_joints(description: RobotDescription) -> dict[str, Joint]:
-    """link -> the joint that attaches it to its parent (every link but the root)."""
-    return {joint.child: joint for joint in description.joints}
-
-
-def root_path(description: RobotDescription, link: str) -> list[Joint]:
-    """The joints from the root down to ``link``, in that order."""
-    up = parent_joints(description)
-    path: list[Joint] = []
-    while link in up and len(path) <= len(up):
-        joint = up[link]
-        path.append(joint)
-        link = joint.parent
-    return path[::-1]
-
-
-def leaves(description: RobotDescription) -> list[str]:
-    below = children(description)
-    return [row.link for row in tree_rows(description) if not below.get(row.link)]
+    def leaves(self) -> list[str]:
+        return [row.link for row in self.rows() if not self.below.get(row.link)]
