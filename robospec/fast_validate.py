@@ -17,8 +17,11 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-FORMATS = ("text", "json", "github", "sarif")  # robospec.reporting.Format
-COLORS = ("auto", "always", "never")  # robospec.reporting.color.ColorChoice
+from robospec.reporting import Format, render
+from robospec.reporting.color import ColorChoice, use_color
+
+FORMATS = tuple(f.value for f in Format)
+COLORS = tuple(c.value for c in ColorChoice)
 _OPTIONS = {"--format": "format", "-f": "format", "--color": "color"}
 # what click.echo strips from output that is not meant to be coloured
 _ANSI = re.compile(r"\033\[[;?0-9]*[a-zA-Z]")
@@ -63,8 +66,6 @@ def run(args: ValidateArgs) -> int:
     """Validate, print the report on stdout; the exit status."""
     from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
-    from robospec.reporting import render
-    from robospec.reporting.color import use_color
 
     compiled, diagnostics = compile_all(args.paths)
     for item in compiled:
