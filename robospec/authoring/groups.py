@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint, RobotDescription
+from robospec.importer.groups import common_prefix
 
 # words that start a name part ("l_gripper_finger_joint", "thumb_q1"), not any substring:
 # "steering" is no ring, "multiple" no tip
@@ -191,14 +192,7 @@ def _branches(
 
 
 def _prefix_name(members: list[str]) -> str:
-    if len(members) < 2:
-        stem = members[0]
-    else:
-        stem = members[0]
-        for other in members[1:]:
-            while not other.startswith(stem):
-                stem = stem[:-1]
-    stem = re.sub(r"[^A-Za-z0-9_]+", "_", stem)
+    stem = re.sub(r"[^A-Za-z0-9_]+", "_", common_prefix(members))
     stem = re.sub(r"(_?joint|_?link)?[_\d]*$", "", stem, flags=re.IGNORECASE)
     stem = re.sub(r"^(joint|link)_?", "", stem, flags=re.IGNORECASE)
     return stem.strip("_").lower()

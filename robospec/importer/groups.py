@@ -89,9 +89,9 @@ def selection_for(joints: tuple[str, ...], all_joints: tuple[str, ...] | None) -
 def glob_candidates(joints: tuple[str, ...]) -> list[str]:
     if any(re.search(r"[*?\[\]]", j) for j in joints):
         return []
-    prefix = _common_prefix(list(joints))
+    prefix = common_prefix(list(joints))
     rests = [j[len(prefix) :] for j in joints]
-    suffix = _common_prefix([r[::-1] for r in rests])[::-1]
+    suffix = common_prefix([r[::-1] for r in rests])[::-1]
     candidates: list[str] = []
     middles = [r[: len(r) - len(suffix)] for r in rests]
     if all(len(m) == 1 and m.isalnum() for m in middles) and len(set(middles)) == len(middles):
@@ -105,7 +105,7 @@ def glob_candidates(joints: tuple[str, ...]) -> list[str]:
     return list(dict.fromkeys(candidates))  # most specific first
 
 
-def _common_prefix(texts: list[str]) -> str:
+def common_prefix(texts: list[str]) -> str:
     first = min(texts, default="")
     for index, char in enumerate(first):
         if any(text[index] != char for text in texts):
