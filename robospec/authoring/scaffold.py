@@ -26,6 +26,7 @@ from typing import Any
 from robospec.authoring.groups import Groups, guess_groups
 from robospec.authoring.source import DescriptionFile
 from robospec.builtin_uids import MANISKILL_UIDS
+from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
 from robospec.paths import maniskill_assets_dir
 
@@ -119,10 +120,9 @@ def scaffold(source: DescriptionFile, spec_path: Path, uid: str | None = None) -
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
     qpos = keyframe_qpos(source, groups)
-    by_group: dict[str, Any] = {}
-    for name, joints in groups.groups.items():
-        values = [qpos[j] for j in joints]
-        by_group[name] = values[0] if len(set(values)) == 1 else values
+    partition = [(name, tuple(joints)) for name, joints in groups.groups.items()]
+    by_group = split_by_group(list(qpos.values()), tuple(qpos), partition)
+    assert by_group is not None  # one value per active joint, by construction
     data["keyframes"] = {"rest": {"qpos": by_group}}
     notes[("keyframes",)] = "rest: 0 where the limits allow, else mid-range"
 
