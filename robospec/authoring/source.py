@@ -66,12 +66,10 @@ def read_description_file(path: Path) -> tuple[DescriptionFile | None, list[Diag
 
 def _robot_name(text: str | bytes) -> str | None:
     """The root element's name (URDF) or model (MJCF); the file parsed already, so it is XML."""
-    from lxml import etree
+    from robospec.description.urdf import parse_xml
 
-    data = text.encode() if isinstance(text, str) else text
-    try:
-        root = etree.fromstring(data, etree.XMLParser(resolve_entities=False, no_network=True))
-    except etree.XMLSyntaxError:
+    root, _ = parse_xml(text, "")
+    if root is None:
         return None
     name = root.get("name") or root.get("model")
     return name.strip() or None if name else None
