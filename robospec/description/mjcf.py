@@ -70,10 +70,6 @@ ReadFile = Callable[[str], bytes]
 Defaults = dict[str, Any]
 
 
-def _read_bytes(file: str) -> bytes:
-    return read_file_bytes(file)
-
-
 def _merge(base: Mapping[str, Any], *incoming: Mapping[str, Any]) -> dict[str, Any]:
     """ManiSkill's ``_merge_attrib``: a deep-copied ``base`` updated by each mapping in turn."""
 
@@ -131,7 +127,7 @@ def parse_mjcf(
     ``joints`` are the named joints in the same order: the nameless fixed joints ManiSkill makes
     for the root and for bodies without joints are left out, since no spec can name them.
     """
-    read = read_file or _read_bytes
+    read = read_file or read_file_bytes
     root, diagnostics = parse_root(text, path, "mujoco")
     if root is None:
         return None, diagnostics
