@@ -64,9 +64,9 @@ def _plan(compiled: list[CompiledSpec], out_dir: Path) -> tuple[dict[str, str], 
     for item in sorted(compiled, key=lambda c: c.display):
         assert item.robot is not None
         module = module_name_for(item.robot.uid, taken)
-        robot_files, problem = checked_robot_files(item.robot, module, out_dir, item.display)
-        if problem is not None or robot_files is None:
-            problems.extend([problem] if problem is not None else [])
+        robot_files = checked_robot_files(item.robot, module, out_dir, item.display)
+        if isinstance(robot_files, Diagnostic):
+            problems.append(robot_files)
             continue
         files.update(robot_files)
         modules.append((module, item.robot.uid, item.robot.class_name))

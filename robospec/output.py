@@ -42,13 +42,13 @@ def robot_files(robot: ResolvedRobot, module: str, module_dir: Path) -> dict[str
 
 def checked_robot_files(
     robot: ResolvedRobot, module: str, module_dir: Path, spec_display: str
-) -> tuple[dict[str, str] | None, Diagnostic | None]:
+) -> dict[str, str] | Diagnostic:
     """:func:`robot_files`, or an RS105 diagnostic at the spec when a name it gives cannot be a
     Python identifier (the generated code would not parse; spec text never becomes code)."""
     try:
-        return robot_files(robot, module, module_dir), None
+        return robot_files(robot, module, module_dir)
     except UnsafeIdentifier as exc:
-        return None, error(
+        return error(
             Location(spec_display),
             "RS105",
             f"{exc}: robospec names a generated class member after it",

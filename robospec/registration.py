@@ -23,7 +23,7 @@ from types import ModuleType
 from typing import TYPE_CHECKING
 
 from robospec.builtin_uids import Overrides, override_allowed
-from robospec.diagnostics import Location, SpecError, error
+from robospec.diagnostics import Diagnostic, Location, SpecError, error
 
 if TYPE_CHECKING:
     from robospec.compile import CompiledSpec
@@ -179,9 +179,9 @@ def _store(item: CompiledSpec, file: Path, entry: Path) -> None:
     assert item.robot is not None
     module = module_name_for(item.robot.uid, set())
     # files name each other relative to the folder they live in: emit for this entry's folder
-    files, problem = checked_robot_files(item.robot, module, entry, item.display)
-    if problem is not None or files is None:
-        raise SpecError([problem] if problem is not None else [])
+    files = checked_robot_files(item.robot, module, entry, item.display)
+    if isinstance(files, Diagnostic):
+        raise SpecError([files])
     entry.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".tmp-", dir=entry.parent))
     try:
