@@ -141,8 +141,7 @@ def _compare(out_dir: Path, files: dict[str, str], result: BuildResult) -> list[
             )
         elif not _same_bytes(current, files[name]):
             result.changed.append(name)
-    stale = sorted(n for n in previous if n in existing and n not in files)
-    stale = [n for n in stale if _is_ours(out_dir / n, previous)]
+    stale = sorted(n for n in existing if n not in files and _is_ours(existing[n], previous))
     result.changed.extend(stale)
     return stale
 
