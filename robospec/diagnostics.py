@@ -59,6 +59,12 @@ class Diagnostic:
         }
 
 
+def line_column(text: str, offset: int) -> tuple[int, int]:
+    """The 1-based line and column of character ``offset`` in ``text``."""
+    line_start = text.rfind("\n", 0, offset) + 1
+    return text.count("\n", 0, offset) + 1, offset - line_start + 1
+
+
 def error(location: Location, code: str, message: str, hint: str | None = None) -> Diagnostic:
     return Diagnostic(location, code, Severity.ERROR, message, hint)
 

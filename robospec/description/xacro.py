@@ -35,7 +35,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics import Diagnostic, Location, error, line_column
 
 _CHILD = Path(__file__).with_name("_xacro_child.py")
 
@@ -362,7 +362,5 @@ def _find_expression(file: str, message: str) -> tuple[int | None, int | None]:
     for pattern in patterns:
         match = re.search(pattern, text)
         if match:
-            line = text.count("\n", 0, match.start()) + 1
-            column = match.start() - (text.rfind("\n", 0, match.start()) + 1) + 1
-            return line, column
+            return line_column(text, match.start())
     return None, None

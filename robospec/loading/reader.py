@@ -10,7 +10,7 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics import Diagnostic, Location, error, line_column
 from robospec.loading.prescan import prescan
 from robospec.loading.source import KeyPath, LoadedSpec, SourceMap
 
@@ -267,8 +267,7 @@ def _value_error(exc: ValueError, text: str, source: SourceMap, language: str) -
     found = long_number.search(text)
     if found is None:
         return error(Location(source.file), "RS002", f"{language}: {exc}")
-    line = text.count("\n", 0, found.start()) + 1
-    column = found.start() - (text.rfind("\n", 0, found.start()) + 1) + 1
+    line, column = line_column(text, found.start())
     return error(
         Location(source.file, line, column),
         "RS002",
@@ -281,8 +280,7 @@ def _unreadable_character(exc: Any, text: str, source: SourceMap) -> Diagnostic:
     """A character YAML forbids (a control character): located by its offset in the text,
     which is all ruamel's reader gives."""
     position = exc.position if isinstance(exc.position, int) else 0
-    line = text.count("\n", 0, position) + 1
-    column = position - (text.rfind("\n", 0, position) + 1) + 1
+    line, column = line_column(text, position)
     character = exc.character  # an int (the code point), or a str in some ruamel versions
     code_point = ord(character) if isinstance(character, str) else int(character)
     shown = f"U+{code_point:04X}"
