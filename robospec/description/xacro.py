@@ -69,20 +69,20 @@ MAX_INCLUDE_DEPTH = 50
 def configured_limits() -> tuple[float, int]:
     """(timeout in seconds, memory in bytes): the defaults, or what the environment sets.
     A value that is not a positive number is ignored (limits are never switched off)."""
-    timeout_s, memory_bytes = DEFAULT_TIMEOUT_S, DEFAULT_MEMORY_BYTES
+    timeout_s = _positive_env(TIMEOUT_ENV)
+    memory_mb = _positive_env(MEMORY_ENV)
+    return (
+        DEFAULT_TIMEOUT_S if timeout_s is None else timeout_s,
+        DEFAULT_MEMORY_BYTES if memory_mb is None else int(memory_mb * (1 << 20)),
+    )
+
+
+def _positive_env(name: str) -> float | None:
     try:
-        value = float(os.environ.get(TIMEOUT_ENV, ""))
-        if math.isfinite(value) and value > 0:
-            timeout_s = value
+        value = float(os.environ.get(name, ""))
     except ValueError:
-        pass
-    try:
-        value = float(os.environ.get(MEMORY_ENV, ""))
-        if math.isfinite(value) and value > 0:
-            memory_bytes = int(value * (1 << 20))
-    except ValueError:
-        pass
-    return timeout_s, memory_bytes
+        return None
+    return value if math.isfinite(value) and value > 0 else None
 
 
 def expand_xacro(
