@@ -243,9 +243,9 @@ class Resolver:
                 out.extend(self.select(item, (*path, index), stack=stack))
             return out
         name = str(selection)
-        if name in self.spec.groups and self.description.joint(name) is None:
-            return self.group(name, path, stack)
         joint = self.description.joint(name)
+        if joint is None and name in self.spec.groups:
+            return self.group(name, path, stack)
         if joint is not None:
             if not joint.is_active:
                 self.err(
