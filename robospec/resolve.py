@@ -19,6 +19,7 @@ from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.loading.source import KeyPath, LoadedSpec
 from robospec.model.build import SpecModelResult
 from robospec.model.frozen import AllBut, Keyframe, MimicTarget, Pose, Spec
+from robospec.names import GLOB
 from robospec.paths import maniskill_assets_dir, maniskill_data_dir, split_assets, split_data
 from robospec.resolved import (
     FileRef,
@@ -31,7 +32,6 @@ from robospec.resolved import (
 )
 from robospec.suggest import did_you_mean
 
-_GLOB = re.compile(r"[*?\[]")
 PER_JOINT_FIELDS = (
     "stiffness",
     "damping",
@@ -256,7 +256,7 @@ class Resolver:
                 )
                 return []
             return [name]
-        if _GLOB.search(name):
+        if GLOB.search(name):
             matched = [
                 j for j in self.description.active_joint_names if fnmatch.fnmatchcase(j, name)
             ]
@@ -291,7 +291,7 @@ class Resolver:
         assert self.description is not None
         if self.description.link(pattern) is not None:
             return [pattern]
-        if _GLOB.search(pattern):
+        if GLOB.search(pattern):
             matched = [n for n in self.description.link_names if fnmatch.fnmatchcase(n, pattern)]
             if not matched:
                 self.err(path, "RS206", f"pattern '{pattern}' matches no link")
@@ -699,7 +699,7 @@ class Resolver:
             return [pattern]
         matched = [n for n in self.description.link_names if fnmatch.fnmatchcase(n, pattern)]
         if not matched:
-            code = "RS206" if _GLOB.search(pattern) else "RS202"
+            code = "RS206" if GLOB.search(pattern) else "RS202"
             message = (
                 f"link rule '{pattern}' matches no link"
                 if code == "RS206"

@@ -18,12 +18,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from robospec.model.refs import GLOB_KINDS, REF_KEY
+from robospec.names import GLOB_PATTERN
 
 if TYPE_CHECKING:
     from robospec.compile import CompiledSpec
 
-# the resolver's test for a glob (robospec.resolve._GLOB), as a JSON Schema pattern
-GLOB_PATTERN = r"[*?\[]"
 KEYS_KEY = "x-robospec-keys"
 NARROWED_ID = "https://robospec.dev/schemas/robots/{uid}.schema.json"
 

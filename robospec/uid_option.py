@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.model.spec import UID_PATTERN
+from robospec.names import UID_PATTERN
 
 
 def invalid_uid(uid: str) -> Diagnostic | None:

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint, RobotDescription
 from robospec.importer.groups import common_prefix
+from robospec.names import NAME_PATTERN
 
 # words that start a name part ("l_gripper_finger_joint", "thumb_q1"), not any substring:
 # "steering" is no ring, "multiple" no tip
@@ -33,7 +34,7 @@ _GRIPPER_WORDS = re.compile(
 )
 _WHEEL = re.compile(r"(?<![a-z])(wheel|caster)", re.IGNORECASE)
 _MOBILE_ROOT = re.compile(r"(?<![a-z])(base|root|odom|world|mobile)", re.IGNORECASE)
-_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$")
+_NAME = re.compile(NAME_PATTERN)
 _GENERIC = {"", "joint", "link", "j", "l", "revolute", "prismatic"}
 
 

@@ -11,14 +11,12 @@ limits need the real file and are reported as such by the resolver.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterator
 from typing import Any
 
 from robospec.description.model import Joint, Link, RobotDescription
 from robospec.model.frozen import AllBut, Spec
-
-_GLOB = re.compile(r"[*?\[]")
+from robospec.names import GLOB
 
 
 def assumed_description(spec: Spec, path: str) -> RobotDescription:
@@ -36,7 +34,7 @@ def assumed_description(spec: Spec, path: str) -> RobotDescription:
 
 
 def _unique(names: Iterator[str]) -> list[str]:
-    return list(dict.fromkeys(n for n in names if not _GLOB.search(n)))
+    return list(dict.fromkeys(n for n in names if not GLOB.search(n)))
 
 
 def _selection_names(selection: Any) -> Iterator[str]:

@@ -46,9 +46,7 @@ from robospec.model.refs import (
     LinkStateName,
     MaterialName,
 )
-
-UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"
-NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"
+from robospec.names import NAME_PATTERN, UID_PATTERN
 
 ScalarArg = str | int | float | bool
 
