@@ -223,11 +223,7 @@ class Resolver:
         return ref if description is not None else None
 
     def _display(self, ref: FileRef) -> str:
-        if ref.kind == "maniskill_assets":
-            return "{maniskill_assets}/" + ref.relative
-        if ref.kind == "maniskill_data":
-            return "{maniskill_data}/" + ref.relative
-        return str(Path(self.loaded.path).parent / ref.relative)
+        return ref.placeholder_text or str(Path(self.loaded.path).parent / ref.relative)
 
     # -- joint selections --------------------------------------------------------------------
 

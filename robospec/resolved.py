@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from robospec.paths import ASSETS_PLACEHOLDER, DATA_PLACEHOLDER
+
 
 @dataclass(frozen=True)
 class FileRef:
@@ -20,6 +22,16 @@ class FileRef:
     absolute: Path  # where it is on this machine
     # a xacro expansion: the URDF text the generated package must carry as a file
     generated_text: str | None = None
+
+    @property
+    def placeholder_text(self) -> str | None:
+        """How a spec writes a file in ManiSkill's folders (``{maniskill_assets}/...``); None
+        for a file on disk, which each reader shows its own way."""
+        if self.kind == "maniskill_assets":
+            return f"{ASSETS_PLACEHOLDER}/{self.relative}"
+        if self.kind == "maniskill_data":
+            return f"{DATA_PLACEHOLDER}/{self.relative}"
+        return None
 
 
 @dataclass(frozen=True)

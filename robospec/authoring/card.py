@@ -56,11 +56,7 @@ def node_ids(links: list[str]) -> dict[str, str]:
 
 
 def description_text(ref: FileRef) -> str:
-    if ref.kind == "maniskill_assets":
-        return "{maniskill_assets}/" + ref.relative
-    if ref.kind == "maniskill_data":
-        return "{maniskill_data}/" + ref.relative
-    return ref.relative + " (relative to the spec)"
+    return ref.placeholder_text or ref.relative + " (relative to the spec)"
 
 
 def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_link: str) -> str:

@@ -28,7 +28,7 @@ from robospec.authoring.source import DescriptionFile
 from robospec.builtin_uids import MANISKILL_UIDS
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
-from robospec.paths import maniskill_assets_dir
+from robospec.paths import ASSETS_PLACEHOLDER, maniskill_assets_dir
 
 SCHEMA_BESIDE = "robospec.schema.json"
 # where a project keeps the schema, nearest first at each folder walking up
@@ -70,7 +70,7 @@ def description_reference(source: DescriptionFile, spec_dir: Path) -> str:
     absolute = source.path.resolve()
     assets = maniskill_assets_dir()
     if assets is not None and absolute.is_relative_to(assets.resolve()):
-        return "{maniskill_assets}/" + absolute.relative_to(assets.resolve()).as_posix()
+        return f"{ASSETS_PLACEHOLDER}/" + absolute.relative_to(assets.resolve()).as_posix()
     return Path(os.path.relpath(absolute, spec_dir.resolve())).as_posix()
 
 
