@@ -151,9 +151,10 @@ def _example(example: RunExample, support: tuple[Path, ...], shown: set[Path]) -
     """The spec, the files it names that no earlier example showed, and robospec's report."""
     name = example.path.name
     lines = [f"`{name}`:", ""]
-    lines += _fenced(example.text, LANGUAGES.get(example.path.suffix, "text"))
+    text = example.text  # read from disk at each access
+    lines += _fenced(text, LANGUAGES.get(example.path.suffix, "text"))
     for path in support:
-        if path.name in example.text and path not in shown:
+        if path.name in text and path not in shown:
             shown.add(path)
             lines += [f"`{path.name}`:", ""]
             lines += _fenced(path.read_text(encoding="utf-8"), LANGUAGES.get(path.suffix, "text"))
