@@ -80,8 +80,8 @@ def _atheris(seconds: int, rest: list[str]) -> int:
     import atheris
 
     with atheris.instrument_imports():
-        from robospec.codes import CODES
-        from robospec.compile import compile_spec
+        from robospec.diagnostics.codes import CODES
+        from robospec.pipeline import compile_spec
 
     CRASHES.mkdir(exist_ok=True)
     scratch = Path(tempfile.mkdtemp(prefix="robospec-fuzz-"))

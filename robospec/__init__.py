@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 from robospec.diagnostics import Diagnostic, SpecError
 
 if TYPE_CHECKING:
-    from robospec.registration import register
+    from robospec.output.register import register
 
 __version__ = "0.1.0"
 __all__ = ["Diagnostic", "SpecError", "__version__", "register"]
@@ -22,7 +22,7 @@ def __getattr__(name: str) -> Any:
     # registration's imports (shutil, tempfile, hashlib, ...) are not needed by the CLI's
     # validate, which imports this package first
     if name == "register":
-        from robospec.registration import register
+        from robospec.output.register import register
 
         return register
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

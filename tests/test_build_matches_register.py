@@ -1,6 +1,6 @@
 """`robospec build` writes the same agents that `robospec.register` compiles at import time.
 
-Both go through one function (robospec.output.robot_files), so for the specs under
+Both go through one function (robospec.output.modules.robot_files), so for the specs under
 specs/maniskill the modules are byte for byte the same. The classes are compared too, attribute
 by attribute, importing the built package under a name of its own: importing it runs
 ``@register_agent()`` again, which ManiSkill answers with "already registered, skip", so the

@@ -2,7 +2,7 @@ from __future__ import annotations
 
 import pytest
 
-from robospec.builtin_uids import MANISKILL_UIDS
+from robospec.maniskill.builtin_uids import MANISKILL_UIDS
 
 
 @pytest.mark.maniskill

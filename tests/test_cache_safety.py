@@ -20,8 +20,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import robospec
-from robospec.output import module_name_for
-from robospec.registration import _compile_entries, _entry_for, _entry_is_fresh, cache_salt
+from robospec.output.modules import module_name_for
+from robospec.output.register import _compile_entries, _entry_for, _entry_is_fresh, cache_salt
 
 ROOT = Path(__file__).resolve().parent.parent
 CANARY_CODE = "import pathlib\npathlib.Path({path!r}).write_text('the cache was trusted')\n"

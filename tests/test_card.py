@@ -14,9 +14,9 @@ from cli_process import robospec
 from robospec.authoring.card import mermaid_label, node_ids
 from robospec.authoring.commands import run_doc, run_new
 from robospec.authoring.layout import mode_layout
-from robospec.compile import compile_spec
 from robospec.diagnostics import has_errors
-from robospec.paths import maniskill_assets_dir
+from robospec.pipeline import compile_spec
+from robospec.resolve.paths import maniskill_assets_dir
 
 ROOT = Path(__file__).resolve().parent.parent
 MANISKILL_SPECS = ROOT / "specs" / "maniskill"
@@ -198,8 +198,8 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
 
     from robospec import register
     from robospec.physics import action_layout
+    from robospec.physics.check_run import CheckRun
     from robospec.physics.findings import rounded
-    from robospec.physics.run import CheckRun
 
     compiled = compile_spec(MANISKILL_SPECS / spec)
     assert compiled.robot is not None and compiled.context is not None

@@ -37,7 +37,7 @@ def registry(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     """A folder for specs; the agents the in-process runs register are unregistered after."""
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
-    from robospec.paths import maniskill_assets_dir
+    from robospec.resolve.paths import maniskill_assets_dir
 
     assets = maniskill_assets_dir()
     if assets is None or not (assets / "robots/panda/panda_v2.urdf").is_file():

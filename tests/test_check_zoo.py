@@ -18,7 +18,7 @@ pytestmark = [
 ]
 pytest.importorskip("mani_skill")
 
-from robospec.physics.runner import RobotReport, check_paths  # noqa: E402
+from robospec.physics.batch import RobotReport, check_paths  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 

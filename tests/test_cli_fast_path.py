@@ -1,4 +1,4 @@
-"""A plain `robospec validate` skips the typer app (robospec.fast_validate) and answers exactly
+"""A plain `robospec validate` skips the typer app (robospec.cli.fast_validate) and answers exactly
 as the typer command does: same stdout, stderr and exit status, for every format and colour
 choice; every other command line (help, usage errors, completion) goes to typer."""
 
@@ -11,10 +11,10 @@ from pathlib import Path
 
 import pytest
 
-from robospec import fast_validate
+from robospec.cli import fast_validate
 
 ROOT = Path(__file__).resolve().parent.parent
-TYPER_PATH = "import sys; from robospec.cli_app import app; app(prog_name='robospec')"
+TYPER_PATH = "import sys; from robospec.cli.commands import app; app(prog_name='robospec')"
 BAD = "tests/specs/negative/misspelled_joint.yaml"
 GOOD = "specs/maniskill/panda.yaml"
 

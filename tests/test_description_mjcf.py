@@ -10,8 +10,8 @@ from typing import Any
 import pytest
 
 from robospec.description import load_description
+from robospec.description.facts import RobotDescription
 from robospec.description.mjcf import parse_mjcf
-from robospec.description.model import RobotDescription
 from robospec.diagnostics import Diagnostic
 
 DATA = Path(__file__).parent / "data" / "mjcf"

@@ -14,7 +14,7 @@ from typing import Any
 import pytest
 
 from robospec.description import load_description
-from robospec.description.model import RobotDescription
+from robospec.description.facts import RobotDescription
 from robospec.description.urdf import parse_urdf
 from robospec.diagnostics import Diagnostic
 

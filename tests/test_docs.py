@@ -16,9 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from robospec.codes import CODES
-from robospec.compile import compile_spec
 from robospec.diagnostics import has_errors
+from robospec.diagnostics.codes import CODES
 from robospec.docgen import generated_pages, stale_pages
 from robospec.docgen.code_examples import (
     RESERVED_CODES,
@@ -26,6 +25,7 @@ from robospec.docgen.code_examples import (
     load_code_examples,
 )
 from robospec.docgen.code_pages import module_docs
+from robospec.pipeline import compile_spec
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"

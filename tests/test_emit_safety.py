@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 from ast_names import identifiers
 
-from robospec.compile import compile_spec
 from robospec.emit.generate import RESERVED_NAMES, emit_module
+from robospec.pipeline import compile_spec
 
 HOSTILE = 'a"\'"""; import os; os.system("touch CANARY") #{x}\\'
 

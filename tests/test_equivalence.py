@@ -618,7 +618,7 @@ def test_rs309_warns_for_exactly_the_modes_that_go_nan_from_urdf_mimic_joints() 
     pd_joint_pos_mimic controller drives) names exactly those modes, and no other mode of any
     of the 24 robots: the warning is right about the cause, and panda's, fetch's and the
     ability hand's mimic controllers are what keeps their <mimic> joints stable."""
-    from robospec.compile import compile_spec
+    from robospec.pipeline import compile_spec
 
     warned: set[tuple[str, str]] = set()
     for robot in ROBOTS:

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from robospec.expr import ExpressionError, evaluate
+from robospec.model.expressions import ExpressionError, evaluate
 
 
 @pytest.mark.parametrize(

@@ -19,13 +19,13 @@ import pytest
 from cli_process import robospec
 from jsonschema import Draft202012Validator, FormatChecker
 
-from robospec.codes import CODES
-from robospec.compile import compile_all
 from robospec.diagnostics import Location, error, sort_key
+from robospec.diagnostics.codes import CODES
+from robospec.pipeline import compile_all
 from robospec.reporting import render
+from robospec.reporting.excerpt import span_width
 from robospec.reporting.github import annotation
 from robospec.reporting.sarif import sarif_log
-from robospec.reporting.source import span_width
 
 ROOT = Path(__file__).resolve().parent.parent
 NEGATIVE = ROOT / "tests/specs/negative"

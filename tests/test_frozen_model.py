@@ -23,11 +23,11 @@ from hypothesis import strategies as st
 from pydantic import BaseModel, ValidationError
 from test_fuzz_properties import SEEDS, budget, mutated_data
 
-from robospec.loading.reader import read_spec
+from robospec.load.reader import read_spec
 from robospec.model import core, freeze, frozen
-from robospec.model.build import SpecModelResult, _merge_extends
 from robospec.model.record import Record
 from robospec.model.spec import Spec as PydanticSpec
+from robospec.model.validate import SpecModelResult, _merge_extends
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -28,10 +28,10 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from robospec.cli import app
-from robospec.codes import CODES
-from robospec.compile import compile_spec
 from robospec.diagnostics import Diagnostic
-from robospec.loading.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
+from robospec.diagnostics.codes import CODES
+from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
+from robospec.pipeline import compile_spec
 
 ROOT = Path(__file__).resolve().parent.parent
 SCALE = max(int(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 1)

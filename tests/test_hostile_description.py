@@ -21,8 +21,8 @@ from typer.testing import CliRunner
 
 import robospec
 from robospec.cli import app
-from robospec.codes import CODES
-from robospec.compile import compile_spec
+from robospec.diagnostics.codes import CODES
+from robospec.pipeline import compile_spec
 
 URDF = """<?xml version="1.0"?>
 <robot name="hostile">

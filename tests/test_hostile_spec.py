@@ -22,9 +22,9 @@ from typer.testing import CliRunner
 
 import robospec
 from robospec.cli import app
-from robospec.codes import CODES
-from robospec.compile import compile_spec
 from robospec.diagnostics import Diagnostic
+from robospec.diagnostics.codes import CODES
+from robospec.pipeline import compile_spec
 
 GOOD_YAML = (
     "robospec: 1\n"

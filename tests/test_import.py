@@ -19,7 +19,7 @@ from typing import Any
 
 import pytest
 
-from robospec.builtin_uids import MANISKILL_UIDS
+from robospec.maniskill.builtin_uids import MANISKILL_UIDS
 
 pytest.importorskip("mani_skill")
 pytestmark = pytest.mark.maniskill
@@ -142,9 +142,9 @@ def _dump_yaml(data: Any) -> str:
 def build_class(spec_file: Path, module_dir: Path) -> type:
     """The agent class of a spec, also when `validate` reports upstream's own errors (a joint
     driven twice, a keyframe outside the limits): resolved and emitted without the checks."""
-    from robospec.loading.reader import read_spec
+    from robospec.load.reader import read_spec
     from robospec.model import build_spec
-    from robospec.output import module_name_for, robot_files
+    from robospec.output.modules import module_name_for, robot_files
     from robospec.resolve import Resolver
 
     loaded, diagnostics = read_spec(spec_file)
@@ -226,8 +226,8 @@ def _camera_fields(config: Any) -> dict[str, Any]:
 def test_every_agent_imports_validates_and_builds_the_same_data(
     uid: str, registry: dict[str, Any], tmp_path: Path
 ) -> None:
-    from robospec.compile import compile_spec
     from robospec.description import load_description
+    from robospec.pipeline import compile_spec
 
     cls = registry[uid].agent_cls
     result = _import(cls, f"rs_imported_{uid}", tmp_path)

@@ -43,9 +43,9 @@ from hypothesis import strategies as st
 from lxml import etree
 from pydantic import BaseModel
 
-from robospec.compile import compile_spec
 from robospec.emit.generate import emit_module
 from robospec.model import controllers
+from robospec.pipeline import compile_spec
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from cli_process import robospec
 
-from robospec.paths import maniskill_assets_dir
+from robospec.resolve.paths import maniskill_assets_dir
 
 ROOT = Path(__file__).resolve().parent.parent
 ASSETS = maniskill_assets_dir()

@@ -10,15 +10,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from robospec.collision_packing import (
+from robospec.diagnostics import has_errors
+from robospec.pipeline import compile_spec
+from robospec.resolve.collision_packing import (
     NEVER_USED,
     clique_pairs,
     pack,
     pair,
     srdf_bit_count,
 )
-from robospec.compile import compile_spec
-from robospec.diagnostics import has_errors
 
 PANDA = """\
 robospec: 1
@@ -54,7 +54,7 @@ PANDA_SRDF_BITS = frozenset(range(7))  # panda_v2.srdf's seven "Default" pairs, 
 
 
 def _assets() -> Path:
-    from robospec.paths import maniskill_assets_dir
+    from robospec.resolve.paths import maniskill_assets_dir
 
     assets = maniskill_assets_dir()
     if assets is None:
@@ -306,7 +306,7 @@ def test_mjcf_body_bits_are_left_alone(tmp_path: Path) -> None:
 
 
 def test_the_emitted_agent_sets_the_packed_bits(tmp_path: Path) -> None:
-    from robospec.build import plan_package
+    from robospec.output.package import plan_package
 
     result = _compile(tmp_path, f"never_collide: [{list(FOLDED_CLIQUE)}]\n", uid="rs_nc_emit")
     files = plan_package([result], tmp_path / "agents")

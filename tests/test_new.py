@@ -12,9 +12,9 @@ from cli_process import robospec
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
-from robospec.compile import compile_spec
 from robospec.diagnostics import has_errors
-from robospec.paths import maniskill_assets_dir
+from robospec.pipeline import compile_spec
+from robospec.resolve.paths import maniskill_assets_dir
 from robospec.schema import schema_text
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -285,8 +285,8 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
 
     from robospec import register
     from robospec.physics import keyframe_hold
+    from robospec.physics.batch import check_paths
     from robospec.physics.findings import Status
-    from robospec.physics.runner import check_paths
 
     assert ASSETS is not None
     out = tmp_path / "panda.yaml"

@@ -29,9 +29,9 @@ pytest.importorskip("mani_skill")
 from ruamel.yaml import YAML  # noqa: E402
 
 from robospec.diagnostics import Diagnostic  # noqa: E402
+from robospec.physics.batch import Options, RobotReport, check_paths  # noqa: E402
 from robospec.physics.findings import Finding, Status  # noqa: E402
 from robospec.physics.report import render_json, render_text  # noqa: E402
-from robospec.physics.runner import Options, RobotReport, check_paths  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 MANISKILL_SPECS = ROOT / "specs" / "maniskill"
@@ -131,7 +131,7 @@ def error_codes(report: RobotReport) -> set[str]:
 
 
 def needs_assets(*relative: str) -> None:
-    from robospec.paths import maniskill_assets_dir
+    from robospec.resolve.paths import maniskill_assets_dir
 
     assets = maniskill_assets_dir()
     for name in relative:
@@ -570,7 +570,7 @@ def test_self_contact_folded_keyframe_names_the_links_and_suggests_never_collide
 def test_self_contact_passes_once_the_pair_is_in_never_collide(
     variants: dict[str, RobotReport], variant_paths: dict[str, Path]
 ) -> None:
-    from robospec.compile import compile_spec
+    from robospec.pipeline import compile_spec
 
     compiled = compile_spec(variant_paths["folded_never_collide"])
     if not compiled.ok or getattr(compiled.robot, "never_collide", None) is None:

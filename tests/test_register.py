@@ -42,7 +42,7 @@ def test_a_warm_cache_does_not_recompile(panda_spec: Path, tmp_path: Path) -> No
     # a new process with the compiler made unimportable must still register from the cache
     probe = (
         "import sys\n"
-        "sys.modules['robospec.compile'] = None\n"
+        "sys.modules['robospec.pipeline'] = None\n"
         "import mani_skill.envs, robospec\n"
         f"print(list(robospec.register({str(panda_spec)!r}, cache_dir={str(cache)!r})))\n"
         "heavy = ('pydantic', 'ruamel.yaml', 'robospec.model')\n"
@@ -57,7 +57,7 @@ def test_a_warm_cache_does_not_recompile(panda_spec: Path, tmp_path: Path) -> No
 
 
 def test_a_corrupted_cache_entry_is_rebuilt_not_trusted(panda_spec: Path, tmp_path: Path) -> None:
-    from robospec.registration import _entry_is_fresh
+    from robospec.output.register import _entry_is_fresh
 
     cache = tmp_path / "cache"
     robospec.register(panda_spec, cache_dir=cache)
@@ -70,7 +70,7 @@ def test_a_corrupted_cache_entry_is_rebuilt_not_trusted(panda_spec: Path, tmp_pa
 
 
 def test_changing_the_description_invalidates_the_entry(tmp_path: Path) -> None:
-    from robospec.registration import _entry_is_fresh
+    from robospec.output.register import _entry_is_fresh
 
     robot = tmp_path / "robot"
     shutil.copytree(ROOT / "specs/robots/twolink", robot)

@@ -17,7 +17,7 @@ from ruamel.yaml import YAML
 
 from robospec.model.refs import REF_KEY
 from robospec.schema import SCHEMA_ID, spec_schema
-from robospec.schema_command import narrowed_schema_text
+from robospec.schema.command import narrowed_schema_text
 
 ROOT = Path(__file__).resolve().parent.parent
 SPEC_FILES = sorted(

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from robospec.compile import compile_all, compile_spec
 from robospec.diagnostics import has_errors
+from robospec.pipeline import compile_all, compile_spec
 
 HERE = Path(__file__).parent / "specs"
 EXPECT = re.compile(r"# expect: (RS\d{3}) at (\d+):(\d+)\s*(.*)")

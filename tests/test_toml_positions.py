@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from robospec.loading.toml_positions import (
+from robospec.load.toml_positions import (
     Path,
     toml_positions,
     toml_syntax_errors,

@@ -15,7 +15,7 @@ import re
 from robospec.authoring.layout import ActionRow, mode_layout
 from robospec.authoring.tree import KinematicTree
 from robospec.description import RobotDescription
-from robospec.resolved import FileRef, ResolvedRobot
+from robospec.resolve.resolved import FileRef, ResolvedRobot
 
 _MERMAID_ESCAPES = {"&": "#amp;", '"': "#quot;", "<": "#lt;", ">": "#gt;", "|": "#124;"}
 

@@ -10,8 +10,8 @@ from robospec.diagnostics import Diagnostic, Location, error, has_errors
 
 
 def run_inspect(path: Path, format: str) -> tuple[str | None, list[Diagnostic]]:
+    from robospec.authoring.description_file import read_description_file
     from robospec.authoring.inspect import inspect_report, render_json, render_text
-    from robospec.authoring.source import read_description_file
 
     source, diagnostics = read_description_file(path)
     if source is None:
@@ -26,8 +26,8 @@ def run_new(
     """The files written (the spec at ``out``, and the schema its modeline names when there was
     none to name) and the diagnostics; None when nothing was written."""
     if uid is not None:
-        from robospec.builtin_uids import MANISKILL_UIDS
-        from robospec.uid_option import invalid_uid
+        from robospec.cli.uid_option import invalid_uid
+        from robospec.maniskill.builtin_uids import MANISKILL_UIDS
 
         problem = invalid_uid(uid)
         if problem is not None:
@@ -50,8 +50,8 @@ def run_new(
                 "pass --force to replace it",
             )
         ]
+    from robospec.authoring.description_file import read_description_file
     from robospec.authoring.scaffold import SCHEMA_BESIDE, scaffold, schema_reference
-    from robospec.authoring.source import read_description_file
     from robospec.importer.yamlout import to_yaml
 
     source, diagnostics = read_description_file(description)
@@ -83,7 +83,7 @@ def run_new(
 
 def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
     from robospec.authoring.card import robot_card
-    from robospec.compile import compile_spec
+    from robospec.pipeline import compile_spec
 
     compiled = compile_spec(spec)
     diagnostics = list(compiled.diagnostics)
@@ -96,7 +96,7 @@ def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
 
 
 def write_text(path: Path, text: str) -> list[Diagnostic]:
-    from robospec.atomic_rename import write_atomically
+    from robospec.output.atomic import write_atomically
 
     try:
         write_atomically(path, text)

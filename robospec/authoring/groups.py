@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint, RobotDescription
 from robospec.importer.groups import common_prefix
-from robospec.names import NAME_PATTERN
+from robospec.model.names import NAME_PATTERN
 
 # words that start a name part ("l_gripper_finger_joint", "thumb_q1"), not any substring:
 # "steering" is no ring, "multiple" no tip

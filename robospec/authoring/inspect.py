@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from robospec.authoring.source import DescriptionFile
+from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint
 

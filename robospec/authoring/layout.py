@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from robospec.description import RobotDescription
-from robospec.resolved import ResolvedController, ResolvedMode, ResolvedRobot
+from robospec.resolve.resolved import ResolvedController, ResolvedMode, ResolvedRobot
 
 # ManiSkill's default of normalize_action per config type (passive has no action)
 NORMALIZE_DEFAULT = {

@@ -23,12 +23,12 @@ import re
 from pathlib import Path
 from typing import Any
 
+from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.groups import Groups, guess_groups
-from robospec.authoring.source import DescriptionFile
-from robospec.builtin_uids import MANISKILL_UIDS
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
-from robospec.paths import ASSETS_PLACEHOLDER, maniskill_assets_dir
+from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+from robospec.resolve.paths import ASSETS_PLACEHOLDER, maniskill_assets_dir
 
 SCHEMA_BESIDE = "robospec.schema.json"
 # where a project keeps the schema, nearest first at each folder walking up

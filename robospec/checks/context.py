@@ -2,11 +2,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from robospec.description.model import RobotDescription
+from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Location
-from robospec.loading.source import KeyPath
+from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Spec
-from robospec.resolved import ResolvedRobot
+from robospec.resolve.resolved import ResolvedRobot
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
-from robospec.description.model import Joint
+from robospec.description.facts import Joint
 from robospec.diagnostics import Diagnostic, Location, warning
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Literal
 
-from robospec.description.model import Joint, Link, Mimic, RobotDescription
+from robospec.description.facts import Joint, Link, Mimic, RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error
 
 __all__ = [

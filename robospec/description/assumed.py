@@ -14,9 +14,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
-from robospec.description.model import Joint, Link, RobotDescription
+from robospec.description.facts import Joint, Link, RobotDescription
 from robospec.model.frozen import AllBut, Spec
-from robospec.names import GLOB
+from robospec.model.names import GLOB
 
 
 def assumed_description(spec: Spec, path: str) -> RobotDescription:

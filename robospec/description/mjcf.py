@@ -40,7 +40,7 @@ from typing import Any
 
 from lxml import etree
 
-from robospec.description.model import (
+from robospec.description.facts import (
     ACTIVE_JOINT_TYPES,
     Joint,
     JointType,

@@ -15,10 +15,10 @@ from __future__ import annotations
 
 import os
 
-from robospec.description.model import RobotDescription
+from robospec.description.facts import RobotDescription
 from robospec.description.urdf import INVALID_STRUCTURE, at, parse_xml
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.suggest import did_you_mean
+from robospec.diagnostics.suggest import did_you_mean
 
 MAX_SRDF_BITS = 31  # SAPIEN raises "Too many collision groups" at the 32nd pair
 

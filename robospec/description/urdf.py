@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from lxml import etree
 
-from robospec.description.model import (
+from robospec.description.facts import (
     ACTIVE_JOINT_TYPES,
     Joint,
     JointType,
@@ -33,7 +33,7 @@ from robospec.description.model import (
     RobotDescription,
 )
 from robospec.diagnostics import Diagnostic, Location, error, warning
-from robospec.suggest import did_you_mean
+from robospec.diagnostics.suggest import did_you_mean
 
 FILE_NOT_FOUND = "RS050"
 MALFORMED_XML = "RS051"

@@ -1,7 +1,7 @@
 """Generate the parts of ``docs/`` that restate the code, so they cannot drift from it (a test
 compares the committed files with this output):
 
-- ``diagnostics.md``: the table of codes (``robospec/codes.py``), linking to
+- ``diagnostics.md``: the table of codes (``robospec/diagnostics/codes.py``), linking to
 - ``codes/RSxxx.md``: one page per code, with its examples from ``docs/examples/codes/`` and
   what robospec really reports for them,
 - ``reference.md``: every spec field, from the JSON Schema of the models,

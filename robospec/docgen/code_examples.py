@@ -21,8 +21,8 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from robospec.compile import compile_spec
 from robospec.diagnostics import Diagnostic, Location
+from robospec.pipeline import compile_spec
 from robospec.reporting import render
 
 EXAMPLES_FOLDER = Path("examples") / "codes"
@@ -30,7 +30,7 @@ ABOUT_FILE = "about.md"
 FAILING = "fail"
 PASSING = "pass"
 
-# ManiSkill's download folder is $MS_ASSET_DIR/data (robospec.paths.maniskill_data_dir)
+# ManiSkill's download folder is $MS_ASSET_DIR/data (robospec.resolve.paths.maniskill_data_dir)
 ASSET_DIR_VARIABLE = "MS_ASSET_DIR"
 NO_DOWNLOADS = ".no-maniskill-downloads"
 

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from robospec.checks import CHECKS
-from robospec.codes import CODES, Code
+from robospec.diagnostics.codes import CODES, Code
 from robospec.docgen.code_examples import (
     RESERVED_CODES,
     CodeExamples,

@@ -16,9 +16,9 @@ import re
 from pathlib import Path
 from typing import Any
 
-from robospec.emit import helpers
+from robospec.emit import members as helpers
 from robospec.emit.pretty import format_module
-from robospec.resolved import FileRef, ResolvedCamera, ResolvedKeyframe, ResolvedRobot
+from robospec.resolve.resolved import FileRef, ResolvedCamera, ResolvedKeyframe, ResolvedRobot
 
 CONFIG_CLASSES = {
     "pd_joint_pos": "PDJointPosControllerConfig",

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from robospec.atomic_rename import write_atomically
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.output.atomic import write_atomically
 
 
 def run_import(
     target: str, uid: str | None, out: Path | None, force: bool
 ) -> tuple[str | None, list[Diagnostic]]:
     """The spec text (also written to ``out`` when given) and the diagnostics."""
-    from robospec.uid_option import invalid_uid
+    from robospec.cli.uid_option import invalid_uid
 
     problem = invalid_uid(uid) if uid is not None else None
     if problem is not None:

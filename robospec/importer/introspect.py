@@ -18,7 +18,7 @@ import sys
 from collections.abc import Iterator
 from typing import Any
 
-from robospec.description.model import RobotDescription
+from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.importer.records import (
     ALL_JOINTS,

@@ -179,7 +179,7 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
                 "replace it with the file's path if the spec must validate now",
             )
         )
-    from robospec.builtin_uids import MANISKILL_UIDS
+    from robospec.maniskill.builtin_uids import MANISKILL_UIDS
 
     if uid in MANISKILL_UIDS:
         diagnostics.append(
@@ -220,9 +220,9 @@ def _spec_has(name: str) -> bool:
 
 
 def _paths_have(name: str) -> bool:
-    import robospec.paths
+    import robospec.resolve.paths
 
-    return hasattr(robospec.paths, name)
+    return hasattr(robospec.resolve.paths, name)
 
 
 def _link_rules(record: AgentRecord, dropped: set[str]) -> dict[str, dict[str, Any]]:

@@ -79,7 +79,7 @@ def load_target(text: str) -> tuple[type | None, list[Diagnostic]]:
     obj: object = module
     for name in target.qualname.split("."):
         if not hasattr(obj, name):
-            from robospec.suggest import did_you_mean
+            from robospec.diagnostics.suggest import did_you_mean
 
             candidates = [n for n in vars(obj) if isinstance(vars(obj)[n], type)]
             return None, [

@@ -224,7 +224,7 @@ def _config_name(controller: ControllerRecord) -> str:
 
 
 def _did_you_mean(name: str, candidates: set[str]) -> str | None:
-    from robospec.suggest import did_you_mean
+    from robospec.diagnostics.suggest import did_you_mean
 
     return did_you_mean(name, sorted(candidates))
 

@@ -31,7 +31,7 @@ class _Plain(str):
 
 @cache
 def _pi_table() -> dict[float, str]:
-    from robospec.expr import evaluate
+    from robospec.model.expressions import evaluate
 
     table: dict[float, str] = {}
     for denominator in range(1, 13):

@@ -20,9 +20,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", default=20, type=int)
     args = parser.parse_args(argv)
 
-    from robospec.build import build_package
-    from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
+    from robospec.output.package import build_package
+    from robospec.pipeline import compile_all
     from robospec.reporting import render
 
     started = time.perf_counter()

@@ -22,7 +22,7 @@ def run_demo(
     spec: Path, control_mode: str | None, keyframe: str | None, actions: str
 ) -> list[Diagnostic]:
     """Register ``spec``'s agent and open the viewer; the diagnostics when it cannot."""
-    from robospec.compile import compile_spec
+    from robospec.pipeline import compile_spec
 
     compiled = compile_spec(spec)
     if not compiled.ok or compiled.robot is None:

@@ -5,7 +5,7 @@ validates with, and returns, is their frozen form (robospec.model.frozen), which
 pydantic.
 """
 
-from robospec.model.build import SpecModelResult, build_spec
 from robospec.model.frozen import Spec
+from robospec.model.validate import SpecModelResult, build_spec
 
 __all__ = ["Spec", "SpecModelResult", "build_spec"]

@@ -41,8 +41,8 @@ FROZEN_PATH = Path(__file__).with_name("frozen.py")
 MODEL_MODULES = (
     "robospec.model.common",
     "robospec.model.controllers",
-    "robospec.model.helpers",
-    "robospec.model.physics",
+    "robospec.model.members",
+    "robospec.model.check_settings",
     "robospec.model.spec",
 )
 _DROPPED_KEYS = frozenset({"metadata", "serialization"})

@@ -2,7 +2,7 @@
 controller, a material, ...
 
 Each type carries a ``x-robospec-ref`` marker into the JSON Schema. The markers are how
-``robospec schema --for SPEC`` (:mod:`robospec.schema_narrow`) finds every such place without a
+``robospec schema --for SPEC`` (:mod:`robospec.schema.narrow`) finds every such place without a
 hand-kept list of paths: it replaces each marked string (or dictionary key) by the names the
 compiled robot really has. In the generic schema the markers are inert annotations.
 """

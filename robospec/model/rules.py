@@ -14,7 +14,7 @@ from typing import Any, Literal
 
 from pydantic_core import PydanticCustomError, PydanticKnownError
 
-from robospec.expr import ExpressionError, evaluate
+from robospec.model.expressions import ExpressionError, evaluate
 
 CONTROLLER_TYPES: tuple[str, ...] = (
     "pd_joint_pos",

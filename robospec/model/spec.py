@@ -11,6 +11,7 @@ from typing import Annotated, Literal
 from pydantic import Field, StrictBool, model_validator
 
 from robospec.model import rules
+from robospec.model.check_settings import Checks
 from robospec.model.common import (
     GroupSelection,
     JointSelection,
@@ -22,7 +23,7 @@ from robospec.model.common import (
     Vector3,
 )
 from robospec.model.controllers import ControllerConfig
-from robospec.model.helpers import (
+from robospec.model.members import (
     Drive,
     Grasping,
     Hooks,
@@ -36,7 +37,7 @@ from robospec.model.helpers import (
     PythonRef,
     Tcp,
 )
-from robospec.model.physics import Checks
+from robospec.model.names import NAME_PATTERN, UID_PATTERN
 from robospec.model.refs import (
     ControllerName,
     JointPattern,
@@ -46,7 +47,6 @@ from robospec.model.refs import (
     LinkStateName,
     MaterialName,
 )
-from robospec.names import NAME_PATTERN, UID_PATTERN
 
 ScalarArg = str | int | float | bool
 

@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
+from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
-from robospec.physics.run import CheckRun
 from robospec.physics.sim import ControllerGroup, Sim
 
 NAME = "action_layout"

@@ -6,8 +6,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.physics.batch import Options, RobotReport, check_paths
 from robospec.physics.report import ProgressLine, render_json, render_text
-from robospec.physics.runner import Options, RobotReport, check_paths
 from robospec.physics.sim import CPU, Backend
 
 COMMAND_LINE = "<command line>"

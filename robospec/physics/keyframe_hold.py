@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
-from robospec.physics.run import CheckRun, keyframe_label
 from robospec.physics.sim import Sim
 
 NAME = "keyframe_hold"

@@ -21,10 +21,10 @@ import numpy as np
 
 from robospec.checks.mimic_joints import physx_mimic_joints
 from robospec.diagnostics import Diagnostic
+from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
-from robospec.physics.run import CheckRun
 from robospec.physics.sim import Sim
-from robospec.resolved import ResolvedKeyframe
+from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "random_actions"
 

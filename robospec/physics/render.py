@@ -10,8 +10,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
-from robospec.physics.run import CheckRun
 
 NAME = "render"
 

@@ -11,8 +11,8 @@ from typing import TextIO
 
 from robospec.diagnostics import Diagnostic, Severity, sort_key
 from robospec.physics.action_layout import NAME as ACTION_LAYOUT
+from robospec.physics.batch import RobotReport
 from robospec.physics.findings import Finding, Status
-from robospec.physics.runner import RobotReport
 
 COLUMNS = ("check", "mode", "subject", "result", "details")
 

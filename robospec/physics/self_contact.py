@@ -16,8 +16,8 @@ Failing: a keyframe that folds the Panda's fingers into its fifth link; the hint
 
 from __future__ import annotations
 
+from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
-from robospec.physics.run import CheckRun, keyframe_label
 
 NAME = "self_contact"
 

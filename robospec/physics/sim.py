@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from robospec.maniskill.headless import make_empty_env
-from robospec.resolved import ResolvedKeyframe
+from robospec.resolve.resolved import ResolvedKeyframe
 
 
 @dataclass(frozen=True)

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from robospec.diagnostics import Diagnostic
+from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
-from robospec.physics.run import CheckRun
 from robospec.physics.sim import ControllerGroup, Sim
 
 NAME = "step_response"

@@ -1,5 +1,6 @@
 """SARIF 2.1.0 for code scanning (GitHub's upload-sarif, IDE viewers): one run whose driver
-lists a rule per code used (its title from :mod:`robospec.codes`) and a result per diagnostic.
+lists a rule per code used (its title from :mod:`robospec.diagnostics.codes`) and a result per
+diagnostic.
 
 File locations are URIs relative to ``%SRCROOT%`` (the directory robospec ran in, given in
 ``originalUriBaseIds``) with forward slashes, as code scanning expects; a file outside it keeps
@@ -14,8 +15,8 @@ from importlib import metadata
 from pathlib import Path, PurePosixPath
 from urllib.parse import quote
 
-from robospec.codes import CODES
 from robospec.diagnostics import Diagnostic, Location, Severity
+from robospec.diagnostics.codes import CODES
 
 SCHEMA_URI = "https://json.schemastore.org/sarif-2.1.0.json"
 SRCROOT = "%SRCROOT%"

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 
 from robospec.diagnostics import Diagnostic, Severity
 from robospec.reporting import color as ansi
-from robospec.reporting.source import source_line, span_width
+from robospec.reporting.excerpt import source_line, span_width
 from robospec.reporting.summary import summary_line
 
 

@@ -6,16 +6,16 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robospec.builtin_uids import MANISKILL_UIDS, Overrides, override_allowed
 from robospec.checks import CheckContext, run_checks
-from robospec.description.model import RobotDescription
+from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
-from robospec.discovery import discover
-from robospec.loading.reader import read_spec
-from robospec.loading.source import LoadedSpec
+from robospec.load.discovery import discover
+from robospec.load.reader import read_spec
+from robospec.load.source_map import LoadedSpec
+from robospec.maniskill.builtin_uids import MANISKILL_UIDS, Overrides, override_allowed
 from robospec.model import build_spec
 from robospec.resolve import Resolver
-from robospec.resolved import ResolvedRobot
+from robospec.resolve.resolved import ResolvedRobot
 
 
 @dataclass

@@ -2,7 +2,7 @@
 
 Every entry's names and globs go through the resolver's own link selection (RS202 unknown
 link, RS206 a glob matching nothing). The pairs are then packed by
-:func:`robospec.collision_packing.pack` into group-2 bits that nothing else uses — not the
+:func:`robospec.resolve.collision_packing.pack` into group-2 bits that nothing else uses — not the
 loader's (SRDF, MJCF bodies), not the spec's ``collision_rules``, not ``scene_collision_bits``
 — and come out as ordinary collision rules after the spec's own.
 """
@@ -11,11 +11,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from robospec.collision_packing import FREE_BITS, Pair, clique_pairs, pack
-from robospec.resolved import ResolvedCollisionRule, ResolvedNeverCollide
+from robospec.resolve.collision_packing import FREE_BITS, Pair, clique_pairs, pack
+from robospec.resolve.resolved import ResolvedCollisionRule, ResolvedNeverCollide
 
 if TYPE_CHECKING:
-    from robospec.loading.source import KeyPath
+    from robospec.load.source_map import KeyPath
     from robospec.resolve import Resolver
 
 

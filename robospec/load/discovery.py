@@ -8,7 +8,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.loading.reader import SPEC_SUFFIXES
+from robospec.load.reader import SPEC_SUFFIXES
 
 
 def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:

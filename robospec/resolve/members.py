@@ -10,9 +10,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import error
+from robospec.diagnostics.suggest import did_you_mean
 from robospec.model.frozen import AllBut, HeightBand, Spec
-from robospec.pyrefs import check_ref
-from robospec.resolved import (
+from robospec.resolve.python_refs import check_ref
+from robospec.resolve.resolved import (
     PythonRef,
     ResolvedDrive,
     ResolvedFallen,
@@ -25,10 +26,9 @@ from robospec.resolved import (
     ResolvedStatic,
     ResolvedTcp,
 )
-from robospec.suggest import did_you_mean
 
 if TYPE_CHECKING:
-    from robospec.loading.source import KeyPath
+    from robospec.load.source_map import KeyPath
     from robospec.resolve import Resolver
 
 AXES = {"x": 0, "y": 1, "z": 2}

@@ -17,11 +17,11 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from robospec.model.names import GLOB_PATTERN
 from robospec.model.refs import GLOB_KINDS, REF_KEY
-from robospec.names import GLOB_PATTERN
 
 if TYPE_CHECKING:
-    from robospec.compile import CompiledSpec
+    from robospec.pipeline import CompiledSpec
 
 KEYS_KEY = "x-robospec-keys"
 NARROWED_ID = "https://robospec.dev/schemas/robots/{uid}.schema.json"

@@ -7,10 +7,10 @@ from dataclasses import dataclass, field
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.loading.source import KeyPath
+from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Checks
 from robospec.physics.sim import CPU, Backend, Sim
-from robospec.resolved import ResolvedKeyframe, ResolvedRobot
+from robospec.resolve.resolved import ResolvedKeyframe, ResolvedRobot
 
 
 @dataclass

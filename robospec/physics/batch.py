@@ -11,7 +11,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robospec.compile import CompiledSpec, compile_all
 from robospec.diagnostics import Diagnostic, Location, SpecError, error, has_errors
 from robospec.model.frozen import Checks
 from robospec.physics import (
@@ -22,9 +21,10 @@ from robospec.physics import (
     self_contact,
     step_response,
 )
+from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding
-from robospec.physics.run import CheckRun
 from robospec.physics.sim import CPU, Backend
+from robospec.pipeline import CompiledSpec, compile_all
 
 # (name, check) in the order they run and are reported
 CHECKS: tuple[tuple[str, Callable[[CheckRun], list[Finding]]], ...] = (
@@ -104,7 +104,7 @@ def check_compiled(
             )
         )
         return report
-    from robospec.registration import register
+    from robospec.output.register import register
 
     try:
         register(item.path)

@@ -10,9 +10,9 @@ from robospec.diagnostics import Diagnostic, Location, error, has_errors
 def narrowed_schema_text(spec_path: Path) -> tuple[str | None, list[Diagnostic]]:
     """The narrowed schema's text, or None and the diagnostics that stopped it.
     ``spec_path`` is one spec file (the caller rejects folders as a usage error)."""
-    from robospec.compile import compile_all
+    from robospec.pipeline import compile_all
     from robospec.schema import schema_text, spec_schema
-    from robospec.schema_narrow import narrow_schema, robot_names
+    from robospec.schema.narrow import narrow_schema, robot_names
 
     compiled, diagnostics = compile_all([spec_path])
     for item in compiled:

@@ -13,7 +13,7 @@ import textwrap
 from dataclasses import dataclass
 from typing import Any
 
-from robospec.resolved import (
+from robospec.resolve.resolved import (
     PythonRef,
     ResolvedFallen,
     ResolvedGrasping,

@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.names import UID_PATTERN
+from robospec.model.names import UID_PATTERN
 
 
 def invalid_uid(uid: str) -> Diagnostic | None:

@@ -3,7 +3,7 @@
 
 What the models cannot say by themselves is added here, derived from the models: the
 defaults of fields whose default is built by a factory (``default_factory``); the ``extends``
-form of a controller, which :mod:`robospec.model.build` merges away before the models ever see
+form of a controller, which :mod:`robospec.model.validate` merges away before the models ever see
 it; and a dispatch on a controller's ``type`` that validators report precisely.
 """
 

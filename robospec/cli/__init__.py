@@ -1,8 +1,8 @@
 """The `robospec` command line. Exit codes: 0 no errors, 1 errors, 2 usage error.
 
-The commands live in robospec.cli_app (a typer app). Building that app imports typer, click
+The commands live in robospec.cli.commands (a typer app). Building that app imports typer, click
 and rich; a plain `robospec validate PATH... [--format F] [--color C]`, the command run on every
-save and commit, skips it (robospec.fast_validate) with the same output and exit status.
+save and commit, skips it (robospec.cli.fast_validate) with the same output and exit status.
 """
 
 from __future__ import annotations
@@ -12,17 +12,17 @@ import sys
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from robospec.cli_app import app
+    from robospec.cli.commands import app
 
 
 def main() -> None:
     try:
-        from robospec import fast_validate
+        from robospec.cli import fast_validate
 
         plain = fast_validate.parse(sys.argv[1:], os.environ)
         if plain is not None:
             sys.exit(fast_validate.run(plain))
-        from robospec.cli_app import app
+        from robospec.cli.commands import app
 
         # a fixed name, so that `python -m robospec.cli` shows and completes as `robospec`
         app(prog_name="robospec")
@@ -33,13 +33,9 @@ def main() -> None:
 def __getattr__(name: str) -> Any:
     # `from robospec.cli import app` (tests, docgen) builds the typer app only when asked
     if name == "app":
-        from robospec.cli_app import app
+        from robospec.cli.commands import app
 
         return app
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-if __name__ == "__main__":
-    main()
 
 __all__ = ["app", "main"]

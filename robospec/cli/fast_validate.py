@@ -64,8 +64,8 @@ def parse(argv: Sequence[str], environ: Mapping[str, str]) -> ValidateArgs | Non
 
 def run(args: ValidateArgs) -> int:
     """Validate, print the report on stdout; the exit status."""
-    from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
+    from robospec.pipeline import compile_all
 
     compiled, diagnostics = compile_all(args.paths)
     for item in compiled:

@@ -11,8 +11,8 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error, line_column
-from robospec.loading.prescan import prescan
-from robospec.loading.source import KeyPath, LoadedSpec, SourceMap
+from robospec.load.prescan import prescan
+from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap
 
 SPEC_SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml"}
 MAX_BYTES = 2 * 1024 * 1024
@@ -393,7 +393,7 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         return None, [_value_error(exc, text, source, "TOML")]
     except RecursionError:
         return None, [error(Location(source.file), "RS006", "TOML nested too deeply")]
-    from robospec.loading.toml_positions import toml_positions
+    from robospec.load.toml_positions import toml_positions
 
     for path, (key_pos, value_pos) in toml_positions(text).items():
         source.keys[path] = key_pos

@@ -1,7 +1,7 @@
 """The `robospec` commands (a typer app). Exit codes: 0 no errors, 1 errors, 2 usage error.
 
 The entry point is robospec.cli.main: it runs a plain `robospec validate` without building this
-app (robospec.fast_validate) and hands every other command line to it."""
+app (robospec.cli.fast_validate) and hands every other command line to it."""
 
 from __future__ import annotations
 
@@ -103,9 +103,9 @@ def validate(
     Example: robospec validate specs/ --format json
     Example: robospec validate specs/ --format github   (annotations in GitHub Actions)
     """
-    from robospec.fast_validate import ValidateArgs, run
+    from robospec.cli.fast_validate import ValidateArgs, run
 
-    # the same run as the plain form that skips typer (robospec.fast_validate)
+    # the same run as the plain form that skips typer (robospec.cli.fast_validate)
     raise typer.Exit(run(ValidateArgs(list(paths), format.value, color.value)))
 
 
@@ -123,8 +123,8 @@ def build(
 
     Example: robospec build specs/ -o my_robots   (then: import my_robots)
     """
-    from robospec.build import build_package
-    from robospec.compile import compile_all
+    from robospec.output.package import build_package
+    from robospec.pipeline import compile_all
 
     compiled, diagnostics = compile_all(paths)
     for item in compiled:
@@ -174,7 +174,7 @@ def schema(
     if for_spec is None:
         text = schema_text()
     else:
-        from robospec.schema_command import narrowed_schema_text
+        from robospec.schema.command import narrowed_schema_text
 
         if for_spec.is_dir():
             raise typer.BadParameter("give one spec file, not a folder", param_hint="--for")

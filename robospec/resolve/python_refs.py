@@ -12,7 +12,7 @@ import inspect
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from robospec.resolved import PythonRef
+from robospec.resolve.resolved import PythonRef
 
 RefKind = Literal["agent_class", "hook", "member"]
 

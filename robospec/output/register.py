@@ -22,11 +22,11 @@ from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
 
-from robospec.builtin_uids import Overrides, override_allowed
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
+from robospec.maniskill.builtin_uids import Overrides, override_allowed
 
 if TYPE_CHECKING:
-    from robospec.compile import CompiledSpec
+    from robospec.pipeline import CompiledSpec
 
 CACHE_FORMAT = "1"
 
@@ -84,7 +84,7 @@ def register(
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
     root = Path(cache_dir) if cache_dir is not None else cache_root()
-    from robospec.discovery import discover
+    from robospec.load.discovery import discover
 
     files, problems = discover([Path(p) for p in paths])
     if problems:  # a missing path, a folder without specs: never "registered nothing" quietly
@@ -106,7 +106,7 @@ def register(
 def _entry_for(file: Path, root: Path, salt: str) -> Path:
     """The cache entry of a spec: named by a hash of robospec's version, the spec's path and
     its bytes, never by anything the spec says (its uid cannot steer where files go)."""
-    from robospec.loading.reader import read_spec_file_bytes
+    from robospec.load.reader import read_spec_file_bytes
 
     # as validate reads it: a FIFO is refused (reading it would block), a huge file by its size
     data, problem = read_spec_file_bytes(file, str(file))
@@ -144,8 +144,8 @@ def _compile_entries(
 ) -> dict[Path, Path]:
     """Compile the cold specs into their cache entries; returns ``{spec: entry}`` for each,
     which is a temporary folder instead when the cache cannot be written."""
-    from robospec.compile import compile_all
     from robospec.diagnostics import has_errors
+    from robospec.pipeline import compile_all
 
     compiled, diagnostics = compile_all(all_files, overrides=overrides)
     for item in compiled:
@@ -174,7 +174,7 @@ def _compile_entries(
 
 def _store(item: CompiledSpec, file: Path, entry: Path) -> None:
     """Write the entry in a staging folder beside it, then rename it into place."""
-    from robospec.output import checked_robot_files, module_name_for
+    from robospec.output.modules import checked_robot_files, module_name_for
 
     assert item.robot is not None
     module = module_name_for(item.robot.uid, set())
@@ -211,7 +211,7 @@ def _install(staging: Path, entry: Path) -> None:
     except OSError:
         if _entry_is_fresh(entry):
             return  # a concurrent register() wrote the same key: same content
-    from robospec.atomic_rename import exchange
+    from robospec.output.atomic import exchange
 
     if exchange(staging, entry):  # one step: a reader sees the old entry or the new one
         _remove(staging)  # now the old entry
@@ -249,7 +249,7 @@ def _fallback_root() -> Path:
 
 
 def _dependencies(robot: object) -> list[str]:
-    from robospec.resolved import FileRef, ResolvedRobot
+    from robospec.resolve.resolved import FileRef, ResolvedRobot
 
     assert isinstance(robot, ResolvedRobot)
     refs = [robot.description] + [

@@ -34,10 +34,10 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robospec.atomic_rename import exchange
-from robospec.compile import CompiledSpec
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.output import checked_robot_files, module_name_for, package_init
+from robospec.output.atomic import exchange
+from robospec.output.modules import checked_robot_files, module_name_for, package_init
+from robospec.pipeline import CompiledSpec
 
 MANIFEST = "_robospec_manifest.txt"
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from robospec.paths import ASSETS_PLACEHOLDER, DATA_PLACEHOLDER
+from robospec.resolve.paths import ASSETS_PLACEHOLDER, DATA_PLACEHOLDER
 
 
 @dataclass(frozen=True)

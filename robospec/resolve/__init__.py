@@ -14,14 +14,20 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from robospec.description.model import RobotDescription
+from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, warning
-from robospec.loading.source import KeyPath, LoadedSpec
-from robospec.model.build import SpecModelResult
+from robospec.diagnostics.suggest import did_you_mean
+from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.model.frozen import AllBut, Keyframe, MimicTarget, Pose, Spec
-from robospec.names import GLOB
-from robospec.paths import maniskill_assets_dir, maniskill_data_dir, split_assets, split_data
-from robospec.resolved import (
+from robospec.model.names import GLOB
+from robospec.model.validate import SpecModelResult
+from robospec.resolve.paths import (
+    maniskill_assets_dir,
+    maniskill_data_dir,
+    split_assets,
+    split_data,
+)
+from robospec.resolve.resolved import (
     FileRef,
     ResolvedCamera,
     ResolvedCollisionRule,
@@ -30,7 +36,6 @@ from robospec.resolved import (
     ResolvedMode,
     ResolvedRobot,
 )
-from robospec.suggest import did_you_mean
 
 PER_JOINT_FIELDS = (
     "stiffness",
@@ -553,8 +558,8 @@ class Resolver:
     # -- the whole robot --------------------------------------------------------------------
 
     def resolve(self) -> Resolution:
-        from robospec.resolve_collisions import resolve_never_collide
-        from robospec.resolve_helpers import HelperResolver
+        from robospec.resolve.members import HelperResolver
+        from robospec.resolve.never_collide import resolve_never_collide
 
         spec = self.spec
         helpers = HelperResolver(self)

@@ -13,11 +13,11 @@ from typing import Any
 from pydantic_core import ValidationError
 
 from robospec.diagnostics import Diagnostic, error
-from robospec.loading.source import KeyPath, LoadedSpec
+from robospec.diagnostics.suggest import did_you_mean
+from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.model.core import validator_for
 from robospec.model.frozen import Spec
 from robospec.model.schema_info import fields_for
-from robospec.suggest import did_you_mean
 
 _ERROR_CODES = {
     "expression": "RS010",

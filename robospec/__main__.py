@@ -1,0 +1,5 @@
+"""``python -m robospec``: the `robospec` command."""
+
+from robospec.cli import main
+
+main()
