@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import robospec.reporting.color as ansi
 from robospec.diagnostics import Diagnostic, Severity
-from robospec.reporting import color as ansi
 from robospec.reporting.excerpt import source_line, span_width
 from robospec.reporting.summary import summary_line
 
