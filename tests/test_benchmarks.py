@@ -1,11 +1,16 @@
-"""benchmarks/run.py: every part runs (on a tiny budget) and docs/performance.md has the shape
-the generator writes. Nothing here asserts a speed: the figures are the benchmark's job."""
+"""benchmarks/run.py: every part runs (on a tiny budget), docs/performance.md has the shape the
+generator writes, and a missed target makes the run exit 1 naming it.
+
+Nothing here asserts a speed: whether the targets are met is the full run's verdict (five
+repeats). A quick run measures each figure once, on a machine the tests share with others, so
+its verdicts are noise; the quick-run test checks that every part runs, not that it is fast."""
 
 from __future__ import annotations
 
 import math
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import pytest
@@ -13,8 +18,10 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
+import first_error  # noqa: E402
 import run  # noqa: E402
 import scaling  # noqa: E402
+from section import Section  # noqa: E402
 
 
 def _headings(markdown: str) -> list[str]:
@@ -49,9 +56,25 @@ def test_synthetic_robot_has_the_links_asked_for_and_its_spec_validates(tmp_path
     assert "0 error(s), 0 warning(s)" in result.stdout
 
 
+@pytest.mark.parametrize("missed", [[], [scaling.TITLE], [first_error.TITLE, scaling.TITLE]])
+def test_the_run_exits_1_exactly_when_a_section_misses_its_target_and_names_it(
+    missed: list[str],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    sections = [Section(title, "figures\n", title not in missed) for title in run.SECTION_TITLES]
+    monkeypatch.setattr(run, "measure_all", lambda quick, repeat: sections)
+    out = tmp_path / "performance.md"
+    monkeypatch.setattr(sys, "argv", ["run.py", "--quick", "--out", str(out)])
+    assert run.main() == (1 if missed else 0)
+    assert capsys.readouterr().err.splitlines() == [f"target missed: {t}" for t in missed]
+    assert _headings(out.read_text(encoding="utf-8")) == list(run.SECTION_TITLES)
+
+
 @pytest.mark.maniskill
 @pytest.mark.slow
-def test_quick_run_measures_every_part_and_writes_every_section(tmp_path: Path) -> None:
+def test_quick_run_runs_every_part_and_writes_every_section(tmp_path: Path) -> None:
     pytest.importorskip("mani_skill")
     out = tmp_path / "performance.md"
     result = subprocess.run(
@@ -60,8 +83,14 @@ def test_quick_run_measures_every_part_and_writes_every_section(tmp_path: Path) 
         text=True,
         cwd=ROOT,
     )
-    # exit 1 is a missed target (one repeat on a busy machine may miss one); not a failure here
-    assert result.returncode in (0, 1) and "Traceback" not in result.stderr, result.stderr
+    # A quick run's verdicts on the targets are not judged here (see the module's docstring):
+    # exit 1 is allowed only as the run's report of missed targets, never for anything else.
+    assert "Traceback" not in result.stderr, result.stderr
+    misses = {f"target missed: {title}" for title in run.SECTION_TITLES}
+    reported = misses & set(result.stderr.splitlines())
+    assert result.returncode == (1 if reported else 0), result.stderr
+    if reported:  # shown in the test summary, not judged
+        warnings.warn(f"quick benchmark run: {sorted(reported)}", stacklevel=1)
     doc = out.read_text(encoding="utf-8")
     assert _headings(doc) == list(run.SECTION_TITLES)
     assert "`rs_panda` / `panda` | pd_joint_delta_pos |" in doc
