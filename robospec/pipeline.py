@@ -6,15 +6,16 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from robospec.checks import CheckContext, run_checks
+from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
 from robospec.load.discovery import discover
 from robospec.load.reader import read_spec
 from robospec.load.source_map import LoadedSpec
 from robospec.maniskill.builtin_uids import MANISKILL_UIDS, Overrides, override_allowed
-from robospec.model import build_spec
-from robospec.resolve import Resolver
+from robospec.model.validate import build_spec
+from robospec.resolve import resolve
+from robospec.resolve.description_files import shown_path
 from robospec.resolve.resolved import ResolvedRobot
 
 
@@ -78,30 +79,27 @@ def _compile_into(result: CompiledSpec, overrides: Overrides) -> None:
                 "ManiSkill's agent on purpose",
             )
         )
-    resolver = Resolver(loaded, model, result.path)
-    resolution = resolver.resolve()
+    resolution = resolve(loaded, model, result.path)
     result.diagnostics.extend(resolution.diagnostics)
-    result.description = resolution.description
-    if resolution.robot is None or resolution.description is None:
+    result.description = resolution.loaded_description
+    robot = resolution.robot
+    if robot is None or resolution.loaded_description is None:
         return
+    context = CheckContext(
+        spec=spec,
+        robot=robot,
+        description=resolution.loaded_description,
+        description_file=shown_path(resolution, robot.description),
+        bindings=resolution.bindings,
+        locate_value=resolution.at_value,
+        locate_key=resolution.at_key,
+    )
+    result.diagnostics.extend(run_checks(BINDING_CHECKS, context))
     if not has_errors(result.diagnostics):
-        context = CheckContext(
-            spec=spec,
-            robot=resolution.robot,
-            description=resolution.description,
-            description_file=resolver._display(resolution.robot.description),
-            passive_joints=frozenset(
-                resolver.select(spec.passive_joints, ("passive_joints",))
-                if spec.passive_joints is not None
-                else ()
-            ),
-            locate_value=resolver.at_value,
-            locate_key=resolver.at_key,
-        )
-        result.diagnostics.extend(run_checks(context))
+        result.diagnostics.extend(run_checks(ROBOT_CHECKS, context))
         result.context = context
     if not has_errors(result.diagnostics):
-        result.robot = resolution.robot
+        result.robot = robot
 
 
 def compile_all(

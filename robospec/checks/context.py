@@ -1,12 +1,15 @@
+"""What every check reads: the spec, what it resolved to, and where each key was written."""
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Location
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Spec
-from robospec.resolve.resolved import ResolvedRobot
+from robospec.resolve.resolved import Bindings, ResolvedRobot
 
 
 @dataclass(frozen=True)
@@ -15,12 +18,24 @@ class CheckContext:
     robot: ResolvedRobot
     description: RobotDescription
     description_file: str  # as shown in diagnostics
-    passive_joints: frozenset[str]
-    locate_value: object  # Callable[[KeyPath], Location]
-    locate_key: object
+    bindings: Bindings
+    locate_value: Callable[[KeyPath], Location]
+    locate_key: Callable[[KeyPath], Location]
 
     def value(self, path: KeyPath) -> Location:
-        return self.locate_value(path)  # type: ignore[operator]
+        return self.locate_value(path)
 
     def key(self, path: KeyPath) -> Location:
-        return self.locate_key(path)  # type: ignore[operator]
+        return self.locate_key(path)
+
+    def joints_at(self, path: KeyPath) -> tuple[str, ...] | None:
+        """The joints the selection written at ``path`` bound to; None when it did not bind."""
+        return self.bindings.joints.get(path)
+
+    def links_at(self, path: KeyPath) -> tuple[str, ...] | None:
+        """The links the selection written at ``path`` bound to; None when it did not bind."""
+        return self.bindings.links.get(path)
+
+    @property
+    def passive_joints(self) -> frozenset[str]:
+        return frozenset(self.bindings.joints.get(("passive_joints",), ()))

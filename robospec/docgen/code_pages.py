@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from robospec.checks import CHECKS
+from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS
 from robospec.diagnostics.codes import CODES, Code
 from robospec.docgen.code_examples import (
     RESERVED_CODES,
@@ -31,7 +31,8 @@ def page_path(code: str) -> str:
 def module_docs() -> dict[str, str]:
     """Docstrings of the check modules, by each code their first sentence names: the prose the
     rule's author wrote next to the rule."""
-    modules = [sys.modules[check.__module__] for check in CHECKS] + list(PHYSICS_CHECKS)
+    checks = BINDING_CHECKS + ROBOT_CHECKS
+    modules = [sys.modules[check.__module__] for check in checks] + list(PHYSICS_CHECKS)
     docs: dict[str, str] = {}
     for module in modules:
         doc = (module.__doc__ or "").strip()

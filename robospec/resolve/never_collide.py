@@ -2,50 +2,39 @@
 
 Every entry's names and globs go through the resolver's own link selection (RS202 unknown
 link, RS206 a glob matching nothing). The pairs are then packed by
-:func:`robospec.resolve.collision_packing.pack` into group-2 bits that nothing else uses — not the
-loader's (SRDF, MJCF bodies), not the spec's ``collision_rules``, not ``scene_collision_bits``
-— and come out as ordinary collision rules after the spec's own.
+:func:`robospec.resolve.collision_packing.pack` into group-2 bits that nothing else uses — not
+the loader's (SRDF, MJCF bodies), not the spec's ``collision_rules``, not
+``scene_collision_bits`` — and come out as ordinary collision rules after the spec's own. What
+the packing could not do (an entry of one link, no bit left) is the checks' to report.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from robospec.resolve.collision_packing import FREE_BITS, Pair, clique_pairs, pack
+from robospec.resolve.context import ResolveContext
 from robospec.resolve.resolved import ResolvedCollisionRule, ResolvedNeverCollide
-
-if TYPE_CHECKING:
-    from robospec.load.source_map import KeyPath
-    from robospec.resolve import Resolver
+from robospec.resolve.selection import select_links
 
 
 def resolve_never_collide(
-    r: Resolver, user_rules: tuple[ResolvedCollisionRule, ...]
+    context: ResolveContext, user_rules: tuple[ResolvedCollisionRule, ...]
 ) -> tuple[tuple[ResolvedCollisionRule, ...], ResolvedNeverCollide | None]:
     """The packed rules (to append after ``user_rules``) and what the checks need to know."""
-    spec = r.spec
-    description = r.description
-    assert description is not None
+    spec = context.spec
+    description = context.description
     if not spec.never_collide:
         return (), None
     order = {name: i for i, name in enumerate(description.link_names)}
-    entries: list[tuple[str, ...]] = []
-    for index, entry in enumerate(spec.never_collide):
-        path: KeyPath = ("never_collide", index)
-        errors_before = sum(d.is_error for d in r.diagnostics)
-        links = sorted(set(r.select_links(entry, path)), key=order.__getitem__)
-        if sum(d.is_error for d in r.diagnostics) == errors_before and len(links) < 2:
-            chosen = f"only '{links[0]}'" if links else "no link"
-            r.err(
-                path,
-                "RS320",
-                f"never_collide entry selects {chosen}: an entry names two links or more, no "
-                "two of which may collide",
-                "write a pair, e.g. [panda_link5, panda_hand], or a glob matching several links",
+    entries = tuple(
+        tuple(
+            sorted(
+                set(select_links(context, entry, ("never_collide", index))), key=order.__getitem__
             )
-        entries.append(tuple(links))
+        )
+        for index, entry in enumerate(spec.never_collide)
+    )
     if spec.loader.disable_self_collisions:
-        return (), ResolvedNeverCollide(tuple(entries), skipped=True)
+        return (), ResolvedNeverCollide(entries, skipped=True)
 
     requested: dict[Pair, int] = {}  # pair -> the first entry that lists it
     for index, links in enumerate(entries):
@@ -83,18 +72,8 @@ def resolve_never_collide(
             # reported at the first entry whose pairs this bit carries
             source = min(requested[p] for p in pairs if p in requested and p not in free)
             side_effects.setdefault(source, set()).update(extra)
-    if packing.uncovered:
-        bits = ", ".join(str(b) for b in sorted(taken & set(FREE_BITS)))
-        r.err(
-            ("never_collide",),
-            "RS323",
-            f"no collision-group bit is free for never_collide: bits 0-28 of group 2 are all "
-            f"used ({bits}); {len(packing.uncovered)} listed pair(s) would still collide",
-            "list fewer scene_collision_bits or collision_rules bits; bits the robot "
-            "description's loader sets (SRDF pairs, MJCF bodies) cannot be freed",
-        )
     record = ResolvedNeverCollide(
-        entries=tuple(entries),
+        entries=entries,
         bits=packing.bits,
         available=available,
         side_effects=tuple(

@@ -10,7 +10,25 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from robospec.load.source_map import KeyPath
 from robospec.resolve.paths import ASSETS_PLACEHOLDER, DATA_PLACEHOLDER
+
+
+@dataclass
+class Bindings:
+    """How the spec's names bound to the robot description, by where each was written: what
+    the checks stage judges (one joint listed twice, a keyframe one value short, ...).
+
+    A selection that did not bind whole (an unknown name in it) is left out: resolve has
+    reported it, and a check of it would only repeat that error in other words.
+    """
+
+    # selection path -> the active joints it selected, in the order written (globs: qpos order)
+    joints: dict[KeyPath, tuple[str, ...]] = field(default_factory=dict)
+    # selection path -> the links it selected
+    links: dict[KeyPath, tuple[str, ...]] = field(default_factory=dict)
+    # every name that named a joint of the description (active or not), where it was written
+    joint_names: list[tuple[KeyPath, str]] = field(default_factory=list)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,64 @@
+"""What one spec's resolution reads, and what it records for the checks.
+
+Every module of the resolve stage takes one :class:`ResolveContext`: the validated spec and
+where each of its keys was written, the robot description once it is loaded, the diagnostics
+so far, and the bindings — each joint or link selection as the names it bound to — that the
+checks stage (:mod:`robospec.checks`) judges afterwards.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from robospec.description.facts import RobotDescription
+from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.load.source_map import KeyPath, LoadedSpec
+from robospec.model.frozen import Spec
+from robospec.model.validate import SpecModelResult
+from robospec.resolve.resolved import Bindings, ResolvedRobot
+
+
+@dataclass
+class ResolveContext:
+    loaded: LoadedSpec
+    model: SpecModelResult
+    spec_file: Path
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    # set once the description is loaded (or assumed, when it is not downloaded yet)
+    loaded_description: RobotDescription | None = None
+    # the description is not downloaded: names are taken as written (description/assumed.py)
+    assumed: bool = False
+    bindings: Bindings = field(default_factory=Bindings)
+    # the result: None when the description (or the extended class) could not be loaded
+    robot: ResolvedRobot | None = None
+    # group name -> its joints, each group expanded once
+    group_joints: dict[str, list[str]] = field(default_factory=dict)
+
+    @property
+    def spec(self) -> Spec:
+        assert self.model.spec is not None
+        return self.model.spec
+
+    @property
+    def description(self) -> RobotDescription:
+        """The description; only asked for once it is loaded."""
+        assert self.loaded_description is not None
+        return self.loaded_description
+
+    # -- where things were written -----------------------------------------------------------
+
+    def at_value(self, path: KeyPath) -> Location:
+        return self.loaded.source.value(self.model.origin(path))
+
+    def at_key(self, path: KeyPath) -> Location:
+        return self.loaded.source.key(self.model.origin(path))
+
+    def err(self, path: KeyPath, code: str, message: str, hint: str | None = None) -> None:
+        self.diagnostics.append(error(self.at_value(path), code, message, hint))
+
+    def warn(self, path: KeyPath, code: str, message: str, hint: str | None = None) -> None:
+        self.diagnostics.append(warning(self.at_value(path), code, message, hint))
+
+    def error_count(self) -> int:
+        return sum(d.is_error for d in self.diagnostics)

@@ -1,0 +1,154 @@
+"""Controllers: each spec controller becomes one ManiSkill controller config's arguments.
+
+Joint selections become ``joint_names``; per-joint values given by name become lists in the
+controller's joint order; links, files and mimic maps are bound to the description.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from robospec.diagnostics.suggest import did_you_mean
+from robospec.load.source_map import KeyPath
+from robospec.model.frozen import MimicTarget
+from robospec.resolve.context import ResolveContext
+from robospec.resolve.description_files import file_ref
+from robospec.resolve.resolved import FileRef, ResolvedController
+from robospec.resolve.selection import bound_joints, link, select_joints
+
+PER_JOINT_FIELDS = (
+    "stiffness",
+    "damping",
+    "force_limit",
+    "friction",
+    "lower",
+    "upper",
+    "vel_lower",
+    "vel_upper",
+    "drive_mode",
+)
+# ManiSkill's dataclass field order, so generated configs read like its own
+KWARG_ORDER = (
+    "joint_names",
+    "lower",
+    "upper",
+    "pos_lower",
+    "pos_upper",
+    "rot_lower",
+    "rot_upper",
+    "vel_lower",
+    "vel_upper",
+    "stiffness",
+    "damping",
+    "force_limit",
+    "friction",
+    "ee_link",
+    "urdf_path",
+    "frame",
+    "root_link_name",
+    "use_delta",
+    "use_target",
+    "interpolate",
+    "normalize_action",
+    "delta_solver_config",
+    "drive_mode",
+    "mimic",
+)
+# bounds of pd_base_forward_vel's 2-D action (forward speed, turn rate), not per joint
+FORWARD_VEL_AXES = ("forward", "turn")
+
+
+def resolve_controller(
+    context: ResolveContext, name: str, config: Any, description_ref: FileRef
+) -> ResolvedController:
+    path: KeyPath = ("controllers", name)
+    joints = select_joints(context, config.joints, (*path, "joints"))
+    kwargs: list[tuple[str, Any]] = [("joint_names", joints)]
+    required = {n for n, f in type(config).model_fields.items() if f.is_required()}
+    for field_name in type(config).model_fields:
+        if field_name in ("type", "joints"):
+            continue
+        if field_name not in config.model_fields_set and field_name not in required:
+            continue
+        value = getattr(config, field_name)
+        field_path = (*path, field_name)
+        if config.type == "pd_base_forward_vel" and field_name in ("lower", "upper"):
+            value = per_joint_values(context, value, FORWARD_VEL_AXES, field_path)
+        elif field_name in PER_JOINT_FIELDS:
+            value = per_joint_values(context, value, joints, field_path)
+        elif field_name == "mimic":
+            value = mimic_map(context, value, joints, field_path)
+        elif field_name in ("ee_link", "root_link_name") and value is not None:
+            link(context, value, field_path)
+        elif field_name == "urdf_path" and value is not None:
+            value = file_ref(context, value, field_path)
+        elif field_name == "delta_solver_config" and value is not None:
+            value = value.model_dump()
+        kwargs.append((field_name, value))
+    if config.type in ("pd_ee_pos", "pd_ee_pose") and "urdf_path" not in config.model_fields_set:
+        # ManiSkill's own agents pass their URDF to the IK controller; so do we
+        kwargs.append(("urdf_path", description_ref))
+    kwargs.sort(key=lambda item: KWARG_ORDER.index(item[0]))
+    group = (
+        config.joints
+        if isinstance(config.joints, str) and config.joints in context.spec.groups
+        else None
+    )
+    return ResolvedController(name, config.type, tuple(kwargs), joints_group=group)
+
+
+def per_joint_values(
+    context: ResolveContext, value: Any, joints: Sequence[str], path: KeyPath
+) -> Any:
+    """A scalar stays a scalar; a list must have one value per joint; a mapping by
+    joint or group name becomes a list in the controller's joint order."""
+    if isinstance(value, list):
+        if len(value) != len(joints):
+            context.err(
+                path, "RS102", f"expected {len(joints)} values (one per joint), got {len(value)}"
+            )
+        return list(value)
+    if not isinstance(value, dict):
+        return value
+    by_joint: dict[str, Any] = {}
+    for key, item in value.items():
+        for joint in select_joints(context, key, (*path, key)):
+            if joint not in joints:
+                context.err(
+                    (*path, key), "RS201", f"joint '{joint}' is not driven by this controller"
+                )
+            by_joint[joint] = item
+    missing = [j for j in joints if j not in by_joint]
+    # a name that did not bind is reported already: the joints it meant are not "missing" too
+    if missing and all(bound_joints(context, (*path, key)) is not None for key in value):
+        context.err(path, "RS102", "no value for joint(s) " + ", ".join(missing))
+    return [by_joint.get(j) for j in joints]
+
+
+def mimic_map(
+    context: ResolveContext, value: dict[str, Any], joints: Sequence[str], path: KeyPath
+) -> dict[str, dict[str, Any]]:
+    """ManiSkill's ``mimic`` argument: follower -> {"joint": leader, multiplier?, offset?}."""
+    result: dict[str, dict[str, Any]] = {}
+    for follower, target in value.items():
+        leader = target if isinstance(target, str) else target.joint
+        entry: dict[str, Any] = {"joint": leader}
+        if isinstance(target, MimicTarget):
+            entry.update(
+                {
+                    k: getattr(target, k)
+                    for k in ("multiplier", "offset")
+                    if k in target.model_fields_set
+                }
+            )
+        for joint in (follower, leader):
+            if joint not in joints and context.description.joint(joint) is None:
+                context.err(
+                    (*path, follower),
+                    "RS201",
+                    f"unknown joint '{joint}'",
+                    did_you_mean(joint, joints),
+                )
+        result[follower] = entry
+    return result

@@ -1,0 +1,166 @@
+"""The files a spec names — its robot description above all — found and loaded.
+
+A path in a spec is relative to the spec file, or starts with ``{maniskill_assets}`` or
+``{maniskill_data}`` (ManiSkill's folders). The description is parsed here, once (xacro
+expanded first), and its diagnostics are shown under the path the user wrote, never this
+machine's absolute path.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Literal
+
+from robospec.diagnostics import Diagnostic, Location
+from robospec.load.source_map import KeyPath
+from robospec.resolve.context import ResolveContext
+from robospec.resolve.paths import (
+    maniskill_assets_dir,
+    maniskill_data_dir,
+    split_assets,
+    split_data,
+)
+from robospec.resolve.resolved import FileRef
+
+
+def file_ref(
+    context: ResolveContext, text: str, path: KeyPath, *, may_be_missing: bool = False
+) -> FileRef | None:
+    """The file ``text`` names; RS050 (and None) when it is not a readable file."""
+    in_assets = split_assets(text)
+    in_data = split_data(text)
+    if in_data is not None:
+        ref = FileRef("maniskill_data", in_data, maniskill_data_dir() / in_data)
+    elif in_assets is not None:
+        assets = maniskill_assets_dir()
+        if assets is None:
+            context.err(
+                path,
+                "RS050",
+                f"'{text}' names ManiSkill's assets, but ManiSkill is not installed",
+                "pip install 'robospec[maniskill]'",
+            )
+            return None
+        ref = FileRef("maniskill_assets", in_assets, assets / in_assets)
+    else:
+        ref = FileRef("file", text, (context.spec_file.parent / text).resolve())
+    try:
+        found = ref.absolute.is_file()
+        exists = found or ref.absolute.exists()
+    except OSError as exc:  # a name too long for the file system, a loop of links, ...
+        context.err(path, "RS050", f"cannot use '{text}' as a file: {exc.strerror or exc}")
+        return None
+    if exists and not found:  # a folder or a FIFO: there, but not a file to read
+        what = "a folder" if ref.absolute.is_dir() else "not a regular file"
+        context.err(path, "RS050", f"cannot use '{text}' as a file: it is {what}")
+        return None
+    if not found:
+        if may_be_missing:
+            return ref
+        context.err(
+            path,
+            "RS050",
+            f"file not found: '{text}'",
+            f"looked for {ref.absolute}" if ref.kind == "file" else None,
+        )
+        return None
+    return ref
+
+
+def shown_path(context: ResolveContext, ref: FileRef) -> str:
+    """How diagnostics name ``ref``: as the spec wrote it, relative to where robospec ran."""
+    return ref.placeholder_text or str(Path(context.loaded.path).parent / ref.relative)
+
+
+def load_spec_description(context: ResolveContext) -> FileRef | None:
+    """Load the description the spec's ``description:`` names (into the context)."""
+    from robospec.description import load_description
+
+    desc = context.spec.description
+    assert desc is not None
+    path: KeyPath = ("description", desc.kind)
+    ref = file_ref(context, desc.path, path, may_be_missing=bool(desc.download))
+    if ref is None:
+        return None
+    shown = shown_path(context, ref)
+    if not ref.absolute.is_file():  # a download ManiSkill has not fetched yet
+        from robospec.description.assumed import assumed_description
+
+        context.warn(
+            path,
+            "RS055",
+            f"'{desc.path}' is not downloaded: joint and link names are not checked",
+            "python -m mani_skill.utils.download_asset " + " ".join(desc.download),
+        )
+        context.assumed = True
+        context.loaded_description = assumed_description(context.spec, shown)
+        return ref
+    if desc.kind == "xacro":
+        from robospec.description.xacro import expand_xacro
+
+        args = {k: _xacro_arg(v) for k, v in desc.args.items()}
+        text, diags = expand_xacro(str(ref.absolute), args)
+        context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
+        if text is None:
+            return None
+        description, diags = load_description(str(ref.absolute), "urdf", text=text)
+        context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown + " (expanded)"))
+        ref = FileRef(ref.kind, ref.relative, ref.absolute, generated_text=text)
+    else:
+        description, diags = load_description(str(ref.absolute), desc.kind)
+        context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
+    context.loaded_description = description
+    return ref if description is not None else None
+
+
+def load_inherited_description(
+    context: ResolveContext, base: Any
+) -> tuple[FileRef | None, Literal["urdf", "mjcf"]]:
+    """The description an ``extends`` class names, for a spec that gives none."""
+    from robospec.description import load_description
+
+    text = getattr(base, "mjcf_path", None) or getattr(base, "urdf_path", None)
+    kind: Literal["urdf", "mjcf"] = "mjcf" if getattr(base, "mjcf_path", None) else "urdf"
+    if not isinstance(text, str):
+        context.err(
+            ("extends",),
+            "RS220",
+            "the extended class names no urdf_path or mjcf_path",
+            "add a description to the spec",
+        )
+        return None, kind
+    assets = maniskill_assets_dir()
+    path = Path(text)
+    if assets is not None and path.is_relative_to(assets):
+        ref = FileRef("maniskill_assets", path.relative_to(assets).as_posix(), path)
+    else:
+        ref = FileRef("file", text, path)
+    if not path.is_file():
+        context.err(("extends",), "RS050", f"the extended class's description is missing: {text}")
+        return None, kind
+    description, diags = load_description(str(path), kind)
+    context.diagnostics.extend(_relocate(diags, str(path), shown_path(context, ref)))
+    context.loaded_description = description
+    return (ref if description is not None else None), kind
+
+
+def _xacro_arg(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def _relocate(diagnostics: list[Diagnostic], absolute: str, shown: str) -> list[Diagnostic]:
+    """Show description diagnostics under the path the user wrote, not this machine's path."""
+    out = []
+    for d in diagnostics:
+        if d.location.file == absolute:
+            d = Diagnostic(
+                Location(shown, d.location.line, d.location.column),
+                d.code,
+                d.severity,
+                d.message,
+                d.hint,
+            )
+        out.append(d)
+    return out

@@ -1,0 +1,58 @@
+"""Keyframes: joint values written by joint or group name become arrays in qpos order.
+
+Only a keyframe whose values cover every active joint exactly gets an array; what is wrong with
+the others (a value short, a joint set twice, a value past a limit) is the checks' to say
+(RS303, RS313, RS304), from the bindings recorded here.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from robospec.load.source_map import KeyPath
+from robospec.model.frozen import Keyframe
+from robospec.resolve.context import ResolveContext
+from robospec.resolve.poses import position_and_quaternion
+from robospec.resolve.resolved import ResolvedKeyframe
+from robospec.resolve.selection import select_joints
+
+NEEDS_DOWNLOAD = (
+    "this needs the robot description, which is not downloaded",
+    "write the values as one full list in qpos order, or download the robot's assets",
+)
+
+
+def resolve_keyframe(context: ResolveContext, name: str, frame: Keyframe) -> ResolvedKeyframe:
+    path: KeyPath = ("keyframes", name)
+    p, q = position_and_quaternion(frame.pose)
+    return ResolvedKeyframe(
+        name=name,
+        p=p,
+        q=q,
+        qpos=joint_values(context, frame.qpos, (*path, "qpos")),
+        qvel=joint_values(context, frame.qvel, (*path, "qvel")),
+    )
+
+
+def joint_values(context: ResolveContext, values: Any, path: KeyPath) -> tuple[float, ...] | None:
+    """One value per active joint, in qpos order; None when they do not cover each exactly."""
+    if values is None:
+        return None
+    active = context.description.active_joint_names
+    if context.assumed:
+        # the joint order is the description's, which is not here: only a full list works
+        if isinstance(values, list):
+            return tuple(values)
+        context.err(path, "RS055", *NEEDS_DOWNLOAD)
+        return None
+    if isinstance(values, list):
+        return tuple(values) if len(values) == len(active) else None
+    by_joint: dict[str, float] = {}
+    for key, item in values.items():
+        joints = select_joints(context, key, (*path, key))
+        items = item if isinstance(item, list) else [item] * len(joints)
+        if len(items) == len(joints):
+            by_joint.update(zip(joints, items, strict=True))
+    if any(joint not in by_joint for joint in active):
+        return None
+    return tuple(by_joint[joint] for joint in active)

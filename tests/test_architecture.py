@@ -1,0 +1,150 @@
+"""The layout the pipeline promises, checked on the source itself: no import cycles anywhere in
+robospec/, and every semantic check (RS3xx) a module of the checks stage, one rule each, with
+its code and a passing and a failing example in its docstring."""
+
+from __future__ import annotations
+
+import ast
+import re
+import sys
+from pathlib import Path
+
+import robospec
+from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS
+
+PACKAGE = Path(robospec.__file__).parent
+
+
+def _modules() -> dict[str, Path]:
+    modules = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts.pop()
+        modules[".".join(parts)] = path
+    return modules
+
+
+def import_graph() -> dict[str, set[str]]:
+    """Module -> the robospec modules it imports, wherever the import statement stands (inside
+    a function or under TYPE_CHECKING too: a cycle hidden in a function is still a cycle).
+    ``from a.b import c`` imports ``a.b`` and, when it is a module, ``a.b.c``."""
+    modules = _modules()
+    graph: dict[str, set[str]] = {name: set() for name in modules}
+    for name, path in modules.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                targets = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                    base = ".".join([*anchor, *([node.module] if node.module else [])])
+                targets = [base, *(f"{base}.{alias.name}" for alias in node.names)]
+            else:
+                continue
+            graph[name].update(t for t in targets if t in modules and t != name)
+    return graph
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for target in sorted(graph[node]):
+            if target not in index:
+                visit(target)
+                low[node] = min(low[node], low[target])
+            elif target in on_stack:
+                low[node] = min(low[node], index[target])
+        if low[node] == index[node]:
+            component = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.append(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 10 * len(graph)))
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return found
+
+
+def test_robospec_has_no_import_cycle() -> None:
+    assert cycles(import_graph()) == []
+
+
+def test_the_cycle_finder_finds_a_cycle_through_a_function_level_import() -> None:
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+    assert cycles(graph) == [["a", "b", "c"]]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_the_import_graph_sees_imports_inside_functions() -> None:
+    graph = import_graph()
+    # robospec/__init__.py imports register only when asked (inside __getattr__)
+    assert "robospec.output.register" in graph["robospec"]
+
+
+SEMANTIC_CODE = re.compile(r"^RS3\d\d$")
+# RS306, a uid already taken, is about what else is registered — ManiSkill's agents, the other
+# specs compiled together, the live registry, `new --uid` — not about one robot: the pipeline,
+# `new` and `register` each check it where they know the rest
+UID_TAKEN = "RS306"
+# modules that name codes without reporting them
+NAMES_CODES_ONLY = {"robospec.diagnostics.codes", "robospec.docgen.code_examples"}
+
+
+def _codes_in(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    return {
+        node.value
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Constant)
+        and isinstance(node.value, str)
+        and SEMANTIC_CODE.match(node.value)
+    }
+
+
+def test_semantic_checks_are_reported_by_the_checks_stage_only() -> None:
+    outside = {
+        (name, code)
+        for name, path in _modules().items()
+        if not name.startswith("robospec.checks") and name not in NAMES_CODES_ONLY
+        for code in _codes_in(path)
+        if code != UID_TAKEN
+    }
+    assert outside == set()
+
+
+def test_each_check_module_is_one_rule_with_its_code_and_examples_and_runs_once() -> None:
+    checks = [*BINDING_CHECKS, *ROBOT_CHECKS]
+    modules = [sys.modules[check.__module__] for check in checks]
+    assert len(set(modules)) == len(modules), "a check registered twice"
+    on_disk = {
+        f"robospec.checks.{path.stem}"
+        for path in (PACKAGE / "checks").glob("*.py")
+        if path.stem not in ("__init__", "context")
+    }
+    assert {m.__name__ for m in modules} == on_disk, "a check module that never runs"
+    for module in modules:
+        doc = module.__doc__ or ""
+        head = doc.split("\n\n", 1)[0]
+        reported = _codes_in(Path(module.__file__ or ""))
+        assert reported, module.__name__
+        assert all(code in head for code in reported), (module.__name__, reported, head)
+        assert "Passing" in doc and "Failing" in doc, module.__name__
