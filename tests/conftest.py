@@ -1,14 +1,225 @@
+"""What every test module shares: the repository's paths, the robospec command line (in this
+process, or in a child process where the process boundary is what a test proves), and the rule
+that marks the tests needing ManiSkill.
+
+ManiSkill tests and the fast loop (``scripts/test --fast``, i.e. ``pytest -m "not maniskill and
+not slow"``):
+
+- a test needs ManiSkill (imports mani_skill, sapien or torch, registers or simulates a robot)
+  when it asks for the ``maniskill`` fixture, directly or through another fixture: it is then
+  marked ``maniskill`` here, by that rule. A module whose every test needs it says so once,
+  ``pytestmark = pytest.mark.maniskill``; when the run deselects that marker such a module is
+  not even imported (its imports of ManiSkill cost seconds).
+- in a run that deselects ``maniskill``, a test that imports mani_skill anyway fails and says
+  to mark it: the fast loop cannot quietly grow slow.
+- a missing ManiSkill is a failure, never a skip: the ``maniskill`` fixture fails, and so does
+  a ``pytest.importorskip`` of mani_skill, sapien or torch (tests/test_install.py names the
+  extra to install).
+"""
+
 from __future__ import annotations
 
+import ast
+import subprocess
+import sys
+from collections.abc import Mapping
+from functools import cache
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
+if TYPE_CHECKING:
+    from click.testing import Result
+
 ROOT = Path(__file__).resolve().parent.parent
 SPECS = ROOT / "specs"
+MANISKILL_SPECS = SPECS / "maniskill"
+PANDA_SPEC = MANISKILL_SPECS / "panda.yaml"
+TWOLINK_SPEC = SPECS / "twolink.toml"
+TWOLINK_XACRO = SPECS / "robots" / "twolink" / "twolink.urdf.xacro"
+SCHEMA = ROOT / "schemas" / "robospec.schema.json"
+DOCS = ROOT / "docs"
+# the catalogue of failing and passing examples, one folder per diagnostic code; the docs pages
+# are generated from it (robospec.docgen.code_examples) and tests/test_spec_examples.py runs it
+CODE_EXAMPLES = DOCS / "examples" / "codes"
+# specs that must validate cleanly and that no shipped robot covers (hooks, helpers, ...)
+POSITIVE_SPECS = ROOT / "tests" / "specs" / "positive"
+
+# what the maniskill extra brings that a test may import
+MANISKILL_MODULES = ("mani_skill", "sapien", "torch")
+MANISKILL_MARK = "maniskill"
+INSTALL_MANISKILL = (
+    "the maniskill extra is not installed: run scripts/setup (pip install -e '.[maniskill]')"
+)
+
+
+# -- the robospec command line
+
+
+def run_robospec(
+    *args: str,
+    cwd: Path = ROOT,
+    env: Mapping[str, str] | None = None,
+    timeout: float = 120,
+) -> subprocess.CompletedProcess[str]:
+    """``robospec ARGS`` in a child process, as a user's shell runs it: for what only a process
+    shows (exit status, what reaches stdout and stderr, imports, signals, the fast path)."""
+    return subprocess.run(
+        [sys.executable, "-m", "robospec.cli", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=None if env is None else dict(env),
+    )
+
+
+def invoke_robospec(*args: str, env: Mapping[str, str | None] | None = None) -> Result:
+    """``robospec ARGS`` through the typer app in this process (no interpreter start-up, and
+    modules already imported stay imported): for what the command does, not how a process ends.
+    Exceptions are caught and left on the result (``result.exception``); ``env`` maps a
+    variable to None to unset it."""
+    from typer.testing import CliRunner
+
+    from robospec.cli import app
+
+    return CliRunner().invoke(app, list(args), env=None if env is None else dict(env))
+
+
+# -- ManiSkill
+
+
+@pytest.fixture(scope="session")
+def maniskill() -> ModuleType:
+    """ManiSkill with its environments registered. A test that asks for it is marked
+    ``maniskill`` (the rule below); without the extra it fails, naming what to install."""
+    try:
+        import mani_skill.envs  # noqa: F401  (registers the environments)
+    except ImportError as error:
+        pytest.fail(f"{INSTALL_MANISKILL} ({error})", pytrace=False)
+    return sys.modules["mani_skill"]
+
+
+def _deselects(config: pytest.Config, marks: set[str]) -> bool:
+    """Whether ``-m`` leaves out every test carrying ``marks``, whatever else it carries."""
+    expression = config.getoption("markexpr", "")
+    if not expression:
+        return False
+    from _pytest.mark.expression import Expression
+
+    compiled = Expression.compile(expression)
+    # an expression like "not maniskill and not slow": false for the marks, whatever the rest
+    return not any(
+        compiled.evaluate(lambda name, /, rest=rest, **_: name in marks or rest)
+        for rest in (False, True)
+    )
+
+
+def _fast_run(config: pytest.Config) -> bool:
+    return _deselects(config, {MANISKILL_MARK})
+
+
+@cache
+def _marked_whole_module(path: Path) -> bool:
+    """The module says ``pytestmark = pytest.mark.maniskill`` (alone or in a list)."""
+    try:
+        tree = ast.parse(path.read_bytes(), filename=str(path))
+    except (OSError, SyntaxError):
+        return False  # let pytest import it and report the problem
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(
+            isinstance(target, ast.Name) and target.id == "pytestmark" for target in node.targets
+        ):
+            return any(
+                isinstance(part, ast.Attribute)
+                and part.attr == MANISKILL_MARK
+                and isinstance(part.value, ast.Attribute)
+                and part.value.attr == "mark"
+                for part in ast.walk(node.value)
+            )
+    return False
+
+
+def pytest_ignore_collect(collection_path: Path, config: pytest.Config) -> bool | None:
+    # every test of such a module would be deselected: do not pay for importing ManiSkill
+    if collection_path.suffix == ".py" and collection_path.name.startswith("test_"):
+        if _fast_run(config) and _marked_whole_module(collection_path):
+            return True
+    return None
+
+
+@pytest.hookimpl(tryfirst=True)  # before -m deselects by marker
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        if MANISKILL_MARK in getattr(item, "fixturenames", ()):
+            item.add_marker(MANISKILL_MARK)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_call(item: pytest.Item) -> Any:
+    imported_before = _imported_maniskill()
+    result = yield
+    if _fast_run(item.config) and not imported_before and _imported_maniskill():
+        pytest.fail(
+            f"{item.nodeid} imported {', '.join(_imported_maniskill())} but is not marked "
+            f"'{MANISKILL_MARK}': ask for the maniskill fixture (or mark the module) so that "
+            "the fast loop leaves it out",
+            pytrace=False,
+        )
+    return result
+
+
+def _imported_maniskill() -> list[str]:
+    return [name for name in MANISKILL_MODULES if name in sys.modules]
+
+
+def _skipped_for_maniskill(report: pytest.TestReport | pytest.CollectReport) -> bool:
+    if not report.skipped or not isinstance(report.longrepr, tuple):
+        return False
+    reason = str(report.longrepr[2])
+    return any(f"could not import '{name}'" in reason for name in MANISKILL_MODULES)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Any:
+    report = yield
+    if _skipped_for_maniskill(report):
+        report.outcome = "failed"
+        report.longrepr = f"{INSTALL_MANISKILL} ({report.longrepr[2]})"
+    return report
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_make_collect_report(collector: pytest.Collector) -> Any:
+    report = yield
+    if _skipped_for_maniskill(report):
+        report.outcome = "failed"
+        report.longrepr = f"{INSTALL_MANISKILL} ({report.longrepr[2]})"
+    return report
+
+
+# -- isolation
 
 
 @pytest.fixture(autouse=True)
 def _isolated_cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):
     # never touch the user's ~/.cache from tests
     monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "cache"))
+
+
+__all__ = [
+    "CODE_EXAMPLES",
+    "DOCS",
+    "MANISKILL_SPECS",
+    "PANDA_SPEC",
+    "POSITIVE_SPECS",
+    "ROOT",
+    "SCHEMA",
+    "SPECS",
+    "TWOLINK_SPEC",
+    "TWOLINK_XACRO",
+    "invoke_robospec",
+    "run_robospec",
+]

@@ -13,9 +13,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
-SCHEMA = ROOT / "schemas" / "robospec.schema.json"
 YAML_LANGUAGE_SERVER = (
     ROOT / "tools" / "editors" / "node_modules" / "yaml-language-server" / "bin"
 ) / "yaml-language-server"

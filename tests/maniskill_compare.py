@@ -1,8 +1,8 @@
 """Shared helpers for tests that compare ManiSkill agent classes with each other.
 
 Used by test_equivalence.py (spec-built agent vs ManiSkill's hand-written one) and
-test_build_matches_register.py (`robospec build` package vs `robospec.register`). Import this
-module only after ``pytest.importorskip("mani_skill")``: it imports numpy and torch.
+test_build_matches_register.py (`robospec build` package vs `robospec.register`). It imports
+numpy and torch: only modules marked ``maniskill`` import it (conftest.py).
 
 Every ``assert_same_*`` function raises AssertionError naming the first difference by its path
 (``pd_ee_pose.arm.rot_lower``), so a failure says what differs without a debugger.
@@ -21,9 +21,7 @@ from typing import Any
 
 import numpy as np
 import torch
-
-ROOT = Path(__file__).resolve().parent.parent
-MANISKILL_SPECS = ROOT / "specs" / "maniskill"
+from conftest import MANISKILL_SPECS
 
 # ManiSkill's uid -> the uid of the spec that reproduces it: every agent ManiSkill registers
 # whose assets ship in the pip package. The spec of ``uid`` is specs/maniskill/<uid>.yaml.

@@ -25,10 +25,10 @@ import pytest
 pytestmark = pytest.mark.maniskill
 pytest.importorskip("mani_skill")
 
+from conftest import ROOT  # noqa: E402
 from maniskill_compare import (  # noqa: E402
     LOADER_FLAGS,
     MANISKILL_SPECS,
-    ROOT,
     TWINS,
     assert_same_controller_configs,
     assert_same_keyframes,

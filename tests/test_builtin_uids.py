@@ -5,9 +5,8 @@ import pytest
 from robospec.maniskill.builtin_uids import MANISKILL_UIDS
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_the_builtin_uid_list_equals_maniskills_registry() -> None:
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401  (imports every agent module)
     from mani_skill.agents.registration import REGISTERED_AGENTS
 

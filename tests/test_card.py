@@ -9,7 +9,7 @@ import re
 from pathlib import Path
 
 import pytest
-from cli_process import robospec
+from conftest import MANISKILL_SPECS, PANDA_SPEC, ROOT, run_robospec
 
 from robospec.authoring.card import mermaid_label, node_ids
 from robospec.authoring.commands import run_doc, run_new
@@ -18,9 +18,6 @@ from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
 
-ROOT = Path(__file__).resolve().parent.parent
-MANISKILL_SPECS = ROOT / "specs" / "maniskill"
-PANDA = MANISKILL_SPECS / "panda.yaml"
 needs_assets = pytest.mark.skipif(
     maniskill_assets_dir() is None, reason="mani_skill's assets are not installed"
 )
@@ -49,7 +46,7 @@ def mermaid(text: str) -> list[str]:
 def test_panda_card_has_the_robot_tree_joints_actions_keyframes_and_cameras(
     tmp_path: Path,
 ) -> None:
-    text = card(PANDA, tmp_path / "panda.md")
+    text = card(PANDA_SPEC, tmp_path / "panda.md")
     assert text.startswith("# rs_panda\n")
     titles = [li for li in text.splitlines() if li.startswith("## ")]
     assert titles == [
@@ -67,10 +64,10 @@ def test_panda_card_has_the_robot_tree_joints_actions_keyframes_and_cameras(
 def test_tree_has_a_node_per_link_and_an_edge_per_joint_thick_for_active_ones(
     tmp_path: Path,
 ) -> None:
-    compiled = compile_spec(PANDA)
+    compiled = compile_spec(PANDA_SPEC)
     assert compiled.description is not None
     description = compiled.description
-    lines = mermaid(card(PANDA, tmp_path / "panda.md"))
+    lines = mermaid(card(PANDA_SPEC, tmp_path / "panda.md"))
     nodes = [li for li in lines if re.fullmatch(r'  \w+\["[^"]*"\]', li)]
     edges = [li for li in lines if "--" in li or "==" in li]
     assert len(nodes) == len(description.links)
@@ -108,7 +105,7 @@ def test_odd_link_names_become_safe_mermaid(tmp_path: Path) -> None:
 
 @needs_assets
 def test_action_layout_lists_each_dimension_with_bounds_and_normalization(tmp_path: Path) -> None:
-    text = card(PANDA, tmp_path / "panda.md")
+    text = card(PANDA_SPEC, tmp_path / "panda.md")
     rows = section(text, "## Action layout")
     delta = rows[rows.index("### pd_joint_delta_pos (8 dims)") :]
     assert delta[4] == (
@@ -162,38 +159,37 @@ def test_spec_with_errors_gets_diagnostics_and_no_card(tmp_path: Path) -> None:
     lines[line] = lines[line].replace("twolink_joint3", "twolink_joint9")
     spec.write_text("\n".join(lines) + "\n")
     out = tmp_path / "bad.md"
-    result = robospec("doc", str(spec), "-o", str(out))
+    result = run_robospec("doc", str(spec), "-o", str(out))
     assert result.returncode == 1
     assert f"{spec}:{line + 1}:" in result.stderr and "error[RS201]" in result.stderr
     assert "Traceback" not in result.stderr
     assert not out.exists()
     out.write_text("old card\n")
-    assert robospec("doc", str(spec), "-o", str(out)).returncode == 1
+    assert run_robospec("doc", str(spec), "-o", str(out)).returncode == 1
     assert out.read_text() == "old card\n"
 
 
 @needs_assets
 def test_doc_command_writes_the_card_linking_to_the_spec(tmp_path: Path) -> None:
     out = tmp_path / "cards" / "panda.md"
-    result = robospec("doc", str(PANDA), "-o", str(out))
+    result = run_robospec("doc", str(PANDA_SPEC), "-o", str(out))
     assert result.returncode == 0, result.stderr
     text = out.read_text()
-    assert text == card(PANDA, tmp_path / "cards" / "again.md")
+    assert text == card(PANDA_SPEC, tmp_path / "cards" / "again.md")
     (link,) = re.findall(r"\| spec \| \[`[^`]*`\]\(<([^>]*)>\) \|", text)
-    assert (out.parent / link).resolve() == PANDA.resolve()
+    assert (out.parent / link).resolve() == PANDA_SPEC.resolve()
 
 
 # -- the static layout equals ManiSkill's live controllers -----------------------------------
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::UserWarning")
 @pytest.mark.parametrize(
     "spec", ["panda.yaml", "fetch.yaml", "allegro_hand_right.yaml", "fixed_inspire_hand_right.yaml"]
 )
 def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: str) -> None:
-    pytest.importorskip("mani_skill")
     import numpy as np
 
     from robospec import register
@@ -235,7 +231,7 @@ def test_unwritable_card_is_rs603_and_exit_1(tmp_path: Path) -> None:
     run_new(ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False)
     (tmp_path / "afile").write_text("")
     out = tmp_path / "afile" / "card.md"
-    result = robospec("doc", str(spec), "-o", str(out))
+    result = run_robospec("doc", str(spec), "-o", str(out))
     assert result.returncode == 1
     assert f"{out}:1:1: error[RS603] cannot write {out}" in result.stderr
     assert "Traceback" not in result.stderr

@@ -2,8 +2,8 @@
 located diagnostics instead of tracebacks, and the options that need hardware this machine may
 lack (``--gpu``, ``--render``, a display for ``demo``).
 
-Runs that load robots go through typer's CliRunner (in-process: SAPIEN is imported once); the
-ones that fail before any robot loads run the installed command in a subprocess.
+Runs that load robots go through the typer app in this process (conftest.invoke_robospec: SAPIEN
+is imported once); the ones that fail before any robot loads run the command in a child process.
 """
 
 from __future__ import annotations
@@ -15,21 +15,13 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from conftest import PANDA_SPEC, invoke_robospec, run_robospec
 
 pytestmark = [
     pytest.mark.maniskill,
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::UserWarning"),
 ]
-pytest.importorskip("mani_skill")
-
-from cli_process import robospec  # noqa: E402
-from typer.testing import CliRunner  # noqa: E402
-
-from robospec.cli import app  # noqa: E402
-
-ROOT = Path(__file__).resolve().parent.parent
-PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +46,7 @@ def registry(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
 @pytest.fixture(scope="module")
 def soft_panda(registry: Path) -> Path:
     """The Panda with one mode, pd_joint_pos, whose arm has stiffness 1 (too slow: RS505)."""
-    text = PANDA.read_text(encoding="utf-8")
+    text = PANDA_SPEC.read_text(encoding="utf-8")
     head, _, _ = text.partition("controllers:")
     path = registry / "soft_panda.yaml"
     path.write_text(
@@ -75,11 +67,11 @@ control_modes:
 
 
 def invoke(*args: str):
-    return CliRunner().invoke(app, ["check", *args])
+    return invoke_robospec("check", *args)
 
 
 def test_check_panda_exits_zero_and_steps_reach_the_json_metrics(registry: Path) -> None:
-    result = invoke(str(PANDA), "--steps", "5", "--format", "json")
+    result = invoke(str(PANDA_SPEC), "--steps", "5", "--format", "json")
     assert result.exit_code == 0, result.output
     report = json.loads(result.stdout)
     assert report["summary"]["passed"] == 1 and report["summary"]["errors"] == 0
@@ -120,7 +112,7 @@ def test_check_spec_with_a_syntax_error_is_a_located_error_not_a_traceback(
 ) -> None:
     spec = tmp_path / "broken.yaml"
     spec.write_text('robospec: 1\nuid: rs_broken\ndescription: {urdf: "x.urdf"\n')
-    result = robospec("check", str(spec))
+    result = run_robospec("check", str(spec))
     assert result.returncode == 1
     assert "Traceback" not in result.stdout + result.stderr
     (located,) = [line for line in result.stdout.splitlines() if "error[" in line]
@@ -132,7 +124,7 @@ def test_check_spec_with_a_syntax_error_is_a_located_error_not_a_traceback(
 
 def test_check_missing_file_is_a_located_error_not_a_traceback(tmp_path: Path) -> None:
     missing = tmp_path / "no_such_spec.yaml"
-    result = robospec("check", str(missing), "--format", "json")
+    result = run_robospec("check", str(missing), "--format", "json")
     assert result.returncode == 1
     assert "Traceback" not in result.stdout + result.stderr
     report = json.loads(result.stdout)
@@ -148,11 +140,11 @@ def test_check_missing_file_is_a_located_error_not_a_traceback(tmp_path: Path) -
 def test_check_spec_whose_description_is_missing_is_not_checked(tmp_path: Path) -> None:
     spec = tmp_path / "lost.yaml"
     spec.write_text(
-        PANDA.read_text(encoding="utf-8")
+        PANDA_SPEC.read_text(encoding="utf-8")
         .replace("uid: rs_panda", "uid: rs_cli_lost")
         .replace("{maniskill_assets}/robots/panda/panda_v2.urdf", "no/such/robot.urdf")
     )
-    result = robospec("check", str(spec), "--format", "json")
+    result = run_robospec("check", str(spec), "--format", "json")
     assert result.returncode == 1
     assert "Traceback" not in result.stdout + result.stderr
     report = json.loads(result.stdout)
@@ -168,7 +160,7 @@ def test_check_gpu_without_cuda_is_rs511() -> None:
 
     if torch.cuda.is_available():
         pytest.skip("this machine has a CUDA device")
-    result = robospec("check", "--gpu", str(PANDA))
+    result = run_robospec("check", "--gpu", str(PANDA_SPEC))
     assert result.returncode == 1
     assert "Traceback" not in result.stdout + result.stderr
     assert result.stdout.startswith(
@@ -183,7 +175,7 @@ def test_check_render_without_a_render_device_is_rs512(tmp_path: Path) -> None:
     if render_device_error() is None:
         pytest.skip("this machine has a render device")
     images = tmp_path / "images"
-    result = robospec("check", "--render", str(images), str(PANDA), "--format", "json")
+    result = run_robospec("check", "--render", str(images), str(PANDA_SPEC), "--format", "json")
     assert result.returncode == 1
     assert "Traceback" not in result.stdout + result.stderr
     report = json.loads(result.stdout)
@@ -194,17 +186,19 @@ def test_check_render_without_a_render_device_is_rs512(tmp_path: Path) -> None:
 
 def test_demo_without_a_display_is_rs513_not_a_traceback() -> None:
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
-    result = robospec("demo", str(PANDA), env=env)
+    result = run_robospec("demo", str(PANDA_SPEC), env=env)
     assert result.returncode == 1
     assert "Traceback" not in result.stdout + result.stderr
     assert "error[RS513] the viewer needs a screen: no display" in result.stderr
-    assert result.stderr.startswith(f"{PANDA}:1:1: error[RS513]")
+    assert result.stderr.startswith(f"{PANDA_SPEC}:1:1: error[RS513]")
 
 
 def test_demo_unknown_mode_is_rs513_naming_the_modes() -> None:
-    result = CliRunner().invoke(
-        app,
-        ["demo", str(PANDA), "-c", "pd_no_such_mode"],
+    result = invoke_robospec(
+        "demo",
+        str(PANDA_SPEC),
+        "-c",
+        "pd_no_such_mode",
         env={"DISPLAY": None, "WAYLAND_DISPLAY": None},
     )
     assert result.exit_code == 1

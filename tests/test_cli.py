@@ -5,23 +5,21 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
-from cli_process import robospec
+from conftest import ROOT, run_robospec
 
-ROOT = Path(__file__).resolve().parent.parent
 MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
 
 
 def test_validate_of_the_shipped_specs_exits_zero() -> None:
-    result = robospec("validate", "specs/")
+    result = run_robospec("validate", "specs/")
     assert result.returncode == 0, result.stdout + result.stderr
     assert "0 error(s)" in result.stdout
 
 
 def test_misspelled_joint_exits_one_with_the_exact_line_column_and_suggestion() -> None:
-    result = robospec("validate", str(MISSPELLED.relative_to(ROOT)))
+    result = run_robospec("validate", str(MISSPELLED.relative_to(ROOT)))
     assert result.returncode == 1
     first = result.stdout.splitlines()[0]
     assert first == (
@@ -34,7 +32,7 @@ def test_misspelled_joint_exits_one_with_the_exact_line_column_and_suggestion() 
 
 
 def test_json_format_follows_the_diagnostics_contract() -> None:
-    result = robospec("validate", "--format", "json", str(MISSPELLED))
+    result = run_robospec("validate", "--format", "json", str(MISSPELLED))
     assert result.returncode == 1
     report = json.loads(result.stdout)
     assert report["summary"] == {"errors": 1, "warnings": 0, "files": 1}
@@ -44,13 +42,13 @@ def test_json_format_follows_the_diagnostics_contract() -> None:
 
 
 def test_usage_errors_exit_two() -> None:
-    assert robospec("validate").returncode == 2
-    assert robospec("validate", "--format", "yaml", "specs/").returncode == 2
-    assert robospec("frobnicate").returncode == 2
+    assert run_robospec("validate").returncode == 2
+    assert run_robospec("validate", "--format", "yaml", "specs/").returncode == 2
+    assert run_robospec("frobnicate").returncode == 2
 
 
 def test_a_missing_path_is_a_located_error_not_a_traceback() -> None:
-    result = robospec("validate", "no/such/spec.yaml")
+    result = run_robospec("validate", "no/such/spec.yaml")
     assert result.returncode == 1
     assert "no/such/spec.yaml:1:1: error[RS001]" in result.stdout
     assert "Traceback" not in result.stderr
@@ -89,7 +87,7 @@ def test_validate_never_imports_the_heavy_packages(entry: str, heavy: tuple[str,
 
 
 def test_schema_command_prints_the_committed_schema() -> None:
-    result = robospec("schema")
+    result = run_robospec("schema")
     assert result.returncode == 0
     committed = (ROOT / "schemas/robospec.schema.json").read_text(encoding="utf-8")
     assert result.stdout == committed, "run: robospec schema -o schemas/robospec.schema.json"

@@ -7,13 +7,12 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
 from robospec.cli import fast_validate
 
-ROOT = Path(__file__).resolve().parent.parent
 TYPER_PATH = "import sys; from robospec.cli.commands import app; app(prog_name='robospec')"
 BAD = "tests/specs/negative/misspelled_joint.yaml"
 GOOD = "specs/maniskill/panda.yaml"

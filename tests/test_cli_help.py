@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 import typer.main
-from cli_process import ROOT, robospec
+from conftest import ROOT, run_robospec
 
 from robospec.cli import app
 
@@ -20,7 +20,7 @@ COMMANDS = sorted(typer.main.get_command(app).commands)  # type: ignore[attr-def
 
 
 def test_every_command_is_listed_in_the_top_level_help() -> None:
-    result = robospec("--help")
+    result = run_robospec("--help")
     assert result.returncode == 0
     for name in COMMANDS:
         assert name in result.stdout
@@ -28,7 +28,7 @@ def test_every_command_is_listed_in_the_top_level_help() -> None:
 
 @pytest.mark.parametrize("name", COMMANDS)
 def test_every_command_help_shows_an_example_of_itself(name: str) -> None:
-    result = robospec(name, "--help", env={**os.environ, "COLUMNS": "200"})
+    result = run_robospec(name, "--help", env={**os.environ, "COLUMNS": "200"})
     assert result.returncode == 0, result.stderr
     assert f"Example: robospec {name}" in result.stdout
 

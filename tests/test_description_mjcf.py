@@ -348,7 +348,6 @@ def test_every_truncation_of_a_valid_mjcf_yields_diagnostics_not_exceptions() ->
 
 
 def _maniskill_load(paths: list[Path]) -> list[dict[str, Any]]:
-    pytest.importorskip("mani_skill")
     import gymnasium as gym
     import mani_skill.envs  # noqa: F401
     import sapien
@@ -384,7 +383,7 @@ def _maniskill_load(paths: list[Path]) -> list[dict[str, Any]]:
     return facts
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_fixtures_and_humanoid_match_maniskill_mjcf_loader() -> None:
     paths = [DATA / "tree.xml", DATA / "free_root.xml", humanoid_path()]
     for path, facts in zip(paths, _maniskill_load(paths), strict=True):

@@ -325,7 +325,6 @@ def test_description_modules_import_without_heavy_dependencies() -> None:
 
 def _bundled_agents() -> list[tuple[str, str, str]]:
     """(uid, kind, path) of every registered agent whose description ships in the package."""
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401  (registers the agents)
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
@@ -366,7 +365,7 @@ def _same_limit(mine: float | None, sapien: float, sign: int) -> bool:
     return abs(mine - sapien) <= 1e-5 * max(1.0, abs(mine))  # SAPIEN keeps float32
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_parser_matches_sapien_for_every_bundled_maniskill_agent() -> None:
     agents = _bundled_agents()
     assert len(agents) == 24  # ManiSkill 3.0.1 bundles 24 of its 43 agents' descriptions
@@ -395,9 +394,8 @@ def test_parser_matches_sapien_for_every_bundled_maniskill_agent() -> None:
     assert mismatches == []
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_fixture_order_and_limits_match_sapien() -> None:
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401
     import sapien
 

@@ -15,6 +15,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from conftest import DOCS, ROOT
 
 from robospec.diagnostics import has_errors
 from robospec.diagnostics.codes import CODES
@@ -27,8 +28,6 @@ from robospec.docgen.code_examples import (
 from robospec.docgen.code_pages import module_docs
 from robospec.pipeline import compile_spec
 
-ROOT = Path(__file__).resolve().parent.parent
-DOCS = ROOT / "docs"
 EXAMPLES = DOCS / "examples"
 GUIDE_PAGES = ["index.md", "tutorial.md", "cli.md", "editors.md", "ci.md"]
 REGENERATE = "run: python -m robospec.docgen --write docs"

@@ -7,9 +7,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from editor_engines import ROOT, SCHEMA
+from conftest import SCHEMA, SPECS
 
-SPECS = ROOT / "specs"
 MODELINE_PREFIX = {
     ".yaml": "# yaml-language-server: $schema=",
     ".yml": "# yaml-language-server: $schema=",

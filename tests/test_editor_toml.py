@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from editor_engines import ROOT, SCHEMA, narrowed_schema, taplo_executable
+from conftest import SCHEMA, TWOLINK_SPEC
+from editor_engines import narrowed_schema, taplo_executable
 
-TWOLINK = ROOT / "specs" / "twolink.toml"
 # one reported problem: "error: MESSAGE" then, a line later, "┌─ PATH:LINE:COLUMN"
 PROBLEM = re.compile(
     r"^error: (?P<message>.*)\n\s*┌─ (?P<path>.*):(?P<line>\d+):(?P<column>\d+)$", re.M
@@ -98,7 +98,7 @@ def test_schema_option_applies_the_schema_without_a_directive(tmp_path: Path) ->
 
 
 def test_twolink_spec_lints_clean_through_its_own_directive() -> None:
-    lint = taplo_lint(TWOLINK)
+    lint = taplo_lint(TWOLINK_SPEC)
     assert lint.returncode == 0, lint.output
 
 
@@ -106,7 +106,7 @@ def test_relative_schema_directive_resolves_against_the_spec_file(tmp_path: Path
     # the twolink text with one unknown key, its directive rewritten relative to where the copy
     # lives: proves a relative directive like the committed one reaches the schema
     relative = Path(os.path.relpath(SCHEMA, tmp_path)).as_posix()
-    body = TWOLINK.read_text().split("\n", 1)[1]
+    body = TWOLINK_SPEC.read_text().split("\n", 1)[1]
     spec = tmp_path / "twolink_edited.toml"
     spec.write_text(f"#:schema {relative}\nuid_typo = 1\n{body}")
     lint = taplo_lint(spec)
@@ -116,18 +116,20 @@ def test_relative_schema_directive_resolves_against_the_spec_file(tmp_path: Path
 @pytest.fixture(scope="module")
 def twolink_schema(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The schema narrowed to the twolink robot by `robospec schema --for`."""
-    return narrowed_schema(TWOLINK, tmp_path_factory.mktemp("narrowed") / "twolink.schema.json")
+    return narrowed_schema(
+        TWOLINK_SPEC, tmp_path_factory.mktemp("narrowed") / "twolink.schema.json"
+    )
 
 
 def test_narrowed_schema_accepts_the_twolink_spec(twolink_schema: Path) -> None:
-    lint = taplo_lint(TWOLINK, "--schema", twolink_schema.as_uri())
+    lint = taplo_lint(TWOLINK_SPEC, "--schema", twolink_schema.as_uri())
     assert lint.returncode == 0, lint.output
 
 
 def test_narrowed_schema_flags_a_misspelled_joint_name(
     twolink_schema: Path, tmp_path: Path
 ) -> None:
-    text = TWOLINK.read_text().split("\n", 1)[1]
+    text = TWOLINK_SPEC.read_text().split("\n", 1)[1]
     typo = 'twolink_joint2 = "-pi/4"'
     assert text.count(typo) == 1
     spec = tmp_path / "twolink_typo.toml"

@@ -12,12 +12,12 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from editor_engines import ROOT, SCHEMA, narrowed_schema, yaml_language_server_argv
+from conftest import PANDA_SPEC, ROOT, SCHEMA
+from editor_engines import narrowed_schema, yaml_language_server_argv
 from lsp_client import JsonObject, LspClient
 
 from robospec.model.rules import CONTROLLER_TYPES as CONTROLLER_TYPE_NAMES
 
-PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
 YAML_SPECS = sorted((ROOT / "specs").rglob("*.yaml"))
 PANDA_JOINTS = {f"panda_joint{i}" for i in range(1, 8)} | {
     "panda_finger_joint1",
@@ -107,7 +107,7 @@ def test_wrong_type_is_flagged_at_the_value(
 
 @pytest.mark.parametrize("spec", YAML_SPECS, ids=lambda p: p.relative_to(ROOT).as_posix())
 def test_repo_spec_has_no_errors_through_its_own_modeline(server: LspClient, spec: Path) -> None:
-    assert PANDA in YAML_SPECS
+    assert PANDA_SPEC in YAML_SPECS
     found = starts(errors(server.diagnostics(server.open(spec, "yaml"))))
     assert not found, found
 
@@ -115,8 +115,8 @@ def test_repo_spec_has_no_errors_through_its_own_modeline(server: LspClient, spe
 def test_panda_modeline_reaches_the_schema(server: LspClient) -> None:
     # the same text with one unknown key, at a sibling URI so the relative modeline resolves the
     # same way: proves the clean result above comes from a schema that was found and applied
-    edited = PANDA.read_text().replace("\nuid:", "\nuid_typo: 1\nuid:", 1)
-    uri = server.open(PANDA.with_name("_edited_panda.yaml"), "yaml", text=edited)
+    edited = PANDA_SPEC.read_text().replace("\nuid:", "\nuid_typo: 1\nuid:", 1)
+    uri = server.open(PANDA_SPEC.with_name("_edited_panda.yaml"), "yaml", text=edited)
     messages = [d["message"] for d in errors(server.diagnostics(uri))]
     assert any("uid_typo" in message for message in messages), messages
 
@@ -157,7 +157,7 @@ def test_completion_of_controller_type_offers_every_controller_type(
 @pytest.fixture(scope="module")
 def panda_schema(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The schema narrowed to the Panda by `robospec schema --for`."""
-    return narrowed_schema(PANDA, tmp_path_factory.mktemp("narrowed") / "panda.schema.json")
+    return narrowed_schema(PANDA_SPEC, tmp_path_factory.mktemp("narrowed") / "panda.schema.json")
 
 
 def test_narrowed_schema_completes_joint_names_in_keyframe_qpos(
@@ -241,9 +241,9 @@ def test_narrowed_schema_flags_a_misspelled_name_at_the_name(
 
 def test_narrowed_schema_accepts_the_panda_spec(server: LspClient, panda_schema: Path) -> None:
     # the Panda's own text, its modeline swapped for the narrowed schema
-    text = PANDA.read_text().split("\n", 1)[1]
+    text = PANDA_SPEC.read_text().split("\n", 1)[1]
     uri = server.open(
-        PANDA.with_name("_narrowed_panda.yaml"),
+        PANDA_SPEC.with_name("_narrowed_panda.yaml"),
         "yaml",
         text=f"# yaml-language-server: $schema={panda_schema.as_uri()}\n{text}",
     )

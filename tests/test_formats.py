@@ -16,7 +16,7 @@ from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
 import pytest
-from cli_process import robospec
+from conftest import ROOT, run_robospec
 from jsonschema import Draft202012Validator, FormatChecker
 
 from robospec.diagnostics import Location, error, sort_key
@@ -27,7 +27,6 @@ from robospec.reporting.excerpt import span_width
 from robospec.reporting.github import annotation
 from robospec.reporting.sarif import sarif_log
 
-ROOT = Path(__file__).resolve().parent.parent
 NEGATIVE = ROOT / "tests/specs/negative"
 MISSPELLED = "tests/specs/negative/misspelled_joint.yaml"
 UNKNOWN_KEY = "tests/specs/negative/unknown_key.yaml"
@@ -52,7 +51,7 @@ def sarif_errors(document: object) -> list[str]:
 
 
 def test_text_shows_the_source_line_and_underlines_the_misspelled_joint() -> None:
-    result = robospec("validate", MISSPELLED, env=plain_env())
+    result = run_robospec("validate", MISSPELLED, env=plain_env())
     assert result.returncode == 1
     header, source, carets, hint, summary = result.stdout.splitlines()
     assert header == (
@@ -82,7 +81,7 @@ def test_text_first_lines_are_exactly_the_diagnostics_one_line_form() -> None:
 
 
 def test_text_underlines_a_key_and_a_quoted_value() -> None:
-    result = robospec(
+    result = run_robospec(
         "validate", UNKNOWN_KEY, "tests/specs/negative/bad_expression.yaml", env=plain_env()
     )
     lines = result.stdout.splitlines()
@@ -105,7 +104,7 @@ def test_text_excerpt_comes_from_the_robot_description_when_the_urdf_is_wrong(
         "controllers:\n  arm: {type: pd_joint_pos, joints: [j1], lower: -1, upper: 1,"
         " stiffness: 1e3, damping: 1e2}\ncontrol_modes:\n  pd: {arm: arm}\n"
     )
-    result = robospec("validate", "spec.yaml", cwd=tmp_path, env=plain_env())
+    result = run_robospec("validate", "spec.yaml", cwd=tmp_path, env=plain_env())
     lines = result.stdout.splitlines()
     assert lines[0].startswith("robot.urdf:7:1: error[RS052]"), result.stdout
     assert lines[1] == '  7 |     <axis xyz="0 1"/> <!-- expect RS052 -->'
@@ -113,7 +112,7 @@ def test_text_excerpt_comes_from_the_robot_description_when_the_urdf_is_wrong(
 
 
 def test_text_has_no_excerpt_when_the_file_cannot_be_read() -> None:
-    result = robospec("validate", "no/such/spec.yaml", env=plain_env())
+    result = run_robospec("validate", "no/such/spec.yaml", env=plain_env())
     assert result.stdout.splitlines()[0].startswith("no/such/spec.yaml:1:1: error[RS001]")
     assert not any(" | " in line for line in result.stdout.splitlines())
 
@@ -124,7 +123,7 @@ def test_text_shows_control_characters_in_the_source_as_replacement_characters(
     # an escape sequence in a spec must not reach the terminal through the excerpt (YAML rejects
     # the file, RS002, and the excerpt shows the line with the character)
     (tmp_path / "spec.yaml").write_text("robospec: 1  # \x1b[2J\nuid: rs_x\n")
-    result = robospec("validate", "spec.yaml", cwd=tmp_path, env=plain_env())
+    result = run_robospec("validate", "spec.yaml", cwd=tmp_path, env=plain_env())
     assert "error[RS002]" in result.stdout
     assert "\x1b" not in result.stdout
     excerpt = [line for line in result.stdout.splitlines() if line.startswith("  1 |")]
@@ -132,7 +131,7 @@ def test_text_shows_control_characters_in_the_source_as_replacement_characters(
 
 
 def test_piped_text_has_no_colour() -> None:
-    result = robospec("validate", MISSPELLED, env=plain_env())
+    result = run_robospec("validate", MISSPELLED, env=plain_env())
     assert "\x1b[" not in result.stdout
 
 
@@ -149,9 +148,9 @@ def test_piped_text_has_no_colour() -> None:
     ],
 )
 def test_colour_precedence(args: list[str], env: dict[str, str], coloured: bool) -> None:
-    result = robospec("validate", *args, MISSPELLED, env=plain_env(**env))
+    result = run_robospec("validate", *args, MISSPELLED, env=plain_env(**env))
     assert ("\x1b[" in result.stdout) is coloured
-    plain = robospec("validate", MISSPELLED, env=plain_env()).stdout
+    plain = run_robospec("validate", MISSPELLED, env=plain_env()).stdout
     assert ANSI.sub("", result.stdout) == plain  # colour changes nothing else
 
 
@@ -234,7 +233,7 @@ def test_github_annotations_escape_percent_comma_and_colon(tmp_path: Path) -> No
         f'robospec: 1\nuid: rs_fmt_odd\ndescription: {{urdf: "{PANDA}"}}\n'
         '"bad%key, really: yes": 1\n'
     )
-    result = robospec("validate", "--format", "github", folder.name, cwd=tmp_path)
+    result = run_robospec("validate", "--format", "github", folder.name, cwd=tmp_path)
     assert result.returncode == 1
     lines = result.stdout.splitlines()
     assert lines[-1] == "1 file(s) checked: 1 error(s), 0 warning(s)"
@@ -249,7 +248,7 @@ def test_github_annotations_escape_percent_comma_and_colon(tmp_path: Path) -> No
 
 
 def test_github_message_with_a_hint_keeps_it_on_a_second_line() -> None:
-    result = robospec("validate", "--format", "github", MISSPELLED)
+    result = run_robospec("validate", "--format", "github", MISSPELLED)
     line, _summary = result.stdout.splitlines()
     assert line == (
         f"::error file={MISSPELLED},line=6,col=80,title=RS201::unknown joint 'panda_joint77'"
@@ -261,7 +260,7 @@ def test_github_message_with_a_hint_keeps_it_on_a_second_line() -> None:
 
 def test_github_paths_are_relative_to_the_working_directory(tmp_path: Path) -> None:
     # GitHub matches annotations to files by their path in the repository
-    result = robospec("validate", "--format", "github", str(ROOT / MISSPELLED))
+    result = run_robospec("validate", "--format", "github", str(ROOT / MISSPELLED))
     assert result.stdout.startswith(f"::error file={MISSPELLED},line=6,col=80,")
 
 
@@ -274,8 +273,8 @@ def test_github_escapes_carriage_returns() -> None:
 
 
 def test_sarif_of_every_negative_spec_is_valid_and_round_trips_the_json_locations() -> None:
-    sarif = robospec("validate", "--format", "sarif", "tests/specs/negative/")
-    report = robospec("validate", "--format", "json", "tests/specs/negative/")
+    sarif = run_robospec("validate", "--format", "sarif", "tests/specs/negative/")
+    report = run_robospec("validate", "--format", "json", "tests/specs/negative/")
     assert sarif.returncode == report.returncode == 1
     document = json.loads(sarif.stdout)
     assert sarif_errors(document) == []
@@ -317,7 +316,7 @@ def test_sarif_locates_a_file_outside_the_working_directory_by_absolute_uri(
 ) -> None:
     spec = tmp_path / "spec file.yaml"
     spec.write_text((ROOT / UNKNOWN_KEY).read_text())
-    result = robospec("validate", "--format", "sarif", str(spec))
+    result = run_robospec("validate", "--format", "sarif", str(spec))
     document = json.loads(result.stdout)
     assert sarif_errors(document) == []
     (finding,) = document["runs"][0]["results"]
@@ -348,7 +347,7 @@ def test_sarif_rules_link_to_their_docs_when_the_project_has_urls() -> None:
 
 
 def test_sarif_with_no_diagnostics_is_a_valid_empty_run() -> None:
-    result = robospec("validate", "--format", "sarif", "specs/maniskill/panda.yaml")
+    result = run_robospec("validate", "--format", "sarif", "specs/maniskill/panda.yaml")
     assert result.returncode == 0, result.stdout + result.stderr
     document = json.loads(result.stdout)
     assert sarif_errors(document) == []
@@ -360,25 +359,25 @@ def test_sarif_with_no_diagnostics_is_a_valid_empty_run() -> None:
 
 def test_build_reports_in_sarif_and_github(tmp_path: Path) -> None:
     out = tmp_path / "pkg"
-    sarif = robospec("build", UNKNOWN_KEY, "-o", str(out), "--format", "sarif")
+    sarif = run_robospec("build", UNKNOWN_KEY, "-o", str(out), "--format", "sarif")
     assert sarif.returncode == 1
     assert sarif_errors(json.loads(sarif.stdout)) == []
-    github = robospec("build", UNKNOWN_KEY, "-o", str(out), "--format", "github")
+    github = run_robospec("build", UNKNOWN_KEY, "-o", str(out), "--format", "github")
     assert github.returncode == 1
     assert f"::error file={UNKNOWN_KEY},line=5,col=1,title=RS101::" in github.stdout
     assert not out.exists()
 
 
 def test_import_reports_in_github_format_on_stderr() -> None:
-    result = robospec("import", "not-a-target", "--format", "github")
+    result = run_robospec("import", "not-a-target", "--format", "github")
     assert result.returncode == 1
     assert result.stderr.startswith("::error file=<module%3AClass>,line=1,col=1,title=RS400::")
     assert "Traceback" not in result.stderr
 
 
 def test_an_unknown_format_or_colour_is_a_usage_error() -> None:
-    assert robospec("validate", "--format", "xml", MISSPELLED).returncode == 2
-    assert robospec("validate", "--color", "sometimes", MISSPELLED).returncode == 2
+    assert run_robospec("validate", "--format", "xml", MISSPELLED).returncode == 2
+    assert run_robospec("validate", "--color", "sometimes", MISSPELLED).returncode == 2
 
 
 def test_text_excerpt_follows_a_spec_edited_in_the_same_process(

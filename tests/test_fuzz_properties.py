@@ -23,17 +23,15 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+from conftest import ROOT, invoke_robospec
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from typer.testing import CliRunner
 
-from robospec.cli import app
 from robospec.diagnostics import Diagnostic
 from robospec.diagnostics.codes import CODES
 from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
 from robospec.pipeline import compile_spec
 
-ROOT = Path(__file__).resolve().parent.parent
 SCALE = max(int(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 1)
 
 
@@ -303,11 +301,9 @@ def test_the_seeds_cover_both_formats_and_the_shipped_specs() -> None:
 
 # -- the command line ---------------------------------------------------------------------
 
-_RUNNER = CliRunner()
-
 
 def _run(arguments: list[str]) -> Any:
-    return _RUNNER.invoke(app, arguments)
+    return invoke_robospec(*arguments)
 
 
 @budget(12)

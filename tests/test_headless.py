@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import ROOT
 
 from robospec.maniskill.headless import (
     headless_loading,
@@ -17,7 +18,6 @@ from robospec.maniskill.headless import (
     strip_urdf_visuals,
 )
 
-ROOT = Path(__file__).parent.parent
 TREE_URDF = Path(__file__).parent / "data" / "tree.urdf"
 
 
@@ -87,10 +87,9 @@ def _patch_targets() -> dict[str, Any]:
     }
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 @pytest.mark.parametrize("uid", ["fetch", "humanoid", "panda"])
 def test_headless_loading_lets_robots_load_without_a_render_device(uid: str) -> None:
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401
 
     with headless_loading():
@@ -124,9 +123,8 @@ def _rollout(steps: int = 50) -> list[Any]:
         env.close()
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_panda_rollout_is_bit_identical_with_and_without_headless_loading() -> None:
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401
     import torch
 
@@ -140,9 +138,8 @@ def test_panda_rollout_is_bit_identical_with_and_without_headless_loading() -> N
     assert not torch.equal(plain[1], plain[-1])
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_patches_are_gone_after_the_block_even_after_an_error() -> None:
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401
     import sapien
 
@@ -161,9 +158,8 @@ def test_patches_are_gone_after_the_block_even_after_an_error() -> None:
     assert _patch_targets() == before
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_headless_loading_is_reentrant() -> None:
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401
 
     before = _patch_targets()

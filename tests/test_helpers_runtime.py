@@ -12,26 +12,23 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+import torch
+from conftest import POSITIVE_SPECS
+
+import robospec
+from robospec.maniskill.headless import make_empty_env
 
 pytestmark = [
     pytest.mark.maniskill,
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
 ]
-pytest.importorskip("mani_skill")
-
-import torch  # noqa: E402
-
-import robospec  # noqa: E402
-from robospec.maniskill.headless import make_empty_env  # noqa: E402
-
-POSITIVE = Path(__file__).parent / "specs" / "positive"
 
 
 @pytest.fixture(scope="module")
 def agents(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, type]]:
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
-    paths = [POSITIVE / "helpers_all.yaml", POSITIVE / "hooks_extends.yaml"]
+    paths = [POSITIVE_SPECS / "helpers_all.yaml", POSITIVE_SPECS / "hooks_extends.yaml"]
     registered = robospec.register(paths, cache_dir=tmp_path_factory.mktemp("cache"))
     try:
         yield registered
@@ -134,7 +131,7 @@ def test_extends_subclasses_the_python_agent_and_overrides_only_declared_data(
 def test_a_robot_not_downloaded_yet_registers_with_its_download_ids(tmp_path: Path) -> None:
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
-    agents = robospec.register(POSITIVE / "not_downloaded.yaml", cache_dir=tmp_path)
+    agents = robospec.register(POSITIVE_SPECS / "not_downloaded.yaml", cache_dir=tmp_path)
     try:
         cls = agents["rs_test_anymal"]
         assert REGISTERED_AGENTS["rs_test_anymal"].asset_download_ids == ["anymal_c"]

@@ -16,11 +16,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from cli_process import robospec as robospec_process
-from typer.testing import CliRunner
+from conftest import invoke_robospec, run_robospec
 
 import robospec
-from robospec.cli import app
 from robospec.diagnostics.codes import CODES
 from robospec.pipeline import compile_spec
 
@@ -330,11 +328,6 @@ def _from_json(output: str) -> list[tuple[str, str, int, int, str]]:
     ]
 
 
-@pytest.fixture(scope="module")
-def runner() -> CliRunner:
-    return CliRunner()
-
-
 def test_the_unbroken_descriptions_are_valid(tmp_path: Path) -> None:
     for kind, text, name in (("urdf", URDF, "robot.urdf"), ("mjcf", MJCF, "robot.xml")):
         folder = tmp_path / kind
@@ -346,32 +339,28 @@ def test_the_unbroken_descriptions_are_valid(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("case", [c.param() for c in CASES])
-def test_validate_locates_the_defect_in_the_description(
-    case: Broken, tmp_path: Path, runner: CliRunner
-) -> None:
+def test_validate_locates_the_defect_in_the_description(case: Broken, tmp_path: Path) -> None:
     spec, description = _setup(case, tmp_path)
-    result = runner.invoke(app, ["validate", str(spec), "--format", "json"])
+    result = invoke_robospec("validate", str(spec), "--format", "json")
     assert result.exit_code == 1, result.output
     assert result.exception is None or isinstance(result.exception, SystemExit)
     _assert_located(case, description, _from_json(result.stdout), spec)
 
 
 @pytest.mark.parametrize("case", [c.param() for c in CASES])
-def test_build_locates_the_defect_and_writes_nothing(
-    case: Broken, tmp_path: Path, runner: CliRunner
-) -> None:
+def test_build_locates_the_defect_and_writes_nothing(case: Broken, tmp_path: Path) -> None:
     spec, description = _setup(case, tmp_path)
     out = tmp_path / "pkg"
-    result = runner.invoke(app, ["build", str(spec), "-o", str(out), "--format", "json"])
+    result = invoke_robospec("build", str(spec), "-o", str(out), "--format", "json")
     assert result.exit_code == 1, result.output
     _assert_located(case, description, _from_json(result.stdout), spec)
     assert not out.exists()
 
 
 @pytest.mark.parametrize("case", [c.param() for c in CASES])
-def test_inspect_locates_the_defect(case: Broken, tmp_path: Path, runner: CliRunner) -> None:
+def test_inspect_locates_the_defect(case: Broken, tmp_path: Path) -> None:
     _, description = _setup(case, tmp_path)
-    result = runner.invoke(app, ["inspect", str(description), "--format", "json"])
+    result = invoke_robospec("inspect", str(description), "--format", "json")
     assert result.exit_code == 1, result.output
     assert result.exception is None or isinstance(result.exception, SystemExit)
     _assert_located(case, description, _from_json(result.stderr))
@@ -417,7 +406,7 @@ def test_a_real_process_prints_no_traceback(name: str, tmp_path: Path) -> None:
     (case,) = [c for c in CASES if c.name == name]
     spec, description = _setup(case, tmp_path)
     for command in (["validate", str(spec)], ["inspect", str(description)]):
-        result = robospec_process(*command)
+        result = run_robospec(*command)
         assert result.returncode == 1, result.stderr
         assert "Traceback" not in result.stderr + result.stdout
         assert f"[{case.code}]" in result.stderr + result.stdout

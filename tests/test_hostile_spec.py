@@ -17,11 +17,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from cli_process import robospec as robospec_process
-from typer.testing import CliRunner
+from conftest import invoke_robospec, run_robospec
 
 import robospec
-from robospec.cli import app
 from robospec.diagnostics import Diagnostic
 from robospec.diagnostics.codes import CODES
 from robospec.pipeline import compile_spec
@@ -243,17 +241,10 @@ def _errors(diagnostics: list[Diagnostic]) -> list[tuple[str, str, int, int]]:
     ]
 
 
-@pytest.fixture(scope="module")
-def runner() -> CliRunner:
-    return CliRunner()
-
-
 @pytest.mark.parametrize("case", [c.param() for c in SPEC_CASES])
-def test_validate_gives_the_located_code_and_exit_1(
-    case: Hostile, tmp_path: Path, runner: CliRunner
-) -> None:
+def test_validate_gives_the_located_code_and_exit_1(case: Hostile, tmp_path: Path) -> None:
     path = _make(case, tmp_path)
-    result = runner.invoke(app, ["validate", str(path), "--format", "json"])
+    result = invoke_robospec("validate", str(path), "--format", "json")
     assert result.exit_code == 1, result.output
     assert result.exception is None or isinstance(result.exception, SystemExit)
     _assert_located(case, path, _json_errors(result.stdout))
@@ -261,27 +252,25 @@ def test_validate_gives_the_located_code_and_exit_1(
 
 @pytest.mark.parametrize("case", [c.param() for c in SPEC_CASES])
 def test_build_gives_the_located_code_and_writes_no_output_folder(
-    case: Hostile, tmp_path: Path, runner: CliRunner
+    case: Hostile, tmp_path: Path
 ) -> None:
     path = _make(case, tmp_path)
     out = tmp_path / "out_pkg"
-    result = runner.invoke(app, ["build", str(path), "-o", str(out), "--format", "json"])
+    result = invoke_robospec("build", str(path), "-o", str(out), "--format", "json")
     assert result.exit_code == 1, result.output
     assert result.exception is None or isinstance(result.exception, SystemExit)
     _assert_located(case, path, _json_errors(result.stdout))
     assert not out.exists()
 
 
-def test_build_into_an_existing_folder_leaves_it_as_it_was(
-    tmp_path: Path, runner: CliRunner
-) -> None:
+def test_build_into_an_existing_folder_leaves_it_as_it_was(tmp_path: Path) -> None:
     spec = tmp_path / "bad.yaml"
     spec.write_text("a: " + "[" * _DEEP + "]" * _DEEP + "\n")
     out = tmp_path / "pkg"
     out.mkdir()
     (out / "mine.py").write_text("# not robospec's\n")
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    result = runner.invoke(app, ["build", str(spec), "-o", str(out)])
+    result = invoke_robospec("build", str(spec), "-o", str(out))
     assert result.exit_code == 1
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
@@ -342,18 +331,16 @@ def test_a_real_process_prints_no_traceback(name: str, tmp_path: Path) -> None:
     (case,) = [c for c in SPEC_CASES if c.name == name]
     path = _make(case, tmp_path)
     for command in (["validate", str(path)], ["build", str(path), "-o", str(tmp_path / "o")]):
-        result = robospec_process(*command)
+        result = run_robospec(*command)
         assert result.returncode == 1, result.stderr
         assert "Traceback" not in result.stderr + result.stdout
         assert f"[{case.code}]" in result.stderr + result.stdout
         assert not (tmp_path / "o").exists()
 
 
-def test_a_spec_path_longer_than_the_file_system_allows_is_rs001(
-    tmp_path: Path, runner: CliRunner
-) -> None:
+def test_a_spec_path_longer_than_the_file_system_allows_is_rs001(tmp_path: Path) -> None:
     path = tmp_path / ("x" * 300 + ".yaml")
-    result = runner.invoke(app, ["validate", str(path), "--format", "json"])
+    result = invoke_robospec("validate", str(path), "--format", "json")
     assert result.exit_code == 1
     assert result.exception is None or isinstance(result.exception, SystemExit)
     assert [e[1:] for e in _json_errors(result.stdout)] == [("RS001", 1, 1)]
@@ -366,6 +353,6 @@ def test_an_anchor_defined_twice_prints_nothing_on_stderr(tmp_path: Path) -> Non
     path.write_text(
         GOOD_YAML.replace("lower: 0,", "lower: &v 0,").replace("upper: 0.04", "upper: &v 0.04")
     )
-    result = robospec_process("validate", str(path))
+    result = run_robospec("validate", str(path))
     assert result.returncode == 0, result.stdout
     assert result.stderr == ""

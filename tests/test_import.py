@@ -17,20 +17,19 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pytest
-
-from robospec.maniskill.builtin_uids import MANISKILL_UIDS
-
-pytest.importorskip("mani_skill")
-pytestmark = pytest.mark.maniskill
-
-import numpy as np  # noqa: E402  (after the importorskip)
-from maniskill_compare import (  # noqa: E402
+from conftest import invoke_robospec
+from maniskill_compare import (
     LOADER_FLAGS,
     assert_same_controller_configs,
     assert_same_keyframes,
     assert_same_value,
 )
+
+from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+
+pytestmark = pytest.mark.maniskill
 
 ALL_AGENTS = sorted(MANISKILL_UIDS)
 # import errors that report a mistake in the upstream class (the spec leaves the thing out)
@@ -421,11 +420,7 @@ def test_an_imported_spec_registers(registry: dict[str, Any], tmp_path: Path) ->
 
 
 def _cli(*args: str) -> Any:
-    from typer.testing import CliRunner
-
-    from robospec.cli import app
-
-    return CliRunner().invoke(app, ["import", *args])
+    return invoke_robospec("import", *args)
 
 
 @pytest.mark.parametrize(

@@ -9,14 +9,12 @@ import re
 from pathlib import Path
 
 import pytest
-from cli_process import robospec
+from conftest import TWOLINK_XACRO, run_robospec
 
 from robospec.resolve.paths import maniskill_assets_dir
 
-ROOT = Path(__file__).resolve().parent.parent
 ASSETS = maniskill_assets_dir()
 needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
-TWOLINK = ROOT / "specs" / "robots" / "twolink" / "twolink.urdf.xacro"
 LIMIT = '<limit lower="-1" upper="1" effort="5" velocity="2"/>'
 
 
@@ -26,7 +24,7 @@ def robot(path: Path, body: str) -> Path:
 
 
 def inspect_json(path: Path) -> dict:
-    result = robospec("inspect", str(path), "--format", "json")
+    result = run_robospec("inspect", str(path), "--format", "json")
     assert result.returncode == 0, result.stderr
     return json.loads(result.stdout)
 
@@ -50,7 +48,7 @@ def test_panda_active_joints_come_in_qpos_order_with_limits_velocity_and_effort(
 @needs_assets
 def test_panda_mimic_relation_is_printed_as_follower_mimics_leader_times_multiplier_plus_offset():
     assert ASSETS is not None
-    result = robospec("inspect", str(ASSETS / "robots/panda/panda_v2.urdf"))
+    result = run_robospec("inspect", str(ASSETS / "robots/panda/panda_v2.urdf"))
     assert result.returncode == 0, result.stderr
     assert "panda_finger_joint2 mimics panda_finger_joint1 ×1 + 0" in result.stdout
     row = next(line for line in result.stdout.splitlines() if " panda_joint4 " in line)
@@ -76,7 +74,7 @@ def test_tree_indents_each_link_under_its_parent_with_the_joint_that_attaches_it
     depth = {row["link"]: row["depth"] for row in report["tree"]}
     assert depth["panda_link0"] == 0 and depth["panda_link1"] == 1
     assert depth["panda_leftfinger"] == depth["panda_hand"] + 1
-    text = robospec("inspect", str(path)).stdout
+    text = run_robospec("inspect", str(path)).stdout
     line = next(li for li in text.splitlines() if li.strip().startswith("panda_leftfinger "))
     hand = next(li for li in text.splitlines() if li.strip().startswith("panda_hand "))
     assert line.strip() == "panda_leftfinger  <- panda_finger_joint1 (prismatic)"
@@ -94,13 +92,13 @@ def test_continuous_joints_are_unbounded_null_in_json_and_infinite_in_text() -> 
     roll = next(j for j in report["active_joints"] if j["name"] == "upperarm_roll_joint")
     assert (roll["type"], roll["lower"], roll["upper"]) == ("continuous", None, None)
     row = next(
-        li for li in robospec("inspect", str(path)).stdout.splitlines() if "upperarm_roll" in li
+        li for li in run_robospec("inspect", str(path)).stdout.splitlines() if "upperarm_roll" in li
     )
     assert row.split()[3:5] == ["-inf", "inf"]
 
 
 def test_xacro_files_are_expanded_before_inspection() -> None:
-    report = inspect_json(TWOLINK)
+    report = inspect_json(TWOLINK_XACRO)
     assert report["kind"] == "xacro" and report["robot"] == "twolink"
     assert [j["name"] for j in report["active_joints"]] == [
         "twolink_joint1",
@@ -152,11 +150,11 @@ def test_malformed_description_gets_located_diagnostics_and_exit_1(
     body, code, line = MALFORMED[case]
     path = robot(tmp_path / f"{case}.urdf", body)
     for format in ("text", "json"):
-        result = robospec("inspect", str(path), "--format", format)
+        result = run_robospec("inspect", str(path), "--format", format)
         assert result.returncode == 1
         assert "Traceback" not in result.stderr
         assert result.stdout == ""
-    text = robospec("inspect", str(path)).stderr
+    text = run_robospec("inspect", str(path)).stderr
     match = re.search(rf"{re.escape(str(path))}:(\d+):(\d+): error\[{code}\]", text)
     assert match, text
     if line is not None:
@@ -166,12 +164,12 @@ def test_malformed_description_gets_located_diagnostics_and_exit_1(
 def test_unknown_file_type_is_rs600(tmp_path: Path) -> None:
     path = tmp_path / "robot.sdf"
     path.write_text("<sdf/>")
-    result = robospec("inspect", str(path))
+    result = run_robospec("inspect", str(path))
     assert result.returncode == 1
     assert f"{path}:1:1: error[RS600]" in result.stderr
 
 
 def test_missing_file_is_rs050(tmp_path: Path) -> None:
-    result = robospec("inspect", str(tmp_path / "missing.urdf"))
+    result = run_robospec("inspect", str(tmp_path / "missing.urdf"))
     assert result.returncode == 1
     assert "error[RS050]" in result.stderr and "Traceback" not in result.stderr

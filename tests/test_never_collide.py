@@ -322,7 +322,6 @@ def test_the_emitted_agent_sets_the_packed_bits(tmp_path: Path) -> None:
 
 
 def _bundled_descriptions() -> list[tuple[str, str, str]]:
-    pytest.importorskip("mani_skill")
     import mani_skill.envs  # noqa: F401
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
@@ -338,7 +337,7 @@ def _bundled_descriptions() -> list[tuple[str, str, str]]:
     return found
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_loader_bits_match_what_sapien_sets_for_every_bundled_agent() -> None:
     from robospec.description import load_description
     from robospec.maniskill.headless import headless_loading, make_empty_env
@@ -396,9 +395,8 @@ def _contact_pairs(uid: str, keyframe: str) -> set[tuple[str, str]]:
         env.close()
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_never_collide_stops_the_contacts_of_a_folded_arm(tmp_path: Path) -> None:
-    pytest.importorskip("mani_skill")
     import robospec
 
     _assets()
@@ -423,11 +421,10 @@ def test_never_collide_stops_the_contacts_of_a_folded_arm(tmp_path: Path) -> Non
     assert not after & listed
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 def test_two_robots_share_group_2_bits() -> None:
     """What docs/spec.md says about several robots in one scene: group 3 stays 0 on every
     shape, so a bit set on both robots' links also stops the robots colliding with each other."""
-    pytest.importorskip("mani_skill")
     import sapien
 
     from robospec.maniskill.headless import headless_loading

@@ -8,7 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from cli_process import robospec
+from conftest import TWOLINK_XACRO, run_robospec
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
@@ -17,10 +17,8 @@ from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
 from robospec.schema import schema_text
 
-ROOT = Path(__file__).resolve().parent.parent
 ASSETS = maniskill_assets_dir()
 needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
-TWOLINK = ROOT / "specs" / "robots" / "twolink" / "twolink.urdf.xacro"
 LIMIT = '<limit lower="{lo}" upper="{hi}" effort="5" velocity="2"/>'
 
 REAL_ROBOTS = [
@@ -77,11 +75,11 @@ def test_scaffold_of_the_xacro_robot_validates_and_names_it_relative_to_the_spec
     tmp_path: Path,
 ) -> None:
     out = tmp_path / "nested" / "twolink.yaml"
-    data = scaffold(TWOLINK, out)
+    data = scaffold(TWOLINK_XACRO, out)
     validate(out)
     relative = data["description"]["xacro"]
     assert not Path(relative).is_absolute()
-    assert (out.parent / relative).resolve() == TWOLINK.resolve()
+    assert (out.parent / relative).resolve() == TWOLINK_XACRO.resolve()
     assert data["uid"] == "twolink"
     assert data["groups"] == {
         "arm": ["twolink_joint1", "twolink_joint2", "twolink_joint3"],
@@ -194,26 +192,26 @@ def test_modeline_points_at_the_nearest_schema_walking_up_relative(tmp_path: Pat
     (tmp_path / "schemas").mkdir()
     (tmp_path / "schemas" / "robospec.schema.json").write_text("{}")
     out = tmp_path / "specs" / "robots" / "twolink.yaml"
-    scaffold(TWOLINK, out)
+    scaffold(TWOLINK_XACRO, out)
     first = out.read_text().splitlines()[0]
     assert first == "# yaml-language-server: $schema=../../schemas/robospec.schema.json"
 
 
 def test_without_a_schema_to_name_new_writes_one_beside_the_spec(tmp_path: Path) -> None:
     out = tmp_path / "robots" / "twolink.yaml"
-    scaffold(TWOLINK, out)
+    scaffold(TWOLINK_XACRO, out)
     assert out.read_text().splitlines()[0] == "# yaml-language-server: $schema=robospec.schema.json"
     assert (out.parent / "robospec.schema.json").read_text() == schema_text()
     # the next spec in that folder names the same file, and nothing is rewritten
     second = tmp_path / "robots" / "second.yaml"
-    written, _ = run_new(TWOLINK, second, "second", force=False)
+    written, _ = run_new(TWOLINK_XACRO, second, "second", force=False)
     assert written == [second]
     assert second.read_text().splitlines()[0].endswith("$schema=robospec.schema.json")
 
 
 def test_sections_carry_comments_that_explain_them(tmp_path: Path) -> None:
     out = tmp_path / "twolink.yaml"
-    scaffold(TWOLINK, out)
+    scaffold(TWOLINK_XACRO, out)
     text = out.read_text()
     for line in ("groups:", "keyframes:", "controllers:", "control_modes:", "description:"):
         (found,) = [li for li in text.splitlines() if li.startswith(line)]
@@ -223,12 +221,12 @@ def test_sections_carry_comments_that_explain_them(tmp_path: Path) -> None:
 def test_existing_spec_is_never_overwritten_without_force(tmp_path: Path) -> None:
     out = tmp_path / "twolink.yaml"
     out.write_text("mine\n")
-    result = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out))
+    result = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out))
     assert result.returncode == 1
     assert f"{out}:1:1: error[RS601]" in result.stderr
     assert "Traceback" not in result.stderr
     assert out.read_text() == "mine\n"
-    result = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "--force")
+    result = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "--force")
     assert result.returncode == 0, result.stderr
     assert out.read_text().startswith("# yaml-language-server:")
 
@@ -240,7 +238,7 @@ def test_bad_uid_option_is_a_diagnostic_and_nothing_is_written(
     tmp_path: Path, uid: str, code: str
 ) -> None:
     out = tmp_path / "x.yaml"
-    result = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "--uid", uid)
+    result = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "--uid", uid)
     assert result.returncode == 1
     assert f"error[{code}]" in result.stderr and "Traceback" not in result.stderr
     assert not out.exists()
@@ -248,13 +246,13 @@ def test_bad_uid_option_is_a_diagnostic_and_nothing_is_written(
 
 def test_uid_option_is_used(tmp_path: Path) -> None:
     out = tmp_path / "x.yaml"
-    assert scaffold(TWOLINK, out, uid="my_arm")["uid"] == "my_arm"
+    assert scaffold(TWOLINK_XACRO, out, uid="my_arm")["uid"] == "my_arm"
 
 
 def test_malformed_description_gets_located_diagnostics_and_no_spec(tmp_path: Path) -> None:
     urdf = _robot(tmp_path / "bad.urdf", "bad", '<link name="a"/><link name="a"/>\n')
     out = tmp_path / "bad.yaml"
-    result = robospec("new", "--from-urdf", str(urdf), "-o", str(out))
+    result = run_robospec("new", "--from-urdf", str(urdf), "-o", str(out))
     assert result.returncode == 1
     assert f"{urdf}:3:" in result.stderr and "error[RS052]" in result.stderr
     assert "Traceback" not in result.stderr
@@ -266,20 +264,19 @@ def test_robot_without_active_joints_is_rs602(tmp_path: Path) -> None:
     body += '<parent link="a"/><child link="b"/></joint>\n'
     urdf = _robot(tmp_path / "fixed.urdf", "fixed", body)
     out = tmp_path / "fixed.yaml"
-    result = robospec("new", "--from-urdf", str(urdf), "-o", str(out))
+    result = run_robospec("new", "--from-urdf", str(urdf), "-o", str(out))
     assert result.returncode == 1
     assert "error[RS602]" in result.stderr
     assert not out.exists()
 
 
-@pytest.mark.maniskill
+@pytest.mark.usefixtures("maniskill")
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::UserWarning")
 @needs_assets
 def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     tmp_path: Path,
 ) -> None:
-    pytest.importorskip("mani_skill")
     import gymnasium as gym
     import numpy as np
 
@@ -291,9 +288,9 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     assert ASSETS is not None
     out = tmp_path / "panda.yaml"
     panda = ASSETS / "robots/panda/panda_v2.urdf"
-    result = robospec("new", "--from-urdf", str(panda), "-o", str(out), "--uid", "rs_new_panda")
+    result = run_robospec("new", "--from-urdf", str(panda), "-o", str(out), "--uid", "rs_new_panda")
     assert result.returncode == 0, result.stderr
-    check = robospec("validate", str(out))
+    check = run_robospec("validate", str(out))
     assert check.returncode == 0, check.stdout
     register(out)
     for mode in ("pd_joint_pos", "pd_joint_delta_pos"):
@@ -324,10 +321,10 @@ def test_json_format_puts_the_diagnostics_report_on_stdout(tmp_path: Path) -> No
     import json
 
     out = tmp_path / "twolink.yaml"
-    first = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "-f", "json")
+    first = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "-f", "json")
     assert first.returncode == 0, first.stderr
     assert json.loads(first.stdout)["summary"]["errors"] == 0
-    again = robospec("new", "--from-urdf", str(TWOLINK), "-o", str(out), "-f", "json")
+    again = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "-f", "json")
     assert again.returncode == 1
     (diagnostic,) = json.loads(again.stdout)["diagnostics"]
     assert (diagnostic["code"], diagnostic["line"], diagnostic["column"]) == ("RS601", 1, 1)

@@ -14,10 +14,9 @@ from importlib.metadata import entry_points
 from pathlib import Path
 
 import pytest
-from cli_process import robospec
+from conftest import ROOT, run_robospec
 from pre_commit.clientlib import load_manifest
 
-ROOT = Path(__file__).resolve().parent.parent
 MANIFEST = ROOT / ".pre-commit-hooks.yaml"
 
 ARM_URDF = """<robot name="arm">
@@ -57,7 +56,7 @@ def test_hook_entries_are_real_commands_and_options() -> None:
     for hook in hooks().values():
         program, command, *options = hook["entry"].split()
         assert program in scripts  # the console script pip installs into the hook's env
-        help_text = robospec(command, "--help")
+        help_text = run_robospec(command, "--help")
         assert help_text.returncode == 0, help_text.stderr
         for option in options:
             assert option in help_text.stdout
@@ -161,7 +160,7 @@ def commits(repo: Path) -> int:
 def test_validate_hook_rejects_a_commit_with_a_bad_spec(
     scratch_repo: Path, pre_commit_home: Path
 ) -> None:
-    assert robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
+    assert run_robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
     good = commit(scratch_repo, pre_commit_home, "a good spec")
     assert good.returncode == 0, good.stdout + good.stderr
     assert re.search(r"robospec validate\.+Passed", good.stdout), good.stdout
@@ -179,7 +178,7 @@ def test_validate_hook_rejects_a_commit_with_a_bad_spec(
 def test_build_check_hook_rejects_a_commit_that_leaves_the_package_stale(
     scratch_repo: Path, pre_commit_home: Path
 ) -> None:
-    assert robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
+    assert run_robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
     assert commit(scratch_repo, pre_commit_home, "first").returncode == 0
 
     spec = scratch_repo / "specs/good.yaml"
@@ -190,14 +189,14 @@ def test_build_check_hook_rejects_a_commit_that_leaves_the_package_stale(
     assert re.search(r"robospec build --check\.+Failed", stale.stdout), stale.stdout
     assert "pkg: stale" in stale.stdout
 
-    assert robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
+    assert run_robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
     rebuilt = commit(scratch_repo, pre_commit_home, "stiffer, package rebuilt")
     assert rebuilt.returncode == 0, rebuilt.stdout + rebuilt.stderr
     assert commits(scratch_repo) == 2
 
 
 def test_yaml_outside_specs_is_not_validated(scratch_repo: Path, pre_commit_home: Path) -> None:
-    assert robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
+    assert run_robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
     assert commit(scratch_repo, pre_commit_home, "first").returncode == 0
     workflows = scratch_repo / ".github/workflows"
     workflows.mkdir(parents=True)

@@ -12,21 +12,19 @@ from typing import Any
 import jsonschema
 import pytest
 import tomllib
-from cli_process import robospec
+from conftest import PANDA_SPEC, ROOT, run_robospec
 from ruamel.yaml import YAML
 
 from robospec.model.refs import REF_KEY
 from robospec.schema import SCHEMA_ID, spec_schema
 from robospec.schema.command import narrowed_schema_text
 
-ROOT = Path(__file__).resolve().parent.parent
 SPEC_FILES = sorted(
     p
     for folder in ("specs", "tests/specs/positive")
     for p in (ROOT / folder).rglob("*")
     if p.suffix in (".yaml", ".yml", ".toml")
 )
-PANDA = ROOT / "specs/maniskill/panda.yaml"
 MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
 GENERIC = spec_schema()
 
@@ -58,12 +56,12 @@ def markers(node: Any) -> list[str]:
 
 @pytest.fixture(scope="module")
 def panda_schema() -> dict[str, Any]:
-    return narrowed(PANDA)
+    return narrowed(PANDA_SPEC)
 
 
 @pytest.fixture(scope="module")
 def panda_data() -> Any:
-    return load_spec_data(PANDA)
+    return load_spec_data(PANDA_SPEC)
 
 
 @pytest.mark.parametrize("path", SPEC_FILES, ids=lambda p: str(p.relative_to(ROOT)))
@@ -170,13 +168,13 @@ def test_a_glob_is_not_accepted_where_only_an_exact_name_is(
 
 def test_schema_for_writes_the_narrowed_schema_to_a_file(tmp_path: Path) -> None:
     out = tmp_path / "panda.schema.json"
-    result = robospec("schema", "--for", str(PANDA), "-o", str(out))
+    result = run_robospec("schema", "--for", str(PANDA_SPEC), "-o", str(out))
     assert result.returncode == 0, result.stderr
-    assert json.loads(out.read_text(encoding="utf-8")) == narrowed(PANDA)
+    assert json.loads(out.read_text(encoding="utf-8")) == narrowed(PANDA_SPEC)
 
 
 def test_schema_for_a_spec_with_errors_prints_located_diagnostics_and_exits_one() -> None:
-    result = robospec("schema", "--for", str(MISSPELLED.relative_to(ROOT)))
+    result = run_robospec("schema", "--for", str(MISSPELLED.relative_to(ROOT)))
     assert result.returncode == 1
     assert result.stdout == ""
     assert "misspelled_joint.yaml:6:80: error[RS201] unknown joint 'panda_joint77'" in (
@@ -186,14 +184,14 @@ def test_schema_for_a_spec_with_errors_prints_located_diagnostics_and_exits_one(
 
 
 def test_schema_for_a_missing_file_is_a_located_error_not_a_traceback() -> None:
-    result = robospec("schema", "--for", "no/such/spec.yaml")
+    result = run_robospec("schema", "--for", "no/such/spec.yaml")
     assert result.returncode == 1
     assert "error[RS001]" in result.stderr
     assert "Traceback" not in result.stderr
 
 
 def test_schema_for_a_folder_is_a_usage_error() -> None:
-    result = robospec("schema", "--for", "specs")
+    result = run_robospec("schema", "--for", "specs")
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
 

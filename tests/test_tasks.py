@@ -16,22 +16,20 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
+import numpy as np
 import pytest
+import torch
+from maniskill_compare import MANISKILL_SPECS, assert_same_value
+
+import robospec
+from robospec.maniskill.headless import headless_loading
 
 pytestmark = [
     pytest.mark.maniskill,
     pytest.mark.filterwarnings("ignore:__array_wrap__ must accept context:DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
 ]
-pytest.importorskip("mani_skill")
-
-import gymnasium as gym  # noqa: E402
-import numpy as np  # noqa: E402
-import torch  # noqa: E402
-from maniskill_compare import MANISKILL_SPECS, assert_same_value  # noqa: E402
-
-import robospec  # noqa: E402
-from robospec.maniskill.headless import headless_loading  # noqa: E402
 
 TASKS = ["PickCube-v1", "PushCube-v1", "StackCube-v1", "PullCube-v1"]
 SEED = 7

@@ -14,15 +14,8 @@ from __future__ import annotations
 from typing import Any
 
 import pytest
-
-pytestmark = [
-    pytest.mark.maniskill,
-    pytest.mark.filterwarnings("ignore::DeprecationWarning"),
-]
-pytest.importorskip("mani_skill")
-
-import torch  # noqa: E402
-from maniskill_compare import (  # noqa: E402
+import torch
+from maniskill_compare import (
     TWINS,
     assert_same_value,
     make_env,
@@ -30,6 +23,11 @@ from maniskill_compare import (  # noqa: E402
     registered_maniskill_specs,
     shared_cache_dir,
 )
+
+pytestmark = [
+    pytest.mark.maniskill,
+    pytest.mark.filterwarnings("ignore::DeprecationWarning"),
+]
 
 SEED = 11
 STEPS = 8
