@@ -1,15 +1,17 @@
-"""The import-time cache is rebuilt, never trusted, when an entry is broken; and when the cache
-cannot be written at all, `robospec.register` still works (a warning, not a crash).
+"""The import-time cache is rebuilt, never trusted, when an entry is broken or stale; and when
+the cache cannot be written at all, `robospec.register` still works (a warning, not a crash).
 
 Each test fills the cache with the real compiler, breaks the entry the way a crash, a full disk
-or a stray hand would, then registers in this process for the first time: the code that runs is
-the freshly compiled module, never what was planted in the cache.
+or a stray hand would (or changes a file the entry was compiled from), then registers in this
+process for the first time: the code that runs is the freshly compiled module, never what was
+planted in the cache, and the entry is whole and fresh again.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import uuid
@@ -55,6 +57,11 @@ def register_fresh(spec: Path, cache: Path) -> type:
     return cls
 
 
+def loaded_from(cls: type) -> Path:
+    """The module file the class was executed from."""
+    return Path(sys.modules[cls.__module__].__file__ or "")
+
+
 def module_of(entry: Path) -> Path:
     manifest = json.loads((entry / "manifest.json").read_text())
     return entry / manifest["module_file"]
@@ -67,7 +74,7 @@ def plant_canary(module: Path, canary: Path) -> None:
 @pytest.mark.maniskill
 @pytest.mark.parametrize(
     "damage",
-    ["truncated", "garbage bytes", "valid python, wrong content", "empty"],
+    ["truncated", "garbage bytes", "valid python, wrong content", "code appended", "empty"],
 )
 def test_a_damaged_module_in_the_cache_is_rebuilt_not_run(
     spec: Path, tmp_path: Path, damage: str
@@ -82,12 +89,15 @@ def test_a_damaged_module_in_the_cache_is_rebuilt_not_run(
         module.write_bytes(bytes(range(256)) * 8)
     elif damage == "empty":
         module.write_bytes(b"")
+    elif damage == "code appended":  # the generated agent, and then some: still not trusted
+        module.write_bytes(good + CANARY_CODE.format(path=str(canary)).encode())
     else:
         plant_canary(module, canary)
     assert not _entry_is_fresh(entry)
-    register_fresh(spec, cache)
+    cls = register_fresh(spec, cache)
     assert not canary.exists()
     assert module.read_bytes() == good and _entry_is_fresh(entry)
+    assert loaded_from(cls) == module  # the class comes from the rebuilt module
 
 
 @pytest.mark.maniskill
@@ -99,10 +109,13 @@ def test_a_damaged_module_in_the_cache_is_rebuilt_not_run(
 def test_a_damaged_manifest_is_rebuilt(spec: Path, tmp_path: Path, manifest_text: str) -> None:
     cache = tmp_path / "cache"
     entry = fill(spec, cache)
+    module = module_of(entry)
+    good = module.read_bytes()
     (entry / "manifest.json").write_text(manifest_text)
     assert not _entry_is_fresh(entry)
-    register_fresh(spec, cache)
-    assert _entry_is_fresh(entry)
+    cls = register_fresh(spec, cache)
+    assert _entry_is_fresh(entry) and module_of(entry) == module
+    assert module.read_bytes() == good and loaded_from(cls) == module
 
 
 @pytest.mark.maniskill
@@ -126,8 +139,10 @@ def test_a_manifest_naming_a_module_outside_its_entry_is_not_trusted(
     manifest.update(module_file="linked.py")
     (entry / "manifest.json").write_text(json.dumps(manifest))
     assert not _entry_is_fresh(entry)
-    register_fresh(spec, cache)
+    cls = register_fresh(spec, cache)
     assert not canary.exists()
+    assert _entry_is_fresh(entry) and loaded_from(cls) == module_of(entry)
+    assert not os.path.lexists(link)  # the rebuilt entry holds its own module only
 
 
 @pytest.mark.maniskill
@@ -152,9 +167,35 @@ def test_an_entry_replaced_by_something_else_is_rebuilt(
         target.mkdir()
         (target / "inside").write_text("x\n")
     assert not _entry_is_fresh(entry)
-    register_fresh(spec, cache)
+    cls = register_fresh(spec, cache)
     assert entry.is_dir() and _entry_is_fresh(entry)
+    assert loaded_from(cls) == module_of(entry)
     assert [p.name for p in cache.iterdir() if p.name != entry.name] == []  # nothing left over
+
+
+@pytest.mark.maniskill
+def test_changing_a_file_the_entry_was_compiled_from_rebuilds_it(tmp_path: Path) -> None:
+    # twolink: a TOML spec whose xacro description is expanded into the entry
+    robot = tmp_path / "robot"
+    shutil.copytree(ROOT / "specs/robots/twolink", robot)
+    spec = tmp_path / "twolink.toml"
+    text = (ROOT / "specs/twolink.toml").read_text()
+    spec.write_text(
+        text.replace('"robots/twolink/', '"robot/')
+        .replace('uid = "twolink"', f'uid = "rs_cache_{uuid.uuid4().hex[:12]}"')
+        .replace('class_name = "TwoLink"', "")
+    )
+    cache = tmp_path / "cache"
+    entry = fill(spec, cache)
+    expanded = entry / (module_of(entry).stem + ".urdf")
+    assert '<mass value="0.3"/>' in expanded.read_text()  # the hand's
+    xacro = robot / "twolink.urdf.xacro"
+    xacro.write_text(xacro.read_text().replace('hand" mass="0.3"', 'hand" mass="0.45"'))
+    assert not _entry_is_fresh(entry)
+    cls = register_fresh(spec, cache)
+    assert _entry_is_fresh(entry) and loaded_from(cls) == module_of(entry)  # recompiled ...
+    assert '<mass value="0.45"/>' in expanded.read_text()  # ... from the edited xacro
+    assert '<mass value="0.3"/>' not in expanded.read_text()
 
 
 @pytest.mark.maniskill
