@@ -1,8 +1,9 @@
-"""Freeze the pydantic spec models into :mod:`robospec.model.frozen`.
+"""Freeze the pydantic spec models: the source of :mod:`robospec.model.frozen`'s records.
 
-The pydantic models are the source of truth: the JSON Schema, the docs and the freezer read
-them. But importing pydantic and building their validators is most of what `robospec validate`
-used to spend. So this module writes, ahead of time, what those validators are made of:
+The pydantic models are the one source of truth: the JSON Schema, the docs and this freezer
+read them. But importing pydantic and building their validators is most of what `robospec
+validate` would spend. So this module writes what those validators are made of, as the text of
+a Python module:
 
 - one :class:`~robospec.model.record.Record` class per model, with the same name, bases and
   fields, and the behaviour mixins of :mod:`robospec.model.rules`;
@@ -10,16 +11,13 @@ used to spend. So this module writes, ahead of time, what those validators are m
   records and every function is one from :mod:`robospec.model.rules` (the same functions the
   pydantic models run; anything else stops the freezer with the place it was found).
 
-pydantic-core then validates with exactly the rules and messages pydantic would use, and
-``tests/test_frozen_model.py`` fails when the frozen module is out of date or validates any
-spec differently. Regenerate with::
-
-    python -m robospec.model.freeze --write
+pydantic-core then validates with exactly the rules and messages this pydantic uses. The text
+is made by the pydantic installed, for its pydantic-core, and cached
+(:mod:`robospec.model.frozen_cache`); ``python -m robospec.model.freeze`` prints it.
 """
 
 from __future__ import annotations
 
-import argparse
 import functools
 import importlib
 import math
@@ -27,16 +25,16 @@ import sys
 from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
+import pydantic
 import pydantic_core
 from pydantic import BaseModel
+from pydantic._internal import _validators as pydantic_validators
 
-from robospec.model import rules
+import robospec.model.rules as rules
 from robospec.model.common import StrictModel
 
-FROZEN_PATH = Path(__file__).with_name("frozen.py")
 # where the spec models are defined, each after the ones it uses
 MODEL_MODULES = (
     "robospec.model.common",
@@ -46,11 +44,8 @@ MODEL_MODULES = (
     "robospec.model.spec",
 )
 _DROPPED_KEYS = frozenset({"metadata", "serialization"})
-# pydantic's own constraint functions, for constraints on a value a function made
-_CONSTRAINTS = {
-    "greater_than_validator": rules.greater_than,
-    "greater_than_or_equal_validator": rules.greater_than_or_equal,
-}
+# pydantic's own checks of constraints on a value a function made, and their twins in rules
+_CONSTRAINTS = {"gt": rules.greater_than, "ge": rules.greater_than_or_equal}
 
 
 class FreezeError(Exception):
@@ -61,8 +56,7 @@ class FreezeError(Exception):
 class Ref:
     """A name in the frozen module standing for a class or a function."""
 
-    source: str  # as written in robospec/model/frozen.py
-    target: Any  # what it stands for once imported
+    source: str  # as written in the frozen module's text
 
 
 def model_classes() -> list[type[StrictModel]]:
@@ -96,26 +90,20 @@ def _all_subclasses(cls: type) -> set[type]:
     return out
 
 
-def frozen_schemas(records: dict[str, Any] | None = None) -> dict[str, Any]:
+def frozen_schemas() -> dict[str, Any]:
     """Each model's pydantic-core schema, by class name, as a tree of plain data and
-    :class:`Ref`s. ``records``: the record classes the refs stand for (by name), if known."""
+    :class:`Ref`s."""
     out: dict[str, Any] = {}
     for cls in model_classes():
         # pydantic inlines a nested model's schema as it finds it, built or not, so a schema's
         # shape depends on what was built before: rebuild all, nested models first (they are
         # defined first), for the same schemas in every process
         cls.model_rebuild(force=True)
-        out[cls.__name__] = _convert(cls.__pydantic_core_schema__, cls.__name__, records or {})
+        out[cls.__name__] = _convert(cls.__pydantic_core_schema__, cls.__name__)
     return out
 
 
-def live_schemas(records: dict[str, Any]) -> dict[str, Any]:
-    """Every model's schema with the refs replaced by what they stand for: what a pydantic-core
-    other than the frozen module's validates with (see :mod:`robospec.model.core`)."""
-    return {name: _materialize(tree) for name, tree in frozen_schemas(records).items()}
-
-
-def _convert(node: Any, where: str, records: dict[str, Any]) -> Any:
+def _convert(node: Any, where: str) -> Any:
     if isinstance(node, dict):
         out: dict[str, Any] = {}
         for key, value in node.items():
@@ -124,43 +112,64 @@ def _convert(node: Any, where: str, records: dict[str, Any]) -> Any:
             if key in ("ref", "schema_ref"):
                 out[key] = _ref_name(value)
             else:
-                out[key] = _convert(value, f"{where}.{key}", records)
+                out[key] = _convert(value, f"{where}.{key}")
         return out
     if isinstance(node, (list, tuple)):
-        items = [_convert(v, where, records) for v in node]
+        items = [_convert(v, where) for v in node]
         return items if isinstance(node, list) else tuple(items)
     if isinstance(node, float) and not math.isfinite(node):
         raise FreezeError(f"{where}: a non-finite number {node!r}")
     if node is None or isinstance(node, (str, int, float, bool)):
         return node
-    return _name(node, where, records)
+    return _name(node, where)
 
 
-def _name(obj: Any, where: str, records: dict[str, Any]) -> Ref:
+def _name(obj: Any, where: str) -> Ref:
     if obj is dict or obj is list:
-        return Ref(obj.__name__, obj)
+        return Ref(obj.__name__)
     if isinstance(obj, type) and issubclass(obj, BaseModel):
         if not issubclass(obj, StrictModel):
             raise FreezeError(f"{where}: {obj.__qualname__} is not a spec model")
-        return Ref(obj.__name__, records.get(obj.__name__))
+        return Ref(obj.__name__)
     if isinstance(obj, functools.partial):
-        constraint = _CONSTRAINTS.get(getattr(obj.func, "__name__", ""))
-        pydantic_own = obj.func.__module__ == "pydantic._internal._validators"
-        if constraint is None or obj.args or not pydantic_own:
-            raise FreezeError(f"{where}: a partial of {obj.func!r} has no frozen equivalent")
-        (key, bound), *more = obj.keywords.items()
-        if more or not isinstance(bound, (int, float)):
-            raise FreezeError(f"{where}: constraint {obj.keywords!r} has no frozen equivalent")
-        source = f"functools.partial(rules.{constraint.__name__}, {key}={bound!r})"
-        return Ref(source, functools.partial(constraint, **{key: bound}))
+        return _constraint(obj, where)
     if callable(obj) and getattr(obj, "__module__", None) == rules.__name__:
         if getattr(rules, obj.__name__, None) is not obj:
             raise FreezeError(f"{where}: {obj.__qualname__} is not a name in {rules.__name__}")
-        return Ref(f"rules.{obj.__name__}", obj)
+        return Ref(f"rules.{obj.__name__}")
     raise FreezeError(
         f"{where}: {obj!r} cannot be frozen; validators and default factories of spec models "
         f"must be functions of {rules.__name__}"
     )
+
+
+def _constraint(partial: functools.partial[Any], where: str) -> Ref:
+    """``Field(gt=0)`` on a Number: pydantic's check with its bound, as the rules' twin."""
+    key = _constraint_key(partial)
+    constraint = _CONSTRAINTS.get(key or "")
+    (bound,) = partial.keywords.values() if key else (None,)
+    if constraint is None or isinstance(bound, bool) or not isinstance(bound, (int, float)):
+        raise FreezeError(f"{where}: a partial of {partial.func!r} has no frozen equivalent")
+    return Ref(f"functools.partial(rules.{constraint.__name__}, {key}={bound!r})")
+
+
+def _constraint_key(partial: functools.partial[Any]) -> str | None:
+    """Which constraint (``"gt"``, ...) a partial of pydantic's checks with its one keyword.
+
+    The keyword names it (pydantic 2.7-2.8 and 2.11 on), or is the generic
+    ``constraint_value`` (2.9-2.10), where pydantic's lookup tells which function checks what.
+    """
+    if getattr(partial.func, "__module__", None) != pydantic_validators.__name__:
+        return None
+    if partial.args or len(partial.keywords) != 1:
+        return None
+    (key,) = partial.keywords
+    if key != "constraint_value":
+        return key
+    lookup = getattr(pydantic_validators, "get_constraint_validator", None)
+    if lookup is None:
+        return None
+    return next((c for c in _CONSTRAINTS if lookup(c) is partial.func), None)
 
 
 def _ref_name(ref: str) -> str:
@@ -169,29 +178,18 @@ def _ref_name(ref: str) -> str:
     return module_and_name
 
 
-def _materialize(node: Any) -> Any:
-    if isinstance(node, Ref):
-        return node.target
-    if isinstance(node, dict):
-        return {k: _materialize(v) for k, v in node.items()}
-    if isinstance(node, list):
-        return [_materialize(v) for v in node]
-    if isinstance(node, tuple):
-        return tuple(_materialize(v) for v in node)
-    return node
-
-
-# -- writing robospec/model/frozen.py -----------------------------------------------------
+# -- writing the frozen module ------------------------------------------------------------
 
 
 def frozen_source() -> str:
-    """The text of robospec/model/frozen.py for the models as they are now."""
+    """The text of the frozen module for the models as they are now, made by this pydantic:
+    what :mod:`robospec.model.frozen` runs in its own namespace."""
     classes = model_classes()
     schemas = frozen_schemas()
     constants = _Constants(schemas)
     schema_lines = [f"    {name!r}: {constants.emit(tree)}," for name, tree in schemas.items()]
     parts = [
-        _HEADER.format(version=pydantic_core.__version__),
+        _HEADER.format(pydantic=pydantic.VERSION, core=pydantic_core.__version__),
         *(_class_source(cls) for cls in classes),
         "",
         "# Shared parts of the schemas below, each written once.",
@@ -206,26 +204,20 @@ def frozen_source() -> str:
     return "\n".join(parts)
 
 
-_HEADER = '''\
-"""The spec models, frozen: record classes and pydantic-core schemas. GENERATED, do not edit.
-
-Written by ``python -m robospec.model.freeze --write`` from the pydantic models in
-robospec.model; tests/test_frozen_model.py fails when it is out of date. See
-robospec/model/freeze.py for why it exists.
-"""
-# ruff: noqa: E501
+_HEADER = """\
+# The spec models, frozen: record classes and pydantic-core schemas. GENERATED by
+# robospec.model.freeze with pydantic {pydantic} (pydantic-core {core}) from the models in
+# robospec.model; robospec.model.frozen runs it, and caches it per pydantic-core and model source.
+# No docstring: this text runs in robospec.model.frozen's namespace and would replace its own.
 
 from __future__ import annotations
 
 import functools
 from typing import Any
 
-from robospec.model import rules
+import robospec.model.rules as rules
 from robospec.model.record import FieldSpec, Record
-
-PYDANTIC_CORE_VERSION = {version!r}
-"""The pydantic-core the schemas were frozen with (another one rebuilds them: model.core)."""
-'''
+"""
 
 
 def _class_source(cls: type[StrictModel]) -> str:
@@ -312,22 +304,9 @@ class _Constants:
         return repr(node)
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m robospec.model.freeze", description=__doc__)
-    parser.add_argument("--write", action="store_true", help=f"write {FROZEN_PATH.name}")
-    parser.add_argument("--check", action="store_true", help="exit 1 if it is out of date")
-    args = parser.parse_args(argv)
-    source = frozen_source()
-    if args.write:
-        FROZEN_PATH.write_text(source, encoding="utf-8")
-        return 0
-    if args.check:
-        current = FROZEN_PATH.read_text(encoding="utf-8") if FROZEN_PATH.exists() else ""
-        if current != source:
-            print(f"{FROZEN_PATH} is out of date: python -m robospec.model.freeze --write")
-            return 1
-        return 0
-    sys.stdout.write(source)
+def main() -> int:
+    """Print the frozen module's text (what the cache holds for this pydantic)."""
+    sys.stdout.write(frozen_source())
     return 0
 
 

@@ -9,9 +9,11 @@ compares and hashes as a frozen pydantic model does, without importing pydantic.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
+
+from pydantic_core import SchemaValidator
 
 
 @dataclass(frozen=True)
@@ -28,6 +30,9 @@ class Record:
     """One validated spec model (a subclass per model, generated in robospec.model.frozen)."""
 
     model_fields: ClassVar[Mapping[str, FieldSpec]] = {}
+    # the validator of a record class, by name: robospec.model.frozen sets it when it has made
+    # the classes and their schemas (this module is below that one and does not import it)
+    validator_for: ClassVar[Callable[[str], SchemaValidator]]
 
     # where pydantic-core puts what it sets besides the fields, as on pydantic's BaseModel
     __slots__ = (
@@ -40,9 +45,7 @@ class Record:
 
     def __init__(self, **fields: Any) -> None:
         """Validate ``fields`` as the model does (how default values are made)."""
-        from robospec.model.core import validator_for
-
-        validator_for(type(self).__name__).validate_python(fields, self_instance=self)
+        self.validator_for(type(self).__name__).validate_python(fields, self_instance=self)
 
     @property
     def model_fields_set(self) -> set[str]:

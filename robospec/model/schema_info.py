@@ -1,14 +1,13 @@
 """Which keys a spec model accepts at a given place, for did-you-mean hints on unknown keys.
 
-Read from the frozen pydantic-core schema (:mod:`robospec.model.frozen`) by following
-pydantic's error location through it, so a hint loads no pydantic.
+Read from the pydantic-core schema that validated (``robospec.model.frozen.SCHEMAS``) by
+following pydantic's error location through it, so a hint loads no pydantic and names the
+keys of the very schema that rejected one.
 """
 
 from __future__ import annotations
 
 from typing import Any
-
-from robospec.model import frozen
 
 # schemas that wrap one other schema: the place is the same
 _WRAPPERS = frozenset(
@@ -16,9 +15,9 @@ _WRAPPERS = frozenset(
 )
 
 
-def fields_for(loc: tuple[Any, ...]) -> list[str]:
-    """The field names of the models an error location ``loc`` can point into."""
-    root = frozen.SCHEMAS["Spec"]
+def fields_for(root: Any, loc: tuple[Any, ...]) -> list[str]:
+    """The field names of the models an error location ``loc`` (of a validation with the
+    schema ``root``) can point into."""
     definitions = {d["ref"]: d for d in root.get("definitions", [])}
     places = _members(root, definitions)
     for element in loc:

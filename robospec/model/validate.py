@@ -12,10 +12,10 @@ from typing import Any
 
 from pydantic_core import ValidationError
 
+import robospec.model.frozen as frozen
 from robospec.diagnostics import Diagnostic, error
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath, LoadedSpec
-from robospec.model.core import validator_for
 from robospec.model.frozen import Spec
 from robospec.model.schema_info import fields_for
 
@@ -88,7 +88,7 @@ def build_spec(loaded: LoadedSpec) -> SpecModelResult:
         return result
     try:
         # the frozen schema: pydantic's validation of robospec.model.spec.Spec, without pydantic
-        result.spec = validator_for("Spec").validate_python(data)
+        result.spec = frozen.validator_for("Spec").validate_python(data)
     except ValidationError as exc:
         diagnostics.extend(_diagnostics_from(exc, data, loaded, result))
     return result
@@ -214,7 +214,8 @@ def _message(kind: str, err: Any, path: KeyPath, data: Any) -> tuple[str, str | 
         return f"missing required field '{field_name}'{where}", None
     if kind == "extra_forbidden":
         key = str(err["loc"][-1])
-        known = fields_for(err["loc"][:-1])
+        # the schema that validated says which keys it knows
+        known = fields_for(frozen.SCHEMAS["Spec"], err["loc"][:-1])
         return f"unknown key '{key}'{_describe(path[:-1])}", did_you_mean(key, known)
     if kind == "union_tag_invalid":
         from robospec.model.rules import CONTROLLER_TYPES
