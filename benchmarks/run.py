@@ -2,9 +2,10 @@
 
     .venv/bin/python benchmarks/run.py            # the full run (about 10 minutes)
     .venv/bin/python benchmarks/run.py --quick    # every part on a tiny budget (a smoke test)
+    .venv/bin/python benchmarks/run.py --only first_error   # one part; its section is replaced
 
 1. Time to the first error for a misspelled joint: `robospec validate` against the hand-written
-   way (benchmarks/first_error.py).
+   way, and with the newest pydantic against an older one (benchmarks/first_error.py).
 2. Import-time registration of every example spec, cold and warm cache, against
    `import mani_skill.envs` alone (benchmarks/registration.py).
 3. `env.step` throughput of each generated agent against ManiSkill's own class
@@ -22,6 +23,7 @@ import os
 import platform
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import first_error
@@ -35,20 +37,35 @@ COMMAND = ".venv/bin/python benchmarks/run.py"
 SECTION_TITLES = (first_error.TITLE, registration.TITLE, step_throughput.TITLE, scaling.TITLE)
 
 
-def measure_all(quick: bool, repeat: int) -> list[Section]:
+PARTS = ("first_error", "registration", "step_throughput", "scaling")
+"""Each part's name (its module), in the order of SECTION_TITLES."""
+
+
+def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
+    """Each part's measurement, by name, on the budget asked for."""
     if quick:
-        return [
-            first_error.measure(1),
-            registration.measure(1),
-            step_throughput.measure(steps=10, rounds=1, only=["panda"]),
-            scaling.measure([100], 1),
-        ]
-    return [
-        first_error.measure(repeat),
-        registration.measure(repeat),
-        step_throughput.measure(steps=200, rounds=5),
-        scaling.measure([100, 1_000, 10_000], repeat),
-    ]
+        return {
+            "first_error": lambda: first_error.measure(1),
+            "registration": lambda: registration.measure(1),
+            "step_throughput": lambda: step_throughput.measure(steps=10, rounds=1, only=["panda"]),
+            "scaling": lambda: scaling.measure([100], 1),
+        }
+    return {
+        "first_error": lambda: first_error.measure(repeat),
+        "registration": lambda: registration.measure(repeat),
+        "step_throughput": lambda: step_throughput.measure(steps=200, rounds=5),
+        "scaling": lambda: scaling.measure([100, 1_000, 10_000], repeat),
+    }
+
+
+def replace_section(document: str, section: Section) -> str:
+    """``document`` with the section titled as ``section`` replaced by it (up to the next
+    ``## `` heading)."""
+    heading = f"## {section.title}\n"
+    start = document.index(heading)
+    end = document.find("\n## ", start + len(heading))
+    rest = document[end + 1 :] if end != -1 else ""
+    return document[:start] + section.markdown() + ("\n" + rest if rest else "")
 
 
 def document(sections: list[Section], repeat: int, seconds: float) -> str:
@@ -62,8 +79,10 @@ Measured by `benchmarks/run.py`, every table in one run (this one took {seconds:
 Each time is the wall time of a fresh process, as a user starts it: the median of {repeat}
 runs after one unmeasured warm-up run, with the spread (fastest–slowest). Children run with
 Python's bytecode cache on, as after `pip install` (which compiles every module once); the
-warm-up run writes that cache and warms the OS file cache. No robospec cache is involved in
-`robospec validate`: it compiles the spec from scratch every time.
+warm-up run writes that cache and warms the OS file cache. `robospec validate` compiles the
+spec from scratch every time; only its spec model comes from robospec's cache, which the
+warm-up run fills (a cold cache is measured on its own). A section can be measured again
+alone (`--only NAME`): it then replaces its own section only.
 """
     return "\n".join([header, *(section.markdown() for section in sections)])
 
@@ -77,12 +96,20 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=5, help="measured runs per figure")
     parser.add_argument("--quick", action="store_true", help="tiny budget: repeat 1, 100 links")
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "performance.md")
+    parser.add_argument(
+        "--only", choices=PARTS, help="measure one part and replace its section in --out"
+    )
     args = parser.parse_args()
     repeat = 1 if args.quick else args.repeat
     started = time.perf_counter()
-    sections = measure_all(args.quick, repeat)
-    assert tuple(section.title for section in sections) == SECTION_TITLES
-    text = document(sections, repeat, time.perf_counter() - started)
+    parts = measurers(args.quick, repeat)
+    if args.only:
+        sections = [parts[args.only]()]
+        text = replace_section(args.out.read_text(encoding="utf-8"), sections[0])
+    else:
+        sections = [measure() for measure in parts.values()]
+        assert tuple(section.title for section in sections) == SECTION_TITLES
+        text = document(sections, repeat, time.perf_counter() - started)
     args.out.write_text(text, encoding="utf-8")
     print(text)
     missed = [section.title for section in sections if not section.meets_target]
