@@ -61,8 +61,9 @@ STEPS = 50
 class UpstreamProblem:
     """A control mode of a hand-written ManiSkill agent that does not work.
 
-    ``left_out``: the mode fails upstream, so the spec does not offer it; ``error`` names the
-    exception upstream raises, ``fails_at`` whether ``gym.make`` or the first step raises it.
+    ``left_out``: the mode fails upstream, so the spec does not offer it; ``error`` is the
+    exception class upstream raises (exactly that class), ``match`` a pattern its message
+    matches, ``fails_at`` whether ``gym.make`` or the first step raises it.
     ``nan``: the mode runs, but qpos/qvel become NaN; the spec reproduces it faithfully, and the
     rollouts are compared with NaN equal to NaN. ``cause`` says why, and a test per cause
     proves it: ``infinite_bounds`` (a normalized action scaled to infinite joint limits) or
@@ -72,7 +73,8 @@ class UpstreamProblem:
 
     kind: Literal["left_out", "nan"]
     reason: str
-    error: str | None = None
+    error: type[Exception] | None = None
+    match: str | None = None
     fails_at: Literal["make", "step"] = "step"
     cause: Literal["infinite_bounds", "urdf_mimic"] | None = None
 
@@ -88,6 +90,10 @@ _FLOATING_GRIPPER_EE_POSE = (
     "NaN and gym.make raises ValueError. {extra}specs/maniskill/floating_panda_gripper.yaml "
     "leaves the mode out."
 )
+# what the exceptions say: the variable that neither branch sets (in words every Python from
+# 3.10 on uses), and the action space's check
+_EE_ALIGN_ERROR = "local variable 'p'"
+_NAN_BOUNDS_ERROR = "No low value can be equal to `np.nan`"
 _URDF_MIMIC = (
     "{robot}'s description has URDF <mimic> joints that no pd_joint_pos_mimic controller "
     "drives in this mode ({how}); SAPIEN makes them PhysX mimic joints, which go NaN on the CPU "
@@ -103,7 +109,7 @@ def _mimic_nan(robot: str, how: str) -> UpstreamProblem:
 
 KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
     ("fetch", "pd_ee_delta_pose_align"): UpstreamProblem(
-        "left_out", f"Fetch {_EE_ALIGN}", error="UnboundLocalError"
+        "left_out", f"Fetch {_EE_ALIGN}", error=UnboundLocalError, match=_EE_ALIGN_ERROR
     ),
     ("fetch", "pd_joint_pos_vel"): UpstreamProblem(
         "nan",
@@ -114,12 +120,16 @@ KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
         cause="infinite_bounds",
     ),
     ("panda_stick", "pd_ee_delta_pose_align"): UpstreamProblem(
-        "left_out", f"PandaStick, like Fetch, {_EE_ALIGN}", error="UnboundLocalError"
+        "left_out",
+        f"PandaStick, like Fetch, {_EE_ALIGN}",
+        error=UnboundLocalError,
+        match=_EE_ALIGN_ERROR,
     ),
     ("floating_panda_gripper", "pd_ee_pose"): UpstreamProblem(
         "left_out",
         _FLOATING_GRIPPER_EE_POSE.format(mode="pd_ee_pose", extra=""),
-        error="ValueError",
+        error=ValueError,
+        match=_NAN_BOUNDS_ERROR,
         fails_at="make",
     ),
     ("floating_panda_gripper", "pd_ee_pose_quat"): UpstreamProblem(
@@ -129,7 +139,8 @@ KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
             extra="(It is a copy of pd_ee_pose with an extra attribute, rotation_convention, "
             "that no controller reads.) ",
         ),
-        error="ValueError",
+        error=ValueError,
+        match=_NAN_BOUNDS_ERROR,
         fails_at="make",
     ),
     **{
@@ -380,18 +391,21 @@ def test_mode_left_out_of_the_spec_really_fails_upstream(
 ) -> None:
     robot, mode = case
     problem = KNOWN_UPSTREAM_PROBLEMS[case]
+    assert problem.error is not None and problem.match is not None
     if problem.fails_at == "make":
-        with pytest.raises(Exception) as failure:  # upstream offers the mode but cannot build it
+        # upstream offers the mode but cannot build it
+        with pytest.raises(problem.error, match=re.escape(problem.match)) as failure:
             make_env(robot, mode)
     else:
         env = make_env(robot, mode)  # upstream accepts the mode ...
         try:
             env.reset(seed=SEED)
-            with pytest.raises(Exception) as failure:  # ... and fails on the first step
+            # ... and fails on the first step
+            with pytest.raises(problem.error, match=re.escape(problem.match)) as failure:
                 env.step(env.action_space.sample())
         finally:
             env.close()
-    assert type(failure.value).__name__ == problem.error, problem.reason
+    assert type(failure.value) is problem.error, problem.reason  # that class, not a subclass
     # the spec-built agent refuses the mode up front instead
     with pytest.raises(AssertionError, match=f"{mode} not in supported modes"):
         make_env(TWINS[robot], mode)
@@ -438,21 +452,28 @@ def _unbatched(keyframe: Any, dof: torch.Tensor) -> Any:
     return keyframe
 
 
+_WRONG_LENGTH_QPOS = "input vector size does not match articulation DOFs"
+
+
 @pytest.mark.parametrize("robot", [r for r in ROBOTS if _left_out_data(r, "keyframe")], ids=str)
 def test_keyframes_left_out_of_the_spec_are_invalid_upstream(
     robot: str, registered: dict[str, type]
 ) -> None:
-    with _twins(robot, None) as twins:
-        robot_ = twins.upstream_agent.robot
-        low, high = robot_.get_qlimits()[0].T.numpy()
+    env = make_env(robot)  # upstream's robot only: the spec's keyframes are its class's
+    try:
+        upstream = env.unwrapped.agent
+        low, high = upstream.robot.get_qlimits()[0].T.numpy()
         for name in _left_out_data(robot, "keyframe"):
-            assert name not in twins.our_agent.keyframes
-            qpos = np.asarray(twins.upstream_agent.keyframes[name].qpos, dtype=np.float64)
-            if qpos.shape != low.shape:  # one value too few (or many) ...
-                with pytest.raises(Exception):  # noqa: B017  (ManiSkill raises what torch does)
-                    robot_.set_qpos(qpos)
+            assert name not in registered[TWINS[robot]].keyframes
+            qpos = np.asarray(upstream.keyframes[name].qpos, dtype=np.float64)
+            if qpos.shape != low.shape:  # one value too few (or many): SAPIEN refuses it ...
+                with pytest.raises(RuntimeError, match=_WRONG_LENGTH_QPOS) as refused:
+                    upstream.robot.set_qpos(qpos)
+                assert type(refused.value) is RuntimeError
             else:  # ... or outside the joint limits
                 assert ((qpos < low - 1e-6) | (qpos > high + 1e-6)).any(), (robot, name)
+    finally:
+        env.close()
 
 
 def test_loader_flags_and_description_file_are_equal(twins: Twins) -> None:
@@ -635,6 +656,8 @@ def test_every_known_upstream_problem_names_a_real_robot_and_mode() -> None:
         assert robot in TWINS
         assert (mode in MODES[robot]) == (problem.kind == "nan"), (robot, mode)
         assert (problem.cause is not None) == (problem.kind == "nan"), (robot, mode)
+        left_out = problem.kind == "left_out"  # an exception, exactly named, proves it
+        assert (problem.error is not None) == (problem.match is not None) == left_out
         assert problem.reason
     for robot, items in LEFT_OUT_DATA.items():
         assert robot in TWINS
