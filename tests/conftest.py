@@ -22,7 +22,7 @@ from __future__ import annotations
 import ast
 import subprocess
 import sys
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from functools import cache
 from pathlib import Path
 from types import ModuleType
@@ -44,6 +44,8 @@ DOCS = ROOT / "docs"
 # the catalogue of failing and passing examples, one folder per diagnostic code; the docs pages
 # are generated from it (robospec.docgen.code_examples) and tests/test_spec_examples.py runs it
 CODE_EXAMPLES = DOCS / "examples" / "codes"
+# the Panda with panda_joint77 in its arm group: one error, RS201 at 6:51 (did you mean ...)
+MISSPELLED_JOINT_SPEC = CODE_EXAMPLES / "RS201" / "fail.yaml"
 # specs that must validate cleanly and that no shipped robot covers (hooks, helpers, ...)
 POSITIVE_SPECS = ROOT / "tests" / "specs" / "positive"
 
@@ -100,6 +102,27 @@ def maniskill() -> ModuleType:
     except ImportError as error:
         pytest.fail(f"{INSTALL_MANISKILL} ({error})", pytrace=False)
     return sys.modules["mani_skill"]
+
+
+def spec_params(paths: Iterable[Path], root: Path | None = None) -> list[Any]:
+    """``paths`` as parameters named by their path (relative to ``root``, else by name); a spec
+    whose ``extends`` names a Python class is marked ``maniskill``, since compiling it imports
+    that class and checks it against ManiSkill's BaseAgent (a parameter cannot ask for the
+    fixture)."""
+    return [
+        pytest.param(
+            path,
+            id=str(path.relative_to(root)) if root else path.name,
+            marks=[pytest.mark.maniskill] if _extends_python(path) else [],
+        )
+        for path in paths
+    ]
+
+
+def _extends_python(spec: Path) -> bool:
+    return any(
+        line.startswith("extends:") for line in spec.read_text(encoding="utf-8").splitlines()
+    )
 
 
 def _deselects(config: pytest.Config, marks: set[str]) -> bool:
@@ -213,6 +236,7 @@ __all__ = [
     "CODE_EXAMPLES",
     "DOCS",
     "MANISKILL_SPECS",
+    "MISSPELLED_JOINT_SPEC",
     "PANDA_SPEC",
     "POSITIVE_SPECS",
     "ROOT",
@@ -222,4 +246,5 @@ __all__ = [
     "TWOLINK_XACRO",
     "invoke_robospec",
     "run_robospec",
+    "spec_params",
 ]

@@ -7,9 +7,8 @@ import subprocess
 import sys
 
 import pytest
+from conftest import MISSPELLED_JOINT_SPEC as MISSPELLED
 from conftest import ROOT, run_robospec
-
-MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
 
 
 def test_validate_of_the_shipped_specs_exits_zero() -> None:
@@ -23,12 +22,11 @@ def test_misspelled_joint_exits_one_with_the_exact_line_column_and_suggestion() 
     assert result.returncode == 1
     first = result.stdout.splitlines()[0]
     assert first == (
-        "tests/specs/negative/misspelled_joint.yaml:6:80: error[RS201] unknown "
-        "joint 'panda_joint77'"
+        "docs/examples/codes/RS201/fail.yaml:6:51: error[RS201] unknown joint 'panda_joint77'"
     )
     assert "did you mean 'panda_joint7'?" in result.stdout
     line = MISSPELLED.read_text().splitlines()[5]
-    assert line[79:].startswith("panda_joint77")
+    assert line[50:].startswith("panda_joint77")
 
 
 def test_json_format_follows_the_diagnostics_contract() -> None:
@@ -38,7 +36,7 @@ def test_json_format_follows_the_diagnostics_contract() -> None:
     assert report["summary"] == {"errors": 1, "warnings": 0, "files": 1}
     (diagnostic,) = report["diagnostics"]
     assert set(diagnostic) == {"file", "line", "column", "code", "severity", "message", "hint"}
-    assert (diagnostic["line"], diagnostic["column"], diagnostic["code"]) == (6, 80, "RS201")
+    assert (diagnostic["line"], diagnostic["column"], diagnostic["code"]) == (6, 51, "RS201")
 
 
 def test_usage_errors_exit_two() -> None:

@@ -14,7 +14,7 @@ from conftest import ROOT
 from robospec.cli import fast_validate
 
 TYPER_PATH = "import sys; from robospec.cli.commands import app; app(prog_name='robospec')"
-BAD = "tests/specs/negative/misspelled_joint.yaml"
+BAD = "docs/examples/codes/RS201/fail.yaml"
 GOOD = "specs/maniskill/panda.yaml"
 
 
@@ -34,7 +34,7 @@ def _run(prefix: list[str], args: list[str], env: dict[str, str]) -> tuple[str, 
         ["validate", "-f", "github", BAD],
         ["validate", "--format=sarif", BAD],
         ["validate", "--color", "always", BAD],
-        ["validate", "--color=never", "tests/specs/negative"],
+        ["validate", "--color=never", "docs/examples/codes/RS202"],
         ["validate", "no/such/spec.yaml"],
         ["validate", "specs/maniskill", "--format", "json", "--color", "auto"],
     ],

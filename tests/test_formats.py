@@ -16,20 +16,22 @@ from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
 import pytest
-from conftest import ROOT, run_robospec
+from conftest import CODE_EXAMPLES, DOCS, MISSPELLED_JOINT_SPEC, ROOT, run_robospec
 from jsonschema import Draft202012Validator, FormatChecker
 
 from robospec.diagnostics import Location, error, sort_key
 from robospec.diagnostics.codes import CODES
+from robospec.docgen.code_examples import failing_example_paths
 from robospec.pipeline import compile_all
 from robospec.reporting import render
 from robospec.reporting.excerpt import span_width
 from robospec.reporting.github import annotation
 from robospec.reporting.sarif import sarif_log
 
-NEGATIVE = ROOT / "tests/specs/negative"
-MISSPELLED = "tests/specs/negative/misspelled_joint.yaml"
-UNKNOWN_KEY = "tests/specs/negative/unknown_key.yaml"
+MISSPELLED = str(MISSPELLED_JOINT_SPEC.relative_to(ROOT))  # RS201 at 6:51
+UNKNOWN_KEY = str((CODE_EXAMPLES / "RS101" / "fail.yaml").relative_to(ROOT))  # RS101 at 13:1
+BAD_EXPRESSION = str((CODE_EXAMPLES / "RS010" / "fail_bad_expression.yaml").relative_to(ROOT))
+FAILING = [str(path.relative_to(ROOT)) for path in failing_example_paths(DOCS)]
 SARIF_SCHEMA = json.loads((ROOT / "tests/data/sarif/sarif-schema-2.1.0.json").read_text())
 ANSI = re.compile(r"\x1b\[[0-9;]*m")
 PANDA = "{maniskill_assets}/robots/panda/panda_v2.urdf"
@@ -55,12 +57,12 @@ def test_text_shows_the_source_line_and_underlines_the_misspelled_joint() -> Non
     assert result.returncode == 1
     header, source, carets, hint, summary = result.stdout.splitlines()
     assert header == (
-        f"{MISSPELLED}:6:80: error[RS201] unknown joint 'panda_joint77'"
+        f"{MISSPELLED}:6:51: error[RS201] unknown joint 'panda_joint77'"
     )  # the first line is unchanged: tools grep it
     line6 = (ROOT / MISSPELLED).read_text().splitlines()[5]
     assert source == f"  6 | {line6}"
     gutter = len("  6 | ")
-    assert carets.index("^") == gutter + 79  # column 80, 1-based
+    assert carets.index("^") == gutter + 50  # column 51, 1-based
     assert carets.strip(" |") == "^" * len("panda_joint77")
     assert hint == "    hint: did you mean 'panda_joint7'?"
     assert summary == "1 file(s) checked: 1 error(s), 0 warning(s)"
@@ -69,7 +71,7 @@ def test_text_shows_the_source_line_and_underlines_the_misspelled_joint() -> Non
 def test_text_first_lines_are_exactly_the_diagnostics_one_line_form() -> None:
     # the one-line form (Diagnostic.format_text, SpecError, other reports) and the excerpt
     # renderer must not drift apart: tools grep these lines
-    compiled, diagnostics = compile_all([NEGATIVE])
+    compiled, diagnostics = compile_all([ROOT / path for path in FAILING])
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     text = render(diagnostics, len(compiled), "text")
@@ -81,13 +83,11 @@ def test_text_first_lines_are_exactly_the_diagnostics_one_line_form() -> None:
 
 
 def test_text_underlines_a_key_and_a_quoted_value() -> None:
-    result = run_robospec(
-        "validate", UNKNOWN_KEY, "tests/specs/negative/bad_expression.yaml", env=plain_env()
-    )
+    result = run_robospec("validate", UNKNOWN_KEY, BAD_EXPRESSION, env=plain_env())
     lines = result.stdout.splitlines()
-    key = lines.index(f"{UNKNOWN_KEY}:5:1: error[RS101] unknown key 'keyframe'")
-    assert lines[key + 1] == "  5 | keyframe: {rest: {qpos: [0, 0, 0, 0, 0, 0, 0, 0, 0]}}"
-    assert lines[key + 2] == "    | ^^^^^^^^"
+    key = lines.index(f"{UNKNOWN_KEY}:13:1: error[RS101] unknown key 'keyframe'")
+    assert lines[key + 1] == "  13 | keyframe:"
+    assert lines[key + 2] == "     | ^^^^^^^^"
     value = next(i for i, line in enumerate(lines) if "error[RS010]" in line)
     source, carets = lines[value + 1], lines[value + 2]
     start = carets.index("^")
@@ -251,7 +251,7 @@ def test_github_message_with_a_hint_keeps_it_on_a_second_line() -> None:
     result = run_robospec("validate", "--format", "github", MISSPELLED)
     line, _summary = result.stdout.splitlines()
     assert line == (
-        f"::error file={MISSPELLED},line=6,col=80,title=RS201::unknown joint 'panda_joint77'"
+        f"::error file={MISSPELLED},line=6,col=51,title=RS201::unknown joint 'panda_joint77'"
         "%0Ahint: did you mean 'panda_joint7'?"
     )
     _, _, message = parse_annotation(line)
@@ -261,7 +261,7 @@ def test_github_message_with_a_hint_keeps_it_on_a_second_line() -> None:
 def test_github_paths_are_relative_to_the_working_directory(tmp_path: Path) -> None:
     # GitHub matches annotations to files by their path in the repository
     result = run_robospec("validate", "--format", "github", str(ROOT / MISSPELLED))
-    assert result.stdout.startswith(f"::error file={MISSPELLED},line=6,col=80,")
+    assert result.stdout.startswith(f"::error file={MISSPELLED},line=6,col=51,")
 
 
 def test_github_escapes_carriage_returns() -> None:
@@ -272,9 +272,9 @@ def test_github_escapes_carriage_returns() -> None:
 # -- sarif --------------------------------------------------------------------------------------
 
 
-def test_sarif_of_every_negative_spec_is_valid_and_round_trips_the_json_locations() -> None:
-    sarif = run_robospec("validate", "--format", "sarif", "tests/specs/negative/")
-    report = run_robospec("validate", "--format", "json", "tests/specs/negative/")
+def test_sarif_of_every_failing_example_is_valid_and_round_trips_the_json_locations() -> None:
+    sarif = run_robospec("validate", "--format", "sarif", *FAILING)
+    report = run_robospec("validate", "--format", "json", *FAILING)
     assert sarif.returncode == report.returncode == 1
     document = json.loads(sarif.stdout)
     assert sarif_errors(document) == []
@@ -364,7 +364,7 @@ def test_build_reports_in_sarif_and_github(tmp_path: Path) -> None:
     assert sarif_errors(json.loads(sarif.stdout)) == []
     github = run_robospec("build", UNKNOWN_KEY, "-o", str(out), "--format", "github")
     assert github.returncode == 1
-    assert f"::error file={UNKNOWN_KEY},line=5,col=1,title=RS101::" in github.stdout
+    assert f"::error file={UNKNOWN_KEY},line=13,col=1,title=RS101::" in github.stdout
     assert not out.exists()
 
 

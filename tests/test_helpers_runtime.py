@@ -17,6 +17,7 @@ from conftest import POSITIVE_SPECS
 
 import robospec
 from robospec.maniskill.headless import make_empty_env
+from robospec.pipeline import compile_spec
 
 pytestmark = [
     pytest.mark.maniskill,
@@ -140,3 +141,15 @@ def test_a_robot_not_downloaded_yet_registers_with_its_download_ids(tmp_path: Pa
         assert cls.keyframes["standing"].qpos.tolist()[4] == 0.4
     finally:
         REGISTERED_AGENTS.pop("rs_test_anymal", None)
+
+
+def test_extends_naming_a_value_that_is_no_agent_class_is_rs220_at_the_reference(
+    tmp_path: Path,
+) -> None:
+    # checking that a base is an agent class imports ManiSkill's BaseAgent (seconds), so this
+    # case lives here rather than in the example catalogue that the fast loop runs
+    spec = tmp_path / "extends_not_agent.yaml"
+    spec.write_text('robospec: 1\nuid: rs_test\nextends: "hookmods.panda_hooks:LIMIT"\n')
+    found = compile_spec(spec).diagnostics
+    assert [(d.code, d.location.line, d.location.column) for d in found] == [("RS220", 3, 10)]
+    assert found[0].message == "'float' is not a ManiSkill agent class"

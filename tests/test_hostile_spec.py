@@ -3,7 +3,7 @@ and `robospec.register(...)` each answer with a located, coded diagnostic and ex
 SpecError), never a traceback, a hang or a half-written output folder.
 
 The parsers' own behaviour is tested beside them (tests/test_toml_positions.py,
-tests/specs/negative/); this is the cross-entry-point matrix of issue 6. A few cases also run
+docs/examples/codes/); this is the cross-entry-point matrix of issue 6. A few cases also run
 in a real child process to prove nothing that looks like a traceback reaches stderr.
 """
 

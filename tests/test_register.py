@@ -11,20 +11,18 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import MISSPELLED_JOINT_SPEC, PANDA_SPEC
 
 import robospec
 from robospec import SpecError
 
-pytest.importorskip("mani_skill")
 pytestmark = pytest.mark.maniskill
-
-ROOT = Path(__file__).resolve().parent.parent
 
 
 @pytest.fixture
 def panda_spec(tmp_path: Path) -> Path:
     """A panda spec under a fresh uid, so each test registers its own agent."""
-    text = (ROOT / "specs/maniskill/panda.yaml").read_text()
+    text = PANDA_SPEC.read_text()
     path = tmp_path / "panda.yaml"
     path.write_text(text.replace("uid: rs_panda", f"uid: rs_panda_{tmp_path.name[-12:]}"))
     return path
@@ -64,14 +62,12 @@ def test_errors_raise_spec_error_with_the_diagnostics_and_register_nothing(tmp_p
 
     before = set(REGISTERED_AGENTS)
     with pytest.raises(SpecError) as caught:
-        robospec.register(
-            ROOT / "tests/specs/negative/misspelled_joint.yaml", cache_dir=tmp_path / "cache"
-        )
+        robospec.register(MISSPELLED_JOINT_SPEC, cache_dir=tmp_path / "cache")
     (diagnostic,) = caught.value.diagnostics
     assert (diagnostic.code, diagnostic.location.line, diagnostic.location.column) == (
         "RS201",
         6,
-        80,
+        51,
     )
     assert set(REGISTERED_AGENTS) == before
 

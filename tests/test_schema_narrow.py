@@ -12,7 +12,7 @@ from typing import Any
 import jsonschema
 import pytest
 import tomllib
-from conftest import PANDA_SPEC, ROOT, run_robospec
+from conftest import MISSPELLED_JOINT_SPEC, PANDA_SPEC, ROOT, run_robospec, spec_params
 from ruamel.yaml import YAML
 
 from robospec.model.refs import REF_KEY
@@ -25,7 +25,6 @@ SPEC_FILES = sorted(
     for p in (ROOT / folder).rglob("*")
     if p.suffix in (".yaml", ".yml", ".toml")
 )
-MISSPELLED = ROOT / "tests/specs/negative/misspelled_joint.yaml"
 GENERIC = spec_schema()
 
 
@@ -64,7 +63,7 @@ def panda_data() -> Any:
     return load_spec_data(PANDA_SPEC)
 
 
-@pytest.mark.parametrize("path", SPEC_FILES, ids=lambda p: str(p.relative_to(ROOT)))
+@pytest.mark.parametrize("path", spec_params(SPEC_FILES, ROOT))
 def test_every_shipped_spec_is_valid_under_the_schema_and_its_own_narrowed_schema(
     path: Path,
 ) -> None:
@@ -174,12 +173,10 @@ def test_schema_for_writes_the_narrowed_schema_to_a_file(tmp_path: Path) -> None
 
 
 def test_schema_for_a_spec_with_errors_prints_located_diagnostics_and_exits_one() -> None:
-    result = run_robospec("schema", "--for", str(MISSPELLED.relative_to(ROOT)))
+    result = run_robospec("schema", "--for", str(MISSPELLED_JOINT_SPEC.relative_to(ROOT)))
     assert result.returncode == 1
     assert result.stdout == ""
-    assert "misspelled_joint.yaml:6:80: error[RS201] unknown joint 'panda_joint77'" in (
-        result.stderr
-    )
+    assert "RS201/fail.yaml:6:51: error[RS201] unknown joint 'panda_joint77'" in (result.stderr)
     assert "Traceback" not in result.stderr
 
 

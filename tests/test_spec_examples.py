@@ -1,50 +1,94 @@
-"""Acceptance tests driven by example files: tests/specs/positive/ must validate cleanly, and
-each file in tests/specs/negative/ must produce the diagnostic its first line announces:
-``# expect: CODE at LINE:COLUMN [text the message or hint contains]``."""
+"""Acceptance tests driven by example files.
+
+The failing examples are the catalogue behind the docs' per-code pages, docs/examples/codes/
+(robospec.docgen.code_examples): ``RSxxx/fail.<ext>`` and ``RSxxx/fail_*.<ext>``. Each reports
+exactly the diagnostics that docs/examples/codes/expected.toml lists for it, in order: code,
+file, line and column, and words of the message or hint. tests/specs/positive/ holds specs that
+must validate cleanly and that no shipped robot covers (hooks, helpers, never_collide, ...).
+"""
 
 from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import NamedTuple
 
 import pytest
+import tomllib
+from conftest import CODE_EXAMPLES, DOCS, POSITIVE_SPECS, SPECS, spec_params
 
-from robospec.diagnostics import has_errors
+from robospec.diagnostics import Diagnostic, has_errors
+from robospec.docgen.code_examples import EXPECTED_FILE, failing_example_paths, run_example
 from robospec.pipeline import compile_all, compile_spec
 
-HERE = Path(__file__).parent / "specs"
-EXPECT = re.compile(r"# expect: (RS\d{3}) at (\d+):(\d+)\s*(.*)")
+FAILING = failing_example_paths(DOCS)
+EXPECTED: dict[str, dict[str, list[str]]] = tomllib.loads(
+    (CODE_EXAMPLES / EXPECTED_FILE).read_text(encoding="utf-8")
+)
+ENTRY = re.compile(
+    r"(?P<code>RS\d{3}) at (?:(?P<file>\S+):)?(?P<line>\d+):(?P<column>\d+)(?: (?P<words>.+))?"
+)
 
 
-@pytest.mark.parametrize("path", sorted((HERE / "positive").iterdir()), ids=lambda p: p.name)
+class Expected(NamedTuple):
+    code: str
+    file: str  # relative to the example's folder
+    line: int
+    column: int
+    words: str
+
+    @classmethod
+    def parse(cls, entry: str, example: Path) -> Expected:
+        match = ENTRY.fullmatch(entry)
+        assert match, f"{EXPECTED_FILE}: {entry!r} is not 'CODE at [FILE:]LINE:COLUMN [words]'"
+        return cls(
+            match["code"],
+            match["file"] or example.name,
+            int(match["line"]),
+            int(match["column"]),
+            match["words"] or "",
+        )
+
+    def found_in(self, diagnostic: Diagnostic) -> bool:
+        location = diagnostic.location
+        return (diagnostic.code, location.file, location.line, location.column) == self[:4] and (
+            self.words in f"{diagnostic.message} {diagnostic.hint or ''}"
+        )
+
+
+def _name(path: Path) -> str:
+    return f"{path.parent.name}/{path.name}"
+
+
+def test_every_failing_example_has_its_expectations_and_each_expectation_its_example() -> None:
+    listed = {f"{code}/{name}" for code, names in EXPECTED.items() for name in names}
+    assert listed == {_name(path) for path in FAILING}
+    assert len(FAILING) >= 60
+
+
+@pytest.mark.parametrize("path", FAILING, ids=_name)
+def test_failing_example_reports_exactly_the_expected_diagnostics_where_expected(
+    path: Path,
+) -> None:
+    expected = [Expected.parse(entry, path) for entry in EXPECTED[path.parent.name][path.name]]
+    found = run_example(path).diagnostics
+    shown = [d.format_text() for d in found]
+    assert len(found) == len(expected), shown
+    for want, diagnostic in zip(expected, found, strict=True):
+        assert want.found_in(diagnostic), (want, shown)
+    assert path.parent.name in {d.code for d in found}, "an example reports its folder's code"
+
+
+@pytest.mark.parametrize("path", spec_params(sorted(POSITIVE_SPECS.iterdir())))
 def test_positive_example_validates_without_errors(path: Path) -> None:
     result = compile_spec(path)
     assert not has_errors(result.diagnostics), [d.format_text() for d in result.diagnostics]
     assert result.robot is not None
 
 
-@pytest.mark.parametrize("path", sorted((HERE / "negative").iterdir()), ids=lambda p: p.name)
-def test_negative_example_reports_the_announced_diagnostic(path: Path) -> None:
-    match = EXPECT.match(path.read_text().splitlines()[0])
-    assert match, f"{path.name} needs an '# expect:' first line"
-    code, line, column, text = match.group(1), int(match.group(2)), int(match.group(3)), match[4]
-    result = compile_spec(path)
-    found = [(d.code, d.location.line, d.location.column) for d in result.diagnostics]
-    assert (code, line, column) in found, [d.format_text() for d in result.diagnostics]
-    diagnostic = next(d for d in result.diagnostics if d.code == code)
-    assert text in diagnostic.message + " " + (diagnostic.hint or "")
-    assert diagnostic.location.file == str(path)
-
-
 def test_every_shipped_spec_validates() -> None:
-    compiled, diagnostics = compile_all([Path(__file__).parent.parent / "specs"])
+    compiled, diagnostics = compile_all([SPECS])
     assert len(compiled) >= 4
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     assert not has_errors(diagnostics), [d.format_text() for d in diagnostics]
-
-
-def test_a_field_missing_from_an_extended_controller_is_reported_once_at_the_base() -> None:
-    # arm_delta extends arm_pos, which lacks stiffness: the child's copy of the gap is not news
-    result = compile_spec(HERE / "negative" / "extends_missing_field.yaml")
-    assert [(d.code, d.location.line) for d in result.diagnostics] == [("RS103", 8)]

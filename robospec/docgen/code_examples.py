@@ -4,6 +4,8 @@ Each diagnostic code has a folder ``docs/examples/codes/RSxxx/`` holding
 
 - ``fail.<ext>``: a spec that makes robospec report exactly that code,
 - ``pass.<ext>``: the same spec fixed, which robospec accepts without that code,
+- optionally more failing specs, ``fail_<what>.<ext>``: other ways to get the code (another
+  field, another form of the same mistake), shown after the pair,
 - any files the two need (a robot description, a xacro file), shown on the page too,
 - optionally ``about.md``: prose for the page (why the rule exists, how to fix it).
 
@@ -13,6 +15,11 @@ says the example is not run when the docs are generated. They are RS4xx (``robos
 of Python classes), RS5xx (``robospec check``'s physics), RS6xx (``inspect``/``new``/``doc`` on
 files named on the command line), RS9xx (internal) and :data:`RESERVED_CODES` (listed, but
 not reported by this version).
+
+Where robospec reports each failing example's diagnostics (code, line, column, words of the
+message) is written down in ``docs/examples/codes/expected.toml`` (:data:`EXPECTED_FILE`), and
+``tests/test_spec_examples.py`` holds every failing example to it: the catalogue is also the
+test suite's collection of specs that must fail, and where.
 """
 
 from __future__ import annotations
@@ -28,7 +35,9 @@ from robospec.reporting import render
 EXAMPLES_FOLDER = Path("examples") / "codes"
 ABOUT_FILE = "about.md"
 FAILING = "fail"
+MORE_FAILING = "fail_"  # the prefix of further failing examples' names
 PASSING = "pass"
+EXPECTED_FILE = "expected.toml"  # in the examples' root: where each failing example reports
 
 # ManiSkill's download folder is $MS_ASSET_DIR/data (robospec.resolve.paths.maniskill_data_dir)
 ASSET_DIR_VARIABLE = "MS_ASSET_DIR"
@@ -74,6 +83,7 @@ class CodeExamples:
     about: str | None
     failing: RunExample | None
     passing: RunExample | None
+    more_failing: tuple[RunExample, ...]  # fail_*.<ext>, in name order
     support_files: tuple[Path, ...]  # files the examples need (descriptions), in name order
 
 
@@ -89,14 +99,26 @@ def load_code_examples(docs_dir: Path, code: str) -> CodeExamples:
     about = about_path.read_text(encoding="utf-8") if about_path.is_file() else None
     failing = _spec_named(files, FAILING)
     passing = _spec_named(files, PASSING)
-    support = tuple(p for p in files if p not in (failing, passing, about_path))
+    more = [p for p in files if p.stem.startswith(MORE_FAILING)]
+    support = tuple(p for p in files if p not in (failing, passing, about_path, *more))
     return CodeExamples(
         code=code,
         folder=folder,
         about=about,
         failing=run_example(failing) if failing else None,
         passing=run_example(passing) if passing else None,
+        more_failing=tuple(run_example(p) for p in more),
         support_files=support,
+    )
+
+
+def failing_example_paths(docs_dir: Path) -> list[Path]:
+    """Every failing example of the catalogue (``RSxxx/fail.<ext>``, ``RSxxx/fail_*.<ext>``),
+    in code and name order."""
+    return sorted(
+        path
+        for path in examples_root(docs_dir).glob("RS*/*")
+        if path.is_file() and (path.stem == FAILING or path.stem.startswith(MORE_FAILING))
     )
 
 

@@ -139,10 +139,15 @@ def _run_sections(examples: CodeExamples) -> list[str]:
     lines += _example(examples.failing, examples.support_files, shown)
     lines += ["## Passing example", ""]
     lines += _example(examples.passing, examples.support_files, shown)
+    if examples.more_failing:
+        lines += ["## More failing examples", ""]
+        for example in examples.more_failing:
+            lines += _example(example, examples.support_files, shown)
     lines += [
         f"These examples are `docs/examples/codes/{examples.code}/`; the output above is what "
-        "robospec reported for them when this page was generated, and `tests/test_docs.py` "
-        "checks both.",
+        "robospec reported for them when this page was generated. `tests/test_docs.py` checks "
+        "that the page is current, and `tests/test_spec_examples.py` that each failing example "
+        "reports what `docs/examples/codes/expected.toml` says, where it says.",
         "",
     ]
     return lines
