@@ -108,7 +108,7 @@ def test_check_reports_stale_output_and_writes_nothing(tmp_path: Path) -> None:
 
 def test_a_spec_with_errors_builds_nothing(tmp_path: Path) -> None:
     out = tmp_path / "agents"
-    result = build(out, specs="tests/specs/negative/misspelled_joint.yaml")
+    result = build(out, specs="docs/examples/codes/RS201/fail.yaml")
     assert result.returncode == 1
     assert not out.exists()
 
