@@ -20,21 +20,13 @@ from pathlib import Path
 
 import pydantic_core
 
+from robospec.user_cache import cache_root
+
 MODEL_FOLDER = Path(__file__).parent
 """The model's sources (every module here: the models, their rules, the freezer, the records)."""
 
 FORMAT = "1"
 """The layout of a cache entry; a change to how entries are read or named bumps it."""
-
-
-def cache_root() -> Path:
-    """robospec's user cache folder: ``$ROBOSPEC_CACHE_DIR``, else ``$XDG_CACHE_HOME/robospec``,
-    else ``~/.cache/robospec``. The frozen model and the register cache live under it."""
-    configured = os.environ.get("ROBOSPEC_CACHE_DIR")
-    if configured:
-        return Path(configured)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "robospec"
 
 
 def entry_path() -> Path:

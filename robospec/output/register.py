@@ -24,19 +24,12 @@ from typing import TYPE_CHECKING
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
+from robospec.user_cache import cache_root
 
 if TYPE_CHECKING:
     from robospec.pipeline import CompiledSpec
 
 CACHE_FORMAT = "1"
-
-
-def cache_root() -> Path:
-    configured = os.environ.get("ROBOSPEC_CACHE_DIR")
-    if configured:
-        return Path(configured)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "robospec"
 
 
 def _sha256(data: bytes) -> str:
