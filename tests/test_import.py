@@ -142,15 +142,15 @@ def build_class(spec_file: Path, module_dir: Path) -> type:
     """The agent class of a spec, also when `validate` reports upstream's own errors (a joint
     driven twice, a keyframe outside the limits): resolved and emitted without the checks."""
     from robospec.load.reader import read_spec
-    from robospec.model import build_spec
+    from robospec.model.validate import build_spec
     from robospec.output.modules import module_name_for, robot_files
-    from robospec.resolve import Resolver
+    from robospec.resolve import resolve
 
     loaded, diagnostics = read_spec(spec_file)
     assert loaded is not None, diagnostics
     model = build_spec(loaded)
     assert model.spec is not None, model.diagnostics
-    robot = Resolver(loaded, model, spec_file).resolve().robot
+    robot = resolve(loaded, model, spec_file).robot
     assert robot is not None
     module = "imported_" + module_name_for(robot.uid, set())
     module_dir.mkdir(parents=True, exist_ok=True)

@@ -26,12 +26,6 @@ class GroupPlan:
     def selection(self, joints: tuple[str, ...]) -> Any:
         return self.selections[joints]
 
-    def group_of(self, joints: tuple[str, ...]) -> str | None:
-        for name, members in self.groups.items():
-            if members == joints:
-                return name
-        return None
-
 
 def plan_groups(modes: Sequence[ModeRecord], all_joints: tuple[str, ...] | None) -> GroupPlan:
     plan = GroupPlan()

@@ -10,8 +10,9 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, warning
-from robospec.importer.controllers import listify, plan_controllers
+from robospec.importer.controllers import ControllerPlan, listify, plan_controllers
 from robospec.importer.groups import (
+    GroupPlan,
     glob_candidates,
     partition_of,
     plan_groups,
@@ -25,7 +26,7 @@ from robospec.importer.records import (
     KeyframeRecord,
     ModeRecord,
 )
-from robospec.importer.upstream import find_upstream_mistakes
+from robospec.importer.upstream import Findings, find_upstream_mistakes
 
 KeyPath = tuple[str | int, ...]
 IDENTITY_Q = (1.0, 0.0, 0.0, 0.0)
@@ -40,35 +41,67 @@ class SpecDoc:
 
 
 def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, list[Diagnostic]]:
-    diagnostics: list[Diagnostic] = []
-    at_class = Location(record.source.file, record.source.line, record.source.column)
+    paths = _SpecPaths(record, out_dir)
+    found = find_upstream_mistakes(record, paths.text_unless_description)
+    modes = [m for m in record.modes if m.name not in found.dropped_modes]
+    groups = plan_groups(modes, record.active_joint_names)
+    controllers = plan_controllers(modes, groups, paths.text_unless_description)
+    passive = _undriven(modes, record)
+    data = _data(record, uid, paths, found, modes, groups, controllers, passive)
+    notes: dict[KeyPath, str] = {}
+    for (key, field_name), note in found.field_notes.items():
+        for name, controller in controllers.records.items():
+            if controller.key == key and field_name in controllers.controllers[name]:
+                notes[("controllers", name, field_name)] = note
+    header = _header(record, found, passive)
+    diagnostics = [*found.diagnostics, *_class_warnings(record, uid, modes, paths)]
+    return SpecDoc(data, header, notes), diagnostics
 
-    def spec_path(absolute: str) -> str:
+
+@dataclass(frozen=True)
+class _SpecPaths:
+    """Files of the class as a spec writes them: under a ManiSkill placeholder, or relative to
+    the folder the spec is written to."""
+
+    record: AgentRecord
+    out_dir: Path
+
+    def text(self, absolute: str) -> str:
         if not absolute:
             return ""
-        for placeholder, root in record.asset_roots:
+        for placeholder, root in self.record.asset_roots:
             if absolute.startswith(root.rstrip(os.sep) + os.sep):
                 rel = os.path.relpath(absolute, root)
                 return placeholder + "/" + Path(rel).as_posix()
         try:
-            return Path(os.path.relpath(absolute, out_dir.resolve())).as_posix()
+            return Path(os.path.relpath(absolute, self.out_dir.resolve())).as_posix()
         except ValueError:  # another drive
             return Path(absolute).as_posix()
 
-    def path_text(absolute: str) -> str | None:
-        return None if absolute == record.description_path else spec_path(absolute)
+    def text_unless_description(self, absolute: str) -> str | None:
+        """None for the robot's own description, which controllers take by default."""
+        return None if absolute == self.record.description_path else self.text(absolute)
 
-    found = find_upstream_mistakes(record, path_text)
-    diagnostics.extend(found.diagnostics)
-    modes = [m for m in record.modes if m.name not in found.dropped_modes]
+    @property
+    def description(self) -> str:
+        return self.text(self.record.description_path)
+
+
+def _data(
+    record: AgentRecord,
+    uid: str,
+    paths: _SpecPaths,
+    found: Findings,
+    modes: list[ModeRecord],
+    groups: GroupPlan,
+    controllers: ControllerPlan,
+    passive: tuple[str, ...],
+) -> dict[str, Any]:
+    """The spec, key by key in the order a person would write it."""
     all_joints = record.active_joint_names
-    groups = plan_groups(modes, all_joints)
-    controllers = plan_controllers(modes, groups, path_text)
-
     data: dict[str, Any] = {"robospec": 1, "uid": uid}
-    description = spec_path(record.description_path)
-    data["description"] = {record.description_kind: description}
-    if record.asset_download_ids and _spec_has("download"):
+    data["description"] = {record.description_kind: paths.description}
+    if record.asset_download_ids:
         data["description"]["download"] = list(record.asset_download_ids)
     loader = {
         name: getattr(record, name)
@@ -88,7 +121,6 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
         data["links"] = rules
     if groups.values:
         data["groups"] = dict(groups.values)
-    passive = _undriven(modes, record)
     if passive:
         data["passive_joints"] = selection_for(passive, all_joints)
     partition = partition_of(modes, groups, all_joints)
@@ -102,13 +134,11 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
     cameras = [c for c in record.cameras if c.uid not in found.dropped_cameras]
     if cameras:
         data["cameras"] = {camera.uid: _camera(camera) for camera in cameras}
+    return data
 
-    notes: dict[KeyPath, str] = {}
-    for (key, field_name), note in found.field_notes.items():
-        for name, controller in controllers.records.items():
-            if controller.key == key and field_name in controllers.controllers[name]:
-                notes[("controllers", name, field_name)] = note
 
+def _header(record: AgentRecord, found: Findings, passive: tuple[str, ...]) -> tuple[str, ...]:
+    """The comment at the top of the spec: where it came from, and what was left out."""
     header = [f"Imported by `robospec import` from {record.module}:{record.class_name}."]
     if record.description_file is None:
         header.append(
@@ -125,18 +155,34 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
             "passive_joints: joints that some of upstream's control modes leave without a "
             "controller."
         )
-    for message in record.not_imported:
-        header.append(f"Not imported: {message}.")
-    for mode, why in found.dropped_modes.items():
-        header.append(f"Left out: control mode {mode} ({why}).")
-    for link, why in found.dropped_rules.items():
-        header.append(f"Left out: the urdf_config rule for link {link} ({why}).")
-    for frame, why in found.dropped_keyframes.items():
-        header.append(f"Left out: keyframe {frame} ({why}).")
-    for camera, why in found.dropped_cameras.items():
-        header.append(f"Left out: camera {camera} ({why}).")
+    header += [f"Not imported: {message}." for message in record.not_imported]
+    for what, dropped in (
+        ("control mode", found.dropped_modes),
+        ("the urdf_config rule for link", found.dropped_rules),
+        ("keyframe", found.dropped_keyframes),
+        ("camera", found.dropped_cameras),
+    ):
+        header += [f"Left out: {what} {name} ({why})." for name, why in dropped.items()]
     if record.unreproduced:
         header.append("Not reproduced (code, not data): " + ", ".join(record.unreproduced) + ".")
+    wrapped: list[str] = []
+    for line in header:
+        wrapped.extend(
+            textwrap.wrap(line, COMMENT_WIDTH, break_on_hyphens=False, break_long_words=False)
+        )
+    return tuple(wrapped)
+
+
+def _class_warnings(
+    record: AgentRecord, uid: str, modes: list[ModeRecord], paths: _SpecPaths
+) -> list[Diagnostic]:
+    """What the spec cannot carry over from the class (RS409, RS410), and a uid ManiSkill
+    registers itself (RS411)."""
+    from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+
+    at_class = Location(record.source.file, record.source.line, record.source.column)
+    diagnostics: list[Diagnostic] = []
+    if record.unreproduced:
         diagnostics.append(
             warning(
                 at_class,
@@ -158,8 +204,8 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
             warning(
                 at_class,
                 "RS410",
-                f"robot description '{description}' is not installed: joint and link names are "
-                "not checked, no globs, keyframes as ordered lists"
+                f"robot description '{paths.description}' is not installed: joint and link "
+                "names are not checked, no globs, keyframes as ordered lists"
                 + (
                     "; upstream drives every active joint, written '*', which `robospec "
                     "validate` can only expand once the description is there"
@@ -169,18 +215,6 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
                 hint,
             )
         )
-    if description.startswith("{maniskill_data}/") and not _paths_have("DATA_PLACEHOLDER"):
-        diagnostics.append(
-            warning(
-                at_class,
-                "RS413",
-                f"'{description.split('/')[0]}' (ManiSkill's download folder, ASSET_DIR) is not "
-                "a path placeholder this robospec resolves yet",
-                "replace it with the file's path if the spec must validate now",
-            )
-        )
-    from robospec.maniskill.builtin_uids import MANISKILL_UIDS
-
     if uid in MANISKILL_UIDS:
         diagnostics.append(
             warning(
@@ -191,12 +225,7 @@ def spec_data(record: AgentRecord, uid: str, out_dir: Path) -> tuple[SpecDoc, li
                 f"pass --uid rs_{uid}",
             )
         )
-    wrapped: list[str] = []
-    for line in header:
-        wrapped.extend(
-            textwrap.wrap(line, COMMENT_WIDTH, break_on_hyphens=False, break_long_words=False)
-        )
-    return SpecDoc(data, tuple(wrapped), notes), diagnostics
+    return diagnostics
 
 
 def _undriven(modes: list[ModeRecord], record: AgentRecord) -> tuple[str, ...]:
@@ -210,19 +239,6 @@ def _undriven(modes: list[ModeRecord], record: AgentRecord) -> tuple[str, ...]:
     else:
         every = tuple(dict.fromkeys(j for m in modes for _, c in m.entries for j in c.joints))
     return tuple(j for j in every if any(j not in joints for joints in driven))
-
-
-def _spec_has(name: str) -> bool:
-    """Whether this robospec's spec format has ``description.<name>`` (it is growing)."""
-    from robospec.model.spec import Description
-
-    return name in Description.model_fields
-
-
-def _paths_have(name: str) -> bool:
-    import robospec.resolve.paths
-
-    return hasattr(robospec.resolve.paths, name)
 
 
 def _link_rules(record: AgentRecord, dropped: set[str]) -> dict[str, dict[str, Any]]:
