@@ -10,13 +10,20 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+# a TOML spec with a xacro description (a module and an expanded URDF) and a YAML one: enough
+# for what does not depend on how many specs a build has, at a third of the cost of specs/
+TWO_SPECS = ("specs/twolink.toml", "specs/maniskill/panda.yaml")
 
 
 def build(
-    out: Path, *extra: str, specs: str = "specs/", env: dict[str, str] | None = None
+    out: Path,
+    *extra: str,
+    specs: str | tuple[str, ...] = "specs/",
+    env: dict[str, str] | None = None,
 ) -> subprocess.CompletedProcess[str]:
+    paths = [specs] if isinstance(specs, str) else list(specs)
     return subprocess.run(
-        [sys.executable, "-m", "robospec.cli", "build", specs, "-o", str(out), *extra],
+        [sys.executable, "-m", "robospec.cli", "build", *paths, "-o", str(out), *extra],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -50,10 +57,15 @@ def test_build_writes_one_module_per_spec_and_an_init_that_imports_them(tmp_path
 
 
 def test_build_output_is_byte_identical_across_runs_and_hash_seeds(tmp_path: Path) -> None:
-    first, second = tmp_path / "a" / "agents", tmp_path / "b" / "agents"
-    assert build(first, env={"PYTHONHASHSEED": "1"}).returncode == 0
-    assert build(second, env={"PYTHONHASHSEED": "4242"}).returncode == 0
-    assert snapshot(first) == snapshot(second)
+    states = []
+    for seed in ("0", "1", "4242"):  # 0: no hash randomization at all
+        out = tmp_path / seed / "agents"
+        result = build(out, env={"PYTHONHASHSEED": seed})
+        assert result.returncode == 0, result.stdout + result.stderr
+        states.append(snapshot(out))
+    # YAML and TOML specs, and a xacro expansion, are part of what is compared
+    assert {"rs_panda.py", "twolink.py", "twolink.urdf"} <= set(states[0])
+    assert states[0] == states[1] == states[2]
 
 
 @pytest.mark.parametrize("specs", ["specs/", str(ROOT / "specs")], ids=["relative", "absolute"])
@@ -72,38 +84,40 @@ def test_build_output_is_the_same_for_absolute_and_relative_spec_paths(tmp_path:
     assert snapshot(relative) == snapshot(absolute)
 
 
-def test_build_refuses_to_overwrite_a_file_it_did_not_generate(tmp_path: Path) -> None:
+@pytest.mark.parametrize("name", ["rs_panda.py", "__init__.py", "twolink.urdf"])
+def test_build_refuses_to_overwrite_a_file_it_did_not_generate(tmp_path: Path, name: str) -> None:
+    # a user's file named like a module, the package's __init__ or an expanded xacro
     out = tmp_path / "agents"
     out.mkdir()
-    mine = out / "rs_panda.py"
+    mine = out / name
     mine.write_text("# my own work\n")
-    result = build(out)
+    result = build(out, specs=TWO_SPECS)
     assert result.returncode == 1
-    assert "error[RS604] refusing to overwrite" in result.stdout
+    assert f"{mine}:1:1: error[RS604] refusing to overwrite" in result.stdout
     assert mine.read_text() == "# my own work\n"
-    assert sorted(p.name for p in out.iterdir()) == ["rs_panda.py"]  # nothing half-written
+    assert sorted(p.name for p in out.iterdir()) == [name]  # nothing half-written
 
 
 def test_build_keeps_the_users_other_files_and_replaces_its_own(tmp_path: Path) -> None:
     out = tmp_path / "agents"
-    assert build(out).returncode == 0
+    assert build(out, specs=TWO_SPECS).returncode == 0
     (out / "NOTES.txt").write_text("keep me\n")
     (out / "rs_panda.py").write_text("stale\n")
-    assert build(out).returncode == 0
+    assert build(out, specs=TWO_SPECS).returncode == 0
     assert (out / "NOTES.txt").read_text() == "keep me\n"
     assert "class RsPanda" in (out / "rs_panda.py").read_text()
 
 
 def test_check_reports_stale_output_and_writes_nothing(tmp_path: Path) -> None:
     out = tmp_path / "agents"
-    assert build(out, "--check").returncode == 1
+    assert build(out, "--check", specs=TWO_SPECS).returncode == 1
     assert not out.exists()
-    assert build(out).returncode == 0
-    assert build(out, "--check").returncode == 0
-    (out / "rs_fetch.py").write_text("edited\n")
-    result = build(out, "--check")
-    assert result.returncode == 1 and "rs_fetch.py" in result.stdout
-    assert (out / "rs_fetch.py").read_text() == "edited\n"
+    assert build(out, specs=TWO_SPECS).returncode == 0
+    assert build(out, "--check", specs=TWO_SPECS).returncode == 0
+    (out / "rs_panda.py").write_text("edited\n")
+    result = build(out, "--check", specs=TWO_SPECS)
+    assert result.returncode == 1 and "rs_panda.py" in result.stdout
+    assert (out / "rs_panda.py").read_text() == "edited\n"
 
 
 def test_a_spec_with_errors_builds_nothing(tmp_path: Path) -> None:
@@ -114,7 +128,7 @@ def test_a_spec_with_errors_builds_nothing(tmp_path: Path) -> None:
 
 
 def test_an_invalid_package_name_is_a_diagnostic(tmp_path: Path) -> None:
-    result = build(tmp_path / "not-a-package")
+    result = build(tmp_path / "not-a-package", specs=TWO_SPECS)
     assert result.returncode == 1
     assert "RS105" in result.stdout
 
