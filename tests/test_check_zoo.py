@@ -1,14 +1,16 @@
 """`robospec check` over every spec in specs/: all pass except reproductions of ManiSkill agents
 that are broken upstream, which fail with exactly the codes listed here, and a reason.
 
-Each entry of ``KNOWN_BROKEN_UPSTREAM`` is an upstream problem the checks find in ManiSkill's
-own agent (the spec reproduces it exactly: tests/test_equivalence.py proves the rollouts
-bit-identical), so an entry has to go when ManiSkill fixes it. docs/check.md lists them too.
+``KNOWN_BROKEN_UPSTREAM`` is a list of facts about ManiSkill, not a snapshot of robospec's output:
+for each entry the same checks (robospec.physics, the same code and thresholds) are run on
+ManiSkill's own hand-written agent, loaded by its own uid, and must find the listed failures
+there, exactly as on the spec-built agent. So an entry has to go when ManiSkill fixes the
+problem, and a failure robospec invents cannot be listed. docs/check.md lists them too.
 """
 
 from __future__ import annotations
 
-from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -18,9 +20,13 @@ pytestmark = [
 ]
 pytest.importorskip("mani_skill")
 
-from robospec.physics.batch import RobotReport, check_paths  # noqa: E402
+from conftest import DOCS, MANISKILL_SPECS  # noqa: E402
+from shipped_checks import shipped_spec_reports  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
+from robospec.physics.batch import CHECKS, Options, RobotReport, _settings  # noqa: E402
+from robospec.physics.check_run import CheckRun  # noqa: E402
+from robospec.physics.findings import Finding  # noqa: E402
+from robospec.pipeline import compile_spec  # noqa: E402
 
 _MIMIC = (
     "URDF <mimic> finger joints that no pd_joint_pos_mimic controller drives: PhysX mimic "
@@ -61,10 +67,8 @@ KNOWN_BROKEN_UPSTREAM: dict[str, tuple[frozenset[str], str]] = {
 
 
 @pytest.fixture(scope="module")
-def reports() -> dict[str, RobotReport]:
-    found, extra = check_paths([ROOT / "specs"])
-    assert not extra
-    return {r.uid or r.spec: r for r in found}
+def reports(tmp_path_factory: pytest.TempPathFactory) -> dict[str, RobotReport]:
+    return shipped_spec_reports(tmp_path_factory)
 
 
 def _codes(report: RobotReport) -> set[str]:
@@ -82,31 +86,6 @@ def test_every_spec_was_really_checked(reports: dict[str, RobotReport]) -> None:
         assert {"keyframe_hold", "random_actions", "step_response", "action_layout"} <= checks, uid
 
 
-def test_inspire_hand_fails_naming_its_mimic_joints_and_the_cause(
-    reports: dict[str, RobotReport],
-) -> None:
-    report = reports["rs_fixed_inspire_hand_right"]
-    nan = [d for d in report.all_diagnostics if d.code == "RS502"]
-    assert nan
-    for diagnostic in nan:
-        assert "URDF <mimic>" in diagnostic.message
-        assert "'right_hand_index_PIP_joint' mimics 'right_hand_index_MCP_joint'" in (
-            diagnostic.message
-        )
-        assert diagnostic.hint is not None and "pd_joint_pos_mimic" in diagnostic.hint
-        assert diagnostic.location.file.endswith("fixed_inspire_hand_right.yaml")
-        assert diagnostic.location.line > 1  # at the control mode
-
-
-def test_fetch_nan_names_the_infinite_bounds(reports: dict[str, RobotReport]) -> None:
-    (mode,) = {
-        f.mode for f in reports["rs_fetch"].findings if f.failed and f.check == "random_actions"
-    }
-    assert mode == "pd_joint_pos_vel"
-    messages = [d.message for d in reports["rs_fetch"].all_diagnostics if d.code == "RS502"]
-    assert all("infinite joint limits" in m for m in messages)
-
-
 def test_ability_hand_keyframe_failure_explains_the_mimic_rule(
     reports: dict[str, RobotReport],
 ) -> None:
@@ -117,6 +96,56 @@ def test_ability_hand_keyframe_failure_explains_the_mimic_rule(
 
 
 def test_docs_list_every_robot_broken_upstream() -> None:
-    text = (ROOT / "docs" / "check.md").read_text(encoding="utf-8")
+    text = (DOCS / "check.md").read_text(encoding="utf-8")
     for uid in KNOWN_BROKEN_UPSTREAM:
         assert f"`{uid}`" in text, uid
+
+
+# -- the same failures on ManiSkill's own agents ---------------------------------------------
+
+
+def _upstream_findings(uid: str) -> list[Finding]:
+    """Every check, in ``robospec check``'s order and with the spec's thresholds, run on the
+    agent ManiSkill registers under the uid the spec reproduces (``rs_fetch``: ``fetch``).
+
+    This is ``check_compiled`` less its ``register``: the spec's compiled context supplies the
+    control modes, keyframes and settings the checks walk through (test_equivalence.py proves
+    them equal to the hand-written agent's), the environments hold ManiSkill's class."""
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    upstream = uid.removeprefix("rs_")
+    assert REGISTERED_AGENTS[upstream].agent_cls.__module__.startswith("mani_skill.agents.")
+    item = compile_spec(MANISKILL_SPECS / f"{upstream}.yaml")
+    assert item.ok and item.context is not None and item.robot is not None
+    assert item.robot.uid == uid
+    run = CheckRun(upstream, item.context, _settings(item, Options()))
+    try:
+        return [finding for _, check in CHECKS for finding in check(run)]
+    finally:
+        run.close()
+
+
+def _observed(finding: Finding) -> tuple[Any, ...]:
+    """What a finding says, comparable with NaN in it (``repr``: nan is nan)."""
+    return (
+        finding.check,
+        finding.mode,
+        finding.subject,
+        finding.status,
+        finding.summary,
+        repr(dict(finding.metrics)),
+        repr([dict(row) for row in finding.details]),
+        [(d.code, d.severity, d.message, d.hint, d.location) for d in finding.diagnostics],
+    )
+
+
+@pytest.mark.parametrize("uid", sorted(KNOWN_BROKEN_UPSTREAM))
+def test_each_listed_failure_happens_on_maniskills_own_agent_too(
+    uid: str, reports: dict[str, RobotReport]
+) -> None:
+    upstream = _upstream_findings(uid)
+    codes, reason = KNOWN_BROKEN_UPSTREAM[uid]
+    found = {d.code for f in upstream for d in f.diagnostics if d.is_error}
+    assert found == codes, reason  # ManiSkill's hand-written agent fails with the listed codes ...
+    # ... in the same checks, modes and subjects, with the same measurements, as the spec's
+    assert [_observed(f) for f in upstream] == [_observed(f) for f in reports[uid].findings]

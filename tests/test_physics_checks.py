@@ -1,10 +1,11 @@
 """``robospec check``'s physics checks on real SAPIEN physics (CPU, headless, no mocks): each
 check with a robot that passes and one that fails, and the report built from them.
 
-Failing robots are copies of the shipped specs (specs/maniskill/*.yaml) under a new uid with one
-change. To keep this module fast, a copy keeps only the control modes its case needs (and the
-controllers those use). The robots are checked in three batches (module-scoped fixtures) and
-every test reads the findings it needs from them.
+The shipped robots (the Panda, which passes every check; fetch and an inspire hand, broken
+upstream) are read from the one check of every spec in specs/ that test_check_zoo.py judges
+(tests/shipped_checks.py), not checked again. The other failing robots are copies of the shipped
+Panda spec under a new uid with one change; to keep this module fast, a copy keeps only the
+control modes its case needs (and the controllers those use), and they are checked in one batch.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ pytestmark = [
 pytest.importorskip("mani_skill")
 
 from ruamel.yaml import YAML  # noqa: E402
+from shipped_checks import shipped_spec_reports  # noqa: E402
 
 from robospec.diagnostics import Diagnostic  # noqa: E402
 from robospec.physics.batch import Options, RobotReport, check_paths  # noqa: E402
@@ -36,7 +38,6 @@ from robospec.physics.report import render_json, render_text  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 MANISKILL_SPECS = ROOT / "specs" / "maniskill"
 PANDA = MANISKILL_SPECS / "panda.yaml"
-FETCH = MANISKILL_SPECS / "fetch.yaml"
 INSPIRE = MANISKILL_SPECS / "fixed_inspire_hand_right.yaml"
 ARM = [f"panda_joint{i}" for i in range(1, 8)]
 
@@ -161,25 +162,18 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
 
 
 @pytest.fixture(scope="module")
-def panda(workspace: Path) -> RobotReport:
+def panda(tmp_path_factory: pytest.TempPathFactory) -> RobotReport:
     """The shipped Panda spec, with the default thresholds and step counts."""
-    reports, extra = check_paths([PANDA])
-    assert extra == []
-    (report,) = reports
+    report = shipped_spec_reports(tmp_path_factory)["rs_panda"]
+    assert report.spec.endswith(PANDA.name)
     return report
 
 
 @pytest.fixture(scope="module")
-def zoo(workspace: Path) -> dict[str, RobotReport]:
-    """ManiSkill robots broken upstream: the shipped inspire hand, and fetch (modes
-    pd_joint_delta_pos and pd_joint_pos_vel)."""
-    needs_assets(
-        "robots/fetch/fetch.urdf", "robots/inspire_hand/RH56DFX-2LR/urdf/inspire_hand_right.urdf"
-    )
-    fetch = spec_copy(FETCH, workspace, "rs_chk_fetch", ["pd_joint_delta_pos", "pd_joint_pos_vel"])
-    reports, extra = check_paths([INSPIRE, fetch], Options(steps=10))
-    assert extra == []
-    return {r.uid: r for r in reports if r.uid}
+def zoo(tmp_path_factory: pytest.TempPathFactory) -> dict[str, RobotReport]:
+    """ManiSkill robots broken upstream, as shipped: the right fixed inspire hand, and fetch."""
+    reports = shipped_spec_reports(tmp_path_factory)
+    return {uid: reports[uid] for uid in ("rs_fixed_inspire_hand_right", "rs_fetch")}
 
 
 def _float_up(data: Any) -> None:
@@ -405,7 +399,7 @@ def test_random_actions_inspire_hand_nan_names_the_mimic_joints_and_the_urdf_tag
 def test_random_actions_fetch_pos_vel_nan_names_the_infinite_bounds(
     zoo: dict[str, RobotReport],
 ) -> None:
-    report = zoo["rs_chk_fetch"]
+    report = zoo["rs_fetch"]
     failed = [f for f in found(report, "random_actions") if f.failed]
     assert {f.mode for f in failed} == {"pd_joint_pos_vel"}
     assert all(
@@ -634,7 +628,7 @@ def test_action_layout_panda_ee_delta_pose_rows_are_named_axes(panda: RobotRepor
 
 
 def test_action_layout_fetch_base_rows_are_named(zoo: dict[str, RobotReport]) -> None:
-    rows = one(zoo["rs_chk_fetch"], "action_layout", "pd_joint_delta_pos").details
+    rows = one(zoo["rs_fetch"], "action_layout", "pd_joint_delta_pos").details
     assert len(rows) == 13
     base = [r for r in rows if r["group"] == "base"]
     assert [(r["index"], r["target"]) for r in base] == [(11, "base.v"), (12, "base.wz")]
@@ -657,7 +651,7 @@ def test_a_report_fails_exactly_when_a_finding_fails(
 def test_json_report_has_the_documented_keys(
     panda: RobotReport, zoo: dict[str, RobotReport]
 ) -> None:
-    reports = [panda, zoo["rs_chk_fetch"]]
+    reports = [panda, zoo["rs_fetch"]]
     data = json.loads(render_json(reports, []))
     assert set(data) == {"robots", "diagnostics", "summary"}
     assert data["summary"] == {
@@ -671,7 +665,7 @@ def test_json_report_has_the_documented_keys(
     robot, fetch = data["robots"]
     assert set(robot) == {"spec", "uid", "status", "findings", "diagnostics"}
     assert (robot["uid"], robot["status"]) == ("rs_panda", "pass")
-    assert (fetch["uid"], fetch["status"]) == ("rs_chk_fetch", "fail")
+    assert (fetch["uid"], fetch["status"]) == ("rs_fetch", "fail")
     for finding in robot["findings"] + fetch["findings"]:
         assert set(finding) == {
             "check",
@@ -720,7 +714,7 @@ def _reject(constant: str) -> None:
 def test_json_report_is_strict_json_even_with_infinite_action_bounds(
     zoo: dict[str, RobotReport],
 ) -> None:
-    json.loads(render_json([zoo["rs_chk_fetch"]], []), parse_constant=_reject)
+    json.loads(render_json([zoo["rs_fetch"]], []), parse_constant=_reject)
 
 
 def test_text_report_has_the_table_header_and_the_summary_line(
