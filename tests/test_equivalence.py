@@ -565,16 +565,35 @@ def test_loaded_articulations_are_identical(twins: Twins) -> None:
     assert getattr(our_tcp, "name", None) == getattr(upstream_tcp, "name", None)
 
 
-def test_fetch_wheels_and_base_have_upstream_collision_bits(registered: dict[str, type]) -> None:
-    with _twins("fetch", None) as twins:
-        ours = _collision_groups(twins.our_agent)
-        upstream = _collision_groups(twins.upstream_agent)
-        for link in ("l_wheel_link", "r_wheel_link", "base_link"):
-            assert ours[link], link
-            assert ours[link] == upstream[link], link
-        bit = {"l_wheel_link": 30, "r_wheel_link": 30, "base_link": 31}
-        for link, index in bit.items():
-            assert all(groups[2] >> index & 1 for groups in ours[link]), (link, ours[link])
+# the maniskill specs that set collision bits: fetch's wheels and base ignore the ground, the
+# G1 upper bodies' hand links ignore each other
+WITH_COLLISION_RULES = {
+    "fetch",
+    "unitree_g1_simplified_upper_body",
+    "unitree_g1_simplified_upper_body_right_arm",
+    "unitree_g1_simplified_upper_body_with_head_camera",
+}
+
+
+def test_every_collision_rule_of_the_spec_sets_its_bit_on_both_loaded_robots(
+    twins: Twins,
+) -> None:
+    from robospec.pipeline import compile_spec
+
+    compiled = compile_spec(MANISKILL_SPECS / f"{twins.robot}.yaml").robot
+    assert compiled is not None
+    assert bool(compiled.collision_rules) == (twins.robot in WITH_COLLISION_RULES)
+    loaded = {
+        "ours": _collision_groups(twins.our_agent),
+        "upstream": _collision_groups(twins.upstream_agent),
+    }
+    for rule in compiled.collision_rules:
+        for link in rule.links:
+            for side, groups in loaded.items():
+                shapes = groups[link]
+                assert shapes, (side, link)  # a link without collision shapes proves nothing
+                bits = [shape[rule.group] >> rule.bit & 1 for shape in shapes]
+                assert bits == [rule.value] * len(shapes), (side, link, rule)
 
 
 # -- rollouts --------------------------------------------------------------------------------------
