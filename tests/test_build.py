@@ -84,9 +84,24 @@ def test_build_output_is_the_same_for_absolute_and_relative_spec_paths(tmp_path:
     assert snapshot(relative) == snapshot(absolute)
 
 
-@pytest.mark.parametrize("name", ["rs_panda.py", "__init__.py", "twolink.urdf"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "rs_panda.py",
+        "__init__.py",
+        "twolink.urdf",
+        pytest.param(
+            "_robospec_manifest.txt",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="bug: build exempts its manifest's name from the ownership check and "
+                "overwrites a user's file of that name",
+            ),
+        ),
+    ],
+)
 def test_build_refuses_to_overwrite_a_file_it_did_not_generate(tmp_path: Path, name: str) -> None:
-    # a user's file named like a module, the package's __init__ or an expanded xacro
+    # a user's file named like a module, the package's __init__, an expanded xacro, the manifest
     out = tmp_path / "agents"
     out.mkdir()
     mine = out / name
