@@ -8,6 +8,7 @@ machine's absolute path.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any, Literal
 
@@ -43,7 +44,8 @@ def file_ref(
             return None
         ref = FileRef("maniskill_assets", in_assets, assets / in_assets)
     else:
-        ref = FileRef("file", text, (context.spec_file.parent / text).resolve())
+        # realpath, not Path.resolve: that raises RuntimeError on a loop of links (Python < 3.13)
+        ref = FileRef("file", text, Path(os.path.realpath(context.spec_file.parent / text)))
     try:
         found = ref.absolute.is_file()
         exists = found or ref.absolute.exists()
