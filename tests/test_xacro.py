@@ -133,32 +133,27 @@ def test_runaway_recursion_is_an_error_not_a_crash(tmp_path: Path) -> None:
 
 def test_memory_bomb_hits_the_memory_limit(tmp_path: Path) -> None:
     path = write(tmp_path, '  <link name="${2**2**34}"/>\n')
-    start = time.monotonic()
-    text, diags = expand_xacro(str(path), {}, memory_bytes=256 << 20, timeout_s=60)
-    assert time.monotonic() - start < 30
+    # the message names the limit that stopped it: the memory limit, long before the clock's
+    text, diags = expand_xacro(str(path), {}, memory_bytes=128 << 20, timeout_s=60)
     assert text is None
     assert [(d.code, d.location.file) for d in diags] == [("RS054", str(path))]
-    assert "memory limit of 256 MiB" in diags[0].message
+    assert "memory limit of 128 MiB" in diags[0].message
 
 
 def test_string_bomb_hits_the_memory_limit(tmp_path: Path) -> None:
     path = write(tmp_path, "  <link name=\"${'x' * 10**10}\"/>\n")
-    start = time.monotonic()
     _, diags = expand_xacro(str(path), {}, memory_bytes=256 << 20, timeout_s=60)
-    assert time.monotonic() - start < 30  # the memory limit ends it, not the clock
     assert [d.code for d in diags] == ["RS054"]
-    assert "memory" in diags[0].message
+    assert "memory limit of 256 MiB" in diags[0].message  # the memory limit ends it, not the clock
 
 
 def test_long_computation_hits_the_timeout(tmp_path: Path) -> None:
+    # hours of work: only the time limit ends it, and the message says that it did
     path = write(tmp_path, '  <link name="${python.sum(python.range(10**12))}"/>\n')
-    start = time.monotonic()
-    text, diags = expand_xacro(str(path), {}, timeout_s=2, memory_bytes=256 << 20)
-    elapsed = time.monotonic() - start
+    text, diags = expand_xacro(str(path), {}, timeout_s=1, memory_bytes=256 << 20)
     assert text is None
     assert [(d.code, d.location.file) for d in diags] == [("RS054", str(path))]
-    assert "time limit of 2 s" in diags[0].message
-    assert elapsed < 10
+    assert "time limit of 1 s" in diags[0].message
 
 
 def test_printing_from_the_file_cannot_corrupt_the_answer(tmp_path: Path) -> None:
@@ -191,46 +186,63 @@ def test_the_sandbox_escape_used_below_really_reaches_os(tmp_path: Path) -> None
     assert text is not None and f'<link name="{tmp_path}"/>' in text
 
 
+def background(tmp_path: Path) -> tuple[str, Path]:
+    """A shell line that leaves a process running for a minute, and the file that will hold
+    that process's id."""
+    pid_file = tmp_path / "background.pid"
+    return f"(sleep 60; touch {tmp_path / 'SURVIVED'}) &amp; echo $! &gt;{pid_file}", pid_file
+
+
+def ended(pid: int, within_s: float = 30) -> bool:
+    """Whether process ``pid`` is gone (or a zombie: it has ended, no one reaped it yet),
+    waiting up to ``within_s`` for it: a generous bound, met at once when all is well."""
+    deadline = time.monotonic() + within_s
+    while True:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except FileNotFoundError:
+            return True
+        if state == "Z":
+            return True
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+
+
 def test_a_process_the_file_leaves_running_is_killed_when_expansion_ends(tmp_path: Path) -> None:
-    survivor = tmp_path / "SURVIVED"
-    shell = f"(sleep 2; touch {survivor}) &amp;"
+    shell, pid_file = background(tmp_path)
     path = write(tmp_path, ESCAPE_TO_OS + f"  <link name=\"a${{OS['system']('{shell}')}}\"/>\n")
-    start = time.monotonic()
-    text, diags = expand_xacro(str(path), {})
-    assert time.monotonic() - start < 5  # nothing it started holds the expansion up
+    text, diags = expand_xacro(str(path), {}, timeout_s=60)
+    # no RS054: the process it left running (holding the output pipes) did not hold us up
     assert diags == [] and text is not None and '<link name="a0"/>' in text
-    time.sleep(3)
-    assert not survivor.exists(), "a process started by the xacro file outlived the expansion"
+    pid = int(pid_file.read_text())
+    assert ended(pid), "a process started by the xacro file outlived the expansion"
 
 
 def test_a_process_started_before_a_runaway_loop_dies_with_it(tmp_path: Path) -> None:
-    survivor = tmp_path / "SURVIVED"
-    shell = f"(sleep 3; touch {survivor}) &amp;"
+    shell, pid_file = background(tmp_path)
     path = write(
         tmp_path,
         ESCAPE_TO_OS
         + f"  <xacro:property name=\"started\" value=\"${{OS['system']('{shell}')}}\"/>\n"
         + '  <link name="${started + python.sum(python.range(10**12))}"/>\n',
     )
-    start = time.monotonic()
-    _, diags = expand_xacro(str(path), {}, timeout_s=1.5)
-    assert time.monotonic() - start < 5
-    assert [d.code for d in diags] == ["RS054"] and "time limit of 1.5 s" in diags[0].message
-    time.sleep(4)
-    assert not survivor.exists()
+    _, diags = expand_xacro(str(path), {}, timeout_s=1)
+    assert [d.code for d in diags] == ["RS054"] and "time limit of 1 s" in diags[0].message
+    assert ended(int(pid_file.read_text()))
 
 
 def test_a_fork_that_keeps_the_answer_pipe_open_cannot_hold_the_expansion(tmp_path: Path) -> None:
-    # the forked copy carries on expanding the same file; it must not keep us waiting
+    # the forked copy carries on expanding the same file, for hours; the parent answers "a1".
+    # Waiting for the pipe to close would end in the time limit (RS054), not in that answer.
     path = write(
         tmp_path,
         ESCAPE_TO_OS
         + '  <xacro:property name="pid" value="${OS[\'fork\']()}"/>\n'
-        + "  <link name=\"a${OS['sleep'] if pid else python.sum(python.range(10**12))}\"/>\n",
+        + '  <link name="a${1 if pid else python.sum(python.range(10**12))}"/>\n',
     )
-    start = time.monotonic()
-    expand_xacro(str(path), {}, timeout_s=5)
-    assert time.monotonic() - start < 8
+    text, diags = expand_xacro(str(path), {}, timeout_s=60)
+    assert diags == [] and text is not None and '<link name="a1"/>' in text
 
 
 @pytest.mark.parametrize(
@@ -246,20 +258,16 @@ def test_output_flooding_is_stopped_at_the_output_limit(tmp_path: Path, flood: s
     path = write(
         tmp_path, ESCAPE_TO_OS + f'  <link name="${{[{flood} for i in python.range(10**9)]}}"/>\n'
     )
-    start = time.monotonic()
     text, diags = expand_xacro(str(path), {}, timeout_s=60)
-    assert time.monotonic() - start < 30
     assert text is None
     assert [d.code for d in diags] == ["RS054"]
-    assert "printed more than 64 MiB" in diags[0].message
+    assert "printed more than 64 MiB" in diags[0].message  # the output limit, not the clock
 
 
 def test_a_file_including_itself_stops_at_once_with_a_short_hint(tmp_path: Path) -> None:
     path = write(tmp_path, '  <xacro:include filename="robot.urdf.xacro"/>\n')
-    start = time.monotonic()
-    _, diags = expand_xacro(str(path), {})
-    assert time.monotonic() - start < 5
-    assert [d.code for d in diags] == ["RS053"]
+    _, diags = expand_xacro(str(path), {}, timeout_s=60)
+    assert [d.code for d in diags] == ["RS053"]  # the nesting limit, not the clock
     assert "nested more than 50 deep" in diags[0].message
     assert diags[0].hint is not None and len(diags[0].hint) < 1000 and "more" in diags[0].hint
 
@@ -267,21 +275,17 @@ def test_a_file_including_itself_stops_at_once_with_a_short_hint(tmp_path: Path)
 def test_two_files_including_each_other_stop_at_once(tmp_path: Path) -> None:
     write(tmp_path, '  <xacro:include filename="robot.urdf.xacro"/>\n', name="other.xacro")
     path = write(tmp_path, '  <xacro:include filename="other.xacro"/>\n')
-    start = time.monotonic()
-    _, diags = expand_xacro(str(path), {})
-    assert time.monotonic() - start < 5
+    _, diags = expand_xacro(str(path), {}, timeout_s=60)
     assert [d.code for d in diags] == ["RS053"] and "nested" in diags[0].message
 
 
 def test_limits_come_from_the_environment(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv("ROBOSPEC_XACRO_TIMEOUT", "1.5")
+    monkeypatch.setenv("ROBOSPEC_XACRO_TIMEOUT", "0.5")
     monkeypatch.setenv("ROBOSPEC_XACRO_MEMORY_MB", "200")
-    assert configured_limits() == (1.5, 200 << 20)
+    assert configured_limits() == (0.5, 200 << 20)
     slow = write(tmp_path, '  <link name="${python.sum(python.range(10**12))}"/>\n')
-    start = time.monotonic()
     _, diags = expand_xacro(str(slow), {})
-    assert time.monotonic() - start < 6
-    assert "time limit of 1.5 s" in diags[0].message
+    assert "time limit of 0.5 s" in diags[0].message
     big = write(tmp_path, "  <link name=\"${'x' * 10**10}\"/>\n", name="big.xacro")
     _, diags = expand_xacro(str(big), {})
     assert "memory limit of 200 MiB" in diags[0].message
