@@ -304,13 +304,19 @@ def test_register_raises_spec_error_with_the_located_code_and_registers_nothing(
         }
     ],
 )
-def test_expensive_inputs_are_refused_in_well_under_a_second(case: Hostile, tmp_path: Path) -> None:
+def test_expensive_inputs_are_refused_before_the_expensive_work(
+    case: Hostile, tmp_path: Path
+) -> None:
+    # RS006 says a limit was hit; the clock says it was hit before the work it guards against:
+    # parsing 300,000 values or 50 MB takes tens of seconds, walking the alias bomb's 10^9
+    # values far longer, while refusing takes a fraction of a second. The bound sits between,
+    # far from both: a loaded machine does not flake it. (Speed itself: benchmarks/.)
     path = _make(case, tmp_path)
     started = time.perf_counter()
     result = compile_spec(path)
     elapsed = time.perf_counter() - started
     assert [d.code for d in result.diagnostics] == ["RS006"]
-    assert elapsed < 0.75, f"{case.name} took {elapsed:.2f} s"
+    assert elapsed < 10, f"{case.name} took {elapsed:.2f} s: was it refused before the work?"
 
 
 def test_the_good_specs_used_here_are_valid(tmp_path: Path) -> None:
