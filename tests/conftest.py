@@ -20,9 +20,11 @@ not slow"``):
 from __future__ import annotations
 
 import ast
+import os
+import random
 import subprocess
 import sys
-from collections.abc import Iterable, Mapping
+from collections.abc import Container, Iterable, Mapping
 from functools import cache
 from pathlib import Path
 from types import ModuleType
@@ -113,13 +115,25 @@ def spec_params(paths: Iterable[Path], root: Path | None = None) -> list[Any]:
         pytest.param(
             path,
             id=str(path.relative_to(root)) if root else path.name,
-            marks=[pytest.mark.maniskill] if _extends_python(path) else [],
+            marks=[pytest.mark.maniskill] if extends_python(path) else [],
         )
         for path in paths
     ]
 
 
-def _extends_python(spec: Path) -> bool:
+def sample_fast(params: list[Any], sample: Container[Path]) -> list[Any]:
+    """A sweep's parameters (from :func:`spec_params`) with all but ``sample`` marked ``slow``:
+    the fast loop runs the sample, the full suite every one."""
+    return [
+        param
+        if param.values[0] in sample
+        else pytest.param(*param.values, id=param.id, marks=[*param.marks, pytest.mark.slow])
+        for param in params
+    ]
+
+
+def extends_python(spec: Path) -> bool:
+    """Whether the spec's ``extends`` names a Python class (compiling it imports ManiSkill)."""
     return any(
         line.startswith("extends:") for line in spec.read_text(encoding="utf-8").splitlines()
     )
@@ -223,6 +237,35 @@ def pytest_make_collect_report(collector: pytest.Collector) -> Any:
     return report
 
 
+# -- property tests: new examples each run, and the seed to draw them again
+
+
+HYPOTHESIS_SEED_ENV = "ROBOSPEC_HYPOTHESIS_SEED"
+
+
+@pytest.hookimpl(tryfirst=True)  # before Hypothesis's plugin reads --hypothesis-seed
+def pytest_configure(config: pytest.Config) -> None:
+    if config.getoption("hypothesis_seed", None) is None:
+        seed = os.environ.get(HYPOTHESIS_SEED_ENV) or str(random.SystemRandom().randrange(2**32))
+        config.option.hypothesis_seed = seed
+
+
+def _seed_line(config: pytest.Config) -> str:
+    seed = config.getoption("hypothesis_seed")
+    return (
+        f"hypothesis seed: {seed} (property tests draw new examples each run; "
+        f"{HYPOTHESIS_SEED_ENV}={seed} or --hypothesis-seed={seed} draws these again)"
+    )
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    return _seed_line(config)
+
+
+def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> None:
+    terminalreporter.write_line(_seed_line(config))  # also under -q, which has no header
+
+
 # -- isolation
 
 
@@ -244,7 +287,9 @@ __all__ = [
     "SPECS",
     "TWOLINK_SPEC",
     "TWOLINK_XACRO",
+    "extends_python",
     "invoke_robospec",
     "run_robospec",
+    "sample_fast",
     "spec_params",
 ]

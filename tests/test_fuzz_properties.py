@@ -1,15 +1,20 @@
 """Property-based tests over the loader, the model and the CLI (issue 6 item 2).
 
 Whatever the input — arbitrary bytes named .yaml or .toml, YAML-ish token soup, or a real spec
-from specs/ and tests/specs/positive mutated (keys deleted, renamed or reordered, values
-swapped for other types, huge, negative, NaN, unicode or empty; lines deleted, duplicated,
-swapped or cut) — robospec answers with diagnostics that have a known code, a line and a column
->= 1 and a line the named file has, never an internal error (RS900, a bug of ours caught by
-compile_spec's last-resort handler) nor an exception; the CLI exits 0 or 1.
+from specs/ and tests/specs/positive, in YAML and in TOML, mutated (keys deleted, renamed or
+reordered, values swapped for other types, huge, negative, NaN, unicode or empty; lines
+deleted, duplicated, swapped or cut) — robospec answers with diagnostics that have a known
+code, a line and a column >= 1 and a line the named file has, never an internal error (RS900,
+a bug of ours caught by compile_spec's last-resort handler) nor an exception; the CLI exits 0 or 1.
 
-The budget is fixed and the examples derandomized so CI time is bounded and a failure
-reproduces; ``ROBOSPEC_FUZZ_SCALE=N`` multiplies the example counts and draws fresh random
-examples (the long-running fuzz target, fuzz/fuzz_validate.py, sets it; see docs/hardening.md).
+The budget is fixed, so CI time is bounded; the examples are new each run, drawn from the
+run's seed (tests/conftest.py prints it: ``ROBOSPEC_HYPOTHESIS_SEED=N`` draws a run's examples
+again). Every seed spec is also mutated as TOML (its data written as TOML; TOML has no null, so
+a spec with ``lower: null`` starts out with an error there), so both readers see every robot.
+Specs that extend a Python class are no seeds: compiling them imports ManiSkill, and a mutated
+``extends`` would import whatever module it came to name. ``ROBOSPEC_FUZZ_SCALE=N`` multiplies
+the example counts (the long-running fuzz target, fuzz/fuzz_validate.py, sets it; see
+docs/hardening.md).
 """
 
 from __future__ import annotations
@@ -20,10 +25,13 @@ import math
 import os
 import tempfile
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from conftest import ROOT, invoke_robospec
+import pytest
+import tomllib
+from conftest import ROOT, extends_python, invoke_robospec
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -36,23 +44,47 @@ SCALE = max(int(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 1)
 
 
 def budget(examples: int) -> settings:
-    """A fixed, reproducible budget in CI; ``SCALE`` times more, freshly random, when fuzzing."""
+    """A fixed budget in CI, ``SCALE`` times more when fuzzing; the examples come from the
+    run's seed (conftest.py), so they differ from run to run and a run can be repeated."""
     return settings(
         max_examples=examples * SCALE,
         deadline=None,
-        derandomize=SCALE == 1,
         database=None,
         suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
     )
 
 
-def _seed_specs() -> list[Path]:
+@dataclass(frozen=True)
+class Seed:
+    """A spec to mutate: a file of the repository, or its data written as TOML (``raw``),
+    standing where the file stands so that its relative paths resolve."""
+
+    path: Path
+    raw: bytes
+    suffix: str  # of the file it stands for: ".yaml" or ".toml"
+
+    @property
+    def name(self) -> str:
+        return self.path.stem + self.suffix
+
+    def __repr__(self) -> str:  # shown in a falsifying example
+        return f"Seed({self.path.relative_to(ROOT)} as {self.suffix[1:]})"
+
+
+def _seed_specs() -> list[Seed]:
     found = [*sorted((ROOT / "specs").glob("*.toml")), *sorted((ROOT / "specs").rglob("*.yaml"))]
     found += sorted((ROOT / "tests/specs/positive").glob("*.yaml"))
-    return [p for p in found if b"robospec" in p.read_bytes()[:400]]
-
-
-SEEDS = _seed_specs()
+    seeds = []
+    for path in found:
+        raw = path.read_bytes()
+        if b"robospec" not in raw[:400] or extends_python(path):
+            continue
+        seeds.append(Seed(path, raw, path.suffix))
+        if path.suffix != ".toml":
+            loaded, _ = read_spec(path)
+            assert loaded is not None, path
+            seeds.append(Seed(path, _dump_toml(loaded.data), ".toml"))
+    return seeds
 
 
 # -- checking diagnostics -------------------------------------------------------------------
@@ -89,13 +121,13 @@ class Scratch:
     """A temporary folder standing in for a seed spec's own: its sub-folders (robots/...) are
     linked in, so relative description paths resolve as they do beside the seed."""
 
-    def __init__(self, seed: Path) -> None:
+    def __init__(self, seed: Seed, suffix: str | None = None) -> None:
         self._dir = tempfile.TemporaryDirectory(prefix="robospec-fuzz-")
         self.folder = Path(self._dir.name)
-        for child in seed.parent.iterdir():
+        for child in seed.path.parent.iterdir():
             if child.is_dir():
                 (self.folder / child.name).symlink_to(child, target_is_directory=True)
-        self.path = self.folder / seed.name
+        self.path = self.folder / Path(seed.name).with_suffix(suffix or seed.suffix)
 
     def write(self, raw: bytes) -> Path:
         self.path.write_bytes(raw)
@@ -203,6 +235,34 @@ def mutated_data(draw: st.DrawFn, data: dict[str, Any]) -> dict[str, Any]:
     return data
 
 
+def _dump_toml(data: dict[str, Any]) -> bytes:
+    """``data`` as TOML: a key per top-level entry, inline tables below. TOML has no null: a
+    None is left out, as a key that is not given."""
+
+    def value(node: Any) -> str:
+        if isinstance(node, bool):
+            return "true" if node else "false"
+        if isinstance(node, int):
+            return str(node)
+        if isinstance(node, float):
+            if math.isnan(node):
+                return "nan"
+            return ("-inf" if node < 0 else "inf") if math.isinf(node) else repr(node)
+        if isinstance(node, str):
+            return string(node)
+        if isinstance(node, list):
+            return "[" + ", ".join(value(item) for item in node if item is not None) + "]"
+        items = (f"{string(str(k))} = {value(v)}" for k, v in node.items() if v is not None)
+        return "{" + ", ".join(items) + "}"
+
+    def string(text: str) -> str:
+        # a basic string: JSON's escapes, less what TOML lacks (DEL is a control character)
+        return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+    lines = [f"{string(str(k))} = {value(v)}" for k, v in data.items() if v is not None]
+    return ("\n".join(lines) + "\n").encode("utf-8", "surrogatepass")
+
+
 def _dump_yaml(data: Any) -> bytes:
     import io
 
@@ -242,6 +302,9 @@ def mutated_text(draw: st.DrawFn, raw: bytes) -> bytes:
     return b"\n".join(lines)
 
 
+SEEDS = _seed_specs()
+
+
 # -- the loader ---------------------------------------------------------------------------
 
 
@@ -270,33 +333,51 @@ def test_token_soup_loads_into_data_or_located_diagnostics(text: str, fmt: str) 
 # -- the model (the whole pipeline behind it) ----------------------------------------------
 
 
-def _compile(seed: Path, raw: bytes) -> None:
-    with Scratch(seed) as scratch:
+def _compile(seed: Seed, raw: bytes, suffix: str | None = None) -> None:
+    with Scratch(seed, suffix) as scratch:
         path = scratch.write(raw)
         result = compile_spec(path)
         assert_well_formed(result.diagnostics, {str(path): raw})
 
 
 @budget(150)
-@given(data=st.data(), seed=st.sampled_from([s for s in SEEDS if s.suffix != ".toml"]))
-def test_mutated_spec_data_gives_located_diagnostics(data: st.DataObject, seed: Path) -> None:
-    loaded, diagnostics = read_spec(seed)
+@given(data=st.data(), seed=st.sampled_from(SEEDS), fmt=st.sampled_from([".yaml", ".toml"]))
+def test_mutated_spec_data_gives_located_diagnostics(
+    data: st.DataObject, seed: Seed, fmt: str
+) -> None:
+    loaded, diagnostics = parse_spec_bytes(seed.raw, seed.name, seed.suffix[1:])
     assert loaded is not None, diagnostics
     mutated = data.draw(mutated_data(loaded.data))
-    _compile(seed, _dump_yaml(mutated))
+    _compile(seed, _dump_yaml(mutated) if fmt == ".yaml" else _dump_toml(mutated), fmt)
 
 
 @budget(150)
 @given(data=st.data(), seed=st.sampled_from(SEEDS))
-def test_mutated_spec_text_gives_located_diagnostics(data: st.DataObject, seed: Path) -> None:
-    raw = data.draw(mutated_text(seed.read_bytes()))
+def test_mutated_spec_text_gives_located_diagnostics(data: st.DataObject, seed: Seed) -> None:
+    raw = data.draw(mutated_text(seed.raw))
     _compile(seed, raw)
 
 
 def test_the_seeds_cover_both_formats_and_the_shipped_specs() -> None:
     assert {s.suffix for s in SEEDS} == {".yaml", ".toml"}
     assert all(s.suffix in SPEC_SUFFIXES for s in SEEDS)
-    assert len(SEEDS) >= 20
+    assert len(SEEDS) >= 40
+    assert sum(s.suffix == ".toml" for s in SEEDS) >= 20  # every robot, in TOML too
+
+
+def _without_none(node: Any) -> Any:
+    if isinstance(node, dict):
+        return {k: _without_none(v) for k, v in node.items() if v is not None}
+    if isinstance(node, list):
+        return [_without_none(v) for v in node if v is not None]
+    return node
+
+
+@pytest.mark.parametrize("seed", [s for s in SEEDS if s.raw != s.path.read_bytes()], ids=repr)
+def test_a_toml_seed_reads_back_as_its_yaml_data_without_nulls(seed: Seed) -> None:
+    loaded, _ = read_spec(seed.path)
+    assert loaded is not None
+    assert tomllib.loads(seed.raw.decode("utf-8")) == _without_none(loaded.data)
 
 
 # -- the command line ---------------------------------------------------------------------
@@ -309,9 +390,9 @@ def _run(arguments: list[str]) -> Any:
 @budget(12)
 @given(data=st.data(), seed=st.sampled_from(SEEDS), command=st.sampled_from(["validate", "build"]))
 def test_the_cli_exits_0_or_1_with_a_well_formed_report(
-    data: st.DataObject, seed: Path, command: str
+    data: st.DataObject, seed: Seed, command: str
 ) -> None:
-    raw = data.draw(mutated_text(seed.read_bytes()))
+    raw = data.draw(mutated_text(seed.raw))
     with Scratch(seed) as scratch:
         path = scratch.write(raw)
         arguments: list[str] = [command, str(path), "--format", "json"]
