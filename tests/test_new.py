@@ -188,22 +188,39 @@ def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
     assert data["keyframes"]["rest"]["qpos"]["arm"] == 0.0
 
 
-def test_modeline_points_at_the_nearest_schema_walking_up_relative(tmp_path: Path) -> None:
-    (tmp_path / "schemas").mkdir()
-    (tmp_path / "schemas" / "robospec.schema.json").write_text("{}")
-    out = tmp_path / "specs" / "robots" / "twolink.yaml"
+@pytest.fixture
+def project(tmp_path: Path) -> Path:
+    """A repository of its own (a .git folder bounds the walk for a schema): what the tests
+    below find or miss cannot come from a schema somewhere above the temporary folder."""
+    (tmp_path / "project" / ".git").mkdir(parents=True)
+    return tmp_path / "project"
+
+
+def test_modeline_points_at_the_nearest_schema_walking_up_relative(project: Path) -> None:
+    (project / "schemas").mkdir()
+    (project / "schemas" / "robospec.schema.json").write_text("{}")
+    out = project / "specs" / "robots" / "twolink.yaml"
     scaffold(TWOLINK_XACRO, out)
     first = out.read_text().splitlines()[0]
     assert first == "# yaml-language-server: $schema=../../schemas/robospec.schema.json"
 
 
-def test_without_a_schema_to_name_new_writes_one_beside_the_spec(tmp_path: Path) -> None:
-    out = tmp_path / "robots" / "twolink.yaml"
+def test_the_walk_for_a_schema_stops_at_the_repository_root(project: Path) -> None:
+    # a schema above the repository is another project's: not named, one is written beside
+    (project.parent / "robospec.schema.json").write_text("{}")
+    out = project / "specs" / "twolink.yaml"
+    scaffold(TWOLINK_XACRO, out)
+    assert out.read_text().splitlines()[0] == "# yaml-language-server: $schema=robospec.schema.json"
+    assert (out.parent / "robospec.schema.json").is_file()
+
+
+def test_without_a_schema_to_name_new_writes_one_beside_the_spec(project: Path) -> None:
+    out = project / "robots" / "twolink.yaml"
     scaffold(TWOLINK_XACRO, out)
     assert out.read_text().splitlines()[0] == "# yaml-language-server: $schema=robospec.schema.json"
     assert (out.parent / "robospec.schema.json").read_text() == schema_text()
     # the next spec in that folder names the same file, and nothing is rewritten
-    second = tmp_path / "robots" / "second.yaml"
+    second = project / "robots" / "second.yaml"
     written, _ = run_new(TWOLINK_XACRO, second, "second", force=False)
     assert written == [second]
     assert second.read_text().splitlines()[0].endswith("$schema=robospec.schema.json")

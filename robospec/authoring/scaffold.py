@@ -6,7 +6,8 @@ is driven in both control modes, the keyframe lies inside the limits and keeps m
 * Description path: ``{maniskill_assets}/...`` for a file inside ManiSkill's assets (portable
   across machines), otherwise relative to the spec's folder.
 * Schema modeline: the nearest ``schemas/robospec.schema.json`` or ``robospec.schema.json``
-  walking up from the spec's folder, as a relative path; when there is none, the command writes
+  walking up from the spec's folder, no higher than the repository it is in (the first folder
+  with a ``.git``), as a relative path; when there is none, the command writes
   ``robospec.schema.json`` beside the spec (editors then work offline, and the next spec written
   to that folder finds it).
 * uid: ``--uid``, else the robot's name made a valid uid; a name ManiSkill already registers
@@ -33,6 +34,9 @@ from robospec.resolve.paths import ASSETS_PLACEHOLDER, maniskill_assets_dir
 SCHEMA_BESIDE = "robospec.schema.json"
 # where a project keeps the schema, nearest first at each folder walking up
 SCHEMA_FILES = (Path("schemas") / SCHEMA_BESIDE, Path(SCHEMA_BESIDE))
+# a folder holding this is a repository's root: the walk stops there (a schema above it belongs
+# to another project)
+PROJECT_ROOT_MARKER = ".git"
 
 GAINS: dict[str, Any] = {"stiffness": 1e3, "damping": 1e2, "force_limit": 100}
 BASE_VELOCITY: dict[str, Any] = {"lower": -1.0, "upper": 1.0, "damping": 1e3, "force_limit": 500}
@@ -57,12 +61,15 @@ def default_uid(robot_name: str | None, path: Path) -> str:
 
 
 def schema_reference(spec_dir: Path) -> str | None:
-    """The schema a spec in ``spec_dir`` should name, relative to it; None when there is none."""
+    """The schema a spec in ``spec_dir`` should name, relative to it; None when there is none
+    in ``spec_dir`` or above it, up to the root of the repository it is in."""
     folder = spec_dir.resolve()
     for parent in (folder, *folder.parents):
         for candidate in SCHEMA_FILES:
             if (parent / candidate).is_file():
                 return Path(os.path.relpath(parent / candidate, folder)).as_posix()
+        if (parent / PROJECT_ROOT_MARKER).exists():
+            break
     return None
 
 
