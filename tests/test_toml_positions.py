@@ -224,18 +224,17 @@ def test_deep_nesting_does_not_recurse() -> None:
         pytest.param(
             "a.b. = 1\n",
             {("a",): ((1, 1), (1, 3)), ("a", "b"): ((1, 3), (1, 5))},
-            marks=pytest.mark.xfail(
-                strict=True, reason="a missing key segment is mapped as the key ''"
-            ),
             id="dotted key missing its last segment",
         ),
         pytest.param(
             "a = {b = }\n",
             {("a",): ((1, 1), (1, 5))},
-            marks=pytest.mark.xfail(
-                strict=True, reason="a pair whose value is missing is mapped at the '}'"
-            ),
             id="inline pair missing its value",
+        ),
+        pytest.param(
+            "[a.]\nb = 1\n",
+            {("a",): ((1, 2), (1, 4))},
+            id="table header missing its last segment",
         ),
     ],
 )

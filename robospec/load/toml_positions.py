@@ -182,6 +182,12 @@ def _segments(key: Node) -> list[Node]:
     return out
 
 
+def _is_placeholder(node: Node) -> bool:
+    """tree-sitter's stand-in for text a syntax error left out: a MISSING node, or a node of
+    zero width (``a = {b = }`` gets an empty integer for b's value)."""
+    return node.is_missing or node.start_byte == node.end_byte
+
+
 # -- the walk ------------------------------------------------------------------------------
 
 
@@ -226,6 +232,8 @@ class _Walker:
             return None
         path: Path = ()
         for i, seg in enumerate(segments):
+            if _is_placeholder(seg):
+                return None  # a header cut short by a syntax error (``[a.]``)
             path = (*path, _key_name(seg))
             last = i == len(segments) - 1
             follow = segments[i + 1] if not last else seg
@@ -269,11 +277,13 @@ class _Walker:
         if len(children) < 2 or children[0].type not in _KEY_TYPES:
             return  # a pair damaged by a syntax error
         key, value = children[0], children[-1]
-        if value.is_missing or value.type == "ERROR":
+        if _is_placeholder(value) or value.type == "ERROR":
             return
         segments = _segments(key)
         path = prefix
         for i, seg in enumerate(segments):
+            if _is_placeholder(seg):
+                return  # a key cut short by a syntax error (``a.b. = 1``) holds no value
             path = (*path, _key_name(seg))
             if i < len(segments) - 1:
                 self._put(path, seg, segments[i + 1], explicit=False)
