@@ -136,6 +136,7 @@ def killed_builds(
             assert build(old, out).returncode == 0
 
 
+@pytest.mark.slow  # rounds of real builds, killed or raced
 def test_a_build_killed_at_any_moment_leaves_the_old_or_the_new_output_complete(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:
@@ -154,6 +155,7 @@ def test_a_build_killed_at_any_moment_leaves_the_old_or_the_new_output_complete(
     assert "old" in seen and "new" in seen, seen  # the kills did land on both sides
 
 
+@pytest.mark.slow  # rounds of real builds, killed or raced
 def test_a_killed_build_beside_the_users_files_keeps_them_and_every_file_whole(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:
@@ -190,6 +192,7 @@ def test_a_build_killed_between_its_two_renames_is_put_back_by_the_next(
     assert leftovers(out) == []
 
 
+@pytest.mark.slow  # rounds of real builds, killed or raced
 def test_two_concurrent_builds_of_one_folder_leave_one_complete_build(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:

@@ -157,6 +157,7 @@ def commits(repo: Path) -> int:
     return int(git(repo, "rev-list", "--count", "HEAD").stdout.strip() or 0)
 
 
+@pytest.mark.slow  # pre-commit builds its hook environment (a pip install) first
 def test_validate_hook_rejects_a_commit_with_a_bad_spec(
     scratch_repo: Path, pre_commit_home: Path
 ) -> None:
@@ -175,6 +176,7 @@ def test_validate_hook_rejects_a_commit_with_a_bad_spec(
     assert commits(scratch_repo) == 1
 
 
+@pytest.mark.slow  # pre-commit builds its hook environment (a pip install) first
 def test_build_check_hook_rejects_a_commit_that_leaves_the_package_stale(
     scratch_repo: Path, pre_commit_home: Path
 ) -> None:
@@ -195,6 +197,7 @@ def test_build_check_hook_rejects_a_commit_that_leaves_the_package_stale(
     assert commits(scratch_repo) == 2
 
 
+@pytest.mark.slow  # pre-commit builds its hook environment (a pip install) first
 def test_yaml_outside_specs_is_not_validated(scratch_repo: Path, pre_commit_home: Path) -> None:
     assert run_robospec("build", "specs/", "-o", "pkg", cwd=scratch_repo).returncode == 0
     assert commit(scratch_repo, pre_commit_home, "first").returncode == 0
