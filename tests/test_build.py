@@ -50,7 +50,7 @@ def test_build_writes_one_module_per_spec_and_an_init_that_imports_them(tmp_path
         "twolink.urdf",
     } <= names
     init = (out / "__init__.py").read_text()
-    assert "from . import rs_panda" in init
+    assert "from .rs_panda import RsPanda" in init
     for name in names:
         if name.endswith(".py"):
             compile((out / name).read_text(), name, "exec")

@@ -12,7 +12,8 @@ back with ``ast``:
   the identifiers robospec derives from a spec *on purpose*, each of which the model restricts
   to ``[A-Za-z0-9_.-]`` and the emitter checks with ``safe_identifier``:
   the class name, controller variables (from controller names), ``<group>_joint_names``
-  attributes (from group names) and member names (``named_links`` keys);
+  and shared-gain ``<group>_stiffness`` (damping, force_limit, friction) attributes (from group
+  names) and member names (``named_links`` keys);
 - the hostile text itself appears only inside string constants.
 
 Free text that reaches the module only as data: link and joint names (from the URDF, and every
@@ -231,7 +232,14 @@ def derived_identifiers(names: dict[str, list[str]]) -> set[str]:
         base = re.sub(r"\W", "_", controller)
         allowed |= {base + suffix + "_" * n for suffix in ("", "_config") for n in range(4)}
     allowed |= {f"controller_{i}" + "_" * n for i in range(4) for n in range(4)}
-    allowed |= {re.sub(r"\W", "_", group) + "_joint_names" for group in names["groups"]}
+    # class attributes named after groups: joint lists and the gains controllers share
+    suffixes = ("_joint_names", "_stiffness", "_damping", "_force_limit", "_friction")
+    allowed |= {
+        re.sub(r"\W", "_", group) + suffix + "_" * n
+        for group in names["groups"]
+        for suffix in suffixes
+        for n in range(3)
+    }
     return {name for name in allowed if name.isidentifier() and not keyword.iskeyword(name)}
 
 

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import ast
 import textwrap
-from dataclasses import dataclass
 from typing import Any
 
+from robospec.emit.values import const as constant
+from robospec.emit.values import safe_identifier
 from robospec.resolve.resolved import (
     PythonRef,
     ResolvedFallen,
@@ -23,18 +24,6 @@ from robospec.resolve.resolved import (
     ResolvedStanding,
     ResolvedStatic,
 )
-
-
-@dataclass
-class Imports:
-    """What the generated members need imported, collected while generating them."""
-
-    torch: bool = False
-    common: bool = False
-    pose: bool = False
-    vectorize_pose: bool = False
-    importlib: bool = False
-    inspect: bool = False
 
 
 class _Fill(ast.NodeTransformer):
@@ -65,20 +54,12 @@ def identifier(name: str) -> str:
 
     Every identifier that comes from a spec (class, member and attribute names) passes here:
     the model's patterns allow keywords such as ``class`` or ``None``, which would not parse."""
-    from robospec.emit.generate import safe_identifier
-
     return safe_identifier(name)
 
 
 def self_attribute(name: str) -> ast.Attribute:
     """``self.<name>`` for a member name from a spec."""
     return ast.Attribute(ast.Name("self", ast.Load()), identifier(name), ast.Load())
-
-
-def constant(value: Any) -> ast.expr:
-    from robospec.emit.generate import const
-
-    return const(value)
 
 
 def link_expr(name: str, robot: ResolvedRobot | None) -> ast.expr:
@@ -97,12 +78,11 @@ def links_expr(links: tuple[str, ...] | str, robot: ResolvedRobot) -> ast.expr:
     return ast.List([link_expr(n, robot) for n in links], ast.Load())
 
 
-def python_ref_expr(ref: PythonRef, imports: Imports) -> ast.expr:
+def python_ref_expr(ref: PythonRef) -> ast.expr:
     """``getattr(importlib.import_module("m"), "a")``: the reference as constants only.
 
     The last step from a class uses ``inspect.getattr_static`` so a staticmethod or property
     is taken as declared, not bound."""
-    imports.importlib = True
     (stmt,) = template("importlib.import_module(MODULE)", MODULE=ast.Constant(ref.module))
     assert isinstance(stmt, ast.Expr)
     value = stmt.value
@@ -110,7 +90,6 @@ def python_ref_expr(ref: PythonRef, imports: Imports) -> ast.expr:
         last = index == len(ref.attributes) - 1
         getter = "getattr"
         if last and index > 0:
-            imports.inspect = True
             getter = "inspect.getattr_static"
         (stmt,) = template(f"{getter}(OBJ, NAME)", OBJ=value, NAME=ast.Constant(attribute))
         assert isinstance(stmt, ast.Expr)
@@ -121,7 +100,7 @@ def python_ref_expr(ref: PythonRef, imports: Imports) -> ast.expr:
 # -- members -----------------------------------------------------------------------------------
 
 
-def generate_tcp_members(robot: ResolvedRobot, imports: Imports) -> list[ast.stmt]:
+def generate_tcp_members(robot: ResolvedRobot) -> list[ast.stmt]:
     tcp = robot.tcp
     if tcp is None:
         return []
@@ -147,7 +126,6 @@ def generate_tcp_members(robot: ResolvedRobot, imports: Imports) -> list[ast.stm
                 )
             ),
         ]
-    imports.pose = True
     first, second = (link_expr(n, robot) for n in tcp.midpoint)
     pos = function(
         "tcp_pos",
@@ -183,10 +161,7 @@ def generate_tcp_members(robot: ResolvedRobot, imports: Imports) -> list[ast.stm
     return [as_property(pos), as_property(pose)]
 
 
-def generate_grasping(
-    check: ResolvedGrasping, robot: ResolvedRobot, imports: Imports
-) -> ast.FunctionDef:
-    imports.torch = imports.common = True
+def generate_grasping(check: ResolvedGrasping, robot: ResolvedRobot) -> ast.FunctionDef:
     left, right = check.fingers
 
     def direction(finger: Any) -> ast.expr:
@@ -234,8 +209,7 @@ def _columns(indices: tuple[int, ...]) -> ast.expr:
     return ast.Tuple([ast.Constant(...), index], ast.Load())
 
 
-def generate_is_static(rule: ResolvedStatic, imports: Imports) -> ast.FunctionDef:
-    imports.torch = True
+def generate_is_static(rule: ResolvedStatic) -> ast.FunctionDef:
     if rule.base_indices is None:
         if rule.absolute:
             return function(
@@ -293,8 +267,7 @@ def _height_test(height: ResolvedHeight, ground: bool) -> ast.expr:
     return result
 
 
-def generate_is_standing(rule: ResolvedStanding, imports: Imports) -> ast.FunctionDef:
-    imports.torch = rule.upright_within is not None
+def generate_is_standing(rule: ResolvedStanding) -> ast.FunctionDef:
     if rule.upright_within is None:
         return function(
             "is_standing",
@@ -323,7 +296,7 @@ def generate_is_standing(rule: ResolvedStanding, imports: Imports) -> ast.Functi
     )
 
 
-def generate_is_fallen(rule: ResolvedFallen, imports: Imports) -> ast.FunctionDef:
+def generate_is_fallen(rule: ResolvedFallen) -> ast.FunctionDef:
     if rule.height is not None:
         return function(
             "is_fallen",
@@ -334,7 +307,6 @@ def generate_is_fallen(rule: ResolvedFallen, imports: Imports) -> ast.FunctionDe
             ''',
             HEIGHT=_height_test(rule.height, False),
         )
-    imports.torch = True
     return function(
         "is_fallen",
         '''
@@ -348,12 +320,8 @@ def generate_is_fallen(rule: ResolvedFallen, imports: Imports) -> ast.FunctionDe
     )
 
 
-def generate_link_state(
-    state: ResolvedLinkState, robot: ResolvedRobot, imports: Imports
-) -> ast.FunctionDef:
-    imports.torch = True
+def generate_link_state(state: ResolvedLinkState, robot: ResolvedRobot) -> ast.FunctionDef:
     if state.quantity == "pose":
-        imports.vectorize_pose = True
         read = "vectorize_pose(link.pose, device=self.device)"
     else:
         read = "link.linear_velocity"
@@ -420,9 +388,7 @@ def generate_proprioception(robot: ResolvedRobot) -> ast.FunctionDef | None:
     )
 
 
-def generate_after_loading_articulation(
-    robot: ResolvedRobot, imports: Imports
-) -> ast.FunctionDef | None:
+def generate_after_loading_articulation(robot: ResolvedRobot) -> ast.FunctionDef | None:
     body: list[ast.stmt] = []
     for drive in robot.drives:
         body += template(
@@ -445,9 +411,7 @@ def generate_after_loading_articulation(
                 UPPER=constant(upper),
             )
     if robot.hooks.after_loading_articulation is not None:
-        body += template(
-            "HOOK(self)", HOOK=python_ref_expr(robot.hooks.after_loading_articulation, imports)
-        )
+        body += template("HOOK(self)", HOOK=python_ref_expr(robot.hooks.after_loading_articulation))
     if not body:
         return None
     if robot.base is not None:

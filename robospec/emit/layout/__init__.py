@@ -1,0 +1,12 @@
+"""Generated code laid out exactly as ``ruff format`` (black's style) would lay it out.
+
+:mod:`.document` is the layout model (groups that break when they do not fit), :mod:`.literals`
+writes strings and numbers, :mod:`.expressions` and :mod:`.statements` follow ruff's rules for
+the Python the emitter writes, and :mod:`.imports` orders imports as isort does. Nothing here
+runs ruff: it is a development tool, and the core install stays light; tests run the real ruff
+over every example spec's module to prove the two agree.
+"""
+
+from robospec.emit.layout.statements import LINE_LENGTH, format_module
+
+__all__ = ["LINE_LENGTH", "format_module"]

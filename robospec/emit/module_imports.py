@@ -1,0 +1,80 @@
+"""The imports of a generated module: exactly the names its code uses, and the base class.
+
+An ``extends: module:Class`` base is imported plainly (``from module import Class``), renamed
+only when its name is taken in the module (``Panda`` as ``PandaBase`` for a class itself called
+``Panda``).
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterable
+
+from robospec.emit.controllers import CONFIG_CLASSES
+from robospec.emit.layout.imports import sorted_imports
+from robospec.resolve.resolved import PythonRef
+
+# a name the generated code may use -> (module it comes from, None for `import module`; the
+# module or the imported name; the name it is bound to)
+IMPORTABLE: dict[str, tuple[str | None, str]] = {
+    "os": (None, "os"),
+    "importlib": (None, "importlib"),
+    "inspect": (None, "inspect"),
+    "np": (None, "numpy"),
+    "sapien": (None, "sapien"),
+    "torch": (None, "torch"),
+    "PACKAGE_ASSET_DIR": ("mani_skill", "PACKAGE_ASSET_DIR"),
+    "ASSET_DIR": ("mani_skill", "ASSET_DIR"),
+    "BaseAgent": ("mani_skill.agents.base_agent", "BaseAgent"),
+    "Keyframe": ("mani_skill.agents.base_agent", "Keyframe"),
+    "deepcopy_dict": ("mani_skill.agents.controllers", "deepcopy_dict"),
+    **{config: ("mani_skill.agents.controllers", config) for config in CONFIG_CLASSES.values()},
+    "register_agent": ("mani_skill.agents.registration", "register_agent"),
+    "CameraConfig": ("mani_skill.sensors.camera", "CameraConfig"),
+    "common": ("mani_skill.utils", "common"),
+    "Pose": ("mani_skill.utils.structs.pose", "Pose"),
+    "vectorize_pose": ("mani_skill.utils.structs.pose", "vectorize_pose"),
+}
+
+
+def used_names(nodes: Iterable[ast.AST]) -> set[str]:
+    return {
+        node.id
+        for tree in nodes
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)
+    }
+
+
+def base_class_name(base: PythonRef, taken: set[str]) -> str:
+    """The name the base class is bound to: its own, unless ``taken`` holds it."""
+    own = base.attributes[0]
+    if own not in taken and own not in IMPORTABLE:
+        return own
+    candidate = own + "Base"
+    while candidate in taken or candidate in IMPORTABLE:
+        candidate += "_"
+    return candidate
+
+
+def import_statements(
+    code: Iterable[ast.AST], base: PythonRef | None = None, base_name: str | None = None
+) -> list[ast.stmt]:
+    """Sorted import statements for every importable name ``code`` uses, and the base."""
+    straight: list[ast.Import] = []
+    members: dict[str, list[ast.alias]] = {}
+    separate: list[ast.ImportFrom] = []
+    for used in sorted(used_names(code) & IMPORTABLE.keys()):
+        module, imported = IMPORTABLE[used]
+        if module is None:
+            straight.append(ast.Import([ast.alias(imported, None if used == imported else used)]))
+        else:
+            members.setdefault(module, []).append(ast.alias(imported))
+    if base is not None and base_name is not None:
+        own = base.attributes[0]
+        if base_name == own:
+            members.setdefault(base.module, []).append(ast.alias(own))
+        else:  # isort keeps a renamed import on a line of its own
+            separate.append(ast.ImportFrom(base.module, [ast.alias(own, base_name)], 0))
+    from_imports = [ast.ImportFrom(module, names, 0) for module, names in members.items()]
+    return sorted_imports([*straight, *from_imports, *separate])
