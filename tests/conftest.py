@@ -10,8 +10,9 @@ not slow"``):
   marked ``maniskill`` here, by that rule. A module whose every test needs it says so once,
   ``pytestmark = pytest.mark.maniskill``; when the run deselects that marker such a module is
   not even imported (its imports of ManiSkill cost seconds).
-- in a run that deselects ``maniskill``, a test that imports mani_skill anyway fails and says
-  to mark it: the fast loop cannot quietly grow slow.
+- in a run that deselects ``maniskill``, a test that imports mani_skill, sapien or torch anyway
+  (an import statement it runs, or a module it loads) fails and says to mark it: the fast loop
+  cannot quietly grow slow.
 - a missing ManiSkill is a failure, never a skip: the ``maniskill`` fixture fails, and so does
   a ``pytest.importorskip`` of mani_skill, sapien or torch (tests/test_install.py names the
   extra to install).
@@ -20,6 +21,7 @@ not slow"``):
 from __future__ import annotations
 
 import ast
+import builtins
 import os
 import random
 import subprocess
@@ -196,11 +198,28 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_call(item: pytest.Item) -> Any:
-    imported_before = _imported_maniskill()
-    result = yield
-    if _fast_run(item.config) and not imported_before and _imported_maniskill():
+    if not _fast_run(item.config):
+        return (yield)
+    # an import statement runs __import__ each time, even for a module imported long ago: so a
+    # test is caught even when an earlier one brought ManiSkill in (sys.modules would not say)
+    wanted: set[str] = set()
+    real_import = builtins.__import__
+
+    def watching_import(name: str, *args: Any, **kwargs: Any) -> Any:
+        if name.partition(".")[0] in MANISKILL_MODULES:
+            wanted.add(name.partition(".")[0])
+        return real_import(name, *args, **kwargs)
+
+    imported_before = set(_imported_maniskill())
+    builtins.__import__ = watching_import
+    try:
+        result = yield
+    finally:
+        builtins.__import__ = real_import
+    wanted |= set(_imported_maniskill()) - imported_before
+    if wanted:
         pytest.fail(
-            f"{item.nodeid} imported {', '.join(_imported_maniskill())} but is not marked "
+            f"{item.nodeid} imported {', '.join(sorted(wanted))} but is not marked "
             f"'{MANISKILL_MARK}': ask for the maniskill fixture (or mark the module) so that "
             "the fast loop leaves it out",
             pytrace=False,
@@ -248,6 +267,8 @@ def pytest_configure(config: pytest.Config) -> None:
     if config.getoption("hypothesis_seed", None) is None:
         seed = os.environ.get(HYPOTHESIS_SEED_ENV) or str(random.SystemRandom().randrange(2**32))
         config.option.hypothesis_seed = seed
+        # pytest-xdist's workers (scripts/test --fast) start later, from this environment
+        os.environ[HYPOTHESIS_SEED_ENV] = seed
 
 
 def _seed_line(config: pytest.Config) -> str:

@@ -373,6 +373,7 @@ def test_inspect_locates_the_defect(case: Broken, tmp_path: Path) -> None:
     _assert_located(case, description, _from_json(result.stderr))
 
 
+@pytest.mark.usefixtures("maniskill")  # register() imports ManiSkill first
 @pytest.mark.parametrize("case", [c.param() for c in CASES])
 def test_register_raises_spec_error_locating_the_defect_and_registers_nothing(
     case: Broken, tmp_path: Path

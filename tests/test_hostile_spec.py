@@ -274,6 +274,7 @@ def test_build_into_an_existing_folder_leaves_it_as_it_was(tmp_path: Path) -> No
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
+@pytest.mark.usefixtures("maniskill")  # register() imports ManiSkill first
 @pytest.mark.parametrize("case", [c.param() for c in SPEC_CASES])
 def test_register_raises_spec_error_with_the_located_code_and_registers_nothing(
     case: Hostile, tmp_path: Path
