@@ -16,11 +16,6 @@ from robospec.authoring.commands import run_doc, run_new
 from robospec.authoring.layout import mode_layout
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
-from robospec.resolve.paths import maniskill_assets_dir
-
-needs_assets = pytest.mark.skipif(
-    maniskill_assets_dir() is None, reason="mani_skill's assets are not installed"
-)
 
 
 def card(spec: Path, out: Path) -> str:
@@ -42,7 +37,6 @@ def mermaid(text: str) -> list[str]:
     return lines[start + 2 : lines.index("```", start + 1)]
 
 
-@needs_assets
 def test_panda_card_has_the_robot_tree_joints_actions_keyframes_and_cameras(
     tmp_path: Path,
 ) -> None:
@@ -60,7 +54,6 @@ def test_panda_card_has_the_robot_tree_joints_actions_keyframes_and_cameras(
     assert "graph TD" in text
 
 
-@needs_assets
 def test_tree_has_a_node_per_link_and_an_edge_per_joint_thick_for_active_ones(
     tmp_path: Path,
 ) -> None:
@@ -103,7 +96,6 @@ def test_odd_link_names_become_safe_mermaid(tmp_path: Path) -> None:
     ]
 
 
-@needs_assets
 def test_action_layout_lists_each_dimension_with_bounds_and_normalization(tmp_path: Path) -> None:
     text = card(PANDA_SPEC, tmp_path / "panda.md")
     rows = section(text, "## Action layout")
@@ -125,7 +117,6 @@ def test_action_layout_lists_each_dimension_with_bounds_and_normalization(tmp_pa
     )
 
 
-@needs_assets
 def test_keyframes_table_has_a_value_per_joint_and_cameras_their_mount_and_lens(
     tmp_path: Path,
 ) -> None:
@@ -139,7 +130,6 @@ def test_keyframes_table_has_a_value_per_joint_and_cameras_their_mount_and_lens(
     assert "128×128" in cameras[0]
 
 
-@needs_assets
 def test_card_is_deterministic_and_names_no_machine_path(tmp_path: Path) -> None:
     spec = tmp_path / "specs" / "fetch.yaml"
     spec.parent.mkdir()
@@ -169,7 +159,6 @@ def test_spec_with_errors_gets_diagnostics_and_no_card(tmp_path: Path) -> None:
     assert out.read_text() == "old card\n"
 
 
-@needs_assets
 def test_doc_command_writes_the_card_linking_to_the_spec(tmp_path: Path) -> None:
     out = tmp_path / "cards" / "panda.md"
     result = run_robospec("doc", str(PANDA_SPEC), "-o", str(out))

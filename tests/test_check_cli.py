@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import PANDA_SPEC, invoke_robospec, run_robospec
+from conftest import INSTALL_MANISKILL, PANDA_SPEC, invoke_robospec, run_robospec
 
 pytestmark = [
     pytest.mark.maniskill,
@@ -33,7 +33,7 @@ def registry(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
 
     assets = maniskill_assets_dir()
     if assets is None or not (assets / "robots/panda/panda_v2.urdf").is_file():
-        pytest.skip("ManiSkill's panda is not installed")
+        pytest.fail(f"ManiSkill's panda is not installed: {INSTALL_MANISKILL}")
     agents, modules = set(REGISTERED_AGENTS), set(sys.modules)
     yield tmp_path_factory.mktemp("check_cli")
     for uid in set(REGISTERED_AGENTS) - agents:

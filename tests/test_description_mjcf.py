@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import INSTALL_MANISKILL
 
 from robospec.description import load_description
 from robospec.description.facts import RobotDescription
@@ -46,10 +47,10 @@ def humanoid_path() -> Path:
     """The humanoid.xml shipped inside mani_skill, found without importing mani_skill."""
     spec = importlib.util.find_spec("mani_skill")
     if spec is None or spec.origin is None:
-        pytest.skip("mani_skill is not installed")
+        pytest.fail(INSTALL_MANISKILL)
     path = Path(spec.origin).parent / "assets" / "robots" / "humanoid" / "humanoid.xml"
     if not path.exists():
-        pytest.skip("mani_skill ships no humanoid.xml")
+        pytest.fail(f"mani_skill ships no {path}")
     return path
 
 

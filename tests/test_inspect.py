@@ -9,12 +9,11 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import TWOLINK_XACRO, run_robospec
+from conftest import INSTALL_MANISKILL, TWOLINK_XACRO, run_robospec
 
 from robospec.resolve.paths import maniskill_assets_dir
 
 ASSETS = maniskill_assets_dir()
-needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
 LIMIT = '<limit lower="-1" upper="1" effort="5" velocity="2"/>'
 
 
@@ -29,9 +28,8 @@ def inspect_json(path: Path) -> dict:
     return json.loads(result.stdout)
 
 
-@needs_assets
 def test_panda_active_joints_come_in_qpos_order_with_limits_velocity_and_effort() -> None:
-    assert ASSETS is not None
+    assert ASSETS is not None, INSTALL_MANISKILL
     report = inspect_json(ASSETS / "robots/panda/panda_v2.urdf")
     joints = report["active_joints"]
     assert [j["name"] for j in joints] == [f"panda_joint{i}" for i in range(1, 8)] + [
@@ -45,9 +43,8 @@ def test_panda_active_joints_come_in_qpos_order_with_limits_velocity_and_effort(
     assert report["robot"] == "panda" and report["root_link"] == "panda_link0"
 
 
-@needs_assets
 def test_panda_mimic_relation_is_printed_as_follower_mimics_leader_times_multiplier_plus_offset():
-    assert ASSETS is not None
+    assert ASSETS is not None, INSTALL_MANISKILL
     result = run_robospec("inspect", str(ASSETS / "robots/panda/panda_v2.urdf"))
     assert result.returncode == 0, result.stderr
     assert "panda_finger_joint2 mimics panda_finger_joint1 ×1 + 0" in result.stdout
@@ -55,9 +52,8 @@ def test_panda_mimic_relation_is_printed_as_follower_mimics_leader_times_multipl
     assert row.split() == ["3", "panda_joint4", "revolute", "-3.0718", "-0.0698", "2.175", "87"]
 
 
-@needs_assets
 def test_inspire_hand_mimic_multipliers_and_offsets_are_reported() -> None:
-    assert ASSETS is not None
+    assert ASSETS is not None, INSTALL_MANISKILL
     report = inspect_json(ASSETS / "robots/inspire_hand/RH56DFX-2LR/urdf/inspire_hand_left.urdf")
     by_name = {j["name"]: j for j in report["active_joints"]}
     mimic = by_name["left_hand_index_PIP_joint"]["mimic"]
@@ -66,9 +62,8 @@ def test_inspire_hand_mimic_multipliers_and_offsets_are_reported() -> None:
     assert len(report["mimic"]) == sum(j["mimic"] is not None for j in report["active_joints"])
 
 
-@needs_assets
 def test_tree_indents_each_link_under_its_parent_with_the_joint_that_attaches_it() -> None:
-    assert ASSETS is not None
+    assert ASSETS is not None, INSTALL_MANISKILL
     path = ASSETS / "robots/panda/panda_v2.urdf"
     report = inspect_json(path)
     depth = {row["link"]: row["depth"] for row in report["tree"]}
@@ -84,9 +79,8 @@ def test_tree_indents_each_link_under_its_parent_with_the_joint_that_attaches_it
     assert [row["joint"] is None for row in report["tree"]].count(True) == 1
 
 
-@needs_assets
 def test_continuous_joints_are_unbounded_null_in_json_and_infinite_in_text() -> None:
-    assert ASSETS is not None
+    assert ASSETS is not None, INSTALL_MANISKILL
     path = ASSETS / "robots/fetch/fetch.urdf"
     report = inspect_json(path)
     roll = next(j for j in report["active_joints"] if j["name"] == "upperarm_roll_joint")
@@ -110,9 +104,8 @@ def test_xacro_files_are_expanded_before_inspection() -> None:
     assert report["mimic"] == []
 
 
-@needs_assets
 def test_mjcf_files_are_inspected() -> None:
-    assert ASSETS is not None
+    assert ASSETS is not None, INSTALL_MANISKILL
     report = inspect_json(ASSETS / "robots/humanoid/humanoid.xml")
     assert report["kind"] == "mjcf" and report["floating_root"] is True
     assert "right_knee" in [j["name"] for j in report["active_joints"]]
