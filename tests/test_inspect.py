@@ -1,6 +1,7 @@
 """``robospec inspect``: active joints in qpos order with their limits, mimic relations and the
 kinematic tree of real URDF, xacro and MJCF files; malformed descriptions get the resolver's
-located diagnostics and exit 1, never a traceback."""
+located diagnostics and exit 1, never a traceback (those run the command in a child process;
+what it prints runs through the typer app in this one)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import INSTALL_MANISKILL, TWOLINK_XACRO, run_robospec
+from conftest import INSTALL_MANISKILL, TWOLINK_XACRO, invoke_robospec, run_robospec
 
 from robospec.resolve.paths import maniskill_assets_dir
 
@@ -23,8 +24,8 @@ def robot(path: Path, body: str) -> Path:
 
 
 def inspect_json(path: Path) -> dict:
-    result = run_robospec("inspect", str(path), "--format", "json")
-    assert result.returncode == 0, result.stderr
+    result = invoke_robospec("inspect", str(path), "--format", "json")
+    assert result.exit_code == 0, result.output
     return json.loads(result.stdout)
 
 
@@ -45,8 +46,8 @@ def test_panda_active_joints_come_in_qpos_order_with_limits_velocity_and_effort(
 
 def test_panda_mimic_relation_is_printed_as_follower_mimics_leader_times_multiplier_plus_offset():
     assert ASSETS is not None, INSTALL_MANISKILL
-    result = run_robospec("inspect", str(ASSETS / "robots/panda/panda_v2.urdf"))
-    assert result.returncode == 0, result.stderr
+    result = invoke_robospec("inspect", str(ASSETS / "robots/panda/panda_v2.urdf"))
+    assert result.exit_code == 0, result.output
     assert "panda_finger_joint2 mimics panda_finger_joint1 ×1 + 0" in result.stdout
     row = next(line for line in result.stdout.splitlines() if " panda_joint4 " in line)
     assert row.split() == ["3", "panda_joint4", "revolute", "-3.0718", "-0.0698", "2.175", "87"]
@@ -69,7 +70,7 @@ def test_tree_indents_each_link_under_its_parent_with_the_joint_that_attaches_it
     depth = {row["link"]: row["depth"] for row in report["tree"]}
     assert depth["panda_link0"] == 0 and depth["panda_link1"] == 1
     assert depth["panda_leftfinger"] == depth["panda_hand"] + 1
-    text = run_robospec("inspect", str(path)).stdout
+    text = invoke_robospec("inspect", str(path)).stdout
     line = next(li for li in text.splitlines() if li.strip().startswith("panda_leftfinger "))
     hand = next(li for li in text.splitlines() if li.strip().startswith("panda_hand "))
     assert line.strip() == "panda_leftfinger  <- panda_finger_joint1 (prismatic)"
@@ -86,7 +87,9 @@ def test_continuous_joints_are_unbounded_null_in_json_and_infinite_in_text() -> 
     roll = next(j for j in report["active_joints"] if j["name"] == "upperarm_roll_joint")
     assert (roll["type"], roll["lower"], roll["upper"]) == ("continuous", None, None)
     row = next(
-        li for li in run_robospec("inspect", str(path)).stdout.splitlines() if "upperarm_roll" in li
+        li
+        for li in invoke_robospec("inspect", str(path)).stdout.splitlines()
+        if "upperarm_roll" in li
     )
     assert row.split()[3:5] == ["-inf", "inf"]
 
