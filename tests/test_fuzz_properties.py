@@ -347,7 +347,7 @@ def test_mutated_spec_data_gives_located_diagnostics(
 ) -> None:
     loaded, diagnostics = parse_spec_bytes(seed.raw, seed.name, seed.suffix[1:])
     assert loaded is not None, diagnostics
-    mutated = data.draw(mutated_data(loaded.data))
+    mutated = data.draw(mutated_data(_plain(loaded.data)))
     _compile(seed, _dump_yaml(mutated) if fmt == ".yaml" else _dump_toml(mutated), fmt)
 
 
@@ -363,6 +363,19 @@ def test_the_seeds_cover_both_formats_and_the_shipped_specs() -> None:
     assert all(s.suffix in SPEC_SUFFIXES for s in SEEDS)
     assert len(SEEDS) >= 40
     assert sum(s.suffix == ".toml" for s in SEEDS) >= 20  # every robot, in TOML too
+
+
+def _plain(node: Any) -> Any:
+    """Loaded data as plain dicts, lists, strings and numbers (the loaders keep subclasses that
+    carry where each value was, which the YAML writer cannot represent)."""
+    if isinstance(node, dict):
+        return {str(k): _plain(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_plain(v) for v in node]
+    for kind in (bool, int, float, str):
+        if isinstance(node, kind):
+            return kind(node)
+    return node
 
 
 def _without_none(node: Any) -> Any:
