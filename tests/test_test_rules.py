@@ -108,6 +108,7 @@ def test_without_maniskill_the_tests_that_need_it_fail_instead_of_skipping(
     assert "SKIPPED" not in result.stdout.str()
 
 
+@pytest.mark.slow  # two more child runs; the fast loop's own rules are proved above
 def test_the_rules_read_the_mark_expression_not_a_fixed_string(suite: pytest.Pytester) -> None:
     # "not maniskill" alone is a fast run too; "maniskill or not maniskill" is not
     stand_in(suite, "")
