@@ -38,4 +38,5 @@ def __getattr__(name: str) -> Any:
         return app
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
+
 __all__ = ["app", "main"]
