@@ -2,7 +2,9 @@
 
 :mod:`.document` is the layout model (groups that break when they do not fit), :mod:`.literals`
 writes strings and numbers, :mod:`.expressions` and :mod:`.statements` follow ruff's rules for
-the Python the emitter writes, and :mod:`.imports` orders imports as isort does. Nothing here
+the Python the emitter writes (:mod:`.analysis` answers the questions those rules ask of an
+expression, :mod:`.parentheses` says where Python needs parentheses), and :mod:`.imports`
+orders imports as isort does. Nothing here
 runs ruff: it is a development tool, and the core install stays light; tests run the real ruff
 over every example spec's module to prove the two agree.
 """

@@ -11,6 +11,8 @@ or a character that looks like another.
 
 from __future__ import annotations
 
+import ast
+
 # Latin-1 Supplement and Latin Extended-A/B: letters a spec may well use, each one column wide
 _LATIN = range(0xA1, 0x250)
 _SOFT_HYPHEN = 0xAD  # invisible: escaped like any other format character
@@ -94,3 +96,40 @@ def number_literal(text: str) -> str:
     if exponent.startswith("+"):
         exponent = exponent[1:]
     return mantissa + e + exponent
+
+
+def number_text(node: ast.Constant) -> str:
+    """A number as the spec wrote it (the emitter sets ``node.text``), else as Python
+    writes it; either way as ruff writes number literals."""
+    text = getattr(node, "text", None)
+    return number_literal(text if text is not None else repr(node.value))
+
+
+def constant_text(node: ast.Constant) -> str:
+    value = node.value
+    if isinstance(value, str):
+        return string_literal(value)
+    if value is None or isinstance(value, bool):
+        return str(value)
+    if value is Ellipsis:
+        return "..."
+    if isinstance(value, (int, float)):
+        return number_text(node)
+    raise TypeError(f"the emitter does not write {type(value).__name__} constants")
+
+
+def fstring_text(node: ast.JoinedStr) -> str:
+    parts: list[str | tuple[str]] = []
+    for value in node.values:
+        if isinstance(value, ast.Constant) and isinstance(value.value, str):
+            parts.append(value.value)
+        elif (
+            isinstance(value, ast.FormattedValue)
+            and isinstance(value.value, ast.Name)
+            and value.conversion == -1
+            and value.format_spec is None
+        ):
+            parts.append((value.value.id,))
+        else:
+            raise TypeError("the emitter writes f-strings of text and plain names only")
+    return fstring_literal(parts)

@@ -11,6 +11,7 @@ import ast
 import textwrap
 from collections.abc import Collection
 
+from robospec.emit.layout.analysis import BEST_FIT, needs_parentheses
 from robospec.emit.layout.document import (
     EMPTY_LINE,
     HARD_LINE,
@@ -27,7 +28,6 @@ from robospec.emit.layout.document import (
     soft_block_indent,
 )
 from robospec.emit.layout.expressions import (
-    BEST_FIT,
     COMPOUND,
     IF_BREAKS,
     NEVER,
@@ -36,7 +36,6 @@ from robospec.emit.layout.expressions import (
     TOP_LEVEL,
     ExpressionLayout,
     Level,
-    needs_parentheses,
 )
 from robospec.emit.layout.imports import import_section
 from robospec.emit.layout.literals import docstring_lines
