@@ -34,6 +34,7 @@ from robospec.emit.values import (
     assign,
     call,
     const,
+    float_array,
     name,
     safe_identifier,
     sapien_pose,
@@ -237,9 +238,9 @@ def generate_keyframes(keyframes: tuple[ResolvedKeyframe, ...]) -> ast.expr:
     for frame in keyframes:
         kwargs: dict[str, ast.expr] = {"pose": sapien_pose(frame.p, frame.q)}
         if frame.qpos is not None:
-            kwargs["qpos"] = call("np.array", [const(list(frame.qpos))])
+            kwargs["qpos"] = call("np.array", [float_array(frame.qpos)])
         if frame.qvel is not None:
-            kwargs["qvel"] = call("np.array", [const(list(frame.qvel))])
+            kwargs["qvel"] = call("np.array", [float_array(frame.qvel)])
         values.append(call("Keyframe", **kwargs))
     return ast.Dict([ast.Constant(f.name) for f in keyframes], values)
 
@@ -249,7 +250,7 @@ def generate_sensor_configs(cameras: tuple[ResolvedCamera, ...]) -> ast.Function
     for camera in cameras:
         pose = sapien_pose(camera.p, camera.q)
         if pose.keywords:  # not the identity: the pose exactly as robospec has always given it
-            pose = call("Pose.create_from_pq", [const(list(camera.p)), const(list(camera.q))])
+            pose = call("Pose.create_from_pq", [float_array(camera.p), float_array(camera.q)])
         kwargs: dict[str, ast.expr] = {
             "uid": ast.Constant(camera.uid),
             "pose": pose,
@@ -259,7 +260,7 @@ def generate_sensor_configs(cameras: tuple[ResolvedCamera, ...]) -> ast.Function
         if camera.fov is not None:
             kwargs["fov"] = const(camera.fov)
         if camera.intrinsic is not None:
-            kwargs["intrinsic"] = call("np.array", [const([list(r) for r in camera.intrinsic])])
+            kwargs["intrinsic"] = call("np.array", [float_array(camera.intrinsic)])
         kwargs["near"] = const(camera.near)
         kwargs["far"] = const(camera.far)
         kwargs["entity_uid"] = ast.Constant(camera.mount)

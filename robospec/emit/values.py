@@ -12,6 +12,7 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from robospec.emit.numbers import literal, number_expr, python_value
 from robospec.resolve.resolved import FileRef
 
 FileExpression = Callable[[FileRef], ast.expr]
@@ -56,9 +57,7 @@ def const(value: Any, files: FileExpression | None = None) -> ast.expr:
     if isinstance(value, float):
         if not math.isfinite(value):
             raise ValueError("non-finite numbers never reach the emitter")
-        if math.copysign(1.0, value) < 0:
-            return ast.UnaryOp(ast.USub(), ast.Constant(-value))
-        return ast.Constant(value)
+        return number_expr(value)
     if isinstance(value, (list, tuple)):
         return ast.List([const(v, files) for v in value], ast.Load())
     if isinstance(value, dict):
@@ -66,9 +65,29 @@ def const(value: Any, files: FileExpression | None = None) -> ast.expr:
     raise TypeError(f"cannot emit {type(value).__name__}")
 
 
+def float_array(values: Sequence[Any]) -> ast.List:
+    """A list for ``np.array`` or a tensor, whose numbers the model holds as floats: written as
+    the spec wrote them, unless every one would be an integer; numpy and torch would then make
+    an integer array, so they are written as floats (``[0.0, 0.0]``), as before."""
+    rows = [list(v) if isinstance(v, (list, tuple)) else None for v in values]
+    cells = [cell for row in rows if row is not None for cell in row] or list(values)
+    if cells and all(type(python_value(const(cell))) is int for cell in cells):
+        if any(row is not None for row in rows):
+            return ast.List([_plain_row(row or []) for row in rows], ast.Load())
+        return _plain_row(list(values))
+    return ast.List([const(v) for v in values], ast.Load())
+
+
+def _plain_row(values: list[Any]) -> ast.List:
+    return ast.List([literal(float(v)) for v in values], ast.Load())
+
+
 def value_key(value: Any) -> tuple[type, str]:
-    """Equal keys for values the generated code cannot tell apart (``repr`` keeps -0.0 and
-    0.0 apart, which ``==`` does not)."""
+    """Equal keys for values the generated code cannot tell apart: what it computes, by
+    type and ``repr`` (which keeps -0.0 and 0.0 apart, as ``==`` does not)."""
+    if isinstance(value, float):
+        computed = python_value(const(value))
+        return (type(computed), repr(computed))
     return (type(value), repr(value))
 
 

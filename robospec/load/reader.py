@@ -12,7 +12,7 @@ from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error, line_column
 from robospec.load.prescan import prescan
-from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap
+from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap, WrittenNumber
 
 SPEC_SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml"}
 MAX_BYTES = 2 * 1024 * 1024
@@ -154,7 +154,7 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     if too_big is not None:
         return None, [too_big]
     try:
-        data = _walk_yaml(document, (), source, [0])
+        data = _walk_yaml(document, (), source, [0], text.split("\n"))
     except _TooBig as exc:
         return None, [error(source.key(exc.path), exc.code, str(exc))]
     _keep_within_text(source, text)
@@ -323,8 +323,11 @@ def _spend(path: KeyPath, count: list[int]) -> None:
         raise _TooBig(f"spec is nested deeper than {MAX_DEPTH} levels", path)
 
 
-def _walk_yaml(node: Any, path: KeyPath, source: SourceMap, count: list[int]) -> Any:
-    """Turn ruamel's round-trip nodes into plain data, recording positions as we go."""
+def _walk_yaml(
+    node: Any, path: KeyPath, source: SourceMap, count: list[int], lines: list[str]
+) -> Any:
+    """Turn ruamel's round-trip nodes into plain data, recording positions as we go; a float
+    keeps the text the spec wrote it with (ruamel's ScalarFloat does not)."""
     _spend(path, count)
     from ruamel.yaml.comments import CommentedMap, CommentedSeq
 
@@ -342,7 +345,7 @@ def _walk_yaml(node: Any, path: KeyPath, source: SourceMap, count: list[int]) ->
             else:
                 source.keys[child] = (position[0] + 1, position[1] + 1)
                 source.values[child] = (position[2] + 1, position[3] + 1)
-            result[name] = _walk_yaml(node[key], child, source, count)
+            result[name] = _walk_yaml(node[key], child, source, count, lines)
         return result
     if isinstance(node, CommentedSeq):
         items = []
@@ -355,18 +358,38 @@ def _walk_yaml(node: Any, path: KeyPath, source: SourceMap, count: list[int]) ->
                 source.keys[child] = source.values[child] = source.values.get(path, (1, 1))
             else:
                 source.keys[child] = source.values[child] = (position[0] + 1, position[1] + 1)
-            items.append(_walk_yaml(item, child, source, count))
+            items.append(_walk_yaml(item, child, source, count, lines))
         return items
     if isinstance(node, bool) or node is None:
         return node
     if isinstance(node, int):
         return int(node)
     if isinstance(node, float):
-        return float(node)
+        return written_number(float(node), source.values.get(path), lines)
     if isinstance(node, str):
         return str(node)
     # timestamps, binary, ...: keep as text so the schema reports a located type error
     return str(node)
+
+
+# a number literal, after any YAML anchor (&name) or tag (!!float) written before it
+_NUMBER_TEXT = re.compile(r"(?:[&!]\S*\s+)*([-+]?[0-9_]*\.?[0-9_]*(?:[eE][-+]?[0-9_]+)?)")
+
+
+def written_number(value: float, position: tuple[int, int] | None, lines: list[str]) -> float:
+    """``value`` with the text the spec wrote it with, read at its 1-based ``position``: a
+    :class:`WrittenNumber` when that text is a number literal giving exactly ``value`` (an
+    aliased or merged value is placed elsewhere), else the plain float."""
+    if position is None or not 1 <= position[0] <= len(lines):
+        return value
+    line, column = position
+    found = _NUMBER_TEXT.match(lines[line - 1], column - 1)
+    text = found.group(1) if found else ""
+    try:
+        same = repr(float(text.replace("_", ""))) == repr(value)  # repr: -0.0 is not 0.0
+    except ValueError:
+        return value
+    return WrittenNumber(value, text) if same else value
 
 
 # --------------------------------------------------------------------------------------------
@@ -402,7 +425,7 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         _check_toml_size(data, (), [0])
     except _TooBig as exc:
         return None, [error(source.key(exc.path), "RS006", str(exc))]
-    return _plain_toml(data), []
+    return _plain_toml(data, (), source, text.split("\n")), []
 
 
 def _check_toml_size(node: Any, path: KeyPath, count: list[int]) -> None:
@@ -415,12 +438,15 @@ def _check_toml_size(node: Any, path: KeyPath, count: list[int]) -> None:
             _check_toml_size(value, (*path, index), count)
 
 
-def _plain_toml(node: Any) -> Any:
+def _plain_toml(node: Any, path: KeyPath, source: SourceMap, lines: list[str]) -> Any:
+    """Plain data; a float keeps the text the spec wrote it with (tomllib's does not)."""
     # dates and times have no meaning in a spec: keep them as text for a located type error
     if isinstance(node, dict):
-        return {key: _plain_toml(value) for key, value in node.items()}
+        return {k: _plain_toml(v, (*path, k), source, lines) for k, v in node.items()}
     if isinstance(node, list):
-        return [_plain_toml(value) for value in node]
-    if isinstance(node, (str, int, float, bool)):
+        return [_plain_toml(v, (*path, i), source, lines) for i, v in enumerate(node)]
+    if isinstance(node, float):
+        return written_number(node, source.values.get(path), lines)
+    if isinstance(node, (str, int, bool)):
         return node
     return str(node)

@@ -1,4 +1,5 @@
-"""Where each piece of a loaded spec came from: key paths mapped to 1-based line:column."""
+"""Where each piece of a loaded spec came from: key paths mapped to 1-based line:column, and
+numbers that remember how the spec wrote them."""
 
 from __future__ import annotations
 
@@ -52,3 +53,22 @@ class LoadedSpec:
     source: SourceMap
     raw: bytes
     format: str  # "yaml" or "toml"
+
+
+class WrittenNumber(float):
+    """A number that remembers how the spec wrote it: ``pi/8``, ``1e3``, ``100``.
+
+    It is a float (it compares, hashes and computes as one, and arithmetic on it gives plain
+    floats), so checks, physics and cards use it as the value it is; the emitter writes the
+    text back (``np.pi / 8``) where it gives exactly that value."""
+
+    __slots__ = ("text",)
+    text: str
+
+    def __new__(cls, value: float, text: str) -> WrittenNumber:
+        number = super().__new__(cls, value)
+        number.text = text
+        return number
+
+    def __getnewargs__(self) -> tuple[float, str]:  # pickle and copy keep the text
+        return (float(self), self.text)

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, WithJsonSchema
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PlainSerializer,
+    PlainValidator,
+    WithJsonSchema,
+)
 
 from robospec.model.refs import JointPattern, LinkPattern
 from robospec.model.rules import _to_number, origin
@@ -21,13 +28,18 @@ NUMBER_SCHEMA: dict[str, Any] = {
 }
 
 
-Number = Annotated[float, BeforeValidator(_to_number), WithJsonSchema(NUMBER_SCHEMA)]
+# a plain validator: it does all of a float's validation itself, since pydantic's would turn
+# the WrittenNumber it returns (the float with the spec's text) into a plain float; dumped,
+# it is the float (pydantic's float serializer warns on a subclass)
+_VALIDATE, _DUMP = PlainValidator(_to_number), PlainSerializer(float, return_type=float)
+Number = Annotated[float, _VALIDATE, _DUMP, WithJsonSchema(NUMBER_SCHEMA)]
 """A float, also accepted as safe arithmetic text such as ``pi/2`` or ``-5*pi/8``."""
 
 # Number's schema is fixed by WithJsonSchema, so a described variant needs its own
 ValueByName = Annotated[
     float,
-    BeforeValidator(_to_number),
+    _VALIDATE,
+    _DUMP,
     WithJsonSchema({**NUMBER_SCHEMA, "description": "The value for the joints this name selects."}),
 ]
 # the map first, as JointValues (robospec.model.spec) says why

@@ -12,6 +12,8 @@ import math
 import operator
 from collections.abc import Callable
 
+from robospec.load.source_map import WrittenNumber
+
 CONSTANTS: dict[str, float] = {"pi": math.pi, "tau": math.tau, "e": math.e}
 MAX_LENGTH = 200
 MAX_EXPONENT = 64.0
@@ -34,6 +36,7 @@ class ExpressionError(ValueError):
 
 
 def evaluate(text: str) -> float:
+    """The value of ``text``, a :class:`WrittenNumber` that keeps ``text``."""
     if len(text) > MAX_LENGTH:
         raise ExpressionError(f"expression longer than {MAX_LENGTH} characters")
     try:
@@ -43,7 +46,7 @@ def evaluate(text: str) -> float:
     value = _eval(tree.body, text)
     if not math.isfinite(value):
         raise ExpressionError(f"'{text}' is not a finite number")
-    return value
+    return WrittenNumber(value, text.strip())
 
 
 def _eval(node: ast.AST, text: str) -> float:

@@ -14,6 +14,7 @@ from typing import Any, Literal
 
 from pydantic_core import PydanticCustomError, PydanticKnownError
 
+from robospec.load.source_map import WrittenNumber
 from robospec.model.expressions import ExpressionError, evaluate
 
 CONTROLLER_TYPES: tuple[str, ...] = (
@@ -34,10 +35,17 @@ CONTROLLER_TYPES: tuple[str, ...] = (
 
 
 def _to_number(value: Any) -> float:
-    # the name shows in pydantic's error locations (`function-before[_to_number(), float]`)
+    """A Number field's whole validation (the name shows in pydantic's error locations,
+    ``function-plain[_to_number()]``). It returns the float itself, a :class:`WrittenNumber`
+    when the spec's text of the number is known: pydantic's own float validation would turn
+    it into a plain float, so this validator does that work and keeps it."""
     if isinstance(value, bool):
         raise PydanticCustomError("number", "expected a number, got a boolean")
-    if isinstance(value, (int, float)):
+    if isinstance(value, WrittenNumber):
+        return value
+    if isinstance(value, int):
+        return WrittenNumber(float(value), str(value))
+    if isinstance(value, float):
         return float(value)
     if isinstance(value, str):
         try:

@@ -55,19 +55,19 @@ class RsFetch(BaseAgent):
             pose=sapien.Pose(),
             qpos=np.array(
                 [
-                    0.0,
-                    0.0,
-                    0.0,
+                    0,
+                    0,
+                    0,
                     0.386,
-                    0.0,
-                    -0.37,
+                    0,
+                    -0.370,
                     0.562,
                     -1.032,
                     0.695,
                     0.955,
                     -0.1,
                     2.077,
-                    0.0,
+                    0,
                     0.015,
                     0.015,
                 ]
@@ -88,9 +88,9 @@ class RsFetch(BaseAgent):
     body_joint_names = ["head_pan_joint", "head_tilt_joint", "torso_lift_joint"]
     base_joint_names = ["root_x_axis_joint", "root_y_axis_joint", "root_z_rotation_joint"]
 
-    arm_stiffness = 1000.0
-    arm_damping = 100.0
-    arm_force_limit = 100.0
+    arm_stiffness = 1e3
+    arm_damping = 1e2
+    arm_force_limit = 100
 
     @property
     def _controller_configs(self):
@@ -204,35 +204,35 @@ class RsFetch(BaseAgent):
             joint_names=self.gripper_joint_names,
             lower=-0.01,
             upper=0.05,
-            stiffness=1000.0,
-            damping=100.0,
-            force_limit=100.0,
+            stiffness=1e3,
+            damping=1e2,
+            force_limit=100,
             mimic={"r_gripper_finger_joint": {"joint": "l_gripper_finger_joint"}},
         )
         body_delta_pos = PDJointPosControllerConfig(
             joint_names=self.body_joint_names,
             lower=-0.1,
             upper=0.1,
-            stiffness=1000.0,
-            damping=100.0,
-            force_limit=100.0,
+            stiffness=1e3,
+            damping=1e2,
+            force_limit=100,
             use_delta=True,
         )
         stiff_body_pos = PDJointPosControllerConfig(
             joint_names=self.body_joint_names,
             lower=None,
             upper=None,
-            stiffness=100000.0,
-            damping=100000.0,
-            force_limit=100000.0,
+            stiffness=1e5,
+            damping=1e5,
+            force_limit=1e5,
             normalize_action=False,
         )
         base_vel = PDBaseForwardVelControllerConfig(
             joint_names=self.base_joint_names,
-            lower=[-1.0, -3.14],
-            upper=[1.0, 3.14],
-            damping=1000.0,
-            force_limit=500.0,
+            lower=[-1, -3.14],
+            upper=[1, 3.14],
+            damping=1000,
+            force_limit=500,
         )
         return deepcopy_dict(
             {
@@ -313,19 +313,19 @@ class RsFetch(BaseAgent):
                 pose=sapien.Pose(),
                 width=128,
                 height=128,
-                fov=2.0,
+                fov=2,
                 near=0.01,
-                far=100.0,
+                far=100,
                 entity_uid="head_camera_link",
             ),
             CameraConfig(
                 uid="fetch_hand",
-                pose=Pose.create_from_pq([-0.1, 0.0, 0.1], [1.0, 0.0, 0.0, 0.0]),
+                pose=Pose.create_from_pq([-0.1, 0, 0.1], [1.0, 0.0, 0.0, 0.0]),
                 width=128,
                 height=128,
-                fov=2.0,
+                fov=2,
                 near=0.01,
-                far=100.0,
+                far=100,
                 entity_uid="gripper_link",
             ),
         ]
@@ -363,7 +363,7 @@ class RsFetch(BaseAgent):
         ) / 2
         return Pose.create_from_pq(p=p, q=q)
 
-    def is_grasping(self, object, min_force=0.5, max_angle=85.0):
+    def is_grasping(self, object, min_force=0.5, max_angle=85):
         """Both fingers touch the object, with forces along their opening directions."""
         l_contact_forces = self.scene.get_pairwise_contact_forces(self.finger1_link, object)
         r_contact_forces = self.scene.get_pairwise_contact_forces(self.finger2_link, object)

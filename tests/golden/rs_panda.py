@@ -51,17 +51,7 @@ class RsPanda(BaseAgent):
         "rest": Keyframe(
             pose=sapien.Pose(),
             qpos=np.array(
-                [
-                    0.0,
-                    0.39269908169872414,
-                    0.0,
-                    -1.9634954084936207,
-                    0.0,
-                    2.356194490192345,
-                    0.7853981633974483,
-                    0.04,
-                    0.04,
-                ]
+                [0, np.pi / 8, 0, -np.pi * 5 / 8, 0, np.pi * 3 / 4, np.pi / 4, 0.04, 0.04]
             ),
         )
     }
@@ -77,9 +67,9 @@ class RsPanda(BaseAgent):
     ]
     gripper_joint_names = ["panda_finger_joint1", "panda_finger_joint2"]
 
-    arm_stiffness = 1000.0
-    arm_damping = 100.0
-    arm_force_limit = 100.0
+    arm_stiffness = 1e3
+    arm_damping = 1e2
+    arm_force_limit = 100
 
     @property
     def _controller_configs(self):
@@ -201,9 +191,9 @@ class RsPanda(BaseAgent):
             joint_names=self.gripper_joint_names,
             lower=-0.01,
             upper=0.04,
-            stiffness=1000.0,
-            damping=100.0,
-            force_limit=100.0,
+            stiffness=1e3,
+            damping=1e2,
+            force_limit=100,
             mimic={"panda_finger_joint2": {"joint": "panda_finger_joint1"}},
         )
         return deepcopy_dict(
@@ -237,7 +227,7 @@ class RsPanda(BaseAgent):
     def tcp_pose(self):
         return self.tcp.pose
 
-    def is_grasping(self, object, min_force=0.5, max_angle=85.0):
+    def is_grasping(self, object, min_force=0.5, max_angle=85):
         """Both fingers touch the object, with forces along their opening directions."""
         l_contact_forces = self.scene.get_pairwise_contact_forces(self.finger1_link, object)
         r_contact_forces = self.scene.get_pairwise_contact_forces(self.finger2_link, object)

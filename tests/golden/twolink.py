@@ -47,31 +47,26 @@ class TwoLink(BaseAgent):
         },
     }
     keyframes = {
-        "rest": Keyframe(
-            pose=sapien.Pose(),
-            qpos=np.array([0.0, 0.5235987755982988, 1.0471975511965976, 0.04, 0.04]),
-        ),
+        "rest": Keyframe(pose=sapien.Pose(), qpos=np.array([0, np.pi / 6, np.pi / 3, 0.04, 0.04])),
         "folded": Keyframe(
-            pose=sapien.Pose(
-                p=[0.0, 0.0, 0.02], q=[0.7071067811865476, 0.0, 0.0, 0.7071067811865475]
-            ),
-            qpos=np.array([0.0, -0.7853981633974483, 1.5707963267948966, 0.0, 0.0]),
+            pose=sapien.Pose(p=[0, 0, 0.02], q=[0.7071067811865476, 0.0, 0.0, 0.7071067811865475]),
+            qpos=np.array([0, -np.pi / 4, np.pi / 2, 0, 0]),
         ),
     }
 
     arm_joint_names = ["twolink_joint1", "twolink_joint2", "twolink_joint3"]
     gripper_joint_names = ["twolink_finger_joint1", "twolink_finger_joint2"]
 
-    arm_stiffness = 400.0
-    arm_damping = 40.0
-    arm_force_limit = 50.0
+    arm_stiffness = 400
+    arm_damping = 40
+    arm_force_limit = 50
 
     @property
     def _controller_configs(self):
         arm_pos = PDJointPosControllerConfig(
             joint_names=self.arm_joint_names,
-            lower=-3.141592653589793,
-            upper=3.141592653589793,
+            lower=-np.pi,
+            upper=np.pi,
             stiffness=self.arm_stiffness,
             damping=self.arm_damping,
             force_limit=self.arm_force_limit,
@@ -101,9 +96,9 @@ class TwoLink(BaseAgent):
             joint_names=self.gripper_joint_names,
             lower=-0.005,
             upper=0.04,
-            stiffness=200.0,
-            damping=20.0,
-            force_limit=20.0,
+            stiffness=200,
+            damping=20,
+            force_limit=20,
             mimic={"twolink_finger_joint2": {"joint": "twolink_finger_joint1"}},
         )
         return deepcopy_dict(
@@ -122,9 +117,9 @@ class TwoLink(BaseAgent):
                 pose=sapien.Pose(),
                 width=128,
                 height=128,
-                fov=1.5707963267948966,
+                fov=np.pi / 2,
                 near=0.01,
-                far=10.0,
+                far=10,
                 entity_uid="twolink_camera_link",
             )
         ]
