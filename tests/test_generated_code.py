@@ -39,6 +39,8 @@ from robospec.output.package import plan_package
 from robospec.pipeline import compile_spec
 
 LINE_LENGTH = 100
+# property tests draw ROBOSPEC_FUZZ_SCALE times their examples (the fast loop: a fifth)
+FUZZ_SCALE = max(float(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 0.01)
 RUFF = Path(sys.executable).parent / ("ruff.exe" if os.name == "nt" else "ruff")
 FORMAT = ["format", "--isolated", "--line-length", str(LINE_LENGTH), "--check", "--diff"]
 CANONICAL = ["--config", "format.skip-magic-trailing-comma = true"]
@@ -129,7 +131,11 @@ def test_every_example_spec_gives_a_module_ruff_leaves_as_it_is(
             raise AssertionError(f"{name}: {failure}") from None
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(
+    max_examples=max(int(60 * FUZZ_SCALE), 10),
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
 @given(hostile_robots(), st.sampled_from(["yaml", "toml"]))
 def test_modules_of_robots_with_hostile_names_are_ruff_clean(
     robot: dict[str, object], spec_format: str
@@ -248,6 +254,35 @@ def test_an_extends_base_class_named_like_the_agent_is_imported_renamed(tmp_path
     source = emit_module(result.robot, tmp_path)
     assert "from mani_skill.agents.robots.panda.panda import Panda as PandaBase\n" in source
     assert "class Panda(PandaBase):" in source
+    assert_ruff_clean(source)
+
+
+HOOKS_SPEC = """robospec: 1
+uid: rs_hooked
+class_name: panda_hooks
+description: {urdf: "{maniskill_assets}/robots/panda/panda_v2.urdf"}
+controllers:
+  arm: {type: pd_joint_pos, joints: "*", lower: null, upper: null, stiffness: 1e3, damping: 1e2}
+control_modes: {pd_joint_pos: {all: arm}}
+hooks:
+  after_init: "hookmods.panda_hooks:after_init"
+  methods: {gripper_opening: "hookmods.panda_hooks:gripper_opening"}
+"""
+
+
+def test_hooks_are_imported_with_their_module_renamed_when_its_name_is_taken(
+    tmp_path: Path,
+) -> None:
+    spec = tmp_path / "hooked.yaml"
+    spec.write_text(HOOKS_SPEC)
+    result = compile_spec(spec)
+    assert result.robot is not None, [d.format_text() for d in result.diagnostics]
+    source = emit_module(result.robot, tmp_path)
+    # the class is called panda_hooks: the module takes another name
+    assert "from hookmods import panda_hooks as panda_hooks_module\n" in source
+    assert "        panda_hooks_module.after_init(self)\n" in source
+    assert "    gripper_opening = panda_hooks_module.gripper_opening\n" in source
+    assert "importlib" not in source and "getattr" not in source
     assert_ruff_clean(source)
 
 

@@ -23,12 +23,8 @@ from robospec.emit.controllers import (
     variable_names,
 )
 from robospec.emit.layout import format_module
-from robospec.emit.module_imports import (
-    IMPORTABLE,
-    base_class_name,
-    import_statements,
-    used_names,
-)
+from robospec.emit.module_imports import IMPORTABLE, import_statements, used_names
+from robospec.emit.python_refs import PythonNames, python_names, rename
 from robospec.emit.values import (
     UnsafeIdentifier,
     assign,
@@ -74,19 +70,23 @@ def emit_module(robot: ResolvedRobot, module_dir: Path, description_file: str | 
     """The module's source. ``module_dir`` is where it will live: files on disk are named
     relative to it. ``description_file`` names the generated URDF (xacro) beside the module."""
     context = _Context(robot, module_dir, description_file)
-    class_body, paragraphs = generate_class_body(robot, context)
+    # the code is written first with placeholders for the names of the spec's Python, which
+    # must avoid every name it uses
+    placeholders = python_names(robot, None)
+    class_body, paragraphs = generate_class_body(robot, context, placeholders)
     module_statements: list[ast.stmt] = []
     if context.uses_here:
         here = call("os.path.dirname", [call("os.path.abspath", [name("__file__")])])
         module_statements.append(assign("HERE", here))
-    taken = used_names(class_body) | {robot.class_name, "HERE"}
-    base_name = base_class_name(robot.base, taken) if robot.base is not None else None
-    class_node = generate_class(robot, class_body, base_name)
+    class_node = generate_class(robot, class_body, placeholders.base_name)
     code: list[ast.stmt] = [*module_statements, class_node]
+    taken = used_names(code) | set(IMPORTABLE) | {robot.class_name, "HERE"}
+    python = python_names(robot, taken)
+    rename(code, placeholders, python)
     module = ast.Module(
         body=[
             ast.Expr(ast.Constant(module_docstring(robot, context))),
-            *import_statements(code, robot.base, base_name),
+            *import_statements(code, python),
             *code,
         ],
         type_ignores=[],
@@ -164,7 +164,9 @@ def generate_class(robot: ResolvedRobot, body: list[ast.stmt], base: str | None)
     )
 
 
-def generate_class_body(robot: ResolvedRobot, context: _Context) -> tuple[list[ast.stmt], set[int]]:
+def generate_class_body(
+    robot: ResolvedRobot, context: _Context, python: PythonNames
+) -> tuple[list[ast.stmt], set[int]]:
     """The class body, and the statements that start a paragraph (a blank line before)."""
     doc = f"Agent '{robot.uid}', compiled from {context.spec_label}."
     declared = robot.declared
@@ -193,7 +195,7 @@ def generate_class_body(robot: ResolvedRobot, context: _Context) -> tuple[list[a
         body.append(generate_controller_configs(robot, attributes, variables, context.file_expr))
     if robot.cameras and "cameras" in declared:
         body.append(generate_sensor_configs(robot.cameras))
-    body.extend(generate_members(robot))
+    body.extend(generate_members(robot, python))
     return body, paragraphs
 
 
@@ -207,13 +209,13 @@ def member_names(robot: ResolvedRobot) -> list[str]:
     return names
 
 
-def generate_members(robot: ResolvedRobot) -> list[ast.stmt]:
+def generate_members(robot: ResolvedRobot, python: PythonNames) -> list[ast.stmt]:
     """Hooks and task-facing helpers, after the data ManiSkill reads."""
     body: list[ast.stmt] = []
-    loading = helpers.generate_after_loading_articulation(robot)
+    loading = helpers.generate_after_loading_articulation(robot, python)
     if loading is not None:
         body.append(loading)
-    after_init = generate_after_init(robot)
+    after_init = generate_after_init(robot, python)
     if after_init is not None:
         body.append(after_init)
     body.extend(helpers.generate_tcp_members(robot))
@@ -229,7 +231,7 @@ def generate_members(robot: ResolvedRobot) -> list[ast.stmt]:
     if proprioception is not None:
         body.append(proprioception)
     for method, ref in robot.hooks.methods:
-        body.append(assign(safe_identifier(method), helpers.python_ref_expr(ref)))
+        body.append(assign(safe_identifier(method), python.expr(ref)))
     return body
 
 
@@ -270,7 +272,7 @@ def generate_sensor_configs(cameras: tuple[ResolvedCamera, ...]) -> ast.Function
     return property_method("_sensor_configs", [ast.Return(ast.List(configs, ast.Load()))])
 
 
-def generate_after_init(robot: ResolvedRobot) -> ast.FunctionDef | None:
+def generate_after_init(robot: ResolvedRobot, python: PythonNames) -> ast.FunctionDef | None:
     body: list[ast.stmt] = helpers.generate_after_init_helpers(robot)
     for rule in robot.collision_rules:
         link = ast.Subscript(name("self.robot.links_map"), name("link_name"), ast.Load())
@@ -289,7 +291,7 @@ def generate_after_init(robot: ResolvedRobot) -> ast.FunctionDef | None:
             )
         )
     if robot.hooks.after_init is not None:
-        hook = helpers.python_ref_expr(robot.hooks.after_init)
+        hook = python.expr(robot.hooks.after_init)
         body.append(ast.Expr(ast.Call(hook, [name("self")], [])))
     if not body:
         return None

@@ -12,10 +12,10 @@ import ast
 import textwrap
 from typing import Any
 
+from robospec.emit.python_refs import PythonNames
 from robospec.emit.values import const as constant
 from robospec.emit.values import safe_identifier
 from robospec.resolve.resolved import (
-    PythonRef,
     ResolvedFallen,
     ResolvedGrasping,
     ResolvedHeight,
@@ -76,25 +76,6 @@ def links_expr(links: tuple[str, ...] | str, robot: ResolvedRobot) -> ast.expr:
     if isinstance(links, str):  # a named link holding a list
         return self_attribute(links)
     return ast.List([link_expr(n, robot) for n in links], ast.Load())
-
-
-def python_ref_expr(ref: PythonRef) -> ast.expr:
-    """``getattr(importlib.import_module("m"), "a")``: the reference as constants only.
-
-    The last step from a class uses ``inspect.getattr_static`` so a staticmethod or property
-    is taken as declared, not bound."""
-    (stmt,) = template("importlib.import_module(MODULE)", MODULE=ast.Constant(ref.module))
-    assert isinstance(stmt, ast.Expr)
-    value = stmt.value
-    for index, attribute in enumerate(ref.attributes):
-        last = index == len(ref.attributes) - 1
-        getter = "getattr"
-        if last and index > 0:
-            getter = "inspect.getattr_static"
-        (stmt,) = template(f"{getter}(OBJ, NAME)", OBJ=value, NAME=ast.Constant(attribute))
-        assert isinstance(stmt, ast.Expr)
-        value = stmt.value
-    return value
 
 
 # -- members -----------------------------------------------------------------------------------
@@ -388,7 +369,9 @@ def generate_proprioception(robot: ResolvedRobot) -> ast.FunctionDef | None:
     )
 
 
-def generate_after_loading_articulation(robot: ResolvedRobot) -> ast.FunctionDef | None:
+def generate_after_loading_articulation(
+    robot: ResolvedRobot, python: PythonNames
+) -> ast.FunctionDef | None:
     body: list[ast.stmt] = []
     for drive in robot.drives:
         body += template(
@@ -411,7 +394,7 @@ def generate_after_loading_articulation(robot: ResolvedRobot) -> ast.FunctionDef
                 UPPER=constant(upper),
             )
     if robot.hooks.after_loading_articulation is not None:
-        body += template("HOOK(self)", HOOK=python_ref_expr(robot.hooks.after_loading_articulation))
+        body += template("HOOK(self)", HOOK=python.expr(robot.hooks.after_loading_articulation))
     if not body:
         return None
     if robot.base is not None:

@@ -1,9 +1,5 @@
-"""The imports of a generated module: exactly the names its code uses, and the base class.
-
-An ``extends: module:Class`` base is imported plainly (``from module import Class``), renamed
-only when its name is taken in the module (``Panda`` as ``PandaBase`` for a class itself called
-``Panda``).
-"""
+"""The imports of a generated module: exactly the names its code uses, the base class and the
+modules of its hooks (named by :mod:`robospec.emit.python_refs`), in isort's order."""
 
 from __future__ import annotations
 
@@ -12,7 +8,7 @@ from collections.abc import Iterable
 
 from robospec.emit.controllers import CONFIG_CLASSES
 from robospec.emit.layout.imports import sorted_imports
-from robospec.resolve.resolved import PythonRef
+from robospec.emit.python_refs import PythonNames, module_imports
 
 # a name the generated code may use -> (module it comes from, None for `import module`; the
 # module or the imported name; the name it is bound to)
@@ -46,30 +42,19 @@ def used_names(nodes: Iterable[ast.AST]) -> set[str]:
     }
 
 
-def base_class_name(base: PythonRef, taken: set[str]) -> str:
-    """The name the base class is bound to: its own, unless ``taken`` holds it."""
-    own = base.attributes[0]
-    if own not in taken and own not in IMPORTABLE:
-        return own
-    candidate = own + "Base"
-    while candidate in taken or candidate in IMPORTABLE:
-        candidate += "_"
-    return candidate
-
-
-def import_statements(
-    code: Iterable[ast.AST], base: PythonRef | None = None, base_name: str | None = None
-) -> list[ast.stmt]:
-    """Sorted import statements for every importable name ``code`` uses, and the base."""
+def import_statements(code: list[ast.stmt], python: PythonNames) -> list[ast.stmt]:
+    """Sorted import statements for every importable name ``code`` uses, the base class and
+    the hooks' modules."""
     straight: list[ast.Import] = []
     members: dict[str, list[ast.alias]] = {}
-    separate: list[ast.ImportFrom] = []
+    separate: list[ast.stmt] = module_imports(python, used_names(code))
     for used in sorted(used_names(code) & IMPORTABLE.keys()):
         module, imported = IMPORTABLE[used]
         if module is None:
             straight.append(ast.Import([ast.alias(imported, None if used == imported else used)]))
         else:
             members.setdefault(module, []).append(ast.alias(imported))
+    base, base_name = python.base, python.base_name
     if base is not None and base_name is not None:
         own = base.attributes[0]
         if base_name == own:
@@ -77,4 +62,4 @@ def import_statements(
         else:  # isort keeps a renamed import on a line of its own
             separate.append(ast.ImportFrom(base.module, [ast.alias(own, base_name)], 0))
     from_imports = [ast.ImportFrom(module, names, 0) for module, names in members.items()]
-    return sorted_imports([*straight, *from_imports, *separate])
+    return sorted_imports([*straight, *from_imports, *separate])  # type: ignore[list-item]
