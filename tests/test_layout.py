@@ -17,7 +17,7 @@ import string
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_generated_code import assert_formatted, ruff_findings
+from test_generated_code import FUZZ_SCALE, assert_formatted, ruff_findings
 
 from robospec.emit.layout import format_module
 from robospec.emit.layout.imports import sorted_imports
@@ -218,7 +218,7 @@ def modules(draw: st.DrawFn) -> ast.Module:
 
 
 @settings(
-    max_examples=200,
+    max_examples=max(int(200 * FUZZ_SCALE), 10),
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )

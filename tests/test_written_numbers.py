@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_generated_code import FUZZ_SCALE
 
 from robospec.emit.generate import emit_module
 from robospec.emit.layout import format_module
@@ -97,7 +98,7 @@ def test_text_that_python_computes_differently_is_written_as_its_value() -> None
     assert emitted(number) == "2.7021597764222976e16"  # the float, as ruff writes it
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=max(int(300 * FUZZ_SCALE), 20), deadline=None)
 @given(
     st.recursive(
         st.one_of(
