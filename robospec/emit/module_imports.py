@@ -47,8 +47,9 @@ def import_statements(code: list[ast.stmt], python: PythonNames) -> list[ast.stm
     the hooks' modules."""
     straight: list[ast.Import] = []
     members: dict[str, list[ast.alias]] = {}
-    separate: list[ast.stmt] = module_imports(python, used_names(code))
-    for used in sorted(used_names(code) & IMPORTABLE.keys()):
+    names = used_names(code)
+    separate: list[ast.stmt] = module_imports(python, names)
+    for used in sorted(names & IMPORTABLE.keys()):
         module, imported = IMPORTABLE[used]
         if module is None:
             straight.append(ast.Import([ast.alias(imported, None if used == imported else used)]))

@@ -63,7 +63,8 @@ def _binding(node: ast.expr) -> _Binding:
 def parenthesized_expressions(tree: ast.AST) -> set[int]:
     """``id()`` of every expression in ``tree`` that is written in parentheses."""
     found: set[int] = set()
-    indices = {id(node.slice) for node in ast.walk(tree) if isinstance(node, ast.Subscript)}
+    indices: set[int] = set()  # tuples indexing a subscript, written without parentheses
+    tuples: list[ast.Tuple] = []
 
     def need(node: ast.expr, binding: _Binding) -> None:
         if _binding(node) < binding:
@@ -85,10 +86,14 @@ def parenthesized_expressions(tree: ast.AST) -> set[int]:
         elif isinstance(node, ast.BoolOp):
             for value in node.values:
                 need(value, _Binding(_binding(node) + 1))
-        elif isinstance(node, (ast.Attribute, ast.Subscript)):
+        elif isinstance(node, ast.Subscript):
+            need(node.value, _Binding.ATOM)
+            indices.add(id(node.slice))
+        elif isinstance(node, ast.Attribute):
             need(node.value, _Binding.ATOM)
         elif isinstance(node, ast.Call):
             need(node.func, _Binding.ATOM)
-        elif isinstance(node, ast.Tuple) and id(node) not in indices:
-            found.add(id(node))
+        elif isinstance(node, ast.Tuple):
+            tuples.append(node)
+    found.update(id(node) for node in tuples if id(node) not in indices)
     return found
