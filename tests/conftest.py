@@ -21,11 +21,14 @@ not slow"``):
 from __future__ import annotations
 
 import ast
+import atexit
 import builtins
 import os
 import random
+import shutil
 import subprocess
 import sys
+import tempfile
 from collections.abc import Container, Iterable, Mapping
 from functools import cache
 from pathlib import Path
@@ -288,6 +291,14 @@ def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> Non
 
 
 # -- isolation
+
+# Collecting the test modules imports robospec.model.frozen, which makes and caches the frozen
+# spec model, before any fixture runs: robospec's cache is a folder of this run's own from the
+# start (removed at exit), never the user's ~/.cache; the fixture below then gives every test
+# the session's folder.
+_COLLECTION_CACHE = tempfile.mkdtemp(prefix="robospec-tests-cache-")
+atexit.register(shutil.rmtree, _COLLECTION_CACHE, ignore_errors=True)
+os.environ["ROBOSPEC_CACHE_DIR"] = _COLLECTION_CACHE
 
 
 @pytest.fixture(autouse=True)
