@@ -24,6 +24,7 @@ from typing import Any
 
 import pydantic_core
 import pytest
+from conftest import PANDA_SPEC, ROOT
 from hypothesis import given
 from hypothesis import strategies as st
 from pydantic import BaseModel, ValidationError
@@ -38,9 +39,6 @@ from robospec.model.freeze import FreezeError, _name, frozen_source, model_class
 from robospec.model.record import Record
 from robospec.model.spec import Spec as PydanticSpec
 from robospec.model.validate import SpecModelResult, _merge_extends, build_spec
-
-ROOT = Path(__file__).resolve().parent.parent
-PANDA = ROOT / "specs/maniskill/panda.yaml"
 
 
 def _corpus_files() -> list[Path]:
@@ -108,7 +106,7 @@ def _overlaid(base: Any, overlay: Any) -> Any:
 
 
 def _invalid_variant(name: str) -> dict[str, Any]:
-    loaded = _loaded(PANDA)
+    loaded = _loaded(PANDA_SPEC)
     assert loaded is not None
     return _overlaid(_data(loaded), INVALID_OVERLAYS[name])
 
@@ -339,7 +337,7 @@ def test_an_unwritable_cache_still_validates_and_says_why_it_is_slow(
     monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(blocker / "cache"))  # under a file: no folder
     with pytest.warns(RuntimeWarning, match="ROBOSPEC_CACHE_DIR"):
         namespace = _defined()
-    loaded = _loaded(PANDA)
+    loaded = _loaded(PANDA_SPEC)
     assert loaded is not None
     validated = SchemaValidator(namespace["SCHEMAS"]["Spec"]).validate_python(_data(loaded))
     assert _shape(validated)[2]["uid"] == "rs_panda"
@@ -396,7 +394,7 @@ def test_hints_name_the_keys_of_the_schema_that_validated(
     monkeypatch.setattr(frozen, "SCHEMAS", schemas)
     frozen.validator_for.cache_clear()
     try:
-        loaded = _loaded(PANDA)
+        loaded = _loaded(PANDA_SPEC)
         assert loaded is not None
         accepted = build_spec(_with_data(loaded, {**loaded.data, "handedness": "left"}))
         assert accepted.spec is not None and not accepted.diagnostics
@@ -416,7 +414,7 @@ def _with_data(loaded: LoadedSpec, data: dict[str, Any]) -> LoadedSpec:
 
 
 def _panda() -> Any:
-    loaded = _loaded(PANDA)
+    loaded = _loaded(PANDA_SPEC)
     assert loaded is not None
     return _frozen(_data(loaded))
 
@@ -453,7 +451,7 @@ def test_model_copy_replaces_fields_and_counts_them_as_given() -> None:
 
 def test_records_dump_compare_hash_and_pickle_as_pydantic_models_do() -> None:
     spec = _panda()
-    loaded = _loaded(PANDA)
+    loaded = _loaded(PANDA_SPEC)
     assert loaded is not None
     assert spec.model_dump() == PydanticSpec.model_validate(_data(loaded)).model_dump()
     pose = frozen.Pose(p=[1, 2, 3])
