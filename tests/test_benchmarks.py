@@ -14,16 +14,16 @@ import warnings
 from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-import first_error  # noqa: E402
-import registration  # noqa: E402
-import run  # noqa: E402
-import scaling  # noqa: E402
-import step_throughput  # noqa: E402
-from section import Section  # noqa: E402
+import first_error
+import registration
+import run
+import scaling
+import step_throughput
+from section import Section
 
 
 def _headings(markdown: str) -> list[str]:

@@ -8,8 +8,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
-ROOT = Path(__file__).resolve().parent.parent
 # a TOML spec with a xacro description (a module and an expanded URDF) and a YAML one: enough
 # for what does not depend on how many specs a build has, at a third of the cost of specs/
 TWO_SPECS = ("specs/twolink.toml", "specs/maniskill/panda.yaml")

@@ -18,6 +18,7 @@ import uuid
 from pathlib import Path
 
 import pytest
+from conftest import ROOT
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -25,7 +26,6 @@ import robospec
 from robospec.output.modules import module_name_for
 from robospec.output.register import _compile_entries, _entry_for, _entry_is_fresh, cache_salt
 
-ROOT = Path(__file__).resolve().parent.parent
 CANARY_CODE = "import pathlib\npathlib.Path({path!r}).write_text('the cache was trusted')\n"
 
 

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import pytest
 from ast_names import identifiers
+from conftest import ROOT
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from lxml import etree
@@ -47,8 +48,6 @@ from pydantic import BaseModel
 from robospec.emit.generate import emit_module
 from robospec.model import controllers
 from robospec.pipeline import compile_spec
-
-ROOT = Path(__file__).resolve().parent.parent
 
 FRAGMENTS = [
     '"',

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import MANISKILL_SPECS
 
 pytestmark = [
     pytest.mark.maniskill,
@@ -35,8 +36,6 @@ from robospec.physics.batch import Options, RobotReport, check_paths  # noqa: E4
 from robospec.physics.findings import Finding, Status  # noqa: E402
 from robospec.physics.report import render_json, render_text  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
-MANISKILL_SPECS = ROOT / "specs" / "maniskill"
 PANDA = MANISKILL_SPECS / "panda.yaml"
 INSPIRE = MANISKILL_SPECS / "fixed_inspire_hand_right.yaml"
 ARM = [f"panda_joint{i}" for i in range(1, 8)]
