@@ -153,6 +153,8 @@ def _diagnostics_from(
 ) -> list[Diagnostic]:
     diagnostics: list[tuple[KeyPath, Diagnostic]] = []
     seen: set[KeyPath] = set()
+    missing: dict[KeyPath, str] = {}  # where a required key is missing -> its name
+    unknown: list[tuple[KeyPath, str]] = []  # where an unknown key is -> the key
     # our own errors (bad arithmetic, ...) say more than "should be a valid list": first
     errors = sorted(exc.errors(include_url=False), key=lambda e: e["type"] not in _ERROR_CODES)
     for err in errors:
@@ -178,16 +180,32 @@ def _diagnostics_from(
             continue
         seen.add(source_path)
         diagnostics.append((source_path, error(location, code, message, hint)))
-    # A union (number | list | mapping) that fails deep inside one member also reports "not a
-    # mapping" for the others at the outer place: the deeper, specific error is the real one.
+        if kind == "missing":
+            missing[source_path] = str(err["loc"][-1])
+        elif kind == "extra_forbidden":
+            unknown.append((source_path[:-1], str(err["loc"][-1])))
     return [
-        d
-        for path, d in diagnostics
-        if not (
-            d.code == "RS102"
-            and any(len(o) > len(path) and o[: len(path)] == path for o, _ in diagnostics)
-        )
+        d for path, d in diagnostics if not _said_by_another(path, d, diagnostics, missing, unknown)
     ]
+
+
+def _said_by_another(
+    path: KeyPath,
+    diagnostic: Diagnostic,
+    diagnostics: list[tuple[KeyPath, Diagnostic]],
+    missing: dict[KeyPath, str],
+    unknown: list[tuple[KeyPath, str]],
+) -> bool:
+    """Whether ``diagnostic`` only repeats what another error at the same place says."""
+    if diagnostic.code == "RS102":
+        # A union (number | list | mapping) that fails deep inside one member also reports
+        # "not a mapping" for the others at the outer place: the deeper error is the real one.
+        return any(len(o) > len(path) and o[: len(path)] == path for o, _ in diagnostics)
+    if path in missing:
+        # a required key spelled wrong is one mistake: the unknown key says it, with the hint
+        field_name = missing[path]
+        return any(where == path and did_you_mean(key, [field_name]) for where, key in unknown)
+    return False
 
 
 def _data_path(loc: tuple[Any, ...], data: Any) -> tuple[KeyPath, KeyPath]:
