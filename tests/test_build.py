@@ -10,6 +10,8 @@ from pathlib import Path
 import pytest
 from conftest import ROOT
 
+from robospec.output.package import MANIFEST, MANIFEST_HEADER
+
 # a TOML spec with a xacro description (a module and an expanded URDF) and a YAML one: enough
 # for what does not depend on how many specs a build has, at a third of the cost of specs/
 TWO_SPECS = ("specs/twolink.toml", "specs/maniskill/panda.yaml")
@@ -90,14 +92,7 @@ def test_build_output_is_the_same_for_absolute_and_relative_spec_paths(tmp_path:
         "rs_panda.py",
         "__init__.py",
         "twolink.urdf",
-        pytest.param(
-            "_robospec_manifest.txt",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="bug: build exempts its manifest's name from the ownership check and "
-                "overwrites a user's file of that name",
-            ),
-        ),
+        "_robospec_manifest.txt",
     ],
 )
 def test_build_refuses_to_overwrite_a_file_it_did_not_generate(tmp_path: Path, name: str) -> None:
@@ -111,6 +106,31 @@ def test_build_refuses_to_overwrite_a_file_it_did_not_generate(tmp_path: Path, n
     assert f"{mine}:1:1: error[RS604] refusing to overwrite" in result.stdout
     assert mine.read_text() == "# my own work\n"
     assert sorted(p.name for p in out.iterdir()) == [name]  # nothing half-written
+
+
+def test_a_manifest_robospec_did_not_write_names_nothing_as_robospecs(tmp_path: Path) -> None:
+    # a file named like the manifest, listing the user's notes: build neither trusts it to
+    # remove the notes as stale nor overwrites it
+    out = tmp_path / "agents"
+    out.mkdir()
+    (out / "NOTES.txt").write_text("keep me\n")
+    (out / MANIFEST).write_text("NOTES.txt\n")
+    result = build(out, specs=TWO_SPECS)
+    assert result.returncode == 1 and "RS604" in result.stdout
+    assert (out / "NOTES.txt").read_text() == "keep me\n"
+    assert (out / MANIFEST).read_text() == "NOTES.txt\n"
+
+
+def test_a_build_from_before_the_manifest_header_is_still_robospecs(tmp_path: Path) -> None:
+    # a manifest without the header, beside the __init__.py robospec generated, is trusted
+    out = tmp_path / "agents"
+    assert build(out, specs=TWO_SPECS).returncode == 0
+    manifest = out / MANIFEST
+    manifest.write_text(manifest.read_text().removeprefix(MANIFEST_HEADER))
+    (out / "rs_panda.py").write_text("stale\n")
+    assert build(out, specs=TWO_SPECS).returncode == 0
+    assert "class RsPanda" in (out / "rs_panda.py").read_text()
+    assert manifest.read_text().startswith(MANIFEST_HEADER)
 
 
 def test_build_keeps_the_users_other_files_and_replaces_its_own(tmp_path: Path) -> None:

@@ -15,11 +15,14 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from conftest import ROOT
+
+from robospec.output.package import MANIFEST
 
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL and flock are POSIX")
 
@@ -164,14 +167,78 @@ def test_a_killed_build_beside_the_users_files_keeps_them_and_every_file_whole(
     (out / "NOTES.txt").write_text("mine\n")
     for state in killed_builds(versions, built, out, tmp_path, rounds=12, seed=7):
         assert state.pop("NOTES.txt") == b"mine\n"
-        for name, data in state.items():  # each file is whole: as in one build or the other
-            assert data in (built["v1"].get(name), built["v2"].get(name)), name
-        assert set(built["v1"]) <= set(state)  # nothing of the old build is missing
+        assert_whole_and_listed(state, built)
     assert build(new, out).returncode == 0  # the next build completes the job
     state = snapshot(out)
     assert state.pop("NOTES.txt") == b"mine\n"
     assert state == built["v2"]
     assert leftovers(out) == []
+
+
+def assert_whole_and_listed(state: dict[str, bytes], built: dict[str, dict[str, bytes]]) -> None:
+    """What a build beside the user's files left: each file whole, as in one build or the
+    other, nothing of the old build missing, and every file of ours listed in the manifest
+    (which may list the old build's and the new one's, mid-way), so the next build owns them."""
+    listed = set(state.pop(MANIFEST).decode().splitlines()[1:])
+    for name, data in state.items():
+        assert data in (built["v1"].get(name), built["v2"].get(name)), name
+    assert set(built["v1"]) - {MANIFEST} <= set(state)
+    assert set(state) <= listed
+
+
+def test_a_build_cut_short_beside_the_users_files_is_finished_by_the_next(
+    versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
+) -> None:
+    # Every moment a build beside the user's files can stop at, in turn: each file it puts in
+    # place is a rename, and the process dies at the n-th (the kill tests hit these by chance).
+    from robospec.output import package
+    from robospec.pipeline import compile_all
+
+    compiled = {v.name: compile_all([v])[0] for v in versions}
+    renames = 0
+    real_replace = os.replace
+    for cut in range(1, 20):
+        out = tmp_path / f"cut{cut}" / "agents"
+        assert not package.build_package(compiled["v1"], out, check=False).diagnostics
+        (out / "NOTES.txt").write_text("mine\n")
+        dying_replace = _dying_at(cut, real_replace)
+
+        try:
+            with pytest.MonkeyPatch.context() as patch:
+                patch.setattr(package.os, "replace", dying_replace)
+                package.build_package(compiled["v2"], out, check=False)
+        except _Killed:
+            renames = max(renames, cut)
+        else:
+            break  # the build made fewer renames than `cut`: every moment was tried
+        state = snapshot(out)
+        assert state.pop("NOTES.txt") == b"mine\n"
+        assert_whole_and_listed(state, built)
+        result = package.build_package(compiled["v2"], out, check=False)
+        assert not result.diagnostics, [d.format_text() for d in result.diagnostics]
+        state = snapshot(out)
+        assert state.pop("NOTES.txt") == b"mine\n"
+        assert state == built["v2"]
+        assert leftovers(out) == []
+    assert renames >= 4  # the manifest twice, a changed module, a new one
+
+
+def _dying_at(cut: int, real_replace: Callable[[Any, Any], None]) -> Callable[[Any, Any], None]:
+    """``os.replace`` for a process that dies at its ``cut``-th rename."""
+    calls = 0
+
+    def dying_replace(src: Any, dst: Any) -> None:
+        nonlocal calls
+        calls += 1
+        if calls == cut:
+            raise _Killed
+        real_replace(src, dst)
+
+    return dying_replace
+
+
+class _Killed(BaseException):
+    """The build's process dies here (not an OSError: nothing is reported, nothing tidied)."""
 
 
 def test_a_build_killed_between_its_two_renames_is_put_back_by_the_next(

@@ -10,15 +10,20 @@ How a build is written, so that nothing is lost:
 - **One build at a time.** The whole compare-and-write step holds an advisory ``fcntl.flock`` on
   the output folder's parent directory (no lock file is left behind). A second concurrent
   ``robospec build`` of the same folder waits, then compares against the first one's result.
+- **The manifest says what is ours.** It starts with :data:`MANIFEST_HEADER`; a file of that
+  name without it (the user's, or a manifest robospec never wrote) is not trusted and not
+  overwritten. (A manifest from before the header is trusted when the folder's ``__init__.py``
+  is one robospec generated.)
 - **Staged, then renamed.** The new files are written to a staging folder beside the output
   (``.<name>.robospec-*``), then put in place by renames, never by writing into the output:
   - no output folder yet: one ``rename(staging, out)``;
   - the folder holds only our files: the two folders are swapped in one atomic
     ``renameat2(RENAME_EXCHANGE)`` (Linux); elsewhere by two renames, the old folder first
     moved aside to ``.<name>.robospec-*.old``;
-  - the folder also holds the user's files: ours are replaced one rename at a time, the
-    manifest last. A kill midway leaves each file whole, old or new, and the next build
-    finishes the job.
+  - the folder also holds the user's files: ours are replaced one rename at a time. The
+    manifest is written first listing the old files and the new, and again at the end listing
+    the new: a kill midway leaves each file whole, old or new, and every one of them listed as
+    ours, so the next build finishes the job.
 - **Recovery.** Before comparing, a build (under the lock) puts back an old folder left aside by
   a killed two-rename swap when the output is missing, and removes leftover staging folders.
   So a build killed at any point leaves the previous output, or the new one, complete.
@@ -30,16 +35,18 @@ import contextlib
 import os
 import shutil
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.emit.package import GENERATED_MARKER
 from robospec.output.atomic import exchange
 from robospec.output.modules import checked_robot_files, module_name_for, package_init
 from robospec.pipeline import CompiledSpec
 
 MANIFEST = "_robospec_manifest.txt"
+MANIFEST_HEADER = "# robospec build: the files it wrote here, which it may replace or remove\n"
 
 
 @dataclass
@@ -71,16 +78,36 @@ def _plan(compiled: list[CompiledSpec], out_dir: Path) -> tuple[dict[str, str], 
         files.update(robot_files)
         modules.append((module, item.robot.uid, item.robot.class_name))
     files["__init__.py"] = package_init(modules)
-    files[MANIFEST] = "".join(f"{name}\n" for name in sorted(files))
+    files[MANIFEST] = manifest_text(files)
     return files, problems
 
 
+def manifest_text(names: Iterable[str]) -> str:
+    return MANIFEST_HEADER + "".join(f"{name}\n" for name in sorted(set(names) - {MANIFEST}))
+
+
 def _previous_manifest(out_dir: Path) -> set[str]:
+    """The files an earlier build wrote here, by its manifest; none if robospec did not write
+    the manifest."""
     try:
         text = (out_dir / MANIFEST).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return set()
-    return {line for line in text.splitlines() if line and "/" not in line and line != ".."}
+    if not text.startswith(MANIFEST_HEADER) and not _generated_init(out_dir):
+        return set()
+    names = text.removeprefix(MANIFEST_HEADER).splitlines()
+    return {n for n in names if n and "/" not in n and n != ".." and not n.startswith("#")}
+
+
+def _generated_init(out_dir: Path) -> bool:
+    """Whether the folder's ``__init__.py`` is one robospec generated (a manifest of the
+    robospec before the manifest's header lives beside one)."""
+    init = out_dir / "__init__.py"
+    try:
+        head = init.read_text(encoding="utf-8")[:200] if not init.is_symlink() else ""
+    except (OSError, UnicodeDecodeError):
+        return False
+    return head.startswith('"""ManiSkill agents ' + GENERATED_MARKER)
 
 
 def _is_ours(path: Path, previous: set[str]) -> bool:
@@ -130,7 +157,9 @@ def _compare(out_dir: Path, files: dict[str, str], result: BuildResult) -> list[
     existing = {p.name: p for p in out_dir.iterdir()} if out_dir.is_dir() else {}
     for name in sorted(files):
         current = out_dir / name
-        if name in existing and name != MANIFEST and not _is_ours(current, previous):
+        # the manifest is ours when robospec wrote it (previous is then not empty)
+        ours = _is_ours(current, previous) or (name == MANIFEST and bool(previous))
+        if name in existing and not ours:
             result.diagnostics.append(
                 error(
                     Location(str(current)),
@@ -191,10 +220,7 @@ def _write_atomically(out_dir: Path, files: dict[str, str], stale: list[str]) ->
     staging = Path(tempfile.mkdtemp(prefix=_staging_prefix(out_dir), dir=out_dir.parent))
     try:
         for name in sorted(files):
-            with open(staging / name, "w", encoding="utf-8", newline="\n") as handle:
-                handle.write(files[name])
-                handle.flush()
-                os.fsync(handle.fileno())  # the rename must not publish empty files on a crash
+            _write_synced(staging / name, files[name])
         if not out_dir.exists():
             os.replace(staging, out_dir)  # one rename: all the files appear at once
             return
@@ -202,13 +228,24 @@ def _write_atomically(out_dir: Path, files: dict[str, str], stale: list[str]) ->
         if {p.name for p in out_dir.iterdir()} <= ours:
             _swap(staging, out_dir)  # only our files are there: a reader sees old or new
             return
-        # the folder holds the user's files too: replace ours one by one, manifest last
+        # the folder holds the user's files too: replace ours one by one, with a manifest that
+        # lists the old and the new first (a kill midway leaves nothing unlisted), then the new
+        both = staging / (MANIFEST + ".both")
+        _write_synced(both, manifest_text([*files, *stale]))
+        os.replace(both, out_dir / MANIFEST)
         for name in sorted(files, key=lambda n: n == MANIFEST):
             os.replace(staging / name, out_dir / name)
         for name in stale:
             (out_dir / name).unlink(missing_ok=True)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _write_synced(path: Path, text: str) -> None:
+    with open(path, "w", encoding="utf-8", newline="\n") as handle:
+        handle.write(text)
+        handle.flush()
+        os.fsync(handle.fileno())  # the rename must not publish empty files on a crash
 
 
 def _swap(staging: Path, out_dir: Path) -> None:
