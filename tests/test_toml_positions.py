@@ -10,7 +10,6 @@ import pytest
 from robospec.load.toml_positions import (
     Path,
     toml_positions,
-    toml_syntax_errors,
     tomllib_error_location,
 )
 
@@ -242,16 +241,6 @@ def test_invalid_toml_maps_only_what_lies_outside_the_syntax_errors(
     text: str, expected: dict[Path, tuple[tuple[int, int], tuple[int, int]]]
 ) -> None:
     assert toml_positions(text) == expected  # and it does not raise
-
-
-def test_syntax_errors_are_located() -> None:
-    assert toml_syntax_errors("a = 1\n") == []
-    # a missing line ending is reported where it is due, after the non-ASCII string
-    assert toml_syntax_errors('a = 1\nname = "é" b = 2\n') == [
-        (2, 11, "expected the end of the line here")
-    ]
-    assert toml_syntax_errors("a = 1\nb = [1, é]\n") == [(2, 9, "unexpected 'é'")]
-    assert toml_syntax_errors("a = 1\nb = \n") == [(2, 1, "unexpected 'b ='")]
 
 
 @pytest.mark.parametrize(

@@ -395,8 +395,6 @@ def written_number(value: float, position: tuple[int, int] | None, lines: list[s
 # --------------------------------------------------------------------------------------------
 # TOML
 
-_TOML_POSITION = re.compile(r"\(at line (\d+), column (\d+)\)")
-
 
 def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     import tomllib
@@ -404,12 +402,10 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        message = str(exc)
-        match = _TOML_POSITION.search(message)
-        location = Location(source.file)
-        if match:
-            location = Location(source.file, int(match.group(1)), int(match.group(2)))
-            message = message[: match.start()].strip()
+        from robospec.load.toml_positions import tomllib_error_location
+
+        line, column, message = tomllib_error_location(exc, text)
+        location = Location(source.file, line, column)
         code = "RS003" if "overwrite" in message.lower() else "RS002"
         return None, [error(location, code, f"TOML: {message}")]
     except ValueError as exc:  # an integer longer than Python converts

@@ -45,38 +45,6 @@ def toml_positions(text: str) -> dict[Path, tuple[Position, Position]]:
     return walker.positions
 
 
-def toml_syntax_errors(text: str) -> list[tuple[int, int, str]]:
-    """Located syntax errors from tree-sitter: ``(line, column, message)``, in document order.
-
-    tomllib's messages are the primary report; this helper finds problems tree-sitter sees (each
-    outermost ERROR region once, and every MISSING token), for example to locate more than one.
-    """
-    tree = _parse(text)
-    columns = _Columns(text)
-    found: list[tuple[int, int, str]] = []
-    stack: list[Node] = [tree.root_node]
-    while stack:
-        node = stack.pop()
-        if node.is_missing:
-            line, col = columns.point(node.start_point)
-            found.append((line, col, f"missing {node.type!r}"))
-        elif node.is_error:
-            line, col = columns.point(node.start_point)
-            snippet = _text(node).splitlines()[0][:40] if _text(node).strip() else ""
-            found.append((line, col, f"unexpected {snippet!r}" if snippet else "syntax error"))
-        elif node.has_error:
-            # only subtrees that contain an error are worth descending into
-            children = [c for c in node.children if c.has_error]
-            if children:
-                stack.extend(reversed(children))
-            else:
-                # The error is a MISSING token of a hidden rule (the grammar's line ending after
-                # a pair): tree-sitter does not expose it as a child, so report where it is due.
-                line, col = columns.point(node.end_point)
-                found.append((line, col, "expected the end of the line here"))
-    return sorted(found)
-
-
 _TOMLLIB_AT = re.compile(r"\s*\(at line (\d+), column (\d+)\)\s*$")
 _TOMLLIB_END = re.compile(r"\s*\(at end of document\)\s*$")
 
