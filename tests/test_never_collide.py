@@ -312,7 +312,7 @@ def test_the_emitted_agent_sets_the_packed_bits(tmp_path: Path) -> None:
     files = plan_package([result], tmp_path / "agents")
     text = next(text for name, text in files.items() if name.endswith("rs_nc_emit.py"))
     assert (
-        "for link_name in ['panda_link0', 'panda_link1', 'panda_link5', 'panda_link6']:\n"
+        'for link_name in ["panda_link0", "panda_link1", "panda_link5", "panda_link6"]:\n'
         "            self.robot.links_map[link_name].set_collision_group_bit(group=2, bit_idx=7, "
         "bit=1)"
     ) in text
