@@ -96,7 +96,7 @@ def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
 
 
 def write_text(path: Path, text: str) -> list[Diagnostic]:
-    from robospec.output.atomic import write_atomically
+    from robospec.files import write_atomically
 
     try:
         write_atomically(path, text)

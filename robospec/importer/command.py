@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.output.atomic import write_atomically
+from robospec.files import write_atomically
 
 
 def run_import(

@@ -28,7 +28,8 @@ from typing import Any
 
 from pydantic_core import SchemaValidator
 
-from robospec.model.frozen_cache import entry_path, write_atomically
+from robospec.files import write_atomically
+from robospec.model.frozen_cache import entry_path
 from robospec.model.record import Record
 
 SCHEMAS: dict[str, Any] = {}

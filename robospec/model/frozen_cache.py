@@ -13,14 +13,13 @@ This module imports neither pydantic nor anything of the model: the warm path ru
 from __future__ import annotations
 
 import importlib.util
-import os
 import sys
 import zlib
 from pathlib import Path
 
 import pydantic_core
 
-from robospec.user_cache import cache_root
+from robospec.files import cache_root
 
 MODEL_FOLDER = Path(__file__).parent
 """The model's sources (every module here: the models, their rules, the freezer, the records)."""
@@ -59,21 +58,3 @@ def _pydantic_version() -> str:
         return Path(found.origin).with_name("version.py").read_text(encoding="utf-8")
     except OSError:
         return "unreadable"
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` through a temporary file renamed over ``path``: a process that reads the
-    entry while another writes it sees the whole old text, or the whole new one.
-
-    (A small copy of robospec.output.atomic's writer: the model stage sits below output.)"""
-    import tempfile  # only a cold cache writes: its import is not the warm path's to pay
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, staging = tempfile.mkstemp(prefix=".frozen-", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(staging, path)
-    except BaseException:
-        Path(staging).unlink(missing_ok=True)
-        raise

@@ -1,5 +1,5 @@
 """Atomic updates of the file system: swap two paths in one step where the operating system
-allows it, and write a file so that readers see the old text or the new, never a part.
+allows it (one file written atomically: robospec.files.write_atomically).
 
 ``robospec build`` swaps a new output folder with the old one, and ``robospec.register`` a new
 cache entry with a stale one, so that a reader (or a process killed midway) sees one or the other,
@@ -12,7 +12,6 @@ import ctypes
 import errno
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 _RENAME_EXCHANGE = 2
@@ -36,17 +35,3 @@ def exchange(first: Path, second: Path) -> bool:
     if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):  # not on this file system
         return False
     raise OSError(code, os.strerror(code), str(second))
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file renamed over it (`import`, `new`,
-    `doc`)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, staging = tempfile.mkstemp(prefix=".robospec-", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(staging, path)
-    except BaseException:
-        Path(staging).unlink(missing_ok=True)
-        raise

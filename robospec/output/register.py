@@ -23,8 +23,8 @@ from types import ModuleType
 from typing import TYPE_CHECKING
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
+from robospec.files import cache_root
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
-from robospec.user_cache import cache_root
 
 if TYPE_CHECKING:
     from robospec.pipeline import CompiledSpec
