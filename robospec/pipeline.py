@@ -53,7 +53,9 @@ def compile_spec(
                 "please report this with the spec that caused it",
             )
         )
-    result.diagnostics.sort(key=sort_key)
+    # a controller's mistake is met again in every controller that extends it, at the one place
+    # it was written: the same diagnostic, said once
+    result.diagnostics = sorted(dict.fromkeys(result.diagnostics), key=sort_key)
     return result
 
 

@@ -94,3 +94,27 @@ def test_a_keyframe_qvel_one_value_short_is_reported_like_qpos(tmp_path: Path) -
         "         qvel: [0, 0, 0, 0, 0]}",
     )
     assert _codes(tmp_path, text) == [("RS303", 10)]
+
+
+def test_a_mistake_in_a_controller_others_extend_is_reported_once_where_it_was_written(
+    tmp_path: Path,
+) -> None:
+    text = SPEC.replace(
+        "  gripper: {type: pd_joint_pos, joints: gripper,",
+        "  arm_delta: {extends: arm, lower: -0.1, upper: 0.1, use_delta: true}\n"
+        "  arm_target: {extends: arm_delta, use_target: true}\n"
+        "  gripper: {type: pd_joint_pos, joints: gripper,",
+    ).replace("joints: [j_head, arm]", "joints: [j_headd, arm]")
+    # three controllers carry the misspelled joint; it is written once
+    assert _codes(tmp_path, text) == [("RS201", 11)]
+
+
+def test_values_by_joint_are_not_blamed_for_a_joint_the_controller_failed_to_name(
+    tmp_path: Path,
+) -> None:
+    text = SPEC.replace("joints: [j_head, arm]", "joints: [j_headd, arm]").replace(
+        "stiffness: 1e3,\n        damping: 1e2}",
+        "stiffness: {j_head: 1, arm: 1e3},\n        damping: 1e2}",
+    )
+    # j_head is not among the joints the controller names only because j_headd did not bind
+    assert _codes(tmp_path, text) == [("RS201", 11)]

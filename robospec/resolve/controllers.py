@@ -64,6 +64,8 @@ def resolve_controller(
 ) -> ResolvedController:
     path: KeyPath = ("controllers", name)
     joints = select_joints(context, config.joints, (*path, "joints"))
+    # a joint name that did not bind leaves the list short: "not driven" would only repeat it
+    whole = bound_joints(context, (*path, "joints")) is not None
     kwargs: list[tuple[str, Any]] = [("joint_names", joints)]
     required = {n for n, f in type(config).model_fields.items() if f.is_required()}
     for field_name in type(config).model_fields:
@@ -76,7 +78,7 @@ def resolve_controller(
         if config.type == "pd_base_forward_vel" and field_name in ("lower", "upper"):
             value = per_joint_values(context, value, FORWARD_VEL_AXES, field_path)
         elif field_name in PER_JOINT_FIELDS:
-            value = per_joint_values(context, value, joints, field_path)
+            value = per_joint_values(context, value, joints, field_path, whole=whole)
         elif field_name == "mimic":
             value = mimic_map(context, value, joints, field_path)
         elif field_name in ("ee_link", "root_link_name") and value is not None:
@@ -99,10 +101,17 @@ def resolve_controller(
 
 
 def per_joint_values(
-    context: ResolveContext, value: Any, joints: Sequence[str], path: KeyPath
+    context: ResolveContext,
+    value: Any,
+    joints: Sequence[str],
+    path: KeyPath,
+    *,
+    whole: bool = True,
 ) -> Any:
     """A scalar stays a scalar; a list must have one value per joint; a mapping by
-    joint or group name becomes a list in the controller's joint order."""
+    joint or group name becomes a list in the controller's joint order. ``whole``: whether
+    ``joints`` is every joint the controller names (else it is short of the ones that did not
+    bind, and a joint missing from it is no mistake of the mapping's)."""
     if isinstance(value, list):
         if len(value) != len(joints):
             context.err(
@@ -114,7 +123,7 @@ def per_joint_values(
     by_joint: dict[str, Any] = {}
     for key, item in value.items():
         for joint in select_joints(context, key, (*path, key)):
-            if joint not in joints:
+            if joint not in joints and whole:
                 context.err(
                     (*path, key), "RS201", f"joint '{joint}' is not driven by this controller"
                 )
