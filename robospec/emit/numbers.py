@@ -32,10 +32,16 @@ _UNARY: dict[type[ast.unaryop], Callable[[Any], Any]] = {
 }
 # the model's constants, as numpy names them; numpy has no tau: it is written 2 * np.pi
 _CONSTANTS = {"pi": ("pi", math.pi), "e": ("e", math.e)}
+# an unbounded limit, written as ManiSkill's own agents write it
+_INFINITY = ("inf", math.inf)
 
 
 def number_expr(value: float) -> ast.expr:
-    """``value`` as the spec wrote it, if it has text that gives exactly it; else its repr."""
+    """``value`` as the spec wrote it, if it has text that gives exactly it; else its repr;
+    an infinite bound as ``np.inf`` or ``-np.inf``."""
+    if math.isinf(value):
+        inf = ast.Attribute(ast.Name("np", ast.Load()), _INFINITY[0], ast.Load())
+        return inf if value > 0 else ast.UnaryOp(ast.USub(), inf)
     text = getattr(value, "text", None)
     if isinstance(text, str) and len(text) <= MAX_LENGTH:
         written = _written(text)
@@ -67,7 +73,7 @@ def python_value(node: ast.expr) -> Any:
     if isinstance(node, ast.Constant):
         return node.value
     if isinstance(node, ast.Attribute):
-        return next(v for name, v in _CONSTANTS.values() if name == node.attr)
+        return next(v for name, v in (*_CONSTANTS.values(), _INFINITY) if name == node.attr)
     if isinstance(node, ast.UnaryOp):
         return _UNARY[type(node.op)](python_value(node.operand))
     assert isinstance(node, ast.BinOp)

@@ -55,8 +55,8 @@ def const(value: Any, files: FileExpression | None = None) -> ast.expr:
     if value is None or isinstance(value, (bool, int, str)):
         return ast.Constant(value)
     if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError("non-finite numbers never reach the emitter")
+        if math.isnan(value):
+            raise ValueError("NaN never reaches the emitter: the model refuses it")
         return number_expr(value)
     if isinstance(value, (list, tuple)):
         return ast.List([const(v, files) for v in value], ast.Load())

@@ -10,6 +10,7 @@ validate` runs it without loading pydantic at all.
 from __future__ import annotations
 
 import keyword
+import math
 from typing import Any, Literal
 
 from pydantic_core import PydanticCustomError, PydanticKnownError
@@ -38,7 +39,15 @@ def _to_number(value: Any) -> float:
     """A Number field's whole validation (the name shows in pydantic's error locations,
     ``function-plain[_to_number()]``). It returns the float itself, a :class:`WrittenNumber`
     when the spec's text of the number is known: pydantic's own float validation would turn
-    it into a plain float, so this validator does that work and keeps it."""
+    it into a plain float, so this validator does that work and keeps it. ±inf is a number
+    (an unbounded limit, as ManiSkill writes them); NaN is not."""
+    number = _number(value)
+    if math.isnan(number):  # YAML's .nan, TOML's nan, inf - inf
+        raise PydanticCustomError("number", "expected a number, got NaN")
+    return number
+
+
+def _number(value: Any) -> float:
     if isinstance(value, bool):
         raise PydanticCustomError("number", "expected a number, got a boolean")
     if isinstance(value, WrittenNumber):
