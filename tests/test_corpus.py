@@ -1,0 +1,135 @@
+"""Robots nobody here wrote (issue 13): the corpus of tests/corpus.py, each robot taken through
+the journey a user takes — inspect, new, validate, check, register + gym.make + random steps,
+build + import — with the spec exactly as ``robospec new`` writes it (tests/corpus_journey.py).
+
+Every robot passes, or ``validate``/``check`` stops it with a located reason; nothing crashes;
+and docs/robots.md is what the journeys did. The journeys run once per session, several robots
+at a time (``ROBOSPEC_CORPUS_WORKERS``, default: the CPUs), each step in a child process.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import tomllib
+from conftest import ROOT
+from corpus import (
+    BY_KEY,
+    CATEGORIES,
+    CORPUS,
+    FORMATS,
+    ROBOTS_PAGE,
+    WRITE_COMMAND,
+    CorpusMissing,
+    distribution_version,
+    locate,
+)
+from corpus_journey import FAILED, PASSED, Journey, Step, run_corpus
+from corpus_page import render_page
+
+ROBOT_KEYS = [robot.key for robot in CORPUS]
+# the steps ManiSkill runs a robot in, where a description it cannot load fails
+LOADING_STEPS = ("register", "build")
+# the steps that must stop a robot ManiSkill cannot load, with located diagnostics
+STOPPING_STEPS = ("inspect", "new", "validate", "check")
+
+
+# -- the corpus itself (no ManiSkill: the fast loop runs these)
+
+
+def test_the_corpus_has_25_robots_from_3_packages_in_every_category_and_format() -> None:
+    assert len(CORPUS) >= 25
+    assert len(BY_KEY) == len(CORPUS), "two robots share a key"
+    assert len({robot.distribution for robot in CORPUS}) >= 3
+    assert {robot.category for robot in CORPUS} == set(CATEGORIES)
+    assert {robot.format for robot in CORPUS} == set(FORMATS)
+
+
+def test_the_corpus_extra_pins_the_packages_the_corpus_names() -> None:
+    pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    extra = pyproject["project"]["optional-dependencies"]["corpus"]
+    pins = dict(requirement.split("==") for requirement in extra)
+    assert set(pins) == {robot.distribution for robot in CORPUS}
+    for name, version in pins.items():
+        assert distribution_version(name) == version, f"{name}: run scripts/setup"
+
+
+@pytest.mark.parametrize("key", ROBOT_KEYS)
+def test_each_robot_is_found_where_its_package_installs_it(key: str) -> None:
+    try:
+        path = locate(BY_KEY[key])
+    except CorpusMissing as missing:
+        pytest.fail(str(missing), pytrace=False)
+    assert path.is_file() and path.as_posix().endswith(BY_KEY[key].path)
+
+
+# -- the journeys
+
+
+@pytest.fixture(scope="module")
+def journeys(maniskill: object, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Journey]:
+    """Every robot's journey, run once for the module."""
+    try:
+        done = run_corpus(list(CORPUS), tmp_path_factory.mktemp("corpus"))
+    except CorpusMissing as missing:
+        pytest.fail(str(missing), pytrace=False)
+    return {journey.robot.key: journey for journey in done}
+
+
+def _says(step: Step) -> str:
+    """A step's outcome and its reasons, for an assertion's message."""
+    reasons = [step.crash or step.problem or ""] + [f.text() for f in step.errors]
+    return f"{step.name} {step.outcome}: " + "; ".join(r for r in reasons if r)
+
+
+@pytest.mark.parametrize("key", ROBOT_KEYS)
+def test_no_step_of_the_journey_crashes(journeys: dict[str, Journey], key: str) -> None:
+    """No traceback, no signal, no hang, in any step: a description robospec or ManiSkill
+    cannot take is a diagnostic."""
+    crashes = journeys[key].crashes
+    assert not crashes, [_says(step) for step in crashes]
+
+
+@pytest.mark.parametrize("key", ROBOT_KEYS)
+def test_the_scaffold_validates_or_the_description_is_refused_at_its_element(
+    journeys: dict[str, Journey], key: str
+) -> None:
+    journey = journeys[key]
+    new = journey.step("new")
+    if new.outcome == FAILED:
+        assert new.errors, _says(new)
+        for found in new.errors:
+            assert found.located and found.file == journey.robot.path, found.text()
+    else:
+        assert journey.step("validate").outcome == PASSED, _says(journey.step("validate"))
+
+
+@pytest.mark.parametrize("key", ROBOT_KEYS)
+def test_every_step_that_stops_a_robot_says_where(journeys: dict[str, Journey], key: str) -> None:
+    for name in STOPPING_STEPS:
+        step = journeys[key].step(name)
+        if step.outcome == FAILED:
+            assert step.errors, _says(step)
+            assert all(found.located for found in step.errors), _says(step)
+
+
+@pytest.mark.parametrize("key", ROBOT_KEYS)
+def test_a_robot_that_passes_check_registers_runs_and_builds(
+    journeys: dict[str, Journey], key: str
+) -> None:
+    """What ManiSkill cannot load or step, validate or check must have stopped: a robot they
+    let through registers, makes a headless CPU environment with no other call, takes 50 random
+    steps with a finite state, and builds into a package whose import registers it."""
+    journey = journeys[key]
+    if journey.step("check").outcome != PASSED:
+        return  # stopped: the tests above judge how
+    for name in LOADING_STEPS:
+        assert journey.step(name).outcome == PASSED, _says(journey.step(name))
+
+
+def test_the_robots_page_shows_what_the_journeys_did(journeys: dict[str, Journey]) -> None:
+    page = render_page([journeys[key] for key in ROBOT_KEYS])
+    written = ROBOTS_PAGE.read_text(encoding="utf-8") if ROBOTS_PAGE.is_file() else ""
+    assert written == page, f"docs/robots.md is out of step with the journeys: run {WRITE_COMMAND}"
+    assert str(ROOT) not in page and str(Path.home()) not in page
