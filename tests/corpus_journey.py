@@ -190,7 +190,9 @@ def scrub(text: str, folders: list[Path]) -> str:
     return re.sub(rf"{temporary}/(?:[^\s'\"/]+/)*", "", text)
 
 
-def _found(items: Any, cwd: Path, folders: list[Path]) -> list[Found]:
+def _found(items: Any, cwd: Path, folders: list[Path], quoted: list[Path]) -> list[Found]:
+    """Diagnostics from a report: files named from ``folders``, and the folders of
+    ``quoted`` left out of messages and hints."""
     found = []
     for item in items or []:
         hint = item.get("hint")
@@ -201,8 +203,8 @@ def _found(items: Any, cwd: Path, folders: list[Path]) -> list[Found]:
                 column=int(item.get("column") or 0),
                 code=str(item.get("code")),
                 severity=str(item.get("severity")),
-                message=scrub(str(item.get("message")), folders),
-                hint=None if hint is None else scrub(str(hint), folders),
+                message=scrub(str(item.get("message")), quoted),
+                hint=None if hint is None else scrub(str(hint), quoted),
             )
         )
     return found
@@ -215,7 +217,10 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
     """Take ``robot`` through every step in ``workdir`` (a folder of its own)."""
     workdir.mkdir(parents=True, exist_ok=True)
     description = locate(robot)
+    # where files are named from: the journey's folder, then the packages' folder; messages
+    # may also quote the interpreter (sys.prefix) or robospec's checkout
     folders = [workdir.resolve(), install_folder(robot.distribution)]
+    quoted = [*folders, Path(sys.prefix).resolve(), ROOT]
     journey = Journey(robot, {name: Step(name) for name in STEPS})
     spec_name = f"{robot.key}.yaml"
 
@@ -225,9 +230,9 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
         step.seconds = ran.seconds
         document = _json_of(ran.stdout, ran.stderr)
         if isinstance(document, dict):
-            step.found = _found(_all_diagnostics(document), workdir, folders)
+            step.found = _found(_all_diagnostics(document), workdir, folders, quoted)
         crash = crash_of(ran, TIMEOUTS[name])
-        step.crash = None if crash is None else scrub(crash, folders)
+        step.crash = None if crash is None else scrub(crash, quoted)
         if step.crash:
             step.outcome = CRASHED
         elif ran.returncode == 0:
@@ -246,7 +251,7 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
     _, report = cli("check", "check", spec_name, "--steps", str(RANDOM_STEPS), "--format", "json")
     _read_uid(journey, report)
     build, _ = cli("build", "build", spec_name, "-o", BUILD_PACKAGE, "--format", "json")
-    _run_in_maniskill(journey, workdir, spec_name, folders, built=build.outcome == PASSED)
+    _run_in_maniskill(journey, workdir, spec_name, folders, quoted, built=build.outcome == PASSED)
     return journey
 
 
@@ -265,7 +270,13 @@ def _read_uid(journey: Journey, report: Any) -> None:
 
 
 def _run_in_maniskill(
-    journey: Journey, workdir: Path, spec_name: str, folders: list[Path], *, built: bool
+    journey: Journey,
+    workdir: Path,
+    spec_name: str,
+    folders: list[Path],
+    quoted: list[Path],
+    *,
+    built: bool,
 ) -> None:
     """register + gym.make + random steps, then the built package's import, in one child: one
     import of ManiSkill (seconds) serves both."""
@@ -288,15 +299,15 @@ def _run_in_maniskill(
         if not isinstance(part, dict):
             # the child died before it could write this part down
             step.outcome = CRASHED
-            step.crash = scrub(crash or "ended without a result", folders)
+            step.crash = scrub(crash or "ended without a result", quoted)
             continue
         step.seconds += float(part.get("seconds") or 0.0)
-        step.found += _found(part.get("diagnostics"), workdir, folders)
+        step.found += _found(part.get("diagnostics"), workdir, folders, quoted)
         if part.get("outcome") == PASSED:
             step.outcome = PASSED
         else:
             step.outcome = FAILED
-            step.problem = scrub(str(part.get("error")), folders)
+            step.problem = scrub(str(part.get("error")), quoted)
 
 
 def run_corpus(
