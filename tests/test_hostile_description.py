@@ -46,9 +46,9 @@ MJCF = """<mujoco model="hostile">
   <worldbody>
     <body name="base">
       <body name="upper">
-        <joint name="j1" class="arm"/>
+        <geom size=".05"/><joint name="j1" class="arm"/>
         <body name="lower">
-          <joint name="j2" range="-1 1"/>
+          <geom size=".05"/><joint name="j2" range="-1 1"/>
         </body>
       </body>
     </body>

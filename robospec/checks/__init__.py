@@ -22,6 +22,7 @@ from robospec.checks import (
     camera_fov_or_intrinsic,
     collision_bits,
     controller_gains,
+    ee_controller_urdf,
     inactive_joints,
     joint_listed_twice,
     joint_set_twice,
@@ -32,6 +33,7 @@ from robospec.checks import (
     member_references,
     mimic_joints,
     mimic_map,
+    mjcf_link_rules,
     mode_coverage,
     never_collide_bits,
     never_collide_entries,
@@ -58,6 +60,8 @@ BINDING_CHECKS: tuple[Check, ...] = (
     member_names.check,  # RS317
     never_collide_entries.check,  # RS320
     never_collide_no_free_bit.check,  # RS323
+    mjcf_link_rules.check,  # RS324
+    ee_controller_urdf.check,  # RS325
 )
 
 ROBOT_CHECKS: tuple[Check, ...] = (

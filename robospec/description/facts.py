@@ -49,6 +49,57 @@ class Joint:
 
 
 @dataclass(frozen=True)
+class MeshFile:
+    """A file a URDF's visual or collision names (a mesh, or a visual's texture)."""
+
+    uri: str  # as the description writes it
+    role: Literal["collision", "visual", "texture"]
+    line: int
+    # where robospec found it (absolute; package:// the ROS way), None when it did not
+    path: str | None
+    # the file SAPIEN's URDF loader opens for it from the description's folder, or None
+    loader_path: str | None
+
+
+Vector3 = tuple[float, float, float]
+# (position, wxyz quaternion), as SAPIEN's Pose takes them
+Pose = tuple[Vector3, tuple[float, float, float, float]]
+
+
+@dataclass(frozen=True)
+class FileKeyframe:
+    """A keyframe the description itself defines (an MJCF ``<key>``), in ManiSkill's terms."""
+
+    name: str  # the key's name, or "key<i>" (its index among the keys) when it has none
+    line: int
+    # each active joint of the robot -> its position, in qpos order (ManiSkill's zero: MuJoCo's
+    # qpos minus the joint's ref)
+    qpos: tuple[tuple[str, float], ...]
+    # the free joint's part of the key: the world pose of the robot's root body (as a
+    # keyframe's ``pose`` means it for an MJCF robot); None when the root is not free
+    root_pose: Pose | None = None
+    qvel: tuple[tuple[str, float], ...] = ()
+
+
+@dataclass(frozen=True)
+class Actuator:
+    """An MJCF actuator. ManiSkill loads none (a spec's controllers drive the joints); these
+    are the gains and ranges the model was tuned with."""
+
+    name: str
+    line: int
+    type: str  # the element: position, motor, velocity, general, intvelocity, damper, ...
+    joint: str | None  # the joint it drives; None for tendon, site and body transmissions
+    # a position servo's gains: force = kp * (ctrl - q) - kv * qdot (general actuators whose
+    # gain and bias make one count); None where the actuator is not one
+    kp: float | None = None
+    kv: float | None = None
+    ctrl_range: tuple[float, float] | None = None  # when ctrl is limited
+    force_range: tuple[float, float] | None = None  # when force is limited
+    gear: float = 1.0
+
+
+@dataclass(frozen=True)
 class RobotDescription:
     """A parsed robot description.
 
@@ -70,6 +121,18 @@ class RobotDescription:
     # it: an SRDF's "Default" disable_collisions pairs (URDF), every body with its parent body
     # (MJCF). Links sharing one of these bits never collide with each other.
     loader_collision_bits: tuple[tuple[int, tuple[str, ...]], ...] = ()
+    # the mesh and texture files a URDF names, when they were looked for (see description.meshes)
+    mesh_files: tuple[MeshFile, ...] = ()
+    # MJCF: the fixed joints ManiSkill makes, without a name, for bodies without joints
+    unnamed_joints: tuple[Joint, ...] = ()
+    # MJCF: the root body's pose in the world as MuJoCo places it (its free joint's qpos0), and
+    # where that body's frame sits in ManiSkill's root link (identity when the loader skips it
+    # as a mere wrapper). None for URDF.
+    root_body_pose: Pose | None = None
+    root_body_offset: Pose | None = None
+    # MJCF: the model's <key> keyframes and actuators
+    keyframes: tuple[FileKeyframe, ...] = ()
+    actuators: tuple[Actuator, ...] = ()
     _links_by_name: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
     _joints_by_name: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
 
@@ -96,8 +159,16 @@ class RobotDescription:
         parent in an articulation, whatever the collision groups say."""
         return frozenset(
             (min(j.parent, j.child), max(j.parent, j.child))
-            for j in self.joints
+            for j in (*self.joints, *self.unnamed_joints)
             if j.parent and j.child and j.parent != j.child
+        )
+
+    @property
+    def tree_joints(self) -> tuple[Joint, ...]:
+        """Every joint that attaches a link to its parent, named or not, in link order."""
+        order = {link.name: i for i, link in enumerate(self.links)}
+        return tuple(
+            sorted((*self.joints, *self.unnamed_joints), key=lambda j: order.get(j.child, 0))
         )
 
     @property

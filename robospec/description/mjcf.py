@@ -33,7 +33,6 @@ from __future__ import annotations
 import copy
 import math
 import os
-import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -47,6 +46,18 @@ from robospec.description.facts import (
     Link,
     RobotDescription,
 )
+from robospec.description.mjcf_control import file_actuators, file_keyframes
+from robospec.description.mjcf_frames import IDENTITY_POSE, Unparsable, body_pose
+from robospec.description.mjcf_gaps import loader_gaps
+from robospec.description.mjcf_loaded import (
+    Defaults,
+    LoadedBody,
+    LoadedMjcf,
+    is_ignored_class,
+    merge,
+)
+from robospec.description.mjcf_mujoco import Includes, read_classes
+from robospec.description.mjcf_structure import unread_includes
 from robospec.description.urdf import (
     FILE_NOT_FOUND,
     INVALID_STRUCTURE,
@@ -60,30 +71,7 @@ from robospec.description.urdf import (
 )
 from robospec.diagnostics import Diagnostic, Location, error, warning
 
-# ManiSkill's MJCFLoader(ignore_classes=["motor"]): bodies whose childclass re.match()es one of
-# these are not loaded.
-IGNORE_CLASSES: tuple[str, ...] = ("motor",)
-
 ReadFile = Callable[[str], bytes]
-
-# A defaults table as ManiSkill keeps it: class -> tag -> attribute -> value.
-Defaults = dict[str, Any]
-
-
-def _merge(base: Mapping[str, Any], *incoming: Mapping[str, Any]) -> dict[str, Any]:
-    """ManiSkill's ``_merge_attrib``: a deep-copied ``base`` updated by each mapping in turn."""
-
-    def merge_into(a: dict[str, Any], b: Mapping[str, Any]) -> None:
-        for key, value in b.items():
-            if key in a and isinstance(a[key], dict) and isinstance(value, dict):
-                merge_into(a[key], value)
-            else:
-                a[key] = value
-
-    result = copy.deepcopy(dict(base))
-    for mapping in incoming:
-        merge_into(result, mapping)
-    return result
 
 
 @dataclass
@@ -93,7 +81,7 @@ class _Node:
     name: str
     line: int
     parent: str | None
-    joint: Joint | None  # None for the dummy root and for nameless fixed joints
+    joint: Joint | None  # None for the dummy root
 
 
 @dataclass
@@ -109,6 +97,8 @@ class _State:
     link_lines: dict[str, tuple[str, int]] = field(default_factory=dict)
     # (parent body's link, body's link) per body, in parse order: the loader's group-2 bits
     body_pairs: list[tuple[str, str]] = field(default_factory=list)
+    # the robot's bodies as the loader parses them (depth first)
+    robot: list[LoadedBody] = field(default_factory=list)
 
     def where(self, element: etree._Element) -> Location:
         return at(self.file_of.get(element.getroottree().getroot(), self.path), element)
@@ -125,7 +115,12 @@ def parse_mjcf(
 
     ``links`` are ManiSkill's links in qpos order (dummy root and dummy links included);
     ``joints`` are the named joints in the same order: the nameless fixed joints ManiSkill makes
-    for the root and for bodies without joints are left out, since no spec can name them.
+    for bodies without joints are left out, since no spec can name them; they are
+    ``unnamed_joints`` (the kinematic tree needs them).
+
+    What ManiSkill's loader drops or reads differently is reported at the element
+    (:mod:`robospec.description.mjcf_gaps`): such errors leave the description in place, since
+    its names are right; only structure errors make it None.
     """
     read = read_file or read_file_bytes
     root, diagnostics = parse_root(text, path, "mujoco")
@@ -145,8 +140,10 @@ def parse_mjcf(
 
     compiler = next((el for el in top if el.tag == "compiler"), None)
     use_degrees = True
+    eulerseq = "xyz"
     if compiler is not None:
         use_degrees = compiler.get("angle", "degree").lower() == "degree"
+        eulerseq = compiler.get("eulerseq", "xyz")
 
     state = _State(path, use_degrees, {}, {}, diagnostics, file_of)
     for default in (el for el in top if el.tag == "default"):
@@ -159,6 +156,10 @@ def parse_mjcf(
 
     bodies = worldbody.findall("body")
     articulated = [(i, body) for i, body in enumerate(bodies) if _is_articulation(body)]
+    includes = Includes(path, read, file_of)
+    diagnostics.extend(
+        unread_includes(root, includes, state.where, articulated[0][1] if articulated else None)
+    )
     if not articulated:
         diagnostics.append(
             error(
@@ -179,33 +180,59 @@ def parse_mjcf(
             )
         )
 
-    index, body = articulated[0]
-    has_freejoint = body.find("freejoint") is not None
+    index, robot_element = articulated[0]
+    has_freejoint = robot_element.find("freejoint") is not None
     root_name = f"dummy_root_{index}"
-    state.nodes.append(_Node(root_name, line_of(body), None, None))
+    state.nodes.append(_Node(root_name, line_of(robot_element), None, None))
     state.children[root_name] = []
-    state.link_lines[root_name] = (path, line_of(body))
-    # ManiSkill skips a wrapper body that holds exactly one body and no geom or joint.
+    state.link_lines[root_name] = (path, line_of(robot_element))
+    body = robot_element
+    # ManiSkill skips a wrapper body that holds exactly one body and no geom or joint (its
+    # root link then stands where the wrapper would).
     tags = [child.tag for child in body if isinstance(child.tag, str)]
     if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
         body = body.find("body")
     root_defaults = state.classes.get("__root__", {})
-    _parse_body(body, root_name, root_defaults, state)
+    _parse_body(body, root_name, None, root_defaults, state)
     if any(d.is_error for d in diagnostics):
         return None, diagnostics
+
+    loaded = LoadedMjcf(
+        path=path,
+        top=top,
+        classes=state.classes,
+        degrees=use_degrees,
+        eulerseq=eulerseq,
+        worldbody=worldbody,
+        robot_element=robot_element,
+        robot=state.robot,
+        root_link=root_name,
+        where=state.where,
+        includes=includes,
+        mujoco_classes=read_classes(top, includes),
+    )
+    diagnostics.extend(loader_gaps(loaded))
 
     order = bfs_order(root_name, state.children)
     by_name = {node.name: node for node in state.nodes}
     joints: list[Joint] = []
+    unnamed: list[Joint] = []
     active: list[str] = []
     for name in order[1:]:
         joint = by_name[name].joint
         if joint is None:
             continue
+        if joint.type == "fixed" and not joint.name:
+            unnamed.append(joint)
+            continue
         joints.append(joint)
         if joint.type in ACTIVE_JOINT_TYPES:
             active.append(joint.name)
     links = tuple(Link(name, by_name[name].line) for name in order)
+    try:
+        root_pose = body_pose(robot_element.attrib, use_degrees, eulerseq)
+    except Unparsable:
+        root_pose = IDENTITY_POSE  # the orientation report says what is wrong with it
     return (
         RobotDescription(
             kind="mjcf",
@@ -216,6 +243,11 @@ def parse_mjcf(
             root_link=root_name,
             floating_root=has_freejoint,
             loader_collision_bits=_loader_collision_bits(top, state, order),
+            unnamed_joints=tuple(unnamed),
+            root_body_pose=root_pose,
+            root_body_offset=root_pose if body is robot_element else IDENTITY_POSE,
+            keyframes=file_keyframes(loaded, tuple(active), root_pose),
+            actuators=file_actuators(loaded),
         ),
         diagnostics,
     )
@@ -321,7 +353,7 @@ def _parse_default(node: etree._Element, parent: etree._Element | None, state: _
         if child.tag == "default":
             _parse_default(child, node, state)
         elif child.tag in table:
-            table[child.tag] = _merge(table[child.tag], dict(child.attrib))
+            table[child.tag] = merge(table[child.tag], dict(child.attrib))
         else:
             table[child.tag] = dict(child.attrib)
 
@@ -340,18 +372,24 @@ def _class_table(name: str, element: etree._Element, state: _State) -> Defaults 
     return table
 
 
-def _parse_body(body: etree._Element, parent: str, incoming: Defaults, state: _State) -> None:
+def _parse_body(
+    body: etree._Element,
+    parent: str,
+    parent_body: LoadedBody | None,
+    incoming: Defaults,
+    state: _State,
+) -> None:
     childclass = body.get("childclass")
     defaults = incoming
     if childclass is not None:
-        if any(re.match(pattern, childclass) for pattern in IGNORE_CLASSES):
+        if is_ignored_class(childclass):
             return  # ManiSkill drops the body and its subtree
         table = _class_table(childclass, body, state)
         if table is None:
             return
-        defaults = _merge(incoming, table)
+        defaults = merge(incoming, table)
 
-    body_attrib = _merge(defaults.get("body", {}), dict(body.attrib))
+    body_attrib = merge(defaults.get("body", {}), dict(body.attrib))
     name = body_attrib.get("name")
     if not name:
         state.diagnostics.append(
@@ -366,7 +404,9 @@ def _parse_body(body: etree._Element, parent: str, incoming: Defaults, state: _S
     joint_elements = body.findall("joint")
     link_parent = parent
     if not joint_elements:
-        _add_link(name, body, link_parent, None, state)
+        # the loader attaches the body with a fixed joint it leaves nameless
+        fixed = Joint(name="", type="fixed", parent=parent, child=name, line=line_of(body))
+        _add_link(name, body, link_parent, fixed, state)
         link_parent = name
     for i, joint_element in enumerate(joint_elements):
         link_name = name if i == len(joint_elements) - 1 else f"{name}_dummy_{i}"
@@ -377,11 +417,21 @@ def _parse_body(body: etree._Element, parent: str, incoming: Defaults, state: _S
         _add_link(link_name, body, link_parent, joint, state)
         link_parent = link_name
 
+    record = LoadedBody(
+        element=body,
+        link=name,
+        parent_link=parent,
+        parent=parent_body,
+        defaults=defaults,
+        joints=tuple(joint_elements),
+        bit=len(state.body_pairs),
+    )
+    state.robot.append(record)
     # ManiSkill keeps a body from colliding with its parent body (dummy links in between) by
     # giving both the next bit of collision group 2, before it parses the children
     state.body_pairs.append((parent, link_parent))
     for child in body.findall("body"):
-        _parse_body(child, link_parent, defaults, state)
+        _parse_body(child, link_parent, record, defaults, state)
 
 
 def _add_link(
@@ -430,7 +480,7 @@ def _joint_attributes(
             return None
         layers.append(table["joint"])
     layers.append(dict(element.attrib))
-    return _merge({}, *layers)
+    return merge({}, *layers)
 
 
 def _make_joint(

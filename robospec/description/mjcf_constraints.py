@@ -1,0 +1,290 @@
+"""What ManiSkill's MJCF loader leaves out between bodies and joints, reported at the element
+when it concerns the robot (its ``_parse_mjcf`` reads none of these sections):
+
+* RS070 — ``<equality>``: joint couplings (``<joint>``, ``<tendon>`` between two joints) and
+  closed loops (``<connect>``, ``<weld>``, ``<distance>``). A coupling's mend is mechanical: a
+  ``pd_joint_pos_mimic`` controller whose mimic map the hint writes out.
+* RS071 — ``<tendon>``: fixed and spatial tendons (their ranges, springs and couplings).
+* RS072 — ``<contact>``: ``<exclude>`` pairs collide in ManiSkill (mend: ``never_collide``),
+  and ``<pair>`` contacts between geoms ManiSkill gives no collision shape are lost.
+* RS077 — actuators on tendons, sites or bodies: ManiSkill loads no actuator (a spec's
+  controllers drive joints), and these have no joint controller to stand for them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+from lxml import etree
+
+from robospec.description.mjcf_loaded import LoadedMjcf
+from robospec.description.mjcf_structure import names
+from robospec.diagnostics import Diagnostic, warning
+
+EQUALITY = "RS070"
+TENDON = "RS071"
+CONTACT = "RS072"
+ACTUATOR = "RS077"
+
+
+@dataclass(frozen=True)
+class Robot:
+    """The robot's names, for telling which constraints are about it."""
+
+    joints: frozenset[str]
+    bodies: frozenset[str]
+    sites: dict[str, str]  # site -> body
+    geoms: dict[str, str]  # geom -> body
+    parents: dict[str, str]  # body -> parent body (the robot's first body has none)
+
+
+def robot_names(loaded: LoadedMjcf) -> Robot:
+    joints = {j.get("name", "") for body in loaded.robot for j in body.joints}
+    sites: dict[str, str] = {}
+    geoms: dict[str, str] = {}
+    parents: dict[str, str] = {}
+    for body in loaded.robot:
+        for site in body.element.findall("site"):
+            sites[site.get("name", "")] = body.name
+        for geom in body.element.findall("geom"):
+            geoms[geom.get("name", "")] = body.name
+        if body.parent is not None:
+            parents[body.name] = body.parent.name
+    return Robot(
+        frozenset(joints - {""}),
+        frozenset(body.name for body in loaded.robot),
+        sites,
+        geoms,
+        parents,
+    )
+
+
+def _floats(text: str | None, default: tuple[float, ...]) -> tuple[float, ...]:
+    try:
+        return tuple(float(v) for v in text.split()) if text else default
+    except ValueError:
+        return default
+
+
+def _fixed_tendons(loaded: LoadedMjcf) -> dict[str, list[tuple[str, float]]]:
+    """Fixed tendon name -> its (joint, coef) terms."""
+    tendons: dict[str, list[tuple[str, float]]] = {}
+    for section in loaded.sections("tendon"):
+        for tendon in loaded.includes.find_all(section, "fixed"):
+            terms = [
+                (j.get("joint", ""), _floats(j.get("coef"), (1.0,))[0])
+                for j in tendon.findall("joint")
+            ]
+            tendons[tendon.get("name", "")] = terms
+    return tendons
+
+
+def _number(value: float) -> str:
+    return f"{value:.6g}"
+
+
+def _mimic_entry(follower: str, leader: str, multiplier: float, offset: float) -> str:
+    if multiplier == 1 and offset == 0:
+        return f"{follower}: {leader}"
+    parts = [f"joint: {leader}"]
+    if multiplier != 1:
+        parts.append(f"multiplier: {_number(multiplier)}")
+    if offset != 0:
+        parts.append(f"offset: {_number(offset)}")
+    return f"{follower}: {{{', '.join(parts)}}}"
+
+
+def _coupling(
+    element: etree._Element, robot: Robot, tendons: dict[str, list[tuple[str, float]]]
+) -> tuple[str, list[str], str | None] | None:
+    """(what it is, the robot joints it ties, the mimic entry that mends it or None); None
+    when it does not concern the robot."""
+    poly = (*_floats(element.get("polycoef"), (0.0, 1.0)), 0.0, 0.0, 0.0, 0.0, 0.0)
+    linear = all(c == 0 for c in poly[2:5])
+    if element.tag == "joint":
+        first, second = element.get("joint1", ""), element.get("joint2")
+        if first not in robot.joints:
+            return None
+        if second is None:
+            return f"joint '{first}' held at {_number(poly[0])}", [first], None
+        if second not in robot.joints:
+            return None
+        entry = _mimic_entry(first, second, poly[1], poly[0]) if linear else None
+        return f"'{first}' follows '{second}'", [first, second], entry
+    # tendon equality: tendon1 = poly(tendon2), or tendon1 held at poly[0]
+    terms = list(tendons.get(element.get("tendon1", ""), []))
+    if element.get("tendon2") is not None:
+        terms += [(j, -c * poly[1]) for j, c in tendons.get(element.get("tendon2", ""), [])]
+    joints = [j for j, _ in terms if j in robot.joints]
+    if not joints:
+        return None
+    what = f"tendon '{element.get('tendon1', '')}' coupling {names(joints)}"
+    entry = None
+    if len(terms) == 2 and len(joints) == 2 and linear and terms[1][1] != 0:
+        (leader, c_leader), (follower, c_follower) = terms
+        # c_leader q_leader + c_follower q_follower = poly[0]
+        entry = _mimic_entry(follower, leader, -c_leader / c_follower, poly[0] / c_follower)
+    return what, joints, entry
+
+
+def equalities(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
+    """RS070: the robot's couplings in one warning, its closed loops in another."""
+    tendons = _fixed_tendons(loaded)
+    couplings: list[tuple[etree._Element, str, str | None]] = []
+    loops: list[tuple[etree._Element, str]] = []
+    for section in loaded.sections("equality"):
+        for element in loaded.includes.children(section):
+            if element.tag in ("joint", "tendon"):
+                found = _coupling(element, robot, tendons)
+                if found is not None:
+                    couplings.append((element, found[0], found[2]))
+            elif element.tag in ("connect", "weld", "distance"):
+                bodies = _loop_bodies(element, robot)
+                if bodies:
+                    loops.append((element, f"{element.tag} {' - '.join(bodies)}"))
+    if couplings:
+        entries = [entry for _, _, entry in couplings if entry is not None]
+        hint = (
+            "drive these joints with one pd_joint_pos_mimic controller: mimic: {"
+            + ", ".join(entries)
+            + "}"
+            if entries
+            else "ManiSkill cannot couple joints this way: drive them with separate controllers"
+        )
+        yield warning(
+            loaded.where(couplings[0][0]),
+            EQUALITY,
+            f"ManiSkill's MJCF loader does not load <equality> constraints: "
+            f"{len(couplings)} joint coupling(s) are lost ("
+            + "; ".join(what for _, what, _ in couplings[:6])
+            + ("; ..." if len(couplings) > 6 else "")
+            + "): ManiSkill moves these joints independently",
+            hint,
+        )
+    if loops:
+        yield warning(
+            loaded.where(loops[0][0]),
+            EQUALITY,
+            f"ManiSkill's MJCF loader does not load <equality> constraints: {len(loops)} closed "
+            "loop(s) are open in ManiSkill ("
+            + "; ".join(what for _, what in loops[:6])
+            + ("; ..." if len(loops) > 6 else "")
+            + ")",
+            "a PhysX articulation is a tree: close the loop with a pd_joint_pos_mimic "
+            "controller where its joints move together, or leave the linkage passive",
+        )
+
+
+def _loop_bodies(element: etree._Element, robot: Robot) -> list[str]:
+    bodies = [element.get("body1"), element.get("body2")]
+    bodies += [robot.sites.get(element.get(site) or "") for site in ("site1", "site2")]
+    found = [b for b in bodies if b in robot.bodies]
+    return found
+
+
+def tendons(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
+    """RS071: the robot's tendons in one warning (those an equality uses are RS070's)."""
+    used = {
+        element.get(attribute)
+        for section in loaded.sections("equality")
+        for element in loaded.includes.find_all(section, "tendon")
+        for attribute in ("tendon1", "tendon2")
+    }
+    found: list[tuple[etree._Element, str]] = []
+    for section in loaded.sections("tendon"):
+        for tendon in loaded.includes.children(section):
+            name = tendon.get("name", "")
+            if tendon.tag not in ("fixed", "spatial") or name in used:
+                continue
+            if tendon.tag == "fixed":
+                mine = any(j.get("joint") in robot.joints for j in tendon.findall("joint"))
+            else:
+                mine = any(s.get("site") in robot.sites for s in tendon.findall("site"))
+            if mine:
+                found.append((tendon, name or f"a {tendon.tag} tendon"))
+    if found:
+        yield warning(
+            loaded.where(found[0][0]),
+            TENDON,
+            f"ManiSkill's MJCF loader does not load tendons: {len(found)} of the robot's are "
+            f"lost ({names([what for _, what in found])}), with their ranges, springs and the "
+            "couplings they make",
+            "ManiSkill has no tendons: where a fixed tendon makes joints move together, a "
+            "pd_joint_pos_mimic controller can",
+        )
+
+
+def contacts(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
+    """RS072: excluded body pairs that collide in ManiSkill; contact pairs it loses."""
+    colliding = {geom.body.name for geom in loaded.geoms() if geom.collides}
+    shapeless = {geom.element.get("name", "") for geom in loaded.geoms() if not geom.collides} - {
+        ""
+    }
+    excluded: list[tuple[etree._Element, tuple[str, str]]] = []
+    pairs: list[tuple[etree._Element, str]] = []
+    for section in loaded.sections("contact"):
+        for element in loaded.includes.children(section):
+            if element.tag == "exclude":
+                a, b = element.get("body1", ""), element.get("body2", "")
+                adjacent = robot.parents.get(a) == b or robot.parents.get(b) == a
+                if a in colliding and b in colliding and a != b and not adjacent:
+                    excluded.append((element, (a, b)))
+            elif element.tag == "pair":
+                a, b = element.get("geom1", ""), element.get("geom2", "")
+                lost = [g for g in (a, b) if g in shapeless]
+                if lost and (a in robot.geoms or b in robot.geoms):
+                    pairs.append((element, f"{a} - {b}"))
+    if excluded:
+        listed = ", ".join(f"[{a}, {b}]" for _, (a, b) in excluded)
+        yield warning(
+            loaded.where(excluded[0][0]),
+            CONTACT,
+            f"ManiSkill's MJCF loader does not load <contact><exclude>: {len(excluded)} "
+            "excluded body pair(s) collide in ManiSkill",
+            f"never_collide: [{listed}]",
+        )
+    if pairs:
+        yield warning(
+            loaded.where(pairs[0][0]),
+            CONTACT,
+            f"ManiSkill's MJCF loader does not load <contact><pair>: {len(pairs)} contact "
+            f"pair(s) between geoms it gives no collision shape (contype 0) are lost "
+            f"({names([what for _, what in pairs])})",
+        )
+
+
+def actuators(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
+    """RS077: actuators with no joint, which no joint controller stands for."""
+    tendon_joints = _fixed_tendons(loaded)
+    found: list[tuple[etree._Element, str, list[str]]] = []
+    for section in loaded.sections("actuator"):
+        for element in loaded.includes.children(section):
+            if not isinstance(element.tag, str) or element.get("joint") is not None:
+                continue
+            target = next(
+                (a for a in ("tendon", "site", "body", "jointinparent") if element.get(a)), None
+            )
+            if target is None or target == "jointinparent":
+                continue
+            joints = [j for j, _ in tendon_joints.get(element.get("tendon", ""), [])]
+            mine = (
+                any(j in robot.joints for j in joints)
+                or robot.sites.get(element.get("site", "")) is not None
+                or element.get("body") in robot.bodies
+            )
+            if mine:
+                label = element.get("name") or f"{element.tag} on {target} '{element.get(target)}'"
+                found.append((element, label, joints))
+    if found:
+        moved = sorted({j for _, _, joints in found for j in joints if j in robot.joints})
+        yield warning(
+            loaded.where(found[0][0]),
+            ACTUATOR,
+            f"{len(found)} actuator(s) drive tendons, sites or bodies "
+            f"({names([label for _, label, _ in found])}): ManiSkill loads no actuators, "
+            "and a spec's controllers drive joints one by one"
+            + (f"; the joints these move: {names(moved)}" if moved else ""),
+            "give those joints controllers; joints a tendon moves together can share one "
+            "pd_joint_pos_mimic controller",
+        )

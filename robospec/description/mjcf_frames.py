@@ -1,0 +1,218 @@
+"""MJCF frame orientations two ways: as MuJoCo reads them, and as ManiSkill 3.0.1's MJCF loader
+(``_parse_orientation`` in mani_skill/utils/building/_mjcf_loader.py) reads them.
+
+The two disagree, measured against MuJoCo 4.0 (``MjModel.body_quat``):
+
+* ``euler``: ManiSkill ignores ``<compiler eulerseq>`` and computes
+  ``transforms3d.euler.euler2quat(a, -b, c)`` (static x, y, z with the middle angle negated);
+  MuJoCo's default sequence ``xyz`` turns about the moving axes. Equal when the middle angle is
+  0 and at most one of the others is not.
+* ``xyaxes``: ManiSkill takes the given y axis for the frame's z axis: never the same frame.
+* ``zaxis``: ManiSkill builds x as world z × zaxis, so the frame's z is right but it is turned
+  about it, unlike MuJoCo's smallest rotation; and a zaxis along ±z divides by zero
+  (``LinAlgError: Eigenvalues did not converge``, the dm_control walker's floor).
+* ``quat`` and ``axisangle`` agree.
+
+Plain Python (no numpy): this runs on ``validate``'s fast path. Quaternions are (w, x, y, z).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+Vector = tuple[float, float, float]
+Quaternion = tuple[float, float, float, float]
+Pose = tuple[Vector, Quaternion]
+
+IDENTITY: Quaternion = (1.0, 0.0, 0.0, 0.0)
+IDENTITY_POSE: Pose = ((0.0, 0.0, 0.0), IDENTITY)
+ORIENTATION_ATTRIBUTES = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
+_AXES: dict[str, Vector] = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
+
+
+class Unparsable(ValueError):
+    """An orientation attribute that is not the numbers it should be."""
+
+
+def numbers(text: str, count: int) -> tuple[float, ...]:
+    try:
+        values = tuple(float(part) for part in text.split())
+    except ValueError:
+        raise Unparsable(text) from None
+    if len(values) < count or not all(math.isfinite(v) for v in values[:count]):
+        raise Unparsable(text)
+    return values[:count]
+
+
+def multiply(a: Quaternion, b: Quaternion) -> Quaternion:
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (
+        aw * bw - ax * bx - ay * by - az * bz,
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+    )
+
+
+def conjugate(q: Quaternion) -> Quaternion:
+    return (q[0], -q[1], -q[2], -q[3])
+
+
+def normalized(q: Quaternion) -> Quaternion:
+    norm = math.sqrt(sum(c * c for c in q))
+    if norm < 1e-12:
+        raise Unparsable("zero quaternion")
+    return (q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm)
+
+
+def rotate(q: Quaternion, v: Vector) -> Vector:
+    _, x, y, z = multiply(multiply(q, (0.0, *v)), conjugate(q))
+    return (x, y, z)
+
+
+def compose(a: Pose, b: Pose) -> Pose:
+    """``a * b``: the pose ``b`` (given in ``a``'s frame) in ``a``'s parent frame."""
+    moved = rotate(a[1], b[0])
+    return (
+        (a[0][0] + moved[0], a[0][1] + moved[1], a[0][2] + moved[2]),
+        multiply(a[1], b[1]),
+    )
+
+
+def inverse(pose: Pose) -> Pose:
+    back = conjugate(pose[1])
+    p = rotate(back, pose[0])
+    return ((-p[0], -p[1], -p[2]), back)
+
+
+def about_axis(axis: Vector, angle: float) -> Quaternion:
+    norm = math.sqrt(sum(c * c for c in axis))
+    if norm < 1e-12:
+        raise Unparsable("zero axis")
+    s = math.sin(angle / 2) / norm
+    return (math.cos(angle / 2), axis[0] * s, axis[1] * s, axis[2] * s)
+
+
+def from_columns(x: Vector, y: Vector, z: Vector) -> Quaternion:
+    """The quaternion of the rotation matrix with columns x, y, z (orthonormal)."""
+    m00, m11, m22 = x[0], y[1], z[2]
+    trace = m00 + m11 + m22
+    if trace > 0:
+        s = 2 * math.sqrt(trace + 1)
+        q = (s / 4, (y[2] - z[1]) / s, (z[0] - x[2]) / s, (x[1] - y[0]) / s)
+    elif m00 > m11 and m00 > m22:
+        s = 2 * math.sqrt(1 + m00 - m11 - m22)
+        q = ((y[2] - z[1]) / s, s / 4, (y[0] + x[1]) / s, (z[0] + x[2]) / s)
+    elif m11 > m22:
+        s = 2 * math.sqrt(1 + m11 - m00 - m22)
+        q = ((z[0] - x[2]) / s, (y[0] + x[1]) / s, s / 4, (z[1] + y[2]) / s)
+    else:
+        s = 2 * math.sqrt(1 + m22 - m00 - m11)
+        q = ((x[1] - y[0]) / s, (z[0] + x[2]) / s, (z[1] + y[2]) / s, s / 4)
+    return normalized(q)
+
+
+def _unit(v: Vector) -> Vector:
+    norm = math.sqrt(sum(c * c for c in v))
+    if norm < 1e-12:
+        raise Unparsable("zero vector")
+    return (v[0] / norm, v[1] / norm, v[2] / norm)
+
+
+def _cross(a: Vector, b: Vector) -> Vector:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def _dot(a: Vector, b: Vector) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def orientation_attribute(attributes: Mapping[str, str]) -> str | None:
+    """The orientation attribute MuJoCo uses (it allows only one); None: no rotation."""
+    return next((name for name in ORIENTATION_ATTRIBUTES if name in attributes), None)
+
+
+def mujoco_rotation(attributes: Mapping[str, str], degrees: bool, eulerseq: str) -> Quaternion:
+    """The frame's rotation as MuJoCo computes it (identity when none is given)."""
+    name = orientation_attribute(attributes)
+    if name is None:
+        return IDENTITY
+    text = attributes[name]
+    if name == "quat":
+        return normalized(numbers(text, 4))  # type: ignore[arg-type]
+    if name == "axisangle":
+        *axis, angle = numbers(text, 4)
+        return about_axis(tuple(axis), math.radians(angle) if degrees else angle)  # type: ignore[arg-type]
+    if name == "euler":
+        angles = numbers(text, 3)
+        q = IDENTITY
+        for letter, angle in zip(eulerseq, angles, strict=False):
+            turn = about_axis(_AXES[letter.lower()], math.radians(angle) if degrees else angle)
+            # lower case: about the moving frame's axis; upper case: about the fixed one
+            q = multiply(q, turn) if letter.islower() else multiply(turn, q)
+        return normalized(q)
+    if name == "xyaxes":
+        values = numbers(text, 6)
+        x = _unit(values[:3])  # type: ignore[arg-type]
+        y_given: Vector = values[3:]  # type: ignore[assignment]
+        along = _dot(x, y_given)
+        y = _unit((y_given[0] - along * x[0], y_given[1] - along * x[1], y_given[2] - along * x[2]))
+        return from_columns(x, y, _cross(x, y))
+    z = _unit(numbers(text, 3))  # type: ignore[arg-type]
+    # the smallest rotation taking (0, 0, 1) onto z
+    axis = _cross((0.0, 0.0, 1.0), z)
+    if math.sqrt(_dot(axis, axis)) < 1e-12:
+        return IDENTITY if z[2] > 0 else (0.0, 1.0, 0.0, 0.0)
+    return about_axis(axis, math.acos(max(-1.0, min(1.0, z[2]))))
+
+
+def maniskill_rotation(attributes: Mapping[str, str], degrees: bool) -> Quaternion | None:
+    """The frame's rotation as ManiSkill's loader computes it; None where it fails
+    (``zaxis`` along ±z)."""
+    name = orientation_attribute(attributes)
+    if name is None:
+        return IDENTITY
+    text = attributes[name]
+    if name in ("quat", "axisangle"):
+        return mujoco_rotation(attributes, degrees, "xyz")
+    if name == "euler":
+        a, b, c = (math.radians(v) if degrees else v for v in numbers(text, 3))
+        # transforms3d's euler2quat(a, -b, c) with its default static 'sxyz' axes
+        turns = (about_axis(_AXES["z"], c), about_axis(_AXES["y"], -b), about_axis(_AXES["x"], a))
+        return normalized(multiply(multiply(turns[0], turns[1]), turns[2]))
+    if name == "xyaxes":
+        values = numbers(text, 6)
+        x_norm = math.sqrt(_dot(values[:3], values[:3]))  # type: ignore[arg-type]
+        if x_norm < 1e-12:
+            raise Unparsable(text)
+        x: Vector = tuple(v / x_norm for v in values[:3])  # type: ignore[assignment]
+        z: Vector = tuple(v / x_norm for v in values[3:])  # type: ignore[assignment]
+        y = _unit(_cross(z, x))
+        return from_columns(x, y, _unit(z))
+    z = _unit(numbers(text, 3))  # type: ignore[arg-type]
+    x_raw = _cross((0.0, 0.0, 1.0), z)
+    if math.sqrt(_dot(x_raw, x_raw)) < 1e-12:
+        return None
+    x = _unit(x_raw)
+    return from_columns(x, _unit(_cross(z, x)), z)
+
+
+def body_pose(attributes: Mapping[str, str], degrees: bool, eulerseq: str) -> Pose:
+    """A body's pose in its parent's frame as MuJoCo reads it (``pos`` and orientation)."""
+    position = numbers(attributes.get("pos", "0 0 0"), 3)
+    rotation = mujoco_rotation(attributes, degrees, eulerseq)
+    return ((position[0], position[1], position[2]), rotation)
+
+
+def same_rotation(a: Quaternion, b: Quaternion, tolerance: float = 1e-4) -> bool:
+    return abs(sum(p * q for p, q in zip(a, b, strict=True))) > 1 - tolerance
+
+
+def same_axis(a: Quaternion, b: Quaternion, tolerance: float = 1e-4) -> bool:
+    """Whether both rotations take the z axis to the same direction (all a capsule,
+    cylinder or any shape round about its z axis depends on)."""
+    za = rotate(a, (0.0, 0.0, 1.0))
+    zb = rotate(b, (0.0, 0.0, 1.0))
+    return _dot(za, zb) > 1 - tolerance

@@ -1,0 +1,187 @@
+"""The MJCF robot as ManiSkill's loader builds it, body by body: what the reports of what that
+loader drops or reads differently (:mod:`robospec.description.mjcf_gaps`) look at.
+
+:mod:`robospec.description.mjcf` makes these records while it mirrors the loader's parse, so the
+reports see exactly the bodies, defaults and geoms the loader does.
+"""
+
+from __future__ import annotations
+
+import copy
+import re
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from lxml import etree
+
+from robospec.description.mjcf_mujoco import Includes, Table
+from robospec.diagnostics import Location
+
+# ManiSkill's MJCFLoader(ignore_classes=["motor"]): bodies whose childclass, and geoms whose
+# class, re.match() one of these are not loaded.
+IGNORE_CLASSES: tuple[str, ...] = ("motor",)
+
+# A defaults table as ManiSkill keeps it: tag -> attribute -> value (classes nest no further).
+Defaults = dict[str, Any]
+
+
+def merge(base: Mapping[str, Any], *incoming: Mapping[str, Any]) -> dict[str, Any]:
+    """ManiSkill's ``_merge_attrib``: a deep-copied ``base`` updated by each mapping in turn."""
+
+    def merge_into(a: dict[str, Any], b: Mapping[str, Any]) -> None:
+        for key, value in b.items():
+            if key in a and isinstance(a[key], dict) and isinstance(value, dict):
+                merge_into(a[key], value)
+            else:
+                a[key] = value
+
+    result = copy.deepcopy(dict(base))
+    for mapping in incoming:
+        merge_into(result, mapping)
+    return result
+
+
+def is_ignored_class(name: str) -> bool:
+    return any(re.match(pattern, name) for pattern in IGNORE_CLASSES)
+
+
+@dataclass(frozen=True)
+class LoadedBody:
+    """One ``<body>`` of the robot and the links ManiSkill makes of it."""
+
+    element: etree._Element
+    link: str  # the link that carries the body's geoms: named after the body
+    parent_link: str  # the link above the body's first joint (the parent body's, or the root)
+    parent: LoadedBody | None  # None for the robot's first body
+    defaults: Defaults  # ManiSkill's active defaults in this body
+    joints: tuple[etree._Element, ...]  # its <joint> elements (hinge and slide)
+    bit: int  # the bit of collision group 2 the loader gives it and its parent body
+
+    @property
+    def name(self) -> str:
+        return self.link
+
+    @property
+    def moves(self) -> bool:
+        return bool(self.joints)
+
+
+@dataclass(frozen=True)
+class LoadedGeom:
+    element: etree._Element
+    body: LoadedBody
+    attributes: dict[str, str]  # as ManiSkill merges them (defaults, class, own)
+
+    @property
+    def type(self) -> str:
+        """ManiSkill's reading: ``mesh=`` makes any geom a mesh."""
+        return "mesh" if "mesh" in self.attributes else self.attributes.get("type", "sphere")
+
+    def int_attribute(self, name: str, default: int) -> int:
+        try:
+            return int(self.attributes.get(name, default))
+        except ValueError:
+            return default
+
+    @property
+    def collides(self) -> bool:
+        """ManiSkill gives a geom a collision shape unless its contype is 0."""
+        return self.int_attribute("contype", 1) != 0 and self.type in COLLISION_TYPES
+
+
+# geom types ManiSkill turns into SAPIEN shapes; "plane" and "ellipsoid" it skips with a log
+# line, "hfield" and "sdf" raise NotImplementedError
+COLLISION_TYPES = frozenset({"sphere", "capsule", "cylinder", "box", "mesh"})
+
+
+@dataclass
+class LoadedMjcf:
+    """Everything the loader reads, as it reads it."""
+
+    path: str
+    top: list[etree._Element]  # <mujoco>'s children and those of the files it includes
+    classes: dict[str, Defaults]  # ManiSkill's default tables
+    degrees: bool
+    eulerseq: str
+    worldbody: etree._Element
+    robot_element: etree._Element  # the <worldbody> child that is the robot
+    robot: list[LoadedBody]  # in the loader's order (depth first): body k gets bit k
+    root_link: str
+    where: Callable[[etree._Element], Location]
+    includes: Includes  # MuJoCo's reading of <include>, anywhere
+    mujoco_classes: dict[str, Table]
+
+    def geoms(self) -> Iterator[LoadedGeom]:
+        """The robot's geoms the loader builds (not those of an ignored class)."""
+        for body in self.robot:
+            for element in body.element.findall("geom"):
+                attributes = geom_attributes(element, body.defaults, self.classes)
+                if attributes is not None:
+                    yield LoadedGeom(element, body, attributes)
+
+    def sections(self, tag: str) -> list[etree._Element]:
+        """The top-level ``<tag>`` sections MuJoCo reads (includes anywhere)."""
+        found = []
+        for element in self.top:
+            if element.tag == tag:
+                found.append(element)
+        return found
+
+    def body_links(self) -> dict[str, LoadedBody]:
+        """MJCF body name -> the robot body (ManiSkill names the body's link after it)."""
+        return {body.link: body for body in self.robot}
+
+
+def geom_attributes(
+    geom: etree._Element, defaults: Defaults, classes: Mapping[str, Defaults]
+) -> dict[str, str] | None:
+    """ManiSkill's ``_build_geom`` merge; None for a geom of an ignored class."""
+    geom_defaults = defaults
+    geom_class = geom.get("class")
+    if geom_class is not None:
+        if is_ignored_class(geom_class):
+            return None
+        if geom_class in classes:
+            geom_defaults = merge(defaults, classes[geom_class])
+    if "geom" in geom_defaults:
+        return merge(geom_defaults["geom"], dict(geom.attrib))
+    return dict(geom.attrib)
+
+
+def parsed_elements(loaded: LoadedMjcf) -> Iterator[tuple[etree._Element, dict[str, str]]]:
+    """Every ``<body>`` and ``<geom>`` the loader's parse reads, robot or not, with the
+    attributes it reads them with: where it raises, loading the robot fails too, since the
+    whole file is parsed before the robot is built."""
+    root_defaults: Defaults = loaded.classes.get("__root__", {})
+
+    def articulation(body: etree._Element, defaults: Defaults) -> Iterator[Any]:
+        childclass = body.get("childclass")
+        if childclass is not None:
+            if is_ignored_class(childclass) or childclass not in loaded.classes:
+                return
+            defaults = merge(defaults, loaded.classes[childclass])
+        yield body, merge(defaults.get("body", {}), dict(body.attrib))
+        yield from geoms(body, defaults)
+        for child in body.findall("body"):
+            yield from articulation(child, defaults)
+
+    def geoms(body: etree._Element, defaults: Defaults) -> Iterator[Any]:
+        for geom in body.findall("geom"):
+            attributes = geom_attributes(geom, defaults, loaded.classes)
+            if attributes is not None:
+                yield geom, attributes
+
+    for body in loaded.worldbody.findall("body"):
+        if body.find("freejoint") is not None or next(body.iter("joint"), None) is not None:
+            tags = [child.tag for child in body if isinstance(child.tag, str)]
+            if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
+                body = body.find("body")
+            yield from articulation(body, root_defaults)
+        else:
+            # a static or free actor: the loader reads the geoms down the first-child chain
+            current: etree._Element | None = body
+            while current is not None:
+                yield from geoms(current, root_defaults)
+                current = current.find("body")
+    yield from geoms(loaded.worldbody, root_defaults)
