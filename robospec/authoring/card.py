@@ -16,6 +16,7 @@ from robospec.authoring.layout import ActionRow, mode_layout
 from robospec.authoring.tree import KinematicTree
 from robospec.description import RobotDescription
 from robospec.resolve.resolved import FileRef, ResolvedRobot
+from robospec.resolve.root_pose import root_body_pose
 
 _MERMAID_ESCAPES = {"&": "#amp;", '"': "#quot;", "<": "#lt;", ">": "#gt;", "|": "#124;"}
 
@@ -66,7 +67,7 @@ def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_link: s
     lines += _tree(description)
     lines += _joints(description)
     lines += _actions(robot, description)
-    lines += _keyframes(robot)
+    lines += _keyframes(robot, description)
     lines += _cameras(robot)
     while lines and lines[-1] == "":
         lines.pop()
@@ -109,7 +110,7 @@ def _tree(description: RobotDescription) -> list[str]:
         if joint is None:
             continue
         arrow = "==>" if joint.is_active else "-->"
-        label = mermaid_label(f"{joint.name} ({joint.type})")
+        label = mermaid_label(f"{joint.name} ({joint.type})" if joint.name else joint.type)
         lines.append(f'  {ids[joint.parent]} {arrow}|"{label}"| {ids[row.link]}')
     return [*lines, "```", ""]
 
@@ -167,21 +168,19 @@ def _action_row(row: ActionRow) -> str:
     )
 
 
-def _keyframes(robot: ResolvedRobot) -> list[str]:
+def _keyframes(robot: ResolvedRobot, description: RobotDescription) -> list[str]:
     lines = ["## Keyframes", ""]
     if not robot.keyframes:
         return [*lines, "None.", ""]
     names = [k.name for k in robot.keyframes]
+    # the poses as the spec means them (an MJCF robot's: its root body's, see resolve.root_pose)
+    poses = [root_body_pose(description, (k.p, k.q)) for k in robot.keyframes]
     lines += [
         "| joint | " + " | ".join(code(n) for n in names) + " |",
         "| --- |" + " ---: |" * len(names),
     ]
-    lines.append(
-        "| pose p | " + " | ".join(_vector(k.p) for k in robot.keyframes) + " |",
-    )
-    lines.append(
-        "| pose q (wxyz) | " + " | ".join(_vector(k.q) for k in robot.keyframes) + " |",
-    )
+    lines.append("| pose p | " + " | ".join(_vector(p) for p, _ in poses) + " |")
+    lines.append("| pose q (wxyz) | " + " | ".join(_vector(q) for _, q in poses) + " |")
     for index, joint in enumerate(robot.active_joints):
         values = [
             number(k.qpos[index]) if k.qpos is not None and index < len(k.qpos) else "—"

@@ -52,6 +52,7 @@ def inspect_report(source: DescriptionFile) -> dict[str, Any]:
             {
                 "depth": row.depth,
                 "link": row.link,
+                # "" for the nameless fixed joint ManiSkill makes for an MJCF body without one
                 "joint": row.joint.name if row.joint else None,
                 "joint_type": row.joint.type if row.joint else None,
             }
@@ -107,6 +108,11 @@ def render_text(report: dict[str, Any]) -> str:
     lines += ["", "kinematic tree (link  <- joint, type):"]
     for row in report["tree"]:
         indent = "  " * (row["depth"] + 1)
-        via = f"  <- {row['joint']} ({row['joint_type']})" if row["joint"] else ""
+        if row["joint"] is None:
+            via = ""
+        elif row["joint"]:
+            via = f"  <- {row['joint']} ({row['joint_type']})"
+        else:
+            via = f"  <- ({row['joint_type']}, unnamed)"
         lines.append(f"{indent}{row['link']}{via}")
     return "\n".join(lines) + "\n"

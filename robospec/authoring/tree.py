@@ -1,7 +1,9 @@
 """The kinematic tree of a parsed description: children per link, depth-first rows, root paths.
 
 Children keep the description's joint order (which is SAPIEN's breadth-first order), so every
-walk here is deterministic.
+walk here is deterministic. The tree includes the nameless fixed joints ManiSkill's MJCF loader
+makes for bodies without joints (``RobotDescription.unnamed_joints``): without them an MJCF
+robot's tree stops at its root.
 """
 
 from __future__ import annotations
@@ -25,10 +27,11 @@ class KinematicTree:
     def __init__(self, description: RobotDescription) -> None:
         self.root = description.root_link
         self.below: dict[str, list[Joint]] = {link.name: [] for link in description.links}
-        for joint in description.joints:
+        joints = description.tree_joints
+        for joint in joints:
             self.below.setdefault(joint.parent, []).append(joint)
         # link -> the joint that attaches it to its parent (every link but the root)
-        self.up: dict[str, Joint] = {joint.child: joint for joint in description.joints}
+        self.up: dict[str, Joint] = {joint.child: joint for joint in joints}
 
     def rows(self) -> list[TreeRow]:
         """Every link once, depth first from the root, each with the joint that attaches it."""

@@ -14,6 +14,7 @@ from robospec.model.frozen import Keyframe
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.poses import position_and_quaternion
 from robospec.resolve.resolved import ResolvedKeyframe
+from robospec.resolve.root_pose import root_link_pose
 from robospec.resolve.selection import select_joints
 
 NEEDS_DOWNLOAD = (
@@ -24,7 +25,9 @@ NEEDS_DOWNLOAD = (
 
 def resolve_keyframe(context: ResolveContext, name: str, frame: Keyframe) -> ResolvedKeyframe:
     path: KeyPath = ("keyframes", name)
-    p, q = position_and_quaternion(frame.pose)
+    # an MJCF robot's keyframe pose is its root body's, as in MuJoCo (see root_pose)
+    given = position_and_quaternion(frame.pose) if "pose" in frame.model_fields_set else None
+    p, q = root_link_pose(context.description, given)
     return ResolvedKeyframe(
         name=name,
         p=p,
