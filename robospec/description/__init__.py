@@ -6,6 +6,7 @@ Everything here imports only lxml and the standard library: it is on the fast va
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from typing import Literal
 
 from robospec.description.facts import Joint, Link, Mimic, RobotDescription
@@ -21,13 +22,17 @@ __all__ = [
 
 
 def load_description(
-    path: str, kind: Literal["urdf", "mjcf"], text: str | bytes | None = None
+    path: str,
+    kind: Literal["urdf", "mjcf"],
+    text: str | bytes | None = None,
+    packages: Mapping[str, str] | None = None,
 ) -> tuple[RobotDescription | None, list[Diagnostic]]:
     """Parse the description at ``path`` (or ``text``, when given, located as ``path``).
 
     A file that cannot be read is RS050 at ``path:1:1``; nothing here raises on bad input.
     A URDF file's SRDF (``robot.srdf`` beside ``robot.urdf``), which SAPIEN reads by itself,
-    gives the description's ``loader_collision_bits``.
+    gives the description's ``loader_collision_bits``. A URDF's meshes and textures are looked
+    for beside ``path`` (``package://`` URIs with ``packages``, name -> absolute folder, first).
     """
     given_text = text is not None
     if text is None:
@@ -47,7 +52,7 @@ def load_description(
     if kind == "urdf":
         from robospec.description.urdf import parse_urdf
 
-        description, diagnostics = parse_urdf(text, path)
+        description, diagnostics = parse_urdf(text, path, look_for_files=True, packages=packages)
         if description is not None and not given_text:
             # SAPIEN reads the SRDF beside a URDF file (not beside a xacro expansion)
             from robospec.description.srdf import read_srdf_bits

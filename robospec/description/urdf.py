@@ -13,6 +13,7 @@ fingertip pads come after both fingers; fetch's head and arm joints interleave).
 
 from __future__ import annotations
 
+import dataclasses
 import errno
 import math
 import os
@@ -32,6 +33,10 @@ from robospec.description.facts import (
     Mimic,
     RobotDescription,
 )
+from robospec.description.inertia import check_inertials
+from robospec.description.meshes import check_mesh_files
+from robospec.description.urdf_loader_rules import check_loader_rules
+from robospec.description.urdf_values import read_floats
 from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.diagnostics.suggest import did_you_mean
 
@@ -178,13 +183,25 @@ class _RawJoint:
     mimic_element: etree._Element | None = None
 
 
-def parse_urdf(text: str | bytes, path: str) -> tuple[RobotDescription | None, list[Diagnostic]]:
+def parse_urdf(
+    text: str | bytes,
+    path: str,
+    *,
+    look_for_files: bool = False,
+    packages: Mapping[str, str] | None = None,
+) -> tuple[RobotDescription | None, list[Diagnostic]]:
     """Parse a URDF into a :class:`RobotDescription` located in ``path``.
 
     Never raises on bad input. The description is None when the kinematic tree cannot be built
     (malformed XML, duplicate or missing names, unknown links, cycles, several roots); errors
     that leave the tree intact (bad limits, an unknown mimic target, joint types SAPIEN cannot
-    load) come with a description so later checks still run.
+    load) come with a description so later checks still run. What SAPIEN's parser needs beyond
+    the tree (robospec.description.urdf_loader_rules) and the inertials
+    (robospec.description.inertia) are checked in every case.
+
+    With ``look_for_files``, the meshes and textures the URDF names are looked for relative to
+    ``path``'s folder, ``package://`` URIs with ``packages`` first
+    (robospec.description.meshes), and the description's ``mesh_files`` say where.
 
     ``links`` are the links of the articulation ManiSkill loads, in SAPIEN's order; ``joints``
     hold one joint per link after the root, in the same order (fixed ones included).
@@ -192,7 +209,21 @@ def parse_urdf(text: str | bytes, path: str) -> tuple[RobotDescription | None, l
     root, diagnostics = parse_root(text, path, "robot")
     if root is None:
         return None, diagnostics
+    description = _kinematic_tree(root, path, diagnostics)
+    diagnostics.extend(check_loader_rules(root, path))
+    diagnostics.extend(check_inertials(root, path))
+    if look_for_files:
+        mesh_files, mesh_diagnostics = check_mesh_files(root, path, packages)
+        diagnostics.extend(mesh_diagnostics)
+        if description is not None:
+            description = dataclasses.replace(description, mesh_files=mesh_files)
+    return description, diagnostics
 
+
+def _kinematic_tree(
+    root: etree._Element, path: str, diagnostics: list[Diagnostic]
+) -> RobotDescription | None:
+    """The articulation ManiSkill loads from the URDF ``root``; None when there is no tree."""
     fatal = False
     links: dict[str, Link] = {}
     for element in root.findall("link"):
@@ -260,10 +291,10 @@ def parse_urdf(text: str | bytes, path: str) -> tuple[RobotDescription | None, l
             raw.mimic = None
 
     if fatal:
-        return None, diagnostics
+        return None
     if not links:
         diagnostics.append(error(at(path, root), INVALID_STRUCTURE, "the robot has no <link>"))
-        return None, diagnostics
+        return None
 
     roots = [name for name in links if name not in parent_joint]
     children: dict[str, list[str]] = {name: [] for name in links}
@@ -288,10 +319,10 @@ def parse_urdf(text: str | bytes, path: str) -> tuple[RobotDescription | None, l
         )
         fatal = True
     if fatal or not roots:
-        return None, diagnostics
+        return None
     base = roots[0]
 
-    return _articulation(path, links, raw_joints, parent_joint, base, diagnostics), diagnostics
+    return _articulation(path, links, raw_joints, parent_joint, base, diagnostics)
 
 
 def _read_joint(
@@ -388,7 +419,7 @@ def _read_joint(
     for tag, attribute in (("origin", "xyz"), ("origin", "rpy"), ("axis", "xyz")):
         sub = element.find(tag)
         if sub is not None:
-            parse_floats(sub, attribute, 3, path, diagnostics, f"{what} <{tag}>")
+            read_floats(sub, attribute, 3, path, diagnostics, f"{what} <{tag}>")
 
     mimic = element.find("mimic")
     if mimic is not None:
@@ -398,8 +429,8 @@ def _read_joint(
                 error(at(path, mimic), INVALID_STRUCTURE, f'{what}: <mimic> without joint="..."')
             )
         else:
-            multiplier = parse_floats(mimic, "multiplier", 1, path, diagnostics, f"{what} <mimic>")
-            offset = parse_floats(mimic, "offset", 1, path, diagnostics, f"{what} <mimic>")
+            multiplier = read_floats(mimic, "multiplier", 1, path, diagnostics, f"{what} <mimic>")
+            offset = read_floats(mimic, "offset", 1, path, diagnostics, f"{what} <mimic>")
             raw.mimic = Mimic(
                 target,
                 multiplier[0] if multiplier else 1.0,
@@ -435,7 +466,7 @@ def _read_limits(raw: _RawJoint, path: str, diagnostics: list[Diagnostic]) -> No
                 )
             )
             continue
-        parsed = parse_floats(limit, attribute, 1, path, diagnostics, what)
+        parsed = read_floats(limit, attribute, 1, path, diagnostics, what)
         if parsed is not None:
             values[attribute] = parsed[0]
     _read_rates(raw, path, diagnostics)
@@ -458,8 +489,8 @@ def _read_rates(raw: _RawJoint, path: str, diagnostics: list[Diagnostic]) -> Non
     if limit is None:
         return
     what = f"joint '{raw.name}' <limit>"
-    velocity = parse_floats(limit, "velocity", 1, path, diagnostics, what)
-    effort = parse_floats(limit, "effort", 1, path, diagnostics, what)
+    velocity = read_floats(limit, "velocity", 1, path, diagnostics, what)
+    effort = read_floats(limit, "effort", 1, path, diagnostics, what)
     raw.velocity = velocity[0] if velocity else None
     raw.effort = effort[0] if effort else None
 
