@@ -5,7 +5,7 @@ runs the code in it, so this must happen in a throwaway process whose memory is 
 xacro is imported. Usage::
 
     python -c BOOTSTRAP <this file> <xacro path> <memory bytes> <cpu seconds> <args as JSON>
-        <output bytes> <include depth>
+        <output bytes> <include depth> <packages as JSON> <robospec/description/packages.py>
 
 It writes exactly one JSON object to the stdout it was started with:
 
@@ -13,11 +13,16 @@ It writes exactly one JSON object to the stdout it was started with:
 - ``{"ok": false, "kind": "memory"}``
 - ``{"ok": false, "kind": "xml", "message": ..., "file": ..., "line": ..., "column": ...}``
 - ``{"ok": false, "kind": "xacro", "message": ..., "file": ..., "files": [...]}``
+- ``{"ok": false, "kind": "package", "package": ..., "file": ..., "files": [...]}``: a
+  ``$(find NAME)`` that names a package found nowhere
 
 Everything else it (or the xacro file) prints goes to stderr, a file capped by ``RLIMIT_FSIZE``.
 
 This module imports only the standard library (and xacro, after the limits are in place) so that
-it does not depend on how robospec is installed.
+it does not depend on how robospec is installed. ``$(find NAME)`` (which xacro 2 answers with
+ROS 2's ament index, absent here) is answered by robospec's own package search, loaded from
+``packages.py`` by its path: the spec's ``packages`` map, then the folders from the xacro file's
+folder up (robospec.description.packages).
 """
 
 from __future__ import annotations
@@ -61,7 +66,8 @@ def _set_limits(memory_bytes: int, cpu_seconds: int, output_bytes: int) -> None:
             pass
 
 
-def _caused_by(exc: BaseException | None, test: Any) -> bool:
+def _cause(exc: BaseException | None, test: Any) -> Any:
+    """The first exception in ``exc``'s chain that passes ``test``, or None."""
     # xacro wraps evaluation errors in XacroException(exc=...), so look through the whole chain.
     seen: set[int] = set()
     stack: list[Any] = [exc]
@@ -71,9 +77,13 @@ def _caused_by(exc: BaseException | None, test: Any) -> bool:
             continue
         seen.add(id(e))
         if test(e):
-            return True
+            return e
         stack.extend([getattr(e, "exc", None), e.__cause__, e.__context__])
-    return False
+    return None
+
+
+def _caused_by(exc: BaseException | None, test: Any) -> bool:
+    return _cause(exc, test) is not None
 
 
 def _message(exc: BaseException) -> str:
@@ -99,12 +109,46 @@ def _limit_include_depth(xacro: Any, depth: int) -> None:
     xacro.parse = limited_parse
 
 
-def _expand(path: str, mappings: dict[str, str], include_depth: int) -> dict[str, Any]:
+class PackageNotFound(Exception):
+    def __init__(self, name: str) -> None:
+        super().__init__(f"ROS package '{name}' not found")
+        self.name = name
+
+
+def _answer_find(xacro: Any, packages: dict[str, str], finder_file: str) -> None:
+    """Make ``$(find NAME)`` use robospec's package search."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("robospec_packages", finder_file)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up there
+    spec.loader.exec_module(module)
+    finder = module.PackageFinder(os.getcwd(), packages)
+
+    def find(name: str) -> str:
+        folder = finder.find(name)
+        if folder is None:
+            raise PackageNotFound(name)
+        return str(folder)
+
+    xacro.substitution_args._eval_find = find
+
+
+def _expand(
+    path: str,
+    mappings: dict[str, str],
+    include_depth: int,
+    packages: dict[str, str],
+    finder_file: str,
+) -> dict[str, Any]:
     import xml.parsers.expat
 
     import xacro
+    import xacro.substitution_args
 
     _limit_include_depth(xacro, include_depth)
+    _answer_find(xacro, packages, finder_file)
     try:
         doc = xacro.process_file(path, mappings=mappings)
         return {"ok": True, "urdf": doc.toprettyxml(indent="  ")}
@@ -127,6 +171,15 @@ def _expand(path: str, mappings: dict[str, str], include_depth: int) -> dict[str
         if _caused_by(e, lambda x: isinstance(x, OSError) and x.errno == errno.EFBIG):
             return {"ok": False, "kind": "output"}  # over RLIMIT_FSIZE, SIGXFSZ ignored again
         files = [f for f in (xacro.filestack or []) if f]
+        missing = _cause(e, lambda x: isinstance(x, PackageNotFound))
+        if missing is not None:
+            return {
+                "ok": False,
+                "kind": "package",
+                "package": missing.name,
+                "file": files[-1] if files else path,
+                "files": files,
+            }
         return {
             "ok": False,
             "kind": "xacro",
@@ -137,7 +190,7 @@ def _expand(path: str, mappings: dict[str, str], include_depth: int) -> dict[str
 
 
 def main(argv: list[str]) -> int:
-    path, memory, cpu, args_json, output, include_depth = argv
+    path, memory, cpu, args_json, output, include_depth, packages_json, finder_file = argv
     _set_limits(int(memory), int(cpu), int(output))
     # The result goes to the original stdout; anything the xacro file manages to print goes to
     # stderr, so it cannot corrupt the JSON answer.
@@ -146,7 +199,7 @@ def main(argv: list[str]) -> int:
     sys.stdout = sys.stderr
     mappings = json.loads(args_json)
     try:
-        result = _expand(path, mappings, int(include_depth))
+        result = _expand(path, mappings, int(include_depth), json.loads(packages_json), finder_file)
         answer = json.dumps(result, ensure_ascii=True)
     except MemoryError:
         answer = json.dumps({"ok": False, "kind": "memory"})

@@ -38,6 +38,8 @@ from typing import Any
 from robospec.diagnostics import Diagnostic, Location, error, line_column
 
 _CHILD = Path(__file__).with_name("_xacro_child.py")
+# The child answers $(find NAME) with this module, loaded by its path (it imports no robospec).
+_PACKAGES = Path(__file__).with_name("packages.py")
 
 # Runs the child script without the working directory (the robot's folder, which could hold a
 # ``xacro.py`` of its own) on sys.path, and without importing robospec in the child.
@@ -89,15 +91,19 @@ def expand_xacro(
     path: str,
     args: Mapping[str, str],
     *,
+    packages: Mapping[str, str] | None = None,
     timeout_s: float | None = None,
     memory_bytes: int | None = None,
 ) -> tuple[str | None, list[Diagnostic]]:
     """Expand the xacro file at ``path`` with ``args`` (``xacro:arg`` values).
 
+    ``$(find NAME)`` is the folder of ROS package NAME: ``packages`` (name -> absolute folder)
+    first, then as robospec.description.packages finds it from the file's folder up.
+
     Returns the expanded URDF text and no diagnostics, or ``None`` and diagnostics located at the
     xacro file (RS053: xacro reported an error; RS054: the expansion hit ``timeout_s``,
-    ``memory_bytes`` or the output limit). Limits not given come from :func:`configured_limits`.
-    Never raises on bad input.
+    ``memory_bytes`` or the output limit; RS058: ``$(find NAME)`` names a package found
+    nowhere). Limits not given come from :func:`configured_limits`. Never raises on bad input.
     """
     default_timeout, default_memory = configured_limits()
     timeout_s = default_timeout if timeout_s is None else timeout_s
@@ -108,7 +114,8 @@ def expand_xacro(
         return None, [error(where, "RS053", f"xacro expansion failed: no such file '{path}'")]
     try:
         mappings = {str(k): str(v) for k, v in args.items()}
-        result, stderr, killed = _run_child(abs_path, mappings, timeout_s, memory_bytes)
+        folders = {str(k): str(v) for k, v in (packages or {}).items()}
+        result, stderr, killed = _run_child(abs_path, mappings, folders, timeout_s, memory_bytes)
     except OSError as e:  # e.g. the interpreter cannot be started
         return None, [error(where, "RS053", f"xacro expansion failed: cannot start it ({e})")]
 
@@ -127,6 +134,8 @@ def expand_xacro(
         return result["urdf"], []
     if result.get("kind") == "memory":
         return None, [_memory_error(where, memory_bytes)]
+    if result.get("kind") == "package":
+        return None, [_package_error(path, abs_path, result)]
     if result.get("kind") == "output":
         return None, [
             error(
@@ -140,7 +149,11 @@ def expand_xacro(
 
 
 def _run_child(
-    abs_path: str, mappings: dict[str, str], timeout_s: float, memory_bytes: int
+    abs_path: str,
+    mappings: dict[str, str],
+    packages: dict[str, str],
+    timeout_s: float,
+    memory_bytes: int,
 ) -> tuple[dict[str, Any] | None, str, bool]:
     """Run the child; return (its JSON answer or None, its stderr tail, killed by the timeout)."""
     # A CPU-time limit backs up the wall-clock one in case this process dies and cannot kill.
@@ -158,6 +171,8 @@ def _run_child(
         json.dumps(mappings),
         str(OUTPUT_LIMIT_BYTES),
         str(MAX_INCLUDE_DEPTH),
+        json.dumps(packages),
+        str(_PACKAGES),
     ]
     # Its prints go to a file (capped in the child by RLIMIT_FSIZE), never into our memory.
     with tempfile.TemporaryFile() as err:
@@ -324,6 +339,23 @@ def _xacro_error(path: str, abs_path: str, result: Mapping[str, Any]) -> Diagnos
     )
 
 
+def _package_error(path: str, abs_path: str, result: Mapping[str, Any]) -> Diagnostic:
+    """RS058 at the ``$(find NAME)`` that names a package found nowhere."""
+    name = str(result.get("package") or "")
+    file = os.path.join(os.path.dirname(abs_path), str(result.get("file") or abs_path))
+    line, column = _find_text(file, r"\$\(\s*find\s+" + re.escape(name) + r"\s*\)")
+    if line is None:
+        line, column = _find_text(file, r"find\(\s*['\"]" + re.escape(name) + r"['\"]\s*\)")
+    return error(
+        Location(_display_path(path, abs_path, file), line or 1, column or 1),
+        "RS058",
+        f"ROS package '{name}' not found for $(find {name})",
+        f"say where it is in the spec: `description: {{packages: {{{name}: FOLDER}}}}` (no "
+        f"package.xml names it, and no folder '{name}' is beside the xacro file's folder or "
+        "above it)",
+    )
+
+
 def _tidy(message: str) -> str:
     # Keep diagnostics one line: xacro's message has one line per nesting level.
     text = "; ".join(part.strip() for part in message.splitlines() if part.strip())
@@ -352,15 +384,21 @@ def _find_expression(file: str, message: str) -> tuple[int | None, int | None]:
     xacro's errors carry no line numbers (its DOM has none), but they quote the expression that
     failed, which is usually written once in the file.
     """
-    try:
-        text = Path(file).read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return None, None
     # ${expr} with any spacing inside the braces: xacro quotes the expression stripped.
     patterns = [r"\$\{\s*" + re.escape(e.strip()) + r"\s*\}" for e in _EXPRESSION.findall(message)]
     patterns += [r"\$\(arg\s+" + re.escape(a) + r"\s*\)" for a in _UNDEFINED_ARG.findall(message)]
     for pattern in patterns:
-        match = re.search(pattern, text)
-        if match:
-            return line_column(text, match.start())
+        line, column = _find_text(file, pattern)
+        if line is not None:
+            return line, column
     return None, None
+
+
+def _find_text(file: str, pattern: str) -> tuple[int | None, int | None]:
+    """Line and column of the first match of ``pattern`` in ``file`` (None, None if none)."""
+    try:
+        text = Path(file).read_text(encoding="utf-8", errors="replace")
+    except OSError:
+        return None, None
+    match = re.search(pattern, text)
+    return line_column(text, match.start()) if match else (None, None)

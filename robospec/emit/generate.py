@@ -120,13 +120,13 @@ class _Context:
         self.spec_label = label.replace("\n", "\\n")
 
     def path_expr(self, ref: FileRef, *, is_description: bool = False) -> ast.expr:
-        if ref.kind in ("maniskill_assets", "maniskill_data") and ref.generated_text is None:
+        if ref.kind in ("maniskill_assets", "maniskill_data") and not ref.carried:
             folder = "PACKAGE_ASSET_DIR" if ref.kind == "maniskill_assets" else "ASSET_DIR"
             return ast.JoinedStr(
                 [ast.FormattedValue(name(folder), -1, None), ast.Constant("/" + ref.relative)]
             )
         self.uses_here = True
-        if is_description and ref.generated_text is not None and self.description_file:
+        if is_description and ref.carried and self.description_file:
             relative = self.description_file
         else:
             relative = Path(os.path.relpath(ref.absolute, self.module_dir)).as_posix()

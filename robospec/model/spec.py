@@ -83,6 +83,26 @@ class Description(StrictModel, rules.DescriptionBehaviour):
         description="Arguments for a xacro description (name := value).",
         examples=[{"prefix": "twolink_", "link_length": 0.35}],
     )
+    packages: dict[
+        str,
+        Annotated[
+            str,
+            Field(
+                description="The folder of one ROS package (the one holding its package.xml "
+                "and meshes): relative to this spec file, or starting with "
+                "`{maniskill_assets}`.",
+                examples=["../kuka_description/kuka_kr16"],
+            ),
+        ],
+    ] = Field(
+        default_factory=dict,
+        description="Where the ROS packages the description names are (`package://NAME/...` "
+        "mesh URIs, xacro's `$(find NAME)`), by package name. Needed only for packages "
+        "robospec does not find by itself, looking from the description's folder up for a "
+        "folder whose package.xml names the package, or a folder of that name holding the "
+        "files.",
+        examples=[{"kuka_kr16_support": "../kuka_description/kuka_kr16"}],
+    )
     download: list[Annotated[str, Field(pattern=NAME_PATTERN)]] = Field(
         default_factory=list,
         description="ManiSkill asset download ids (`register_agent(asset_download_ids=...)`); "

@@ -32,9 +32,12 @@ def robot_files(robot: ResolvedRobot, module: str, module_dir: Path) -> dict[str
     """The files one robot needs beside its module: ``{file name: text}``."""
     files: dict[str, str] = {}
     description_file = None
-    if robot.description.generated_text is not None:
+    if robot.description.carried:
         description_file = f"{module}.urdf"
-        files[description_file] = expanded_urdf(robot.description, module_dir)
+        files[description_file] = carried_urdf(robot.description, module_dir)
+        srdf = _srdf_beside(robot.description)
+        if srdf is not None:  # SAPIEN reads the SRDF beside the URDF it loads
+            files[f"{module}.srdf"] = srdf
     files[f"{module}.py"] = emit_module(robot, module_dir, description_file)
     return files
 
@@ -55,22 +58,33 @@ def checked_robot_files(
         )
 
 
-def expanded_urdf(ref: FileRef, module_dir: Path) -> str:
-    """A xacro expansion, stored beside the module: relative mesh paths still point at the
-    meshes next to the xacro file, and a comment marks the file as ours."""
+def carried_urdf(ref: FileRef, module_dir: Path) -> str:
+    """The URDF a generated package carries beside its module (a xacro expansion, or a URDF
+    whose mesh URIs SAPIEN would resolve otherwise), with every mesh and texture robospec
+    found named relative to ``module_dir``, and a comment that marks the file as ours."""
     from lxml import etree
 
-    assert ref.generated_text is not None
-    root = etree.fromstring(ref.generated_text.encode())
-    source_dir = ref.absolute.parent
-    for element in root.iter("mesh"):
+    text = ref.generated_text if ref.generated_text is not None else ref.absolute.read_text()
+    root = etree.fromstring(text.encode())
+    found = dict(ref.mesh_paths)
+    for element in root.iter("mesh", "texture"):
         filename = element.get("filename")
-        if filename and "://" not in filename and not os.path.isabs(filename):
-            moved = os.path.relpath(source_dir / filename, module_dir)
+        if filename in found:
+            moved = os.path.relpath(found[filename], module_dir)
             element.set("filename", Path(moved).as_posix())
     root.addprevious(etree.Comment(f" {GENERATED_MARKER} from {ref.relative}: do not edit "))
     text = etree.tostring(root.getroottree(), encoding="unicode", xml_declaration=False)
     return text if text.endswith("\n") else text + "\n"
+
+
+def _srdf_beside(ref: FileRef) -> str | None:
+    """The SRDF SAPIEN reads beside a URDF file (not beside a xacro expansion), if any."""
+    if ref.generated_text is not None:
+        return None
+    from robospec.description.srdf import srdf_path
+
+    srdf = Path(srdf_path(str(ref.absolute)))
+    return srdf.read_text() if srdf.is_file() else None
 
 
 def package_init(modules: list[tuple[str, str, str]]) -> str:

@@ -8,10 +8,12 @@ machine's absolute path.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from pathlib import Path
 from typing import Any, Literal
 
+from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location
 from robospec.load.source_map import KeyPath
 from robospec.resolve.context import ResolveContext
@@ -81,6 +83,7 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
     desc = context.spec.description
     assert desc is not None
     path: KeyPath = ("description", desc.kind)
+    packages = package_folders(context)
     ref = file_ref(context, desc.path, path, may_be_missing=bool(desc.download))
     if ref is None:
         return None
@@ -101,18 +104,76 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         from robospec.description.xacro import expand_xacro
 
         args = {k: _xacro_arg(v) for k, v in desc.args.items()}
-        text, diags = expand_xacro(str(ref.absolute), args)
+        text, diags = expand_xacro(str(ref.absolute), args, packages=packages)
         context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
         if text is None:
             return None
-        description, diags = load_description(str(ref.absolute), "urdf", text=text)
+        description, diags = load_description(
+            str(ref.absolute), "urdf", text=text, packages=packages
+        )
         context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown + " (expanded)"))
-        ref = FileRef(ref.kind, ref.relative, ref.absolute, generated_text=text)
+        # the expansion is written beside the generated module: every path moves with it
+        mesh_paths = _carried_mesh_paths(description, always=True)
+        ref = dataclasses.replace(ref, generated_text=text, mesh_paths=mesh_paths)
     else:
-        description, diags = load_description(str(ref.absolute), desc.kind)
+        description, diags = load_description(str(ref.absolute), desc.kind, packages=packages)
         context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
+        ref = dataclasses.replace(ref, mesh_paths=_carried_mesh_paths(description, always=False))
     context.loaded_description = description
     return ref if description is not None else None
+
+
+def package_folders(context: ResolveContext) -> dict[str, str]:
+    """The spec's ``description.packages``, each an absolute folder; a folder that is not
+    there is RS058 at its value (and left out)."""
+    desc = context.spec.description
+    assert desc is not None
+    folders: dict[str, str] = {}
+    for name, text in desc.packages.items():
+        where: KeyPath = ("description", "packages", name)
+        in_assets, in_data = split_assets(text), split_data(text)
+        if in_data is not None:
+            folder = maniskill_data_dir() / in_data
+        elif in_assets is not None:
+            assets = maniskill_assets_dir()
+            if assets is None:
+                context.err(
+                    where,
+                    "RS050",
+                    f"'{text}' names ManiSkill's assets, but ManiSkill is not installed",
+                    "pip install 'robospec[maniskill]'",
+                )
+                continue
+            folder = assets / in_assets
+        else:
+            folder = Path(os.path.realpath(context.spec_file.parent / text))
+        if not folder.is_dir():
+            context.err(
+                where,
+                "RS058",
+                f"package '{name}': no folder '{text}'",
+                f"looked for {folder}" if in_assets is None and in_data is None else None,
+            )
+            continue
+        folders[name] = str(folder)
+    return folders
+
+
+def _carried_mesh_paths(
+    description: RobotDescription | None, *, always: bool
+) -> tuple[tuple[str, str], ...]:
+    """``uri -> file`` for every mesh robospec found, when the generated package must carry
+    the URDF: ``always``, or when SAPIEN's loader would open another file (or none) for one of
+    them. Empty otherwise: ManiSkill loads the description where it is."""
+    if description is None:
+        return ()
+    found = {m.uri: m.path for m in description.mesh_files if m.path is not None}
+    moved = any(
+        m.path is not None
+        and (m.loader_path is None or os.path.normpath(m.loader_path) != os.path.normpath(m.path))
+        for m in description.mesh_files
+    )
+    return tuple(found.items()) if always or moved else ()
 
 
 def load_inherited_description(

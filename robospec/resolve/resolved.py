@@ -40,6 +40,16 @@ class FileRef:
     absolute: Path  # where it is on this machine
     # a xacro expansion: the URDF text the generated package must carry as a file
     generated_text: str | None = None
+    # The description's mesh and texture files as written -> where robospec found them, when
+    # the generated package must carry the URDF with these paths rewritten: always for a
+    # xacro expansion (written elsewhere), and for a URDF whose package:// (or file://) URIs
+    # SAPIEN's loader would resolve differently or not at all. Empty: loaded as it is.
+    mesh_paths: tuple[tuple[str, str], ...] = ()
+
+    @property
+    def carried(self) -> bool:
+        """Whether the generated package carries its own copy of this file."""
+        return self.generated_text is not None or bool(self.mesh_paths)
 
     @property
     def placeholder_text(self) -> str | None:
