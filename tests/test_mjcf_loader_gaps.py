@@ -285,3 +285,42 @@ def test_the_tree_reaches_every_link_through_the_nameless_fixed_joints() -> None
     ]
     assert rows[1].joint is not None and (rows[1].joint.name, rows[1].joint.type) == ("", "fixed")
     assert description.joint_names == ("joint",)  # the nameless joint is no spec's to name
+
+
+def test_inspect_shows_an_mjcf_robots_tree_beside_its_errors() -> None:
+    from robospec.authoring.commands import run_inspect
+
+    text, diagnostics = run_inspect(GAPS / "orientation.xml", "text")
+    assert text is not None
+    assert "    base  <- (fixed, unnamed)\n      tilted  <- tilted (continuous)\n" in text
+    assert [d.code for d in diagnostics] == ["RS080"]
+
+
+CONTROL_SPEC = """robospec: 1
+uid: rs_control
+description: {mjcf: control.xml}
+loader: {fix_root_link: false}
+keyframes:
+  crouch: {pose: {p: [0, 0, 0.6]}, qpos: [0.2764, -1.2]}
+controllers:
+  legs: {type: pd_joint_pos, joints: [hip, knee], lower: null, upper: null, stiffness: 100,
+         damping: 10, normalize_action: false}
+control_modes:
+  pd_joint_pos: {legs: legs}
+"""
+
+
+def test_a_keyframe_pose_is_the_root_bodys_and_the_card_shows_it_so(tmp_path: Path) -> None:
+    from robospec.authoring.card import robot_card
+    from robospec.pipeline import compile_spec
+
+    (tmp_path / "control.xml").write_text((DATA / "control.xml").read_text())
+    (tmp_path / "control.yaml").write_text(CONTROL_SPEC)
+    compiled = compile_spec(tmp_path / "control.yaml")
+    assert compiled.robot is not None and compiled.description is not None
+    (crouch,) = compiled.robot.keyframes
+    # the torso at 0.6 m hangs 0.8 m below ManiSkill's root link
+    assert crouch.p == pytest.approx((0.0, 0.0, -0.2)) and crouch.q == (1.0, 0.0, 0.0, 0.0)
+    card = robot_card(compiled.robot, compiled.description, "control.yaml")
+    assert "| pose p | [0, 0, 0.6] |" in card
+    assert 'l_dummy_root_0 -->|"fixed"| l_torso' in card  # the tree reaches the torso
