@@ -137,6 +137,8 @@ MALFORMED = {
         6,
     ),
 }
+# errors that leave the kinematic tree intact: inspect shows the robot beside them
+TREE_INTACT = {"unknown_mimic_target"}
 
 
 @pytest.mark.parametrize("case", sorted(MALFORMED))
@@ -149,7 +151,7 @@ def test_malformed_description_gets_located_diagnostics_and_exit_1(
         result = run_robospec("inspect", str(path), "--format", format)
         assert result.returncode == 1
         assert "Traceback" not in result.stderr
-        assert result.stdout == ""
+        assert (result.stdout != "") == (case in TREE_INTACT), result.stdout
     text = run_robospec("inspect", str(path)).stderr
     match = re.search(rf"{re.escape(str(path))}:(\d+):(\d+): error\[{code}\]", text)
     assert match, text

@@ -29,14 +29,23 @@ class DescriptionFile:
     kind: FileKind
     description: RobotDescription
     robot_name: str | None  # <robot name=...> / <mujoco model=...>
+    # the XML the description was read from (a xacro file's expansion): ``new`` reads the
+    # joint frames and, for MJCF, the keyframes and actuators from it
+    text: bytes = b""
 
 
 def file_kind(path: Path) -> FileKind | None:
     return _SUFFIXES.get(path.suffix.lower())
 
 
-def read_description_file(path: Path) -> tuple[DescriptionFile | None, list[Diagnostic]]:
-    """The parsed description, or None and located diagnostics (never raises on bad input)."""
+def read_description_file(
+    path: Path, *, keep_errors: bool = False
+) -> tuple[DescriptionFile | None, list[Diagnostic]]:
+    """The parsed description, or None and located diagnostics (never raises on bad input).
+
+    ``keep_errors`` keeps a description whose kinematic tree is intact although robospec found
+    errors in it (a bad mimic target; what ManiSkill's loader would make of an MJCF: a mesh 1000
+    times too large, a frame turned): ``inspect`` shows such a robot and its errors both."""
     kind = file_kind(path)
     if kind is None:
         return None, [
@@ -57,11 +66,12 @@ def read_description_file(path: Path) -> tuple[DescriptionFile | None, list[Diag
             return None, diagnostics
     description, more = load_description(str(path), "mjcf" if kind == "mjcf" else "urdf", text)
     diagnostics.extend(more)
-    if description is None or any(d.is_error for d in diagnostics):
+    if description is None or (any(d.is_error for d in diagnostics) and not keep_errors):
         return None, diagnostics
     if text is None:
         text = path.read_bytes()
-    return DescriptionFile(path, kind, description, _robot_name(text)), diagnostics
+    data = text.encode("utf-8") if isinstance(text, str) else text
+    return DescriptionFile(path, kind, description, _robot_name(text), data), diagnostics
 
 
 def _robot_name(text: str | bytes) -> str | None:
