@@ -32,8 +32,12 @@ def generated_modules() -> dict[str, str]:
         assert item.robot is not None, [d.format_text() for d in item.diagnostics]
     with tempfile.TemporaryDirectory() as folder:
         files = plan_package(compiled, Path(folder) / "robospec_agents")
+    # the agent modules: not the package's __init__, nor its support module (a copy of
+    # robospec/maniskill/render_fallback.py, which tests/test_headless.py compares)
     return {
-        name: text for name, text in files.items() if name.endswith(".py") and name != "__init__.py"
+        name: text
+        for name, text in files.items()
+        if name.endswith(".py") and name != "__init__.py" and not name.startswith("_")
     }
 
 

@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
-from robospec.emit.package import GENERATED_MARKER
+from robospec.emit.package import GENERATED_MARKER, HEADLESS_MODULE, headless_module_source
 from robospec.output.atomic import exchange
 from robospec.output.modules import checked_robot_files, module_name_for, package_init
 from robospec.pipeline import CompiledSpec
@@ -78,6 +78,7 @@ def _plan(compiled: list[CompiledSpec], out_dir: Path) -> tuple[dict[str, str], 
         files.update(robot_files)
         modules.append((module, item.robot.uid, item.robot.class_name))
     files["__init__.py"] = package_init(modules)
+    files[f"{HEADLESS_MODULE}.py"] = headless_module_source()
     files[MANIFEST] = manifest_text(files)
     return files, problems
 

@@ -271,6 +271,13 @@ def _dependencies(robot: object) -> list[str]:
 def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dict[str, type]:
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
+    from robospec.maniskill import render_fallback
+
+    # gym.make(..., render_backend="none") must load these robots, and the task's scene, on a
+    # machine without a rendering device too: there, visuals are left out (nothing changes
+    # where SAPIEN finds a device). A built package's __init__ does the same.
+    render_fallback.install()
+
     loaded: dict[str, type] = {}
     for file, entry in entries:
         manifest = json.loads((entry / "manifest.json").read_text(encoding="utf-8"))
