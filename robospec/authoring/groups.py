@@ -5,14 +5,20 @@ Rules, in order (each joint lands in exactly one group; every active joint lands
 * **mimic** — URDF ``<mimic>`` pairs between active joints, chains collapsed onto the joint that
   leads them (``q = m·q_leader + o``). They get a ``pd_joint_pos_mimic`` controller: PhysX mimic
   joints go NaN within a few steps, the controller is the stable route.
-* **base** — continuous wheel joints, and the active joints that start the tree (before any
-  other active joint) whose names say base/root/odom: a mobile root.
+* **base** — a planar base (x, y and yaw joints at the root, :mod:`.morphology`): a base
+  controller. Else the active joints that start the tree (before any other active joint) whose
+  names say base/root/odom: a mobile root, driven by joint velocity.
+* **wheels** — continuous joints named like wheels or casters: joint velocity.
+* **legs** — one group per leg (:mod:`.morphology`), named by its side: ``fl``, ``fr``, ``rl``,
+  ``rr``, ``left_leg``, ``right_leg``, or the side the description's names give.
 * **gripper** — joints named like fingers, grippers, hands or jaws, and prismatic joints that
   come in sibling pairs (two fingers on one link). Without an arm they are the ``hand``.
 * **arm** — the longest serial chain of the remaining joints from the root to a leaf. When the
-  longest chains tie (a hand of identical fingers), there is no arm.
-* the rest — one group per branch, named from its joints' common prefix (``head``), else
-  ``finger1``, ``finger2``... when there is no arm, ``branch1``... otherwise.
+  longest chains tie (a hand of identical fingers, a humanoid's two arms), their shared joints
+  are the ``body`` and each chain a group of its own.
+* the rest — one group per branch, named from its joints' common prefix (``head``; a bare side
+  becomes ``left_arm``), else ``finger1``, ``finger2``... when there is no arm, ``branch1``...
+  otherwise.
 """
 
 from __future__ import annotations
@@ -20,6 +26,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from robospec.authoring.morphology import Morphology, is_wheel, morphology
 from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint, RobotDescription
 from robospec.importer.groups import common_prefix
@@ -32,8 +39,23 @@ _GRIPPER_WORDS = re.compile(
     r"|tip)",
     re.IGNORECASE,
 )
-_WHEEL = re.compile(r"(?<![a-z])(wheel|caster)", re.IGNORECASE)
 _MOBILE_ROOT = re.compile(r"(?<![a-z])(base|root|odom|world|mobile)", re.IGNORECASE)
+_ARM_WORDS = re.compile(r"(?<![a-z])(shoulder|elbow|wrist|arm)", re.IGNORECASE)
+_BARE_SIDES = {"l": "left", "left": "left", "r": "right", "right": "right"}
+_SIDE_WORDS = {
+    *_BARE_SIDES,
+    "front",
+    "rear",
+    "back",
+    "fl",
+    "fr",
+    "rl",
+    "rr",
+    "lf",
+    "rf",
+    "lh",
+    "rh",
+}
 _NAME = re.compile(NAME_PATTERN)
 _GENERIC = {"", "joint", "link", "j", "l", "revolute", "prismatic"}
 
@@ -51,7 +73,8 @@ class Groups:
     """Group name -> joints (qpos order), in the order the spec lists them."""
 
     groups: dict[str, list[str]] = field(default_factory=dict)
-    kinds: dict[str, str] = field(default_factory=dict)  # name -> arm|gripper|mimic|base|other
+    # name -> arm|gripper|mimic|base (a mobile root by joint velocity)|planar_base|wheels|leg|other
+    kinds: dict[str, str] = field(default_factory=dict)
     mimic: list[MimicLink] = field(default_factory=list)
 
     def add(self, name: str, kind: str, joints: list[str]) -> None:
@@ -82,15 +105,24 @@ def mimic_links(description: RobotDescription) -> list[MimicLink]:
     return out
 
 
-def guess_groups(description: RobotDescription) -> Groups:
+def guess_groups(description: RobotDescription, body: Morphology | None = None) -> Groups:
+    """The groups of ``description``; ``body`` is its :func:`~.morphology.morphology` (made
+    without forward kinematics when not given: legs then go by their names only)."""
+    body = body if body is not None else morphology(description, None)
     active = list(description.active_joints)
     order = {j.name: i for i, j in enumerate(active)}
     tree = KinematicTree(description)
     mimic = mimic_links(description)
     in_mimic = {m.follower for m in mimic} | {m.leader for m in mimic}
 
-    base = [j.name for j in active if _is_base(tree, j) and j.name not in in_mimic]
-    taken = set(in_mimic) | set(base)
+    planar = [name for name in body.planar_base or () if name not in in_mimic]
+    taken = set(in_mimic) | set(planar)
+    wheels = [j for j in body.wheels if j not in taken]
+    taken |= set(wheels)
+    base = [j.name for j in active if j.name not in taken and _is_mobile_root(tree, j)]
+    taken |= set(base)
+    legs = [leg for leg in body.legs if not set(leg.joints) & taken]
+    taken |= {joint for leg in legs for joint in leg.joints}
     gripper = [j.name for j in active if j.name not in taken and _is_gripper(description, j)]
     taken |= set(gripper)
     arm, trunk = _arm_chain(tree, taken)
@@ -99,7 +131,13 @@ def guess_groups(description: RobotDescription) -> Groups:
 
     result = Groups(mimic=mimic)
     reserved = set(description.joint_names) | set(description.link_names)
-    result.add("base", "base", base)
+    if planar:
+        result.add("base", "planar_base", planar)
+    else:
+        result.add("base", "base", base)
+    result.add("wheels", "wheels", sorted(wheels, key=order.__getitem__))
+    for leg in legs:
+        result.add(leg.name, "leg", list(leg.joints))
     result.add("body" if trunk else "arm", "arm", arm)
     hand = "gripper" if arm and not trunk else "hand"
     if gripper and in_mimic:
@@ -119,10 +157,10 @@ def guess_groups(description: RobotDescription) -> Groups:
     return result
 
 
-def _is_base(tree: KinematicTree, joint: Joint) -> bool:
-    if joint.type == "continuous" and (_WHEEL.search(joint.name) or _WHEEL.search(joint.child)):
-        return True
-    # a mobile root: a prismatic joint first, then only base-like active joints down to this one
+def _is_mobile_root(tree: KinematicTree, joint: Joint) -> bool:
+    """A prismatic joint first, then only base-like active joints down to this one."""
+    if is_wheel(joint):
+        return False
     path = [j for j in tree.root_path(joint.child) if j.is_active]
     return path[0].type == "prismatic" and all(
         _MOBILE_ROOT.search(j.name) and not _GRIPPER_WORDS.search(j.name) for j in path
@@ -178,18 +216,39 @@ def _branches(
     for joint in joints:
         head = next(j.name for j in tree.root_path(joint.child) if j.name in names)
         by_head.setdefault(head, []).append(joint.name)
+    # single joints that differ only by side (left_steering_hinge_joint, right_...) are one
+    # group, named by what they share
+    pairs: dict[str, list[str]] = {}
+    for head, members in by_head.items():
+        if len(members) == 1:
+            pairs.setdefault(_without_sides(head), []).append(head)
+    merged: dict[str, str] = {}
+    for stem, heads in pairs.items():
+        if len(heads) > 1 and stem:
+            for head in heads[1:]:
+                by_head[heads[0]] += by_head.pop(head)
+            merged[heads[0]] = stem
     out: list[tuple[str, list[str]]] = []
     parents = {description.joint(head).parent for head in by_head}  # type: ignore[union-attr]
     fingers = len(by_head) > 1 and len(parents) == 1 and max(map(len, by_head.values())) <= 4
     fallback = "finger" if fingers else "branch"
     used = set(taken)
-    for index, members in enumerate(by_head.values(), start=1):
-        name = _prefix_name(members)
+    for index, (head, members) in enumerate(by_head.items(), start=1):
+        name = merged.get(head) or _prefix_name(members)
+        if name in _BARE_SIDES and any(_ARM_WORDS.search(m) for m in members):
+            name = f"{_BARE_SIDES[name]}_arm"  # "left_shoulder_pitch_joint"...: not just "left"
         if len(name) < 3 or name in _GENERIC or name in used or not _NAME.match(name):
             name = _unique(f"{fallback}{index}", used)
         used.add(name)
         out.append((name, members))
     return out
+
+
+def _without_sides(name: str) -> str:
+    """``name`` without its side words and the words joint/link, as a group name."""
+    parts = [p for p in re.split(r"[^A-Za-z0-9]+", name.lower()) if p]
+    kept = [p for p in parts if p not in _SIDE_WORDS and p not in ("joint", "link", "j")]
+    return "_".join(kept) if len(kept) < len(parts) else ""
 
 
 def _prefix_name(members: list[str]) -> str:
