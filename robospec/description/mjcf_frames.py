@@ -147,6 +147,8 @@ def mujoco_rotation(attributes: Mapping[str, str], degrees: bool, eulerseq: str)
         return about_axis(tuple(axis), math.radians(angle) if degrees else angle)  # type: ignore[arg-type]
     if name == "euler":
         angles = numbers(text, 3)
+        if len(eulerseq) != 3 or any(letter.lower() not in _AXES for letter in eulerseq):
+            raise Unparsable(eulerseq)  # MuJoCo refuses it too
         q = IDENTITY
         for letter, angle in zip(eulerseq, angles, strict=False):
             turn = about_axis(_AXES[letter.lower()], math.radians(angle) if degrees else angle)

@@ -252,13 +252,12 @@ def geom_types(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             "remove them from a copy of the model (ManiSkill's scenes have their own ground)",
         )
     # a body left without any shape is RS076's, an error that says why
-    ghosts = {body.name for body in ghost_bodies(loaded)}
+    ghosts = ghost_bodies(loaded)
     skipped = [
         geom
         for geom in loaded.geoms()
         if geom.type in ("ellipsoid", "plane")
-        and geom.body.name not in ghosts
-        and not any(_below(geom.body, b) for b in ghost_bodies(loaded))
+        and not any(geom.body is b or _below(geom.body, b) for b in ghosts)
     ]
     if skipped:
         links = sorted({geom.body.name for geom in skipped})
