@@ -5,15 +5,27 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
+
+if TYPE_CHECKING:
+    from robospec.authoring.analysis import RobotAnalysis
+    from robospec.authoring.rest_pose import RestPose
+
+REST_TOUCHES = "RS605"
+NOT_LOADED = "RS606"
+# why a rest pose went unchecked that the user should hear about as a warning (ManiSkill is
+# installed but failed); "not installed" and --no-sim are only said in the scaffold's header
+CANNOT_LOAD_PREFIXES = ("ManiSkill could not load", "the simulator crashed", "loading it in")
 
 
 def run_inspect(path: Path, format: str) -> tuple[str | None, list[Diagnostic]]:
     from robospec.authoring.description_file import read_description_file
     from robospec.authoring.inspect import inspect_report, render_json, render_text
 
-    source, diagnostics = read_description_file(path)
+    # a robot ManiSkill would load wrongly is still shown, beside the errors that say so
+    source, diagnostics = read_description_file(path, keep_errors=True)
     if source is None:
         return None, diagnostics
     report = inspect_report(source)
@@ -21,26 +33,26 @@ def run_inspect(path: Path, format: str) -> tuple[str | None, list[Diagnostic]]:
 
 
 def run_new(
-    description: Path, out: Path, uid: str | None, force: bool
+    description: Path,
+    out: Path,
+    uid: str | None,
+    force: bool,
+    simulate: bool = True,
+    uid_location: Location | None = None,
 ) -> tuple[list[Path] | None, list[Diagnostic]]:
     """The files written (the spec at ``out``, and the schema its modeline names when there was
-    none to name) and the diagnostics; None when nothing was written."""
-    if uid is not None:
-        from robospec.cli.uid_option import invalid_uid
-        from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+    none to name) and the diagnostics; None when nothing was written.
 
-        problem = invalid_uid(uid)
+    With ``simulate`` (and ManiSkill installed) the rest keyframe is searched free of
+    self-contact and a floating robot's standing height measured, in a child process
+    (:mod:`robospec.authoring.rest_pose`). ``uid_location`` is where ``uid`` was given (the
+    command line's ``--uid``), for the diagnostics about it."""
+    if uid is not None:
+        from robospec.cli.uid_option import COMMAND_LINE
+
+        problem = _uid_problem(uid, uid_location or Location(COMMAND_LINE))
         if problem is not None:
             return None, [problem]
-        if uid in MANISKILL_UIDS:
-            return None, [
-                error(
-                    Location("<uid>"),
-                    "RS306",
-                    f"uid '{uid}' is already registered by ManiSkill",
-                    f"use a new uid such as 'rs_{uid}'",
-                )
-            ]
     if out.exists() and not force:
         return None, [
             error(
@@ -50,9 +62,9 @@ def run_new(
                 "pass --force to replace it",
             )
         ]
+    from robospec.authoring.analysis import analyse
     from robospec.authoring.description_file import read_description_file
-    from robospec.authoring.scaffold import SCHEMA_BESIDE, scaffold, schema_reference
-    from robospec.importer.yamlout import to_yaml
+    from robospec.authoring.scaffold import SCHEMA_BESIDE, schema_reference
 
     source, diagnostics = read_description_file(description)
     if source is None:
@@ -67,6 +79,7 @@ def run_new(
                 "robospec agents need at least one revolute, continuous or prismatic joint",
             ),
         ]
+    analysis = analyse(source)
     written = [out]
     reference = schema_reference(out.parent)
     if reference is None:
@@ -77,8 +90,84 @@ def run_new(
         reference = SCHEMA_BESIDE
         written.append(out.parent / SCHEMA_BESIDE)
         diagnostics.extend(write_text(written[-1], schema_text()))
-    diagnostics.extend(write_text(out, to_yaml(scaffold(source, out, uid), reference)))
+    text, more = scaffold_text(analysis, out, uid, reference, simulate)
+    diagnostics.extend(more)
+    diagnostics.extend(write_text(out, text))
     return (None if has_errors(diagnostics) else written), diagnostics
+
+
+def scaffold_text(
+    analysis: RobotAnalysis, out: Path, uid: str | None, schema: str, simulate: bool
+) -> tuple[str, list[Diagnostic]]:
+    """The spec's text, and warnings about its rest pose."""
+    from robospec.authoring.rest_pose import PROBE_UID, RestPose, probe_rest_pose
+    from robospec.authoring.scaffold import scaffold
+    from robospec.importer.yamlout import to_yaml
+
+    start = analysis.start_qpos()
+    if simulate:
+        draft = scaffold(analysis, out, RestPose(start), PROBE_UID, absolute_paths=True)
+        rest = probe_rest_pose(
+            to_yaml(draft, schema),
+            analysis.description,
+            start,
+            analysis.groups.mimic,
+            analysis.body.floating,
+        )
+    else:
+        rest = RestPose(start, unchecked_because="robospec new --no-sim")
+    text = to_yaml(scaffold(analysis, out, rest, uid), schema)
+    return text, _rest_warnings(analysis, rest, text, out)
+
+
+def _rest_warnings(
+    analysis: RobotAnalysis, rest: RestPose, text: str, out: Path
+) -> list[Diagnostic]:
+    from robospec.load.reader import parse_spec_bytes
+
+    loaded, _ = parse_spec_bytes(text.encode("utf-8"), str(out), "yaml")
+    if loaded is None:
+        return []
+    at = loaded.source.key(("keyframes", "rest"))
+    left = [t for t in rest.touching if (t[0], t[1]) not in rest.overlapping]
+    if left:
+        pairs = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for a, b, d in left)
+        return [
+            warning(
+                at,
+                REST_TOUCHES,
+                f"no rest pose free of self-contact found in {rest.tried} tries: {pairs}",
+                "move the keyframe apart, or declare the contact with never_collide if it is meant",
+            )
+        ]
+    if rest.unchecked_because and rest.unchecked_because.startswith(CANNOT_LOAD_PREFIXES):
+        return [
+            warning(
+                Location(str(analysis.source.path)),
+                NOT_LOADED,
+                f"the rest keyframe was not checked: {rest.unchecked_because}",
+                "robospec check loads it the same way and will say more; the scaffold is "
+                "written without the check",
+            )
+        ]
+    return []
+
+
+def _uid_problem(uid: str, at: Location) -> Diagnostic | None:
+    from robospec.cli.uid_option import invalid_uid
+    from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+
+    problem = invalid_uid(uid, at)
+    if problem is not None:
+        return problem
+    if uid in MANISKILL_UIDS:
+        return error(
+            at,
+            "RS306",
+            f"uid '{uid}' is already registered by ManiSkill",
+            f"use a new uid such as 'rs_{uid}'",
+        )
+    return None
 
 
 def run_doc(spec: Path, out: Path) -> list[Diagnostic]:

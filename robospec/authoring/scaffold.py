@@ -1,8 +1,14 @@
-"""``robospec new --from-urdf``: a first spec for a robot description, guessed and commented.
+"""``robospec new``: a first spec for a robot description, guessed, checked and commented.
 
-The spec validates as written: every active joint is in a group (:mod:`.groups`), every group
-is driven in both control modes, the keyframe lies inside the limits and keeps mimic relations.
+The spec validates as written, and is meant to be right for the robot, not just valid:
 
+* Body: a floating robot (an MJCF free joint; legs or wheels and nothing fixing it to the world:
+  :mod:`.morphology`) gets ``loader: {fix_root_link: false}``, ``balance_passive_force: false``
+  in every mode and a rest keyframe standing on the ground; a planar base a base controller.
+* Groups: :mod:`.groups` (legs by side, arm, gripper, ...); controllers:
+  :mod:`.scaffold_controllers` (MJCF actuator gains where the description has them).
+* Keyframes: ``rest`` first — searched free of self-contact in ManiSkill when it is installed
+  (:mod:`.rest_pose`) — then the description's own (an MJCF's ``<key>`` elements).
 * Description path: ``{maniskill_assets}/...`` for a file inside ManiSkill's assets (portable
   across machines), otherwise relative to the spec's folder.
 * Schema modeline: the nearest ``schemas/robospec.schema.json`` or ``robospec.schema.json``
@@ -10,26 +16,31 @@ is driven in both control modes, the keyframe lies inside the limits and keeps m
   with a ``.git``), as a relative path; when there is none, the command writes
   ``robospec.schema.json`` beside the spec (editors then work offline, and the next spec written
   to that folder finds it).
-* uid: ``--uid``, else the robot's name made a valid uid; a name ManiSkill already registers
-  gets an ``rs_`` prefix (robospec refuses to shadow ManiSkill's agents by accident).
-* Gains are ManiSkill's Panda's (stiffness 1e3, damping 1e2, force_limit 100); wheels and mobile
-  roots get a joint-velocity controller (damping 1e3, force_limit 500, ±1) in both modes.
+* uid: ``--uid``, else the robot's name made a valid uid — the file's name when the robot's
+  name names no robot (a CAD assembly, or only generic words: ``physics``, ``plane``,
+  ``UF_ROBOT``) — with an ``rs_`` prefix when ManiSkill registers that uid already (robospec
+  refuses to shadow ManiSkill's agents by accident).
 """
 
 from __future__ import annotations
 
-import math
 import os
 import re
+import textwrap
 from pathlib import Path
 from typing import Any
 
+from robospec.authoring.analysis import RobotAnalysis
 from robospec.authoring.description_file import DescriptionFile
-from robospec.authoring.groups import Groups, guess_groups
+from robospec.authoring.rest_pose import RestPose
+from robospec.authoring.scaffold_controllers import controllers_and_modes
+from robospec.description.facts import Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
 from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+from robospec.model.names import NAME_PATTERN
 from robospec.resolve.paths import ASSETS_PLACEHOLDER, maniskill_assets_dir
+from robospec.resolve.root_pose import root_body_pose
 
 SCHEMA_BESIDE = "robospec.schema.json"
 # where a project keeps the schema, nearest first at each folder walking up
@@ -37,22 +48,49 @@ SCHEMA_FILES = (Path("schemas") / SCHEMA_BESIDE, Path(SCHEMA_BESIDE))
 # a folder holding this is a repository's root: the walk stops there (a schema above it belongs
 # to another project)
 PROJECT_ROOT_MARKER = ".git"
-
-GAINS: dict[str, Any] = {"stiffness": 1e3, "damping": 1e2, "force_limit": 100}
-BASE_VELOCITY: dict[str, Any] = {"lower": -1.0, "upper": 1.0, "damping": 1e3, "force_limit": 500}
-DELTA = 0.1
-
+HEADER_WIDTH = 98  # "# " + this: the header's lines stay within the line length of 100
 
 # robot names that CAD exporters write (SolidWorks' sw_urdf_exporter: "ARM_URDF.SLDASM"):
 # the assembly's file name, not what anyone calls the robot
 _CAD_EXPORT_NAME = re.compile(r"\.(SLDASM|SLDPRT)$", re.IGNORECASE)
+# words that name no robot: a name made only of these (and of abbreviations of two letters or
+# fewer, a vendor's "UF") is a placeholder the exporter or the author left
+_GENERIC_WORDS = frozenset(
+    {
+        "robot",
+        "model",
+        "physics",
+        "plane",
+        "world",
+        "scene",
+        "default",
+        "untitled",
+        "unnamed",
+        "urdf",
+        "mjcf",
+        "mujoco",
+        "xacro",
+        "assembly",
+        "export",
+        "description",
+    }
+)
+_NAME = re.compile(NAME_PATTERN)
+
+
+def names_no_robot(name: str) -> bool:
+    """Whether a description's robot name is a placeholder (see :data:`_GENERIC_WORDS`)."""
+    if _CAD_EXPORT_NAME.search(name):
+        return True
+    words = [w.lower() for w in re.split(r"[^A-Za-z0-9]+", name) if w]
+    return all(w in _GENERIC_WORDS or len(w) <= 2 for w in words)
 
 
 def default_uid(robot_name: str | None, path: Path) -> str:
-    """The robot's name as a valid uid (the file's stem when the description has no name, or
-    only the CAD assembly's name)."""
+    """The robot's name as a valid uid (the file's name when the description has no name, or
+    one that names no robot)."""
     raw = robot_name or ""
-    if not raw or _CAD_EXPORT_NAME.search(raw):
+    if not raw or names_no_robot(raw):
         raw = path.name.split(".")[0]
     uid = re.sub(r"[^A-Za-z0-9_.\-]+", "_", raw).lstrip("_.-")[:64].rstrip("_") or "robot"
     if uid in MANISKILL_UIDS:
@@ -81,121 +119,188 @@ def description_reference(source: DescriptionFile, spec_dir: Path) -> str:
     return Path(os.path.relpath(absolute, spec_dir.resolve())).as_posix()
 
 
-def safe_position(lower: float | None, upper: float | None) -> float:
-    """0 when the limits allow it (or there are none), else the middle of the range."""
-    if lower is None or upper is None:
-        return 0.0
-    if lower <= 0.0 <= upper:
-        return 0.0
-    return (lower + upper) / 2
+def scaffold(
+    analysis: RobotAnalysis,
+    spec_path: Path,
+    rest: RestPose,
+    uid: str | None = None,
+    absolute_paths: bool = False,
+) -> SpecDoc:
+    """The spec; ``absolute_paths`` names the description by its absolute path (the draft
+    :mod:`.rest_pose` loads from a temporary folder)."""
+    source = analysis.source
+    groups = analysis.groups
+    floating = analysis.body.floating
+    uid = uid or default_uid(source.robot_name, source.path)
+    notes: dict[KeyPath, str] = {}
+    data: dict[str, Any] = {"robospec": 1, "uid": uid}
+
+    key = "urdf" if source.kind == "urdf" else source.kind
+    where = str(source.path.resolve()) if absolute_paths else None
+    data["description"] = {key: where or description_reference(source, spec_path.parent)}
+    notes[("description",)] = "relative paths are relative to this file"
+    if floating:
+        data["loader"] = {"fix_root_link": False}
+        notes[("loader", "fix_root_link")] = analysis.body.why_floating
+
+    data["groups"] = {name: list(joints) for name, joints in groups.groups.items()}
+    notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
+
+    data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest)
+    if rest.overlapping:
+        # (the header says why: a note here cannot follow the flow list the writer makes)
+        data["never_collide"] = [list(pair) for pair in rest.overlapping]
+
+    controllers, modes = controllers_and_modes(analysis)
+    data["controllers"] = controllers
+    notes[("controllers",)] = (
+        "gains from the MJCF's actuators where it has them"
+        if analysis.drives
+        else "defined once, used by the control modes below"
+    )
+    data["control_modes"] = modes
+    notes[("control_modes",)] = "the first is the default"
+    return SpecDoc(data, _header(analysis, rest), notes)
 
 
-def keyframe_qpos(source: DescriptionFile, groups: Groups) -> dict[str, float]:
-    """A safe pose by joint: mimic followers follow their leader (clamped into their limits)."""
-    description = source.description
-    qpos = {j.name: safe_position(j.lower, j.upper) for j in description.active_joints}
-    for link in groups.mimic:
-        joint = description.joint(link.follower)
-        assert joint is not None
-        value = qpos[link.leader] * link.multiplier + link.offset
-        low = -math.inf if joint.lower is None else joint.lower
-        high = math.inf if joint.upper is None else joint.upper
-        qpos[link.follower] = min(max(value, low), high)
-    return {name: _tidy(value) for name, value in qpos.items()}
+def _keyframes(analysis: RobotAnalysis, rest: RestPose) -> tuple[dict[str, Any], str]:
+    """``rest`` and the file's own keyframes, and what the comment on them says."""
+    description = analysis.description
+    names = tuple(description.active_joint_names)
+    partition = [(name, tuple(joints)) for name, joints in analysis.groups.groups.items()]
+
+    def by_group(qpos: dict[str, float]) -> dict[str, Any]:
+        values = [_tidy(qpos.get(name, rest.qpos[name])) for name in names]
+        split = split_by_group(values, names, partition)
+        assert split is not None  # one value per active joint, by construction
+        return split
+
+    keyframes: dict[str, Any] = {"rest": {"qpos": by_group(rest.qpos)}}
+    standing = standing_pose(analysis, rest)
+    if standing is not None:
+        keyframes["rest"]["pose"] = _pose(standing)
+    for key in description.keyframes:
+        name = key.name if _NAME.match(key.name) else re.sub(r"[^A-Za-z0-9_.\-]", "_", key.name)
+        while name in keyframes:
+            name += "_file"
+        frame: dict[str, Any] = {}
+        if analysis.body.floating and key.root_pose is not None:
+            frame["pose"] = _pose(key.root_pose)
+        frame["qpos"] = by_group(dict(key.qpos))
+        keyframes[name] = frame
+    if not rest.checked:
+        note = "rest: 0 where the limits allow, else mid-range (not contact-checked)"
+    elif len(rest.touching) > len(rest.overlapping):
+        note = "rest: the least self-contact found (see the header)"
+    else:
+        note = "rest: no two links touch (checked in ManiSkill)"
+    if description.keyframes:
+        note += "; then the file's own keyframes"
+    return keyframes, note
+
+
+IDENTITY = (1.0, 0.0, 0.0, 0.0)
+
+
+def standing_pose(analysis: RobotAnalysis, rest: RestPose) -> Pose | None:
+    """The rest keyframe's pose for a floating robot whose standing height was measured: the
+    root link that high, upright — written as a keyframe's pose means it (for an MJCF robot the
+    root body's, which hangs below that link: robospec.resolve.root_pose)."""
+    if not analysis.body.floating or rest.root_height is None:
+        return None
+    return root_body_pose(analysis.description, ((0.0, 0.0, rest.root_height), IDENTITY))
+
+
+def _pose(pose: Pose) -> dict[str, Any]:
+    p, q = pose
+    out: dict[str, Any] = {"p": [_tidy(v) for v in p]}
+    if any(abs(a - b) > 1e-9 for a, b in zip(q, IDENTITY, strict=True)):
+        out["q"] = [_tidy(v) for v in q]
+    return out
 
 
 def _tidy(value: float) -> float:
     return float(round(value, 6)) + 0.0  # +0.0: never write -0.0
 
 
-def scaffold(source: DescriptionFile, spec_path: Path, uid: str | None = None) -> SpecDoc:
-    spec_dir = spec_path.parent
-    description = source.description
-    groups = guess_groups(description)
-    uid = uid or default_uid(source.robot_name, source.path)
-    notes: dict[KeyPath, str] = {}
-    data: dict[str, Any] = {"robospec": 1, "uid": uid}
-
-    key = "urdf" if source.kind == "urdf" else source.kind
-    data["description"] = {key: description_reference(source, spec_dir)}
-    notes[("description",)] = "relative paths are relative to this file"
-    if description.floating_root:
-        data["loader"] = {"fix_root_link": False}
-        notes[("loader", "fix_root_link")] = "the root is attached by a free joint"
-
-    data["groups"] = {name: list(joints) for name, joints in groups.groups.items()}
-    notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
-
-    qpos = keyframe_qpos(source, groups)
-    partition = [(name, tuple(joints)) for name, joints in groups.groups.items()]
-    by_group = split_by_group(list(qpos.values()), tuple(qpos), partition)
-    assert by_group is not None  # one value per active joint, by construction
-    data["keyframes"] = {"rest": {"qpos": by_group}}
-    notes[("keyframes",)] = "rest: 0 where the limits allow, else mid-range"
-
-    controllers, modes = _controllers(groups)
-    data["controllers"] = controllers
-    notes[("controllers",)] = "defined once, used by the control modes below"
-    data["control_modes"] = modes
-    notes[("control_modes",)] = "the first is the default"
-
-    header = (
+def _header(analysis: RobotAnalysis, rest: RestPose) -> tuple[str, ...]:
+    source = analysis.source
+    body = analysis.body
+    lines = [
         f"robospec spec scaffolded by `robospec new` from {source.path.name}.",
-        "Check the groups, gains and keyframe, then: robospec validate <this file>",
-    )
-    return SpecDoc(data, header, notes)
+        "Check the groups, gains and keyframes, then: robospec validate <this file>",
+    ]
+    paragraphs: list[str] = []
+    if body.floating:
+        paragraphs.append(
+            f"Floating base: {body.why_floating}. Its root is free (fix_root_link: false) and "
+            "every mode has balance_passive_force: false, or ManiSkill would cancel gravity "
+            "and hold it up in mid-air."
+        )
+    elif body.welded:
+        paragraphs.append(
+            "Its root body has no free joint, so ManiSkill's MJCF loader welds it in place "
+            "whatever the legs or wheels do. To let it stand and move, add <freejoint/> to the "
+            "root body and run robospec new again."
+        )
+    if not body.floating and analysis.has_passive:
+        paragraphs.append(
+            "Joints no MJCF actuator drives are passive; every mode has balance_passive_force: "
+            "false, or ManiSkill would hold them up against gravity."
+        )
+    if body.wheels and body.planar_base is None:
+        paragraphs.append(
+            "Mobile base: ManiSkill's base controllers (pd_base_vel, pd_base_forward_vel) move "
+            "a base through three joints at its root that slide along x and y and turn about z "
+            "(ManiSkill's fetch.urdf: root_x_axis_joint, root_y_axis_joint, "
+            "root_z_rotation_joint). This description has none, so its wheels are driven by "
+            "joint velocity (group wheels). To drive the base directly, add those joints above "
+            "the base link and give them a pd_base_vel controller."
+        )
+    if body.planar_base is not None:
+        paragraphs.append(
+            "Mobile base: the base moves through its planar joints ("
+            + ", ".join(body.planar_base)
+            + "), driven by a base controller."
+        )
+    paragraphs.append(_rest_paragraph(analysis, rest))
+    for paragraph in paragraphs:
+        lines.append("")
+        lines.extend(textwrap.wrap(paragraph, HEADER_WIDTH, break_on_hyphens=False))
+    return tuple(lines)
 
 
-def _controllers(groups: Groups) -> tuple[dict[str, Any], dict[str, Any]]:
-    controllers: dict[str, Any] = {}
-    absolute: dict[str, str] = {}
-    relative: dict[str, str] = {}
-    mimic_maps = {m.follower: m for m in groups.mimic}
-    for name, kind in groups.kinds.items():
-        if kind == "base":
-            controllers[f"{name}_vel"] = {"type": "pd_joint_vel", "joints": name, **BASE_VELOCITY}
-            absolute[name] = relative[name] = f"{name}_vel"
-        elif kind == "mimic":
-            mimic: dict[str, Any] = {}
-            for joint in groups.groups[name]:
-                link = mimic_maps.get(joint)
-                if link is None:
-                    continue
-                if link.multiplier == 1.0 and link.offset == 0.0:
-                    mimic[joint] = link.leader
-                else:
-                    mimic[joint] = {
-                        "joint": link.leader,
-                        "multiplier": link.multiplier,
-                        "offset": link.offset,
-                    }
-            controllers[name] = {
-                "type": "pd_joint_pos_mimic",
-                "joints": name,
-                "lower": None,
-                "upper": None,
-                **GAINS,
-                "normalize_action": False,
-                "mimic": mimic,
-            }
-            absolute[name] = relative[name] = name
-        else:
-            controllers[f"{name}_pos"] = {
-                "type": "pd_joint_pos",
-                "joints": name,
-                "lower": None,
-                "upper": None,
-                **GAINS,
-                "normalize_action": False,
-            }
-            controllers[f"{name}_delta_pos"] = {
-                "extends": f"{name}_pos",
-                "lower": -DELTA,
-                "upper": DELTA,
-                "use_delta": True,
-                "normalize_action": True,
-            }
-            absolute[name] = f"{name}_pos"
-            relative[name] = f"{name}_delta_pos"
-    modes = {"pd_joint_delta_pos": relative, "pd_joint_pos": absolute}
-    return controllers, modes
+def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
+    if not rest.checked:
+        text = (
+            f"rest keyframe: not contact-checked ({rest.unchecked_because}): 0 where the limits "
+            "allow, else mid-range. robospec check will say whether links touch."
+        )
+        if analysis.body.floating:
+            text += " Its standing height was not measured: set keyframes.rest.pose.p."
+        return text
+    left = [t for t in rest.touching if (t[0], t[1]) not in rest.overlapping]
+    if left:
+        pairs = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for a, b, d in left)
+        text = (
+            f"rest keyframe: after {rest.tried} poses these links still touch: {pairs}. Move "
+            "the keyframe apart, or declare the contact with never_collide if it is meant."
+        )
+    else:
+        text = (
+            f"rest keyframe: no two links touch (robospec check's test, in ManiSkill; "
+            f"{rest.tried} pose(s) tried)."
+        )
+    if rest.overlapping:
+        pairs = ", ".join(f"{a} + {b}" for a, b in rest.overlapping)
+        text += (
+            f" These touched in every pose tried, their shapes overlapping where they are "
+            f"joined, and are declared never_collide: {pairs}."
+        )
+    standing = standing_pose(analysis, rest)
+    if standing is not None:
+        text += (
+            f" Its pose stands the robot {standing[0][2]:.3f} m up: there its lowest collision "
+            "point touches the ground."
+        )
+    return text

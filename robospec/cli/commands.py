@@ -309,29 +309,61 @@ def inspect(
 
 @app.command()
 def new(
-    from_urdf: Annotated[
-        Path,
-        typer.Option("--from-urdf", help="the robot description (URDF, xacro or MJCF)"),
-    ],
     out: Annotated[Path, typer.Option("--out", "-o", help="the spec file to write")],
+    file: Annotated[
+        Path | None,
+        typer.Argument(
+            metavar="FILE", help="the robot description: URDF, xacro or MJCF", show_default=False
+        ),
+    ] = None,
+    from_urdf: Annotated[
+        Path | None,
+        typer.Option("--from-urdf", help="the robot description (an alias of FILE)"),
+    ] = None,
     uid: Annotated[
         str | None, typer.Option("--uid", help="uid of the spec (default: the robot's name)")
     ] = None,
+    no_sim: Annotated[
+        bool,
+        typer.Option(
+            "--no-sim",
+            help="do not load the robot in ManiSkill: the rest keyframe is not checked for "
+            "self-contact and a floating robot's standing height is not measured",
+        ),
+    ] = False,
     force: Annotated[bool, typer.Option("--force", help="overwrite SPEC")] = False,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
 ) -> None:
     """Scaffold a spec from a robot description (URDF, xacro or MJCF).
 
-    Groups are guessed (arm, gripper, base, ...), URDF mimic pairs become a pd_joint_pos_mimic
-    controller, the rest keyframe is a safe pose, and pd_joint_delta_pos / pd_joint_pos modes
-    drive every active joint: the spec passes `robospec validate` as written.
+    Groups are guessed (arm, gripper, legs by side, wheels, base, ...); a floating robot
+    (an MJCF free joint, legs or wheels) gets a free root, no gravity compensation and a rest
+    keyframe standing on the ground; a planar base gets a base controller; MJCF keyframes and
+    actuator gains are kept; URDF mimic pairs become a pd_joint_pos_mimic controller. With
+    ManiSkill installed, the rest keyframe is searched free of self-contact. The spec passes
+    `robospec validate` as written.
 
-    Example: robospec new --from-urdf robots/my_arm.urdf -o specs/my_arm.yaml
+    A problem with --uid is reported at `<command line>:1:COLUMN`, the column of its value in
+    the command as typed.
+
+    Example: robospec new robots/my_arm.urdf -o specs/my_arm.yaml
+    Example: robospec new go2.xml -o specs/go2.yaml --uid my_go2
     """
     from robospec.authoring.commands import run_new
 
-    written, diagnostics = run_new(from_urdf, out, uid, force)
+    if (file is None) == (from_urdf is None):
+        raise typer.BadParameter(
+            "give the robot description once: as FILE or with --from-urdf", param_hint="FILE"
+        )
+    description = file if file is not None else from_urdf
+    assert description is not None
+    where = None
+    if uid is not None:
+        from robospec.cli.uid_option import argument_location
+
+        where = argument_location("--uid", uid, sys.argv[1:])
+    written, diagnostics = run_new(description, out, uid, force, not no_sim, where)
     done = "wrote " + ", ".join(str(path) for path in written or [])
     _finish(diagnostics, written is None, format, color, done)
 

@@ -146,6 +146,8 @@ _CODES = [
     Code("RS602", "robot has no active joints to control"),
     Code("RS603", "output file cannot be written"),
     Code("RS604", "output would overwrite a file robospec did not write"),
+    Code("RS605", "scaffold's rest keyframe still has links touching"),
+    Code("RS606", "scaffold's rest keyframe could not be checked in ManiSkill"),
     # -- internal
     Code("RS900", "internal error"),
 ]

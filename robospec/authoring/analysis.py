@@ -1,0 +1,93 @@
+"""Everything ``robospec new`` reads from a robot description before it writes a line: the
+kind of body (:mod:`.morphology`), the groups (:mod:`.groups`), and for MJCF the actuators'
+gains (:mod:`.gains`) and the file's own keyframes. No simulation: that is :mod:`.rest_pose`'s."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from robospec.authoring.description_file import DescriptionFile
+from robospec.authoring.gains import Drive, actuator_drives
+from robospec.authoring.groups import Groups, guess_groups
+from robospec.authoring.kinematics import KinematicModel, mjcf_kinematics, urdf_kinematics
+from robospec.authoring.mjcf_model import read_mjcf_model
+from robospec.authoring.morphology import Morphology, morphology
+from robospec.description import RobotDescription
+
+PASSIVE_GROUP = "passive"
+
+
+@dataclass(frozen=True)
+class RobotAnalysis:
+    source: DescriptionFile
+    body: Morphology
+    groups: Groups
+    drives: dict[str, Drive] = field(default_factory=dict)  # MJCF actuators, by joint
+
+    @property
+    def description(self) -> RobotDescription:
+        return self.source.description
+
+    @property
+    def has_passive(self) -> bool:
+        return "passive" in self.groups.kinds.values()
+
+    def start_qpos(self) -> dict[str, float]:
+        """0 where the limits allow (or there are none), else mid-range; mimic followers follow
+        their leader, clamped into their limits."""
+        qpos = {j.name: safe_position(j.lower, j.upper) for j in self.description.active_joints}
+        for link in self.groups.mimic:
+            joint = self.description.joint(link.follower)
+            assert joint is not None
+            value = qpos[link.leader] * link.multiplier + link.offset
+            low = -math.inf if joint.lower is None else joint.lower
+            high = math.inf if joint.upper is None else joint.upper
+            qpos[link.follower] = min(max(value, low), high)
+        return {name: float(round(value, 6)) + 0.0 for name, value in qpos.items()}
+
+
+def safe_position(lower: float | None, upper: float | None) -> float:
+    if lower is None or upper is None or lower <= 0.0 <= upper:
+        return 0.0
+    return (lower + upper) / 2
+
+
+def analyse(source: DescriptionFile) -> RobotAnalysis:
+    kinematics: KinematicModel | None
+    drives: dict[str, Drive] = {}
+    indirect = False
+    if source.kind == "mjcf":
+        model = read_mjcf_model(source.text, str(source.path))
+        kinematics = mjcf_kinematics(model) if model is not None else None
+        if model is not None:
+            attributes = {joint.name: joint.attributes for joint, _ in model.joints()}
+            drives, indirect = actuator_drives(source.description, attributes)
+    else:
+        kinematics = urdf_kinematics(source.text)
+    body = morphology(source.description, kinematics)
+    groups = guess_groups(source.description, body)
+    if drives and not indirect:
+        _set_apart_passive(groups, set(drives))
+    return RobotAnalysis(source, body, groups, drives)
+
+
+def _set_apart_passive(groups: Groups, driven: set[str]) -> None:
+    """Joints no actuator drives stay passive, as in MuJoCo: a group of nothing else becomes
+    passive; the others give theirs to one ``passive`` group."""
+    loose: list[str] = []
+    for name in list(groups.groups):
+        joints = groups.groups[name]
+        idle = [j for j in joints if j not in driven]
+        if not idle or groups.kinds[name] == "mimic":
+            continue
+        if len(idle) == len(joints):
+            groups.kinds[name] = "passive"
+        else:
+            groups.groups[name] = [j for j in joints if j in driven]
+            loose += idle
+    if loose:
+        name = PASSIVE_GROUP
+        while name in groups.groups:
+            name += "_"
+        groups.add(name, "passive", loose)

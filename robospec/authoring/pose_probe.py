@@ -1,0 +1,236 @@
+"""The child process of ``robospec new`` that loads the scaffolded robot in ManiSkill: it finds
+a rest pose in which no two links touch and, for a floating robot, how high its root must stand
+for its lowest collision point to touch the ground.
+
+Run as ``python -m robospec.authoring.pose_probe`` with a JSON request on stdin (see
+:class:`Request`); prints one JSON answer on stdout. A child, because loading a description
+nobody checked can crash SAPIEN outright (a segfault takes the process with it): ``new`` then
+writes the scaffold without the check and says why.
+
+The contact test is ``robospec check``'s (:mod:`robospec.physics.self_contact`): set the pose,
+hold the drives there, one physics step, and every pair of the robot's links deeper in contact
+than ``min_depth``. The search is deterministic: from the starting pose, the smallest move of
+one joint (of those between two touching links, by 10, 20, 35 or 50 % of its range, either way)
+that leaves fewer pairs touching (:func:`better`); when no move helps, random moves of all those
+joints at once, from a fixed seed. A pose changes only to undo a contact, so a contact nothing
+undoes leaves the starting pose as it was; the answer names the pairs that touched in every pose
+tried.
+"""
+
+from __future__ import annotations
+
+import gc
+import json
+import math
+import random
+import sys
+from dataclasses import dataclass, field
+from typing import Any
+
+STEPS = (0.1, 0.2, 0.35, 0.5)
+FULL_TURN = 2 * math.pi
+FLOATING_LIFT = 10.0  # m: a floating robot is held well above the ground while contacts count
+SEED = 0
+
+
+@dataclass
+class Request:
+    spec: str  # a spec of the robot to register (the draft scaffold)
+    uid: str
+    mode: str  # a control mode of that spec whose controllers take joint positions
+    joints: list[str]  # the active joints, in qpos order
+    start: list[float]
+    limits: list[tuple[float | None, float | None]]
+    # (follower, leader, multiplier, offset) by index into ``joints``
+    mimic: list[tuple[int, int, float, float]] = field(default_factory=list)
+    # link -> (parent link, the joint between them), for every link but the root
+    parents: dict[str, tuple[str, str]] = field(default_factory=dict)
+    floating: bool = False
+    min_depth: float = 0.001
+    budget: int = 400  # poses tried at most
+
+
+Contacts = dict[tuple[str, str], float]
+
+
+def better(new: Contacts, old: Contacts) -> bool:
+    """Fewer touching pairs. Depth alone does not count: two shapes that overlap where their
+    links are joined touch in every pose, more or less deeply, and chasing that depth led the
+    search to poses no one would choose (legs splayed to shave a millimetre)."""
+    return len(new) < len(old)
+
+
+class Probe:
+    def __init__(self, request: Request) -> None:
+        import mani_skill.envs  # noqa: F401  (registers Empty-v1)
+
+        from robospec.output.register import register
+        from robospec.physics.sim import Sim
+
+        # ManiSkill collects garbage each time it builds a scene (Sim builds one per pose
+        # tried): with torch's and ManiSkill's objects in view that costs 0.15 s a pose, out of
+        # view (frozen, as robospec check's worker does) 30 ms
+        gc.collect()
+        gc.freeze()
+        self.request = request
+        register(request.spec)
+        self.sim = Sim(request.uid, request.mode)
+        self.index = {name: i for i, name in enumerate(request.joints)}
+        self.followers = {follower for follower, _, _, _ in request.mimic}
+        self.tried = 0
+        self.always: set[tuple[str, str]] | None = None  # the pairs every pose tried touched
+
+    def contacts(self, qpos: list[float]) -> Contacts:
+        from robospec.resolve.resolved import ResolvedKeyframe
+
+        self.tried += 1
+        lift = FLOATING_LIFT if self.request.floating else 0.0
+        self.sim.start(
+            ResolvedKeyframe("rest", (0.0, 0.0, lift), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
+        )
+        self.sim.hold_drive_targets()
+        self.sim.sim_step()
+        touching = {
+            pair: depth
+            for pair, depth in sorted(self.sim.self_contacts().items())
+            if depth >= self.request.min_depth
+        }
+        self.always = set(touching) if self.always is None else self.always & set(touching)
+        return touching
+
+    def follow(self, qpos: list[float]) -> list[float]:
+        """Mimic followers set from their leaders, every joint inside its limits."""
+        out = [self.clamp(i, v) for i, v in enumerate(qpos)]
+        for follower, leader, multiplier, offset in self.request.mimic:
+            out[follower] = self.clamp(follower, out[leader] * multiplier + offset)
+        return out
+
+    def clamp(self, index: int, value: float) -> float:
+        low, high = self.request.limits[index]
+        if low is not None:
+            value = max(value, low)
+        if high is not None:
+            value = min(value, high)
+        return value
+
+    def span(self, index: int) -> float:
+        low, high = self.request.limits[index]
+        if low is None or high is None:
+            return FULL_TURN
+        return min(high - low, FULL_TURN)
+
+    def movable(self, contacts: Contacts) -> list[int]:
+        """The joints (by index) between the links of each touching pair, leaders only."""
+        found: set[int] = set()
+        for a, b in contacts:
+            path_a, path_b = self._path(a), self._path(b)
+            for joint in set(path_a) ^ set(path_b):
+                if joint in self.index and self.index[joint] not in self.followers:
+                    found.add(self.index[joint])
+        return sorted(found)
+
+    def _path(self, link: str) -> list[str]:
+        joints = []
+        while link in self.request.parents and len(joints) <= len(self.request.parents):
+            link, joint = self.request.parents[link]
+            joints.append(joint)
+        return joints
+
+    def search(self) -> tuple[list[float], Contacts]:
+        best = self.follow(list(self.request.start))
+        best_contacts = self.contacts(best)
+        rng = random.Random(SEED)
+        while best_contacts and self.tried < self.request.budget:
+            candidates = self.movable(best_contacts)
+            if not candidates:
+                break
+            moved = self._greedy(best, best_contacts, candidates)
+            if moved is None:
+                moved = self._random(best, best_contacts, candidates, rng)
+            if moved is None:
+                break
+            best, best_contacts = moved
+        return best, best_contacts
+
+    def _greedy(
+        self, qpos: list[float], contacts: Contacts, joints: list[int]
+    ) -> tuple[list[float], Contacts] | None:
+        """The smallest move of one joint that undoes a contact (smaller steps first)."""
+        for step in STEPS:
+            for index in joints:
+                for sign in (1.0, -1.0):
+                    if self.tried >= self.request.budget:
+                        return None
+                    trial = list(qpos)
+                    trial[index] = qpos[index] + sign * step * self.span(index)
+                    trial = self.follow(trial)
+                    if trial == qpos:
+                        continue
+                    touching = self.contacts(trial)
+                    if better(touching, contacts):
+                        return trial, touching
+        return None
+
+    def _random(
+        self, qpos: list[float], contacts: Contacts, joints: list[int], rng: random.Random
+    ) -> tuple[list[float], Contacts] | None:
+        for _ in range(4 * len(joints)):
+            if self.tried >= self.request.budget:
+                return None
+            trial = list(qpos)
+            for index in joints:
+                trial[index] += rng.uniform(-0.5, 0.5) * self.span(index)
+            trial = self.follow(trial)
+            touching = self.contacts(trial)
+            if better(touching, contacts):
+                return trial, touching
+        return None
+
+    def standing_height(self, qpos: list[float]) -> float | None:
+        """How far above the ground the root must be for the lowest collision point of the
+        robot, at ``qpos`` and upright, to touch it."""
+        import torch
+        from mani_skill.utils.structs.pose import Pose
+
+        robot = self.sim.robot
+        robot.set_pose(Pose.create_from_pq(torch.zeros(1, 3), torch.tensor([[1.0, 0, 0, 0]])))
+        robot.set_qpos(torch.tensor([qpos], dtype=torch.float32))
+        lowest = math.inf
+        for link in robot.links:
+            body = link._objs[0]
+            if body.collision_shapes:
+                lowest = min(lowest, float(body.compute_global_aabb_tight()[0][2]))
+        return None if math.isinf(lowest) else -lowest
+
+
+def run(request: Request) -> dict[str, Any]:
+    probe = Probe(request)
+    try:
+        qpos, contacts = probe.search()
+        height = probe.standing_height(qpos) if request.floating else None
+    finally:
+        probe.sim.close()
+    return {
+        "qpos": qpos,
+        "touching": [[a, b, depth] for (a, b), depth in contacts.items()],
+        "tried": probe.tried,
+        "always": sorted(probe.always or ()) if probe.tried > 1 else [],
+        "root_height": height,
+    }
+
+
+def main() -> int:
+    raw = json.loads(sys.stdin.read())
+    raw["limits"] = [tuple(pair) for pair in raw["limits"]]
+    raw["mimic"] = [tuple(item) for item in raw.get("mimic", [])]
+    raw["parents"] = {k: tuple(v) for k, v in raw.get("parents", {}).items()}
+    try:
+        answer = run(Request(**raw))
+    except Exception as exc:  # the robot could not be loaded: the parent says so and goes on
+        answer = {"error": f"{type(exc).__name__}: {exc}"}
+    sys.stdout.write("\n" + json.dumps(answer) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

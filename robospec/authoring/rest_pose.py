@@ -1,0 +1,159 @@
+"""The rest pose of a scaffold as ManiSkill sees it: free of self-contact and, for a floating
+robot, standing on the ground (:mod:`.pose_probe` does the work in a child process).
+
+Without ManiSkill (the core install), or when ManiSkill cannot load the robot, the pose stays
+0 where the limits allow and mid-range elsewhere, and the scaffold says it was not checked.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from robospec.authoring.groups import MimicLink
+from robospec.authoring.tree import KinematicTree
+from robospec.description import RobotDescription
+
+PROBE_UID = "robospec_new_probe"
+PROBE_MODE = "pd_joint_pos"
+PROBE_TIMEOUT = 300.0  # s; loading a big robot on a slow CPU takes tens of seconds
+MIN_DEPTH = 0.001  # m: robospec check's default (checks.self_contact.min_depth)
+# links this many active joints apart or fewer are neighbours: a contact between them in every
+# pose is their shapes overlapping at the joint (a housing, a motor inside the body)
+NEIGHBOURS = 2
+
+
+@dataclass(frozen=True)
+class RestPose:
+    qpos: dict[str, float]  # every active joint
+    root_height: float | None = None  # m, a floating robot's standing height
+    checked: bool = False  # whether ManiSkill tested it for self-contact
+    touching: tuple[tuple[str, str, float], ...] = ()  # pairs still in contact (m deep)
+    # pairs among ``touching`` that touched in every pose tried, at most two joints apart: their
+    # shapes overlap where they are joined, and the scaffold declares them never_collide
+    overlapping: tuple[tuple[str, str], ...] = ()
+    tried: int = 0  # poses the search tried
+    unchecked_because: str | None = None
+
+
+def maniskill_installed() -> bool:
+    return all(importlib.util.find_spec(name) is not None for name in ("mani_skill", "sapien"))
+
+
+def probe_rest_pose(
+    draft: str,
+    description: RobotDescription,
+    start: dict[str, float],
+    mimic: list[MimicLink],
+    floating: bool,
+) -> RestPose:
+    """Search from ``start`` in ManiSkill; ``draft`` is the text of a valid spec of the robot
+    whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode."""
+    unchecked = RestPose(dict(start))
+    if not maniskill_installed():
+        return _unchecked(unchecked, "ManiSkill is not installed")
+    joints = list(description.active_joint_names)
+    index = {name: i for i, name in enumerate(joints)}
+    tree = KinematicTree(description)
+    request: dict[str, Any] = {
+        "uid": PROBE_UID,
+        "mode": PROBE_MODE,
+        "joints": joints,
+        "start": [start[name] for name in joints],
+        "limits": [[j.lower, j.upper] for j in description.active_joints],
+        "mimic": [
+            [index[m.follower], index[m.leader], m.multiplier, m.offset]
+            for m in mimic
+            if m.follower in index and m.leader in index
+        ],
+        "parents": {link: [joint.parent, joint.name] for link, joint in tree.up.items()},
+        "floating": floating,
+        "min_depth": MIN_DEPTH,
+    }
+    with tempfile.TemporaryDirectory(prefix="robospec-new-") as folder:
+        spec = Path(folder) / "probe.yaml"
+        spec.write_text(draft, encoding="utf-8")
+        request["spec"] = str(spec)
+        answer, problem = _run_child(request)
+    if answer is None:
+        return _unchecked(unchecked, problem)
+    qpos = {name: _tidy(value) for name, value in zip(joints, answer["qpos"], strict=True)}
+    height = answer.get("root_height")
+    touching = tuple((a, b, float(d)) for a, b, d in answer["touching"])
+    always = {(a, b) for a, b in answer.get("always", [])}
+    overlapping = tuple(
+        (a, b)
+        for a, b, _ in touching
+        if (a, b) in always and _joints_apart(tree, a, b) <= NEIGHBOURS
+    )
+    return RestPose(
+        qpos=qpos,
+        root_height=None if height is None else _tidy(height),
+        checked=True,
+        touching=touching,
+        overlapping=overlapping,
+        tried=int(answer["tried"]),
+    )
+
+
+def _joints_apart(tree: KinematicTree, a: str, b: str) -> int:
+    """How many active joints lie on the tree's path between links ``a`` and ``b``."""
+    path_a = {j.name for j in tree.root_path(a) if j.is_active}
+    path_b = {j.name for j in tree.root_path(b) if j.is_active}
+    return len(path_a ^ path_b)
+
+
+def _unchecked(pose: RestPose, why: str) -> RestPose:
+    return RestPose(pose.qpos, unchecked_because=why)
+
+
+def _run_child(request: dict[str, Any]) -> tuple[dict[str, Any] | None, str]:
+    command = [sys.executable, "-m", "robospec.authoring.pose_probe"]
+    try:
+        done = subprocess.run(
+            command,
+            input=json.dumps(request),
+            capture_output=True,
+            text=True,
+            timeout=PROBE_TIMEOUT,
+            env={**os.environ, "PYTHONWARNINGS": "ignore"},
+        )
+    except subprocess.TimeoutExpired:
+        return None, f"loading it in ManiSkill took longer than {PROBE_TIMEOUT:.0f} s"
+    if done.returncode < 0:
+        name = _signal_name(-done.returncode)
+        return None, f"the simulator crashed loading it ({name})"
+    lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
+    try:
+        answer = json.loads(lines[-1]) if lines else None
+    except json.JSONDecodeError:
+        answer = None
+    if not isinstance(answer, dict):
+        tail = done.stderr.strip().splitlines()[-1:] or [f"exit status {done.returncode}"]
+        return None, f"ManiSkill could not load it: {tail[0]}"
+    if "error" in answer:
+        return None, f"ManiSkill could not load it: {_first_line(str(answer['error']))}"
+    return answer, ""
+
+
+def _signal_name(number: int) -> str:
+    try:
+        return signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
+
+
+def _first_line(text: str) -> str:
+    return text.strip().splitlines()[0] if text.strip() else text
+
+
+def _tidy(value: float) -> float:
+    return float(round(value, 6)) + 0.0  # +0.0: never write -0.0
