@@ -1,7 +1,10 @@
-"""``robospec new --from-urdf``: scaffolded specs validate with 0 errors for real robots (arms,
+"""``robospec new FILE``: scaffolded specs validate with 0 errors for real robots (arms,
 hands, mobile manipulators, a humanoid MJCF, a xacro arm), guess groups, turn URDF mimic joints
 into a pd_joint_pos_mimic controller, start at a safe keyframe, and never overwrite a file
-without --force. The end-to-end test registers the scaffolded Panda and steps it in ManiSkill."""
+without --force. The end-to-end test registers the scaffolded Panda and steps it in ManiSkill.
+
+Most tests scaffold with ``simulate=False`` (``--no-sim``): loading the robot in ManiSkill to
+search its rest pose costs seconds, and tests/test_new_sim.py proves that part."""
 
 from __future__ import annotations
 
@@ -45,7 +48,7 @@ def load(path: Path) -> dict:
 
 
 def scaffold(description: Path, out: Path, uid: str | None = None) -> dict:
-    written, diagnostics = run_new(description, out, uid, force=False)
+    written, diagnostics = run_new(description, out, uid, force=False, simulate=False)
     assert written is not None and not has_errors(diagnostics), diagnostics
     assert written[0] == out
     return load(out)
@@ -68,7 +71,7 @@ def test_scaffold_of_a_real_robot_validates_with_no_errors(tmp_path: Path, robot
     assert list(data["control_modes"]) == ["pd_joint_delta_pos", "pd_joint_pos"]
     # every group is driven in both modes
     for mode in data["control_modes"].values():
-        assert set(mode) == set(data["groups"])
+        assert set(mode) - {"balance_passive_force"} == set(data["groups"])
 
 
 def test_scaffold_of_the_xacro_robot_validates_and_names_it_relative_to_the_spec(
@@ -113,7 +116,7 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
 
 
 @needs_assets
-def test_fetch_scaffold_drives_its_mobile_root_with_joint_velocities(tmp_path: Path) -> None:
+def test_fetch_scaffold_drives_its_planar_base_forward_like_fetch_does(tmp_path: Path) -> None:
     assert ASSETS is not None
     data = scaffold(ASSETS / "robots/fetch/fetch.urdf", tmp_path / "fetch.yaml")
     assert data["groups"]["base"] == [
@@ -122,8 +125,12 @@ def test_fetch_scaffold_drives_its_mobile_root_with_joint_velocities(tmp_path: P
         "root_z_rotation_joint",
     ]
     assert data["groups"]["head"] == ["head_pan_joint", "head_tilt_joint"]
+    # fetch rolls on wheels (fixed joints in its URDF): forward speed and turn rate, as
+    # ManiSkill's own Fetch; the root stays fixed, the planar joints move it
     for mode in data["control_modes"].values():
-        assert data["controllers"][mode["base"]]["type"] == "pd_joint_vel"
+        assert data["controllers"][mode["base"]]["type"] == "pd_base_forward_vel"
+        assert "balance_passive_force" not in mode
+    assert "loader" not in data
 
 
 @needs_assets
@@ -139,6 +146,39 @@ def test_a_cad_assembly_name_gives_way_to_the_file_name_for_the_uid(tmp_path: Pa
     body += '<parent link="a"/><child link="b"/></joint>\n'
     urdf = _robot(tmp_path / "so_arm.urdf", "SO_5DOF_ARM100_8j_URDF.SLDASM", body)
     assert scaffold(urdf, tmp_path / "so_arm.yaml")["uid"] == "so_arm"
+
+
+@pytest.mark.parametrize(
+    ("name", "file", "uid"),
+    [
+        ("physics", "r2d2.urdf", "r2d2"),  # pybullet's r2d2 and pr2_gripper
+        ("plane", "laikago_toes_zup.urdf", "laikago_toes_zup"),
+        ("UF_ROBOT", "xarm7.urdf", "xarm7"),  # a vendor's two letters and a generic word
+        ("robot", "my_arm.urdf", "my_arm"),
+        ("ur5", "ur5_robot.urdf", "ur5"),  # a name that says which robot is kept
+    ],
+)
+def test_a_robot_name_that_names_no_robot_gives_way_to_the_file_name(
+    tmp_path: Path, name: str, file: str, uid: str
+) -> None:
+    body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
+    body += '<parent link="a"/><child link="b"/></joint>\n'
+    urdf = _robot(tmp_path / file, name, body)
+    assert scaffold(urdf, tmp_path / "spec.yaml")["uid"] == uid
+
+
+def test_the_description_is_a_positional_argument_and_from_urdf_its_alias(tmp_path: Path) -> None:
+    positional = run_robospec("new", str(TWOLINK_XACRO), "-o", str(tmp_path / "a.yaml"), "--no-sim")
+    assert positional.returncode == 0, positional.stderr
+    alias = ["new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(tmp_path / "b.yaml"), "--no-sim"]
+    assert run_robospec(*alias).returncode == 0
+    assert (tmp_path / "a.yaml").read_text() == (tmp_path / "b.yaml").read_text()
+    both = run_robospec(*alias[:-1], str(TWOLINK_XACRO), "--force")
+    neither = run_robospec("new", "-o", str(tmp_path / "c.yaml"))
+    for result in (both, neither):
+        assert result.returncode == 2  # a usage error
+        assert "give the robot description once" in result.stderr
+        assert "Traceback" not in result.stderr
 
 
 def _robot(path: Path, name: str, body: str) -> Path:
@@ -179,11 +219,11 @@ def test_mimic_chains_collapse_onto_their_leader_and_the_keyframe_keeps_the_rela
 def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
     body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
     body += '<parent link="a"/><child link="b"/></joint>\n'
-    urdf = _robot(tmp_path / "r.urdf", "my robot (v2)!", body)
+    urdf = _robot(tmp_path / "r.urdf", "my arm (v2)!", body)
     out = tmp_path / "r.yaml"
     data = scaffold(urdf, out)
     validate(out)
-    assert data["uid"] == "my_robot_v2"
+    assert data["uid"] == "my_arm_v2"
     # a continuous joint has no limits: the keyframe holds it at 0
     assert data["keyframes"]["rest"]["qpos"]["arm"] == 0.0
 
@@ -221,7 +261,7 @@ def test_without_a_schema_to_name_new_writes_one_beside_the_spec(project: Path) 
     assert (out.parent / "robospec.schema.json").read_text() == schema_text()
     # the next spec in that folder names the same file, and nothing is rewritten
     second = project / "robots" / "second.yaml"
-    written, _ = run_new(TWOLINK_XACRO, second, "second", force=False)
+    written, _ = run_new(TWOLINK_XACRO, second, "second", force=False, simulate=False)
     assert written == [second]
     assert second.read_text().splitlines()[0].endswith("$schema=robospec.schema.json")
 
@@ -238,12 +278,12 @@ def test_sections_carry_comments_that_explain_them(tmp_path: Path) -> None:
 def test_existing_spec_is_never_overwritten_without_force(tmp_path: Path) -> None:
     out = tmp_path / "twolink.yaml"
     out.write_text("mine\n")
-    result = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out))
+    result = run_robospec("new", str(TWOLINK_XACRO), "-o", str(out), "--no-sim")
     assert result.returncode == 1
     assert f"{out}:1:1: error[RS601]" in result.stderr
     assert "Traceback" not in result.stderr
     assert out.read_text() == "mine\n"
-    result = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "--force")
+    result = run_robospec("new", str(TWOLINK_XACRO), "-o", str(out), "--force", "--no-sim")
     assert result.returncode == 0, result.stderr
     assert out.read_text().startswith("# yaml-language-server:")
 
@@ -251,13 +291,20 @@ def test_existing_spec_is_never_overwritten_without_force(tmp_path: Path) -> Non
 @pytest.mark.parametrize(
     ("uid", "code"), [("bad uid!", "RS105"), ("panda", "RS306")], ids=["invalid", "maniskill"]
 )
-def test_bad_uid_option_is_a_diagnostic_and_nothing_is_written(
-    tmp_path: Path, uid: str, code: str
+@pytest.mark.parametrize("spelling", ["separate", "equals"])
+def test_bad_uid_option_points_at_the_argument_and_nothing_is_written(
+    tmp_path: Path, uid: str, code: str, spelling: str
 ) -> None:
     out = tmp_path / "x.yaml"
-    result = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "--uid", uid)
+    given = ["--uid", uid] if spelling == "separate" else [f"--uid={uid}"]
+    arguments = ["new", str(TWOLINK_XACRO), "-o", str(out), *given]
+    result = run_robospec(*arguments)
     assert result.returncode == 1
-    assert f"error[{code}]" in result.stderr and "Traceback" not in result.stderr
+    # the column of the value in the command as typed: `robospec new ... --uid panda`
+    typed = " ".join(["robospec", *arguments])
+    column = typed.rindex(uid) + 1
+    assert f"<command line>:1:{column}: error[{code}]" in result.stderr, result.stderr
+    assert "Traceback" not in result.stderr
     assert not out.exists()
 
 
@@ -269,7 +316,7 @@ def test_uid_option_is_used(tmp_path: Path) -> None:
 def test_malformed_description_gets_located_diagnostics_and_no_spec(tmp_path: Path) -> None:
     urdf = _robot(tmp_path / "bad.urdf", "bad", '<link name="a"/><link name="a"/>\n')
     out = tmp_path / "bad.yaml"
-    result = run_robospec("new", "--from-urdf", str(urdf), "-o", str(out))
+    result = run_robospec("new", str(urdf), "-o", str(out))
     assert result.returncode == 1
     assert f"{urdf}:3:" in result.stderr and "error[RS052]" in result.stderr
     assert "Traceback" not in result.stderr
@@ -281,7 +328,7 @@ def test_robot_without_active_joints_is_rs602(tmp_path: Path) -> None:
     body += '<parent link="a"/><child link="b"/></joint>\n'
     urdf = _robot(tmp_path / "fixed.urdf", "fixed", body)
     out = tmp_path / "fixed.yaml"
-    result = run_robospec("new", "--from-urdf", str(urdf), "-o", str(out))
+    result = run_robospec("new", str(urdf), "-o", str(out))
     assert result.returncode == 1
     assert "error[RS602]" in result.stderr
     assert not out.exists()
@@ -338,10 +385,10 @@ def test_json_format_puts_the_diagnostics_report_on_stdout(tmp_path: Path) -> No
     import json
 
     out = tmp_path / "twolink.yaml"
-    first = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "-f", "json")
+    first = run_robospec("new", str(TWOLINK_XACRO), "-o", str(out), "-f", "json", "--no-sim")
     assert first.returncode == 0, first.stderr
     assert json.loads(first.stdout)["summary"]["errors"] == 0
-    again = run_robospec("new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(out), "-f", "json")
+    again = run_robospec("new", str(TWOLINK_XACRO), "-o", str(out), "-f", "json", "--no-sim")
     assert again.returncode == 1
     (diagnostic,) = json.loads(again.stdout)["diagnostics"]
     assert (diagnostic["code"], diagnostic["line"], diagnostic["column"]) == ("RS601", 1, 1)

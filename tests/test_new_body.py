@@ -1,0 +1,276 @@
+"""``robospec new`` scaffolds the body a description has, not just one that validates: legged and
+wheeled URDFs and MJCF free joints float without ManiSkill's gravity compensation, legs are
+named by side, a planar base gets a base controller, an MJCF's keyframes and actuator gains
+are kept, joints no actuator drives stay passive. Scaffolded without ManiSkill (``--no-sim``);
+tests/test_new_sim.py loads the same robots in it."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+from conftest import ROOT
+from ruamel.yaml import YAML
+
+from robospec.authoring import rest_pose
+from robospec.authoring.commands import run_new
+from robospec.diagnostics import has_errors
+from robospec.pipeline import compile_spec
+from robospec.resolve.paths import maniskill_assets_dir
+
+DATA = ROOT / "tests" / "data" / "new"
+QUADRUPED_URDF = DATA / "quadruped.urdf"
+QUADRUPED_MJCF = DATA / "quadruped.xml"
+ASSETS = maniskill_assets_dir()
+needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
+INERTIAL = (
+    '<inertial><mass value="1"/>'
+    '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
+)
+
+
+def scaffold(description: Path, out: Path, simulate: bool = False) -> tuple[dict, str]:
+    """The spec ``new`` writes (as data and as text), checked to validate with no errors."""
+    written, diagnostics = run_new(description, out, None, force=False, simulate=simulate)
+    assert written is not None and not has_errors(diagnostics), diagnostics
+    compiled = compile_spec(out)
+    assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
+    text = out.read_text()
+    return YAML(typ="safe").load(text), text
+
+
+def header(text: str) -> str:
+    """The scaffold's comment lines at the top, joined into one paragraph of words."""
+    lines = []
+    for line in text.splitlines()[1:]:
+        if not line.startswith("#"):
+            break
+        lines.append(line.lstrip("# "))
+    return " ".join(" ".join(lines).split())
+
+
+def modes_balance(data: dict) -> list[object]:
+    return [mode.get("balance_passive_force") for mode in data["control_modes"].values()]
+
+
+def test_a_legged_urdf_floats_and_its_legs_are_named_by_where_they_stand(tmp_path: Path) -> None:
+    data, text = scaffold(QUADRUPED_URDF, tmp_path / "quad.yaml")
+    assert data["loader"] == {"fix_root_link": False}
+    # legs a..d stand front left, front right, rear left, rear right
+    assert data["groups"] == {
+        "fl": ["leg_a_hip_joint", "leg_a_thigh_joint", "leg_a_knee_joint"],
+        "fr": ["leg_b_hip_joint", "leg_b_thigh_joint", "leg_b_knee_joint"],
+        "rl": ["leg_c_hip_joint", "leg_c_thigh_joint", "leg_c_knee_joint"],
+        "rr": ["leg_d_hip_joint", "leg_d_thigh_joint", "leg_d_knee_joint"],
+    }
+    assert modes_balance(data) == [False, False]
+    said = header(text)
+    assert "Floating base: it stands on 4 legs" in said
+    assert "not contact-checked (robospec new --no-sim)" in said
+    assert "set keyframes.rest.pose.p" in said  # no height was measured
+
+
+def test_legs_keep_the_side_names_their_description_gives(tmp_path: Path) -> None:
+    text = QUADRUPED_URDF.read_text()
+    for leg, side in (("a", "LF"), ("b", "RF"), ("c", "LH"), ("d", "RH")):
+        text = text.replace(f"leg_{leg}_", f"{side}_")
+    anymal = tmp_path / "anymal_like.urdf"
+    anymal.write_text(text)
+    data, _ = scaffold(anymal, tmp_path / "anymal.yaml")
+    assert list(data["groups"]) == ["lf", "rf", "lh", "rh"]
+    assert data["groups"]["lh"] == ["LH_hip_joint", "LH_thigh_joint", "LH_knee_joint"]
+
+
+def test_an_mjcf_free_joint_floats_and_keeps_the_files_keyframe_and_gains(tmp_path: Path) -> None:
+    data, _ = scaffold(QUADRUPED_MJCF, tmp_path / "mjquad.yaml")
+    assert data["loader"] == {"fix_root_link": False}
+    assert list(data["groups"]) == ["fl", "fr", "rl", "rr"]  # front_left_hip... say so
+    assert list(data["keyframes"]) == ["rest", "home"]
+    # the key's free joint is the root body's pose, as a keyframe's pose means it for MJCF
+    assert data["keyframes"]["home"]["pose"] == {"p": [0.0, 0.0, 0.33]}
+    assert data["keyframes"]["home"]["qpos"]["rr"] == [0.2, -0.8]
+    fl, rr = data["controllers"]["fl_pos"], data["controllers"]["rr_pos"]
+    # position actuators: kp -> stiffness, kv (else the joint's damping) -> damping, force
+    # range -> force_limit; by joint where they differ
+    assert fl["stiffness"] == {"front_left_hip": 200, "front_left_knee": 250}
+    assert fl["damping"] == {"front_left_hip": 0.5, "front_left_knee": 4}
+    assert fl["force_limit"] == {"front_left_hip": 40, "front_left_knee": 60}
+    assert rr["stiffness"] == {"rear_right_hip": 220, "rear_right_knee": 250}
+    assert modes_balance(data) == [False, False]
+
+
+PLANAR_WALKER = """<mujoco model="walker">
+  <worldbody>
+    <body name="torso" pos="0 0 1">
+      <joint name="rootx" type="slide" axis="1 0 0"/>
+      <joint name="rootz" type="slide" axis="0 0 1"/>
+      <joint name="rooty" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="-0.5 0 0 0.5 0 0" size="0.05"/>
+      <body name="bthigh" pos="-0.5 0 0">
+        <joint name="bthigh" axis="0 1 0" range="-30 60"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.04"/>
+        <body name="bshin" pos="0 0 -0.3">
+          <joint name="bshin" axis="0 1 0" range="-45 45"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.04"/>
+        </body>
+      </body>
+      <body name="fthigh" pos="0.5 0 0">
+        <joint name="fthigh" axis="0 1 0" range="-30 60"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.04"/>
+        <body name="fshin" pos="0 0 -0.3">
+          <joint name="fshin" axis="0 1 0" range="-45 45"/>
+          <geom type="capsule" fromto="0 0 0 0 0 -0.3" size="0.04"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="bthigh" gear="120" ctrlrange="-1 1"/>
+    <motor joint="bshin" gear="90" ctrlrange="-1 1"/>
+    <motor joint="fthigh" gear="120" ctrlrange="-1 1"/>
+    <motor joint="fshin" gear="60" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_joints_no_actuator_drives_stay_passive_and_motors_give_force_limits(
+    tmp_path: Path,
+) -> None:
+    walker = tmp_path / "walker.xml"
+    walker.write_text(PLANAR_WALKER)
+    data, text = scaffold(walker, tmp_path / "walker.yaml")
+    # the sliding root moves the robot: it stays fixed where ManiSkill puts it
+    assert "loader" not in data
+    assert data["groups"] == {
+        "base": ["rootx", "rootz", "rooty"],
+        "rear_leg": ["bthigh", "bshin"],  # both legs on the centre line: front and rear
+        "front_leg": ["fthigh", "fshin"],
+    }
+    assert data["controllers"]["base"] == {"type": "passive", "joints": "base", "damping": 0.0}
+    assert data["controllers"]["rear_leg_pos"]["force_limit"] == {"bthigh": 120, "bshin": 90}
+    assert modes_balance(data) == [False, False]  # gravity is not cancelled on passive joints
+    assert "Joints no MJCF actuator drives are passive" in header(text)
+
+
+def test_an_mjcf_with_legs_and_no_free_joint_is_told_how_to_stand(tmp_path: Path) -> None:
+    welded = tmp_path / "welded.xml"
+    welded.write_text(QUADRUPED_MJCF.read_text().replace('<freejoint name="root"/>', ""))
+    data, text = scaffold(welded, tmp_path / "welded.yaml")
+    assert "loader" not in data  # ManiSkill's MJCF loader welds such a root whatever we say
+    assert "add <freejoint/> to the root body" in header(text)
+
+
+def _urdf(path: Path, name: str, links: list[str], joints: list[str]) -> Path:
+    body = "".join(f'<link name="{link}">{INERTIAL}</link>\n' for link in links)
+    path.write_text(
+        f'<?xml version="1.0"?>\n<robot name="{name}">\n{body}{"".join(joints)}</robot>\n'
+    )
+    return path
+
+
+def _joint(
+    name: str, kind: str, parent: str, child: str, axis: str = "0 0 1", extra: str = ""
+) -> str:
+    limit = '<limit lower="-1" upper="1" effort="10" velocity="4"/>' if kind != "fixed" else ""
+    if kind == "continuous":
+        limit = '<limit effort="10" velocity="12"/>'
+    return (
+        f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+        f'<axis xyz="{axis}"/>{extra}{limit}</joint>\n'
+    )
+
+
+def test_a_robot_on_wheels_floats_and_is_told_how_to_get_a_base_controller(
+    tmp_path: Path,
+) -> None:
+    rover = _urdf(
+        tmp_path / "rover.urdf",
+        "rover",
+        ["chassis", "left_wheel", "right_wheel", "caster"],
+        [
+            _joint("left_wheel_joint", "continuous", "chassis", "left_wheel", "0 1 0"),
+            _joint("right_wheel_joint", "continuous", "chassis", "right_wheel", "0 1 0"),
+            _joint("caster_joint", "fixed", "chassis", "caster"),
+        ],
+    )
+    data, text = scaffold(rover, tmp_path / "rover.yaml")
+    assert data["loader"] == {"fix_root_link": False}
+    assert data["groups"] == {"wheels": ["left_wheel_joint", "right_wheel_joint"]}
+    wheels = data["controllers"]["wheels_vel"]
+    assert (wheels["type"], wheels["lower"], wheels["upper"]) == ("pd_joint_vel", -12.0, 12.0)
+    said = header(text)
+    assert "it drives on its wheels" in said
+    assert "base controllers (pd_base_vel, pd_base_forward_vel)" in said
+    assert "add those joints" in said
+
+
+@pytest.mark.parametrize(
+    ("wheel", "controller"), [(False, "pd_base_vel"), (True, "pd_base_forward_vel")]
+)
+def test_planar_base_joints_get_a_base_controller(
+    tmp_path: Path, wheel: bool, controller: str
+) -> None:
+    links = ["odom", "slide_x", "slide_y", "base_link", "upper_arm", "forearm"]
+    joints = [
+        _joint("virtual_joint1", "prismatic", "odom", "slide_x", "1 0 0"),
+        _joint("virtual_joint2", "prismatic", "slide_x", "slide_y", "0 1 0"),
+        _joint("virtual_joint3", "revolute", "slide_y", "base_link", "0 0 1"),
+        _joint("shoulder", "revolute", "base_link", "upper_arm", "0 1 0"),
+        _joint("elbow", "revolute", "upper_arm", "forearm", "0 1 0"),
+    ]
+    if wheel:
+        links.append("left_wheel_link")
+        joints.append(_joint("left_wheel_mount", "fixed", "base_link", "left_wheel_link"))
+    data, _ = scaffold(
+        _urdf(tmp_path / "mobile.urdf", "mobile", links, joints), tmp_path / "m.yaml"
+    )
+    assert "loader" not in data  # the planar joints move the base: the root stays fixed
+    assert data["groups"]["base"] == ["virtual_joint1", "virtual_joint2", "virtual_joint3"]
+    assert data["groups"]["arm"] == ["shoulder", "elbow"]
+    for mode in data["control_modes"].values():
+        assert data["controllers"][mode["base"]]["type"] == controller
+
+
+def test_legs_fixed_to_a_world_link_do_not_float(tmp_path: Path) -> None:
+    text = QUADRUPED_URDF.read_text().replace(
+        '<robot name="quad">',
+        '<robot name="quad">\n<link name="world"/>\n<joint name="mount" type="fixed">'
+        '<parent link="world"/><child link="body"/></joint>',
+    )
+    mounted = tmp_path / "mounted.urdf"
+    mounted.write_text(text)
+    data, _ = scaffold(mounted, tmp_path / "mounted.yaml")
+    assert "loader" not in data
+    assert modes_balance(data) == [None, None]
+    assert list(data["groups"]) == ["fl", "fr", "rl", "rr"]
+
+
+@needs_assets
+@pytest.mark.parametrize(
+    ("robot", "floating", "groups"),
+    [
+        ("humanoid/humanoid.xml", True, {"right_leg", "left_leg", "right_arm", "left_arm"}),
+        ("g1_humanoid/g1_simplified_upper_body.urdf", False, {"left_arm", "right_arm"}),
+        ("allegro/allegro_hand_right.urdf", False, {"finger1", "finger2", "finger3", "finger4"}),
+    ],
+)
+def test_maniskills_own_robots_get_the_body_they_have(
+    tmp_path: Path, robot: str, floating: bool, groups: set[str]
+) -> None:
+    assert ASSETS is not None
+    data, _ = scaffold(ASSETS / "robots" / robot, tmp_path / "spec.yaml")
+    assert ("loader" in data) is floating
+    assert groups <= set(data["groups"])
+
+
+def test_without_maniskill_the_scaffold_says_its_pose_was_not_checked(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # the core install: nothing to load the robot in
+    monkeypatch.setattr(rest_pose, "maniskill_installed", lambda: False)
+    _, text = scaffold(QUADRUPED_URDF, tmp_path / "quad.yaml", simulate=True)
+    said = header(text)
+    assert "rest keyframe: not contact-checked (ManiSkill is not installed)" in said
+    assert re.search(r"standing height was not measured", said)

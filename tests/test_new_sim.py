@@ -1,0 +1,115 @@
+"""``robospec new`` with ManiSkill: the rest keyframe it writes is free of self-contact (searched
+with ``robospec check``'s own contact test), a floating robot's keyframe stands it on the ground,
+and the robot, registered exactly as scaffolded, stands there for a second on its own drives —
+neither sinking nor hovering (gravity compensation is off: lifted, it falls back)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ROOT
+from ruamel.yaml import YAML
+
+from robospec.authoring.commands import run_new
+from robospec.diagnostics import has_errors
+from robospec.pipeline import compile_spec
+
+pytestmark = [
+    pytest.mark.maniskill,  # the scaffold is searched, registered and stood up in ManiSkill
+    pytest.mark.filterwarnings("ignore::DeprecationWarning"),
+    pytest.mark.filterwarnings("ignore::UserWarning"),
+]
+
+DATA = ROOT / "tests" / "data" / "new"
+STANDING = 0.03  # m: how far a standing robot's root may move in a second ("a few cm")
+LIFT = 0.1  # m: dropped from this much higher, a robot that does not hover lands again
+MIN_DEPTH = 0.001  # m: robospec check's default self_contact.min_depth
+
+
+def scaffold(description: Path, out: Path) -> dict:
+    written, diagnostics = run_new(description, out, None, force=False)
+    assert written is not None and not has_errors(diagnostics), diagnostics
+    compiled = compile_spec(out)
+    assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
+    return YAML(typ="safe").load(out.read_text())
+
+
+def root_heights(spec: Path, uid: str, lift: float) -> list[float]:
+    """The root's height over one second of holding the rest keyframe with the scaffold's
+    ``pd_joint_pos`` mode, started ``lift`` metres above it."""
+    import dataclasses
+
+    from robospec import register
+    from robospec.physics.sim import Sim
+
+    register(spec)
+    compiled = compile_spec(spec)
+    assert compiled.robot is not None
+    rest = compiled.robot.keyframes[0]
+    x, y, z = rest.p
+    with Sim(uid, "pd_joint_pos") as sim:
+        qpos = sim.start(dataclasses.replace(rest, p=(x, y, z + lift)))
+        action = sim.hold_action(qpos)
+        assert action is not None
+        heights = []
+        for _ in range(sim.control_freq):
+            sim.step(action)
+            heights.append(float(sim.root_position()[0][2]))
+        assert np.isfinite(sim.qpos()).all()
+    return heights
+
+
+@pytest.mark.parametrize(
+    ("description", "uid"), [("quadruped.urdf", "quad"), ("quadruped.xml", "mjquad")]
+)
+def test_a_scaffolded_quadruped_stands_on_the_ground_and_does_not_hover(
+    tmp_path: Path, description: str, uid: str
+) -> None:
+    spec = tmp_path / f"{uid}.yaml"
+    data = scaffold(DATA / description, spec)
+    rest = data["keyframes"]["rest"]
+    assert rest["pose"]["p"][2] > 0.2  # measured, not left at 0
+    standing = root_heights(spec, uid, 0.0)
+    start = standing[0]
+    assert max(abs(z - start) for z in standing) < STANDING, standing
+    dropped = root_heights(spec, uid, LIFT)
+    # it falls back to where it stood: gravity is not cancelled
+    assert abs(dropped[-1] - standing[-1]) < STANDING, (dropped[-1], standing[-1])
+
+
+def test_housings_that_overlap_their_thighs_in_every_pose_are_declared_never_collide(
+    tmp_path: Path,
+) -> None:
+    data = scaffold(DATA / "quadruped.urdf", tmp_path / "quad.yaml")
+    assert data["never_collide"] == [[f"leg_{leg}_housing", f"leg_{leg}_thigh"] for leg in "abcd"]
+    # the rest pose itself stayed where it started: no contact needed moving it
+    assert data["keyframes"]["rest"]["qpos"]["fl"] == [0.0, 0.0, -0.5]
+
+
+def test_the_rest_pose_search_moves_an_arm_out_of_its_pedestal(tmp_path: Path) -> None:
+    import dataclasses
+
+    from robospec import register
+    from robospec.physics.sim import Sim
+
+    spec = tmp_path / "arm.yaml"
+    data = scaffold(DATA / "folding_arm.urdf", spec)
+    shoulder, elbow = data["keyframes"]["rest"]["qpos"]["arm"]
+    assert shoulder != pytest.approx(1.8)  # mid-range folds the upper arm into the pedestal
+    assert 1.0 <= shoulder <= 2.6 and -1.5 <= elbow <= 1.5
+    assert "never_collide" not in data
+    # robospec check's contact test at the keyframe as written: nothing touches
+    register(spec)
+    compiled = compile_spec(spec)
+    assert compiled.robot is not None
+    with Sim("folding_arm", "pd_joint_pos") as sim:
+        for shoulder_at, touching in ((shoulder, False), (1.8, True)):
+            rest = compiled.robot.keyframes[0]
+            qpos = (shoulder_at, *rest.qpos[1:]) if rest.qpos else None
+            sim.start(dataclasses.replace(rest, qpos=qpos))
+            sim.hold_drive_targets()
+            sim.sim_step()
+            deep = [pair for pair, depth in sim.self_contacts().items() if depth >= MIN_DEPTH]
+            assert bool(deep) is touching
