@@ -324,3 +324,21 @@ def test_a_keyframe_pose_is_the_root_bodys_and_the_card_shows_it_so(tmp_path: Pa
     card = robot_card(compiled.robot, compiled.description, "control.yaml")
     assert "| pose p | [0, 0, 0.6] |" in card
     assert 'l_dummy_root_0 -->|"fixed"| l_torso' in card  # the tree reaches the torso
+
+
+def test_an_articulation_with_more_joints_behind_the_one_maniskill_takes_is_pointed_out(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "order.xml").write_text(
+        "<mujoco>\n<worldbody>\n"
+        '<body name="target"><joint name="tx" type="slide"/><geom size=".02"/></body>\n'
+        '<body name="base"><geom size=".1"/>\n'
+        '<body name="l1"><joint name="j1"/><geom size=".05"/>\n'
+        '<body name="l2"><joint name="j2"/><geom size=".05"/></body></body></body>\n'
+        "</worldbody>\n</mujoco>\n"
+    )
+    description, (warning,) = parse(tmp_path / "order.xml")
+    assert description is not None and description.active_joint_names == ("tx",)
+    assert (warning.code, warning.location.line) == ("RS052", 4)
+    assert "body 'target' (1 joint(s)), and this one has 2" in warning.message
+    assert warning.hint == "if this is the robot, move it before the other bodies in <worldbody>"

@@ -170,15 +170,21 @@ def parse_mjcf(
             )
         )
         return None, diagnostics
+    chosen_joints = _joint_count(articulated[0][1])
     for _, other in articulated[1:]:
-        diagnostics.append(
-            warning(
-                state.where(other),
-                INVALID_STRUCTURE,
-                f"body '{other.get('name', '')}' is a second articulation; ManiSkill loads only "
-                "the first body tree with joints as the robot",
-            )
+        message = (
+            f"body '{other.get('name', '')}' is a second articulation; ManiSkill loads only "
+            "the first body tree with joints as the robot"
         )
+        hint = None
+        if _joint_count(other) > chosen_joints:
+            # more joints than the one ManiSkill takes: likely the robot, behind an object
+            message += (
+                f", body '{articulated[0][1].get('name', '')}' ({chosen_joints} joint(s)), "
+                f"and this one has {_joint_count(other)}"
+            )
+            hint = "if this is the robot, move it before the other bodies in <worldbody>"
+        diagnostics.append(warning(state.where(other), INVALID_STRUCTURE, message, hint))
 
     index, robot_element = articulated[0]
     has_freejoint = robot_element.find("freejoint") is not None
@@ -326,6 +332,10 @@ def _check_nested_includes(
                     "include it from the main model file instead",
                 )
             )
+
+
+def _joint_count(body: etree._Element) -> int:
+    return sum(1 for _ in body.iter("joint", "freejoint"))
 
 
 def _is_articulation(body: etree._Element) -> bool:
