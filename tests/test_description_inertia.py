@@ -8,6 +8,7 @@ PhysX replaces, the inertial it ignores, the impossible inertia it takes.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -217,3 +218,25 @@ def test_sapien_ignores_an_inertial_with_mass_or_inertia_zero() -> None:
 def test_sapien_takes_an_inertia_that_breaks_the_triangle_inequality() -> None:
     link, _scene = sapien_link(arm(moments=(0.002, 0.002, 0.01)))
     assert sorted(link.inertia) == pytest.approx([0.002, 0.002, 0.01])
+
+
+def test_descriptions_maniskill_ships_get_no_physics_warnings_but_a_copy_does(
+    tmp_path: Path,
+) -> None:
+    from conftest import MANISKILL_SPECS
+
+    from robospec.pipeline import compile_spec
+    from robospec.resolve.paths import maniskill_assets_dir
+
+    shipped = compile_spec(MANISKILL_SPECS / "fetch.yaml")
+    physics = {"RS061", "RS062"}
+    assert shipped.ok and not [d for d in shipped.diagnostics if d.code in physics]
+    assets = maniskill_assets_dir()
+    assert assets is not None
+    copy = tmp_path / "fetch.yaml"
+    copy.write_text(
+        (MANISKILL_SPECS / "fetch.yaml").read_text().replace("{maniskill_assets}", str(assets))
+    )
+    [warning] = [d for d in compile_spec(copy).diagnostics if d.code in physics]
+    assert (warning.code, warning.is_error) == ("RS062", False)
+    assert "r_gripper_finger_link" in warning.message

@@ -464,3 +464,20 @@ def test_a_built_package_carries_the_description_with_its_meshes(
         assert _shapes_of_registered("rs_test_built_meshes") == {"base_link": 0, "upper_arm": 3}
     finally:
         sys.path.remove(str(out.parent))
+
+
+def test_a_carried_urdf_brings_the_srdf_sapien_reads_beside_it(workspace: Path) -> None:
+    from robospec.output.modules import robot_files
+
+    folder = workspace / "clearpath_arm_description" / "urdf"
+    write(folder / "arm.urdf", urdf("package://arm_description/meshes/body.stl"))
+    srdf = (
+        '<robot name="arm"><disable_collisions link1="base_link" link2="upper_arm" '
+        'reason="Adjacent"/></robot>\n'
+    )
+    write(folder / "arm.srdf", srdf)
+    compiled = compile_spec(write(folder / "arm.yaml", spec_text("{urdf: arm.urdf}")))
+    assert compiled.ok and compiled.robot is not None
+    files = robot_files(compiled.robot, "arm", workspace / "out")
+    assert files["arm.srdf"] == srdf
+    assert 'filename="../clearpath_arm_description/meshes/body.stl"' in files["arm.urdf"]

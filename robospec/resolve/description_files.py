@@ -111,13 +111,14 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         description, diags = load_description(
             str(ref.absolute), "urdf", text=text, packages=packages
         )
-        context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown + " (expanded)"))
+        diags = _relocate(_unless_shipped(diags, ref), str(ref.absolute), shown + " (expanded)")
+        context.diagnostics.extend(diags)
         # the expansion is written beside the generated module: every path moves with it
         mesh_paths = _carried_mesh_paths(description, always=True)
         ref = dataclasses.replace(ref, generated_text=text, mesh_paths=mesh_paths)
     else:
         description, diags = load_description(str(ref.absolute), desc.kind, packages=packages)
-        context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
+        context.diagnostics.extend(_relocate(_unless_shipped(diags, ref), str(ref.absolute), shown))
         ref = dataclasses.replace(ref, mesh_paths=_carried_mesh_paths(description, always=False))
     context.loaded_description = description
     return ref if description is not None else None
@@ -202,9 +203,23 @@ def load_inherited_description(
         context.err(("extends",), "RS050", f"the extended class's description is missing: {text}")
         return None, kind
     description, diags = load_description(str(path), kind)
+    diags = _unless_shipped(diags, ref)
     context.diagnostics.extend(_relocate(diags, str(path), shown_path(context, ref)))
     context.loaded_description = description
     return (ref if description is not None else None), kind
+
+
+# Warnings about a description's physics that only editing the file can answer (an inertial
+# SAPIEN ignores, an impossible inertia): not said of the descriptions ManiSkill ships, which a
+# spec cannot change and ManiSkill's own agents load as they are (Fetch's fingers, the Allegro
+# hand). Errors are said of every description.
+_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"})
+
+
+def _unless_shipped(diagnostics: list[Diagnostic], ref: FileRef) -> list[Diagnostic]:
+    if ref.kind == "file":
+        return diagnostics
+    return [d for d in diagnostics if d.is_error or d.code not in _WARNINGS_NOT_FOR_SHIPPED]
 
 
 def _xacro_arg(value: Any) -> str:
