@@ -28,7 +28,7 @@ ASSIMP_SUFFIXES: frozenset[str] = frozenset(
 _Check = Callable[[bytes, int], "str | None"]
 
 # How much of a file the content checks read.
-_HEAD = 1 << 16
+_HEAD = 1 << 12
 # Assimp's OBJ reader refuses anything shorter ("OBJ-file is too small").
 _OBJ_MIN_SIZE = 16
 # A Git LFS pointer stands in for a mesh whose repository was cloned without `git lfs pull`.
@@ -42,8 +42,8 @@ def unreadable_reason(path: str) -> str | None:
     """
     suffix = os.path.splitext(path)[1].lower().lstrip(".")
     try:
-        size = os.path.getsize(path)
         with open(path, "rb") as handle:
+            size = os.fstat(handle.fileno()).st_size
             head = handle.read(_HEAD)
     except OSError as exc:
         return f"the file cannot be opened ({exc.strerror or exc})"

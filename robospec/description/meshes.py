@@ -93,7 +93,8 @@ def check_mesh_files(
                 )
                 found = None
         line = named.element.sourceline or 1
-        loader_path = sapien_mesh_path(named.uri, base_dir)
+        # SAPIEN takes a plain path as robospec does; only URIs can lead it elsewhere
+        loader_path = sapien_mesh_path(named.uri, base_dir) if "://" in named.uri else found
         files.append(MeshFile(named.uri, named.role, line, found, loader_path))
     for package, uses in unknown_packages.items():
         found_all.add(_unknown_package(path, package, uses))
