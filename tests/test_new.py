@@ -156,6 +156,8 @@ def test_a_cad_assembly_name_gives_way_to_the_file_name_for_the_uid(tmp_path: Pa
         ("UF_ROBOT", "xarm7.urdf", "xarm7"),  # a vendor's two letters and a generic word
         ("robot", "my_arm.urdf", "my_arm"),
         ("ur5", "ur5_robot.urdf", "ur5"),  # a name that says which robot is kept
+        ("go2_description", "robot.urdf", "go2"),  # ROS's package suffix is not the name
+        ("a1_description", "robot.urdf", "a1"),  # a model's name carries a digit
     ],
 )
 def test_a_robot_name_that_names_no_robot_gives_way_to_the_file_name(

@@ -53,8 +53,8 @@ HEADER_WIDTH = 98  # "# " + this: the header's lines stay within the line length
 # robot names that CAD exporters write (SolidWorks' sw_urdf_exporter: "ARM_URDF.SLDASM"):
 # the assembly's file name, not what anyone calls the robot
 _CAD_EXPORT_NAME = re.compile(r"\.(SLDASM|SLDPRT)$", re.IGNORECASE)
-# words that name no robot: a name made only of these (and of abbreviations of two letters or
-# fewer, a vendor's "UF") is a placeholder the exporter or the author left
+# words that name no robot: a name made of these (and of abbreviations of one or two letters, a
+# vendor's "UF") is a placeholder the exporter or the author left; trailing a name, they go
 _GENERIC_WORDS = frozenset(
     {
         "robot",
@@ -75,23 +75,33 @@ _GENERIC_WORDS = frozenset(
         "description",
     }
 )
+_GENERIC_SUFFIX = re.compile(
+    r"([^A-Za-z0-9]+(" + "|".join(sorted(_GENERIC_WORDS)) + r"))+$", re.IGNORECASE
+)
 _NAME = re.compile(NAME_PATTERN)
 
 
 def names_no_robot(name: str) -> bool:
-    """Whether a description's robot name is a placeholder (see :data:`_GENERIC_WORDS`)."""
+    """Whether a description's robot name is a placeholder: a CAD assembly's, or generic words
+    with at most abbreviations of one or two letters beside them (``UF_ROBOT``; ``a1`` and
+    ``g1`` carry a digit: models' names)."""
     if _CAD_EXPORT_NAME.search(name):
         return True
     words = [w.lower() for w in re.split(r"[^A-Za-z0-9]+", name) if w]
-    return all(w in _GENERIC_WORDS or len(w) <= 2 for w in words)
+    generic = [w for w in words if w in _GENERIC_WORDS]
+    return bool(generic) and all(
+        w in _GENERIC_WORDS or (len(w) <= 2 and w.isalpha()) for w in words
+    )
 
 
 def default_uid(robot_name: str | None, path: Path) -> str:
     """The robot's name as a valid uid (the file's name when the description has no name, or
-    one that names no robot)."""
+    one that names no robot), without the generic words that trail it (ROS's
+    ``go2_description``, ``husky_robot``)."""
     raw = robot_name or ""
     if not raw or names_no_robot(raw):
         raw = path.name.split(".")[0]
+    raw = _GENERIC_SUFFIX.sub("", raw) or raw
     uid = re.sub(r"[^A-Za-z0-9_.\-]+", "_", raw).lstrip("_.-")[:64].rstrip("_") or "robot"
     if uid in MANISKILL_UIDS:
         uid = f"rs_{uid}"[:64]
