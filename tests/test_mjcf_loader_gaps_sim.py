@@ -229,7 +229,8 @@ def _chain(path: Path, bodies: int) -> Path:
     text = '<mujoco>\n<worldbody>\n<body name="b0" pos="0 0 .1"><freejoint/><geom size=".02"/>\n'
     for i in range(1, bodies):
         # hinges about y: a tail the floor does not hold droops below it
-        text += f'<body name="b{i}" pos=".05 0 0"><joint name="j{i}" axis="0 1 0"/><geom size=".02"/>\n'
+        joint = f'<joint name="j{i}" axis="0 1 0"/>'
+        text += f'<body name="b{i}" pos=".05 0 0">{joint}<geom size=".02"/>\n'
     text += "</body>" * bodies + "\n</worldbody>\n</mujoco>\n"
     path.write_text(text)
     return path
