@@ -214,7 +214,8 @@ def run(request: Request) -> dict[str, Any]:
         "qpos": qpos,
         "touching": [[a, b, depth] for (a, b), depth in contacts.items()],
         "tried": probe.tried,
-        "always": sorted(probe.always or ()) if probe.tried > 1 else [],
+        # (one pose tried: no joint lies between the pairs touching there, so they always do)
+        "always": sorted(probe.always or ()),
         "root_height": height,
     }
 
