@@ -481,3 +481,21 @@ def test_a_carried_urdf_brings_the_srdf_sapien_reads_beside_it(workspace: Path) 
     files = robot_files(compiled.robot, "arm", workspace / "out")
     assert files["arm.srdf"] == srdf
     assert 'filename="../clearpath_arm_description/meshes/body.stl"' in files["arm.urdf"]
+
+
+@pytest.mark.parametrize("folder", ["a\\0b", "x" * 5000], ids=["nul_byte", "name_too_long"])
+def test_a_packages_entry_no_file_system_takes_is_an_error_not_a_crash(
+    workspace: Path, folder: str
+) -> None:
+    write(workspace / "arm.urdf", urdf("package://arm_parts/meshes/part.stl"))
+    spec = write(
+        workspace / "arm.yaml", spec_text(f'{{urdf: arm.urdf, packages: {{p: "{folder}"}}}}')
+    )
+    [problem] = compile_spec(spec).diagnostics
+    assert (problem.code, problem.location.line) == ("RS058", 3)
+
+
+def test_a_description_path_with_a_nul_byte_is_an_error_not_a_crash(workspace: Path) -> None:
+    spec = write(workspace / "arm.yaml", spec_text('{urdf: "arm\\0.urdf"}'))
+    [problem] = compile_spec(spec).diagnostics
+    assert (problem.code, problem.location.line) == ("RS050", 3)

@@ -46,13 +46,19 @@ def file_ref(
             return None
         ref = FileRef("maniskill_assets", in_assets, assets / in_assets)
     else:
-        # realpath, not Path.resolve: that raises RuntimeError on a loop of links (Python < 3.13)
-        ref = FileRef("file", text, Path(os.path.realpath(context.spec_file.parent / text)))
+        try:  # realpath, not Path.resolve: that raises RuntimeError on a loop of links (< 3.13)
+            absolute = Path(os.path.realpath(context.spec_file.parent / text))
+        except (OSError, ValueError) as exc:  # a NUL byte in the name
+            context.err(path, "RS050", f"cannot use '{text}' as a file: {exc}")
+            return None
+        ref = FileRef("file", text, absolute)
     try:
         found = ref.absolute.is_file()
         exists = found or ref.absolute.exists()
-    except OSError as exc:  # a name too long for the file system, a loop of links, ...
-        context.err(path, "RS050", f"cannot use '{text}' as a file: {exc.strerror or exc}")
+    except (OSError, ValueError) as exc:  # a name too long for the file system, a NUL byte
+        context.err(
+            path, "RS050", f"cannot use '{text}' as a file: {getattr(exc, 'strerror', None) or exc}"
+        )
         return None
     if exists and not found:  # a folder or a FIFO: there, but not a file to read
         what = "a folder" if ref.absolute.is_dir() else "not a regular file"
@@ -147,8 +153,16 @@ def package_folders(context: ResolveContext) -> dict[str, str]:
                 continue
             folder = assets / in_assets
         else:
-            folder = Path(os.path.realpath(context.spec_file.parent / text))
-        if not folder.is_dir():
+            try:  # realpath, as file_ref: a NUL byte or a loop of links is not a folder
+                folder = Path(os.path.realpath(context.spec_file.parent / text))
+            except (OSError, ValueError) as exc:
+                context.err(where, "RS058", f"package '{name}': cannot use '{text}': {exc}")
+                continue
+        try:
+            is_folder = folder.is_dir()
+        except OSError:  # a name too long for the file system
+            is_folder = False
+        if not is_folder:
             context.err(
                 where,
                 "RS058",
