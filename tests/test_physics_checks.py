@@ -309,10 +309,15 @@ def test_keyframe_hold_floating_robot_balanced_by_maniskill_does_not_fall(
     variants: dict[str, RobotReport],
 ) -> None:
     # balance_passive_force (ManiSkill's default) disables gravity on every link of the robot,
-    # root included, so a floating Panda 0.5 m up stays there
-    finding = one(variants["floating_balanced"], "keyframe_hold")
+    # root included, so a floating Panda 0.5 m up stays there: the hold passes, and the gravity
+    # check fails it (it hovers)
+    report = variants["floating_balanced"]
+    finding = one(report, "keyframe_hold")
     assert finding.status is Status.PASS
     assert finding.metrics["max_root_drift"] < 1e-3
+    hovers = one(report, "gravity", "pd_joint_pos")
+    assert hovers.status is Status.FAIL and codes(hovers) == ["RS518"]
+    assert error_codes(report) == {"RS518"}
 
 
 def test_keyframe_hold_max_root_drift_from_the_spec_is_honoured(
@@ -662,7 +667,9 @@ def test_json_report_has_the_documented_keys(
         "warnings": sum(not d.is_error for r in reports for d in r.all_diagnostics),
     }
     robot, fetch = data["robots"]
-    assert set(robot) == {"spec", "uid", "status", "findings", "diagnostics"}
+    assert set(robot) == {"spec", "uid", "status", "findings", "diagnostics", "messages"}
+    for message in robot["messages"] + fetch["messages"]:
+        assert set(message) == {"source", "level", "text", "count", "example", "meaning"}
     assert (robot["uid"], robot["status"]) == ("rs_panda", "pass")
     assert (fetch["uid"], fetch["status"]) == ("rs_fetch", "fail")
     for finding in robot["findings"] + fetch["findings"]:

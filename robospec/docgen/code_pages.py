@@ -15,10 +15,16 @@ from robospec.docgen.code_examples import (
     is_documented_only,
     load_code_examples,
 )
-from robospec.physics import keyframe_hold, random_actions, self_contact, step_response
+from robospec.physics import (
+    gravity,
+    keyframe_hold,
+    random_actions,
+    self_contact,
+    step_response,
+)
 
-# the physics checks of `robospec check`, whose docstrings document RS501-RS508
-PHYSICS_CHECKS = (keyframe_hold, random_actions, step_response, self_contact)
+# the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519
+PHYSICS_CHECKS = (keyframe_hold, random_actions, step_response, self_contact, gravity)
 
 LANGUAGES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml", ".urdf": "xml", ".xml": "xml"}
 LANGUAGES |= {".xacro": "xml", ".srdf": "xml", ".json": "json", ".py": "python"}

@@ -3,18 +3,25 @@
 Specs that do not compile get their diagnostics and no checks; robots whose description is not
 downloaded yet are reported as not checkable (RS510). Everything else runs every check, in a
 fixed order, and reports :class:`~robospec.physics.findings.Finding` records.
+
+Each robot is checked in isolation: in a worker process (``robospec.physics.isolation``), so a
+robot that crashes ManiSkill or SAPIEN — a segmentation fault included — is a located
+diagnostic (RS514-RS517) and every other robot's results are still reported; and each
+measurement starts from a freshly built scene (``Sim.start``), so no result depends on which
+checks ran before it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 
-from robospec.diagnostics import Diagnostic, Location, SpecError, error, has_errors
+from robospec.diagnostics import Diagnostic, Location, SpecError, error
 from robospec.model.frozen import Checks
 from robospec.physics import (
     action_layout,
+    crash_diagnostics,
+    gravity,
     keyframe_hold,
     random_actions,
     render,
@@ -22,72 +29,70 @@ from robospec.physics import (
     step_response,
 )
 from robospec.physics.check_run import CheckRun
-from robospec.physics.findings import Finding
-from robospec.physics.sim import CPU, Backend
+from robospec.physics.crash import Crash, from_exception
+from robospec.physics.findings import Finding, Status
+from robospec.physics.isolation import WorkerPool
+from robospec.physics.results import (
+    DEFAULT_OPTIONS,
+    LOAD,
+    Options,
+    Progress,
+    RobotProgress,
+    RobotReport,
+)
 from robospec.pipeline import CompiledSpec, compile_all
 
 # (name, check) in the order they run and are reported
 CHECKS: tuple[tuple[str, Callable[[CheckRun], list[Finding]]], ...] = (
     (action_layout.NAME, action_layout.check),
     (keyframe_hold.NAME, keyframe_hold.check),
+    (gravity.NAME, gravity.check),
     (self_contact.NAME, self_contact.check),
     (step_response.NAME, step_response.check),
     (random_actions.NAME, random_actions.check),
 )
-
-
-@dataclass
-class RobotReport:
-    spec: str
-    uid: str | None
-    findings: list[Finding] = field(default_factory=list)
-    diagnostics: list[Diagnostic] = field(default_factory=list)  # from compiling the spec
-
-    @property
-    def failed(self) -> bool:
-        return has_errors(self.diagnostics) or any(f.failed for f in self.findings)
-
-    @property
-    def all_diagnostics(self) -> list[Diagnostic]:
-        return self.diagnostics + [d for f in self.findings for d in f.diagnostics]
-
-
-@dataclass(frozen=True)
-class Options:
-    steps: int | None = None  # overrides keyframe_hold.steps and random_actions.steps
-    backend: Backend = CPU
-    render_dir: Path | None = None  # save each camera's image there (needs a render device)
-
-
-Progress = Callable[[int, int, str], None]  # (checks done, checks in all, what runs now)
+Phase = Callable[[str], None]  # what is about to happen ("loading the robot in mode X")
 
 
 def check_paths(
-    paths: Sequence[Path], options: Options = Options(), progress: Progress | None = None
+    paths: Sequence[Path],
+    options: Options = DEFAULT_OPTIONS,
+    progress: Progress | None = None,
+    *,
+    isolate: bool = True,
 ) -> tuple[list[RobotReport], list[Diagnostic]]:
-    """Reports for every spec found under ``paths``, plus diagnostics not tied to one spec."""
+    """Reports for every spec found under ``paths``, plus diagnostics not tied to one spec.
+
+    With ``isolate`` (the default) robots are checked in a worker process, one after another,
+    and a worker that dies is replaced; without, in this process."""
     compiled, diagnostics = compile_all(paths)
-    total = len(CHECKS) * sum(item.ok for item in compiled)
-    reports = []
+    reports: list[RobotReport] = []
+    pending = [(item, precheck(item)) for item in compiled]
+    total = len(CHECKS) * sum(report is None for _, report in pending)
     done = 0
-    for item in compiled:
+    with WorkerPool() as pool:
+        for item, finished in pending:
+            if finished is not None:
+                reports.append(finished)
+                continue
 
-        def step(index: int, label: str, done: int = done) -> None:
-            if progress is not None:
-                progress(done + index, total, label)
+            def step(index: int, label: str, done: int = done) -> None:
+                if progress is not None:
+                    progress(done + index, total, label)
 
-        reports.append(check_compiled(item, options, step))
-        done += len(CHECKS) if item.ok else 0
+            if isolate:
+                reports.append(pool.check(item, options, step))
+            else:
+                reports.append(check_compiled(item, options, step))
+            done += len(CHECKS)
     if progress is not None:
         progress(total, total, "done")
     return reports, diagnostics
 
 
-def check_compiled(
-    item: CompiledSpec,
-    options: Options = Options(),
-    progress: Callable[[int, str], None] | None = None,
-) -> RobotReport:
+def precheck(item: CompiledSpec) -> RobotReport | None:
+    """The finished report of a spec that cannot be checked (it does not compile, or its
+    description is not downloaded: RS510), or None when it can."""
     robot = item.robot
     report = RobotReport(item.display, robot.uid if robot else None, [], list(item.diagnostics))
     if not item.ok or item.context is None or robot is None:
@@ -104,24 +109,88 @@ def check_compiled(
             )
         )
         return report
+    return None
+
+
+def check_compiled(
+    item: CompiledSpec,
+    options: Options = DEFAULT_OPTIONS,
+    progress: RobotProgress | None = None,
+    on_phase: Phase | None = None,
+) -> RobotReport:
+    """Check one compiled spec in this process (what a worker process runs)."""
+    finished = precheck(item)
+    if finished is not None:
+        return finished
+    assert item.robot is not None
+    findings, diagnostics = check_loaded(item, options, progress, on_phase)
+    return RobotReport(item.display, item.robot.uid, findings, [*item.diagnostics, *diagnostics])
+
+
+def check_loaded(
+    item: CompiledSpec,
+    options: Options = DEFAULT_OPTIONS,
+    progress: RobotProgress | None = None,
+    on_phase: Phase | None = None,
+) -> tuple[list[Finding], list[Diagnostic]]:
+    """Register the spec's agent and run every check: the findings, and diagnostics of the
+    registration. A crash inside ManiSkill or SAPIEN (a Python exception) becomes a finding
+    with its diagnostic; the checks that can still run, run."""
+    robot, context = item.robot, item.context
+    assert robot is not None and context is not None
     from robospec.output.register import register
 
+    if on_phase is not None:
+        on_phase("registering the agent")
     try:
         register(item.path)
     except SpecError as exc:
-        report.diagnostics.extend(exc.diagnostics)
-        return report
-    run = CheckRun(robot.uid, item.context, _settings(item, options), options.backend)
+        return [], list(exc.diagnostics)
+    except Exception as exc:  # the generated module or a hook crashed on import
+        crash = from_exception(exc)
+        diagnostic = crash_diagnostics.check_failure(context, "register", None, crash)
+        return [_crashed(LOAD, None, crash, diagnostic)], []
+    run = CheckRun(robot.uid, context, _settings(item, options), options.backend, on_phase)
     try:
+        broken = run.open_modes()
+        if broken and not run.modes:
+            return _unloadable(run, broken), []
+        findings = [
+            _crashed(LOAD, mode, crash, crash_diagnostics.mode_failure(context, mode, crash))
+            for mode, crash in broken.items()
+        ]
         for index, (name, check) in enumerate(CHECKS):
             if progress is not None:
                 progress(index, f"{robot.uid}: {name}")
-            report.findings.extend(check(run))
+            run.check = name
+            try:
+                findings.extend(check(run))
+            except Exception as exc:  # upstream's crash becomes a diagnostic
+                crash = from_exception(exc)
+                diagnostic = crash_diagnostics.check_failure(context, name, run.mode, crash)
+                findings.append(_crashed(name, run.mode, crash, diagnostic))
         if options.render_dir is not None:
-            report.findings.extend(render.check(run, options.render_dir))
+            findings.extend(render.check(run, options.render_dir))
+        return findings, []
     finally:
         run.close()
-    return report
+
+
+def _unloadable(run: CheckRun, broken: dict[str, Crash]) -> list[Finding]:
+    """No mode loads: one RS514 when they all fail alike (the robot itself), else one RS516
+    per mode."""
+    crashes = list(broken.values())
+    if len({(c.what, c.frame) for c in crashes}) == 1:
+        diagnostic = crash_diagnostics.load_failure(run.context, run.uid, crashes[0])
+        return [_crashed(LOAD, None, crashes[0], diagnostic)]
+    return [
+        _crashed(LOAD, mode, crash, crash_diagnostics.mode_failure(run.context, mode, crash))
+        for mode, crash in broken.items()
+    ]
+
+
+def _crashed(check: str, mode: str | None, crash: Crash, diagnostic: Diagnostic) -> Finding:
+    return Finding(check, mode, "-", Status.FAIL, f"crashed: {crash.what}", {}, (diagnostic,))
 
 
 def _settings(item: CompiledSpec, options: Options) -> Checks:
@@ -139,4 +208,12 @@ def _settings(item: CompiledSpec, options: Options) -> Checks:
     )
 
 
-__all__ = ["CHECKS", "Options", "RobotReport", "check_compiled", "check_paths"]
+__all__ = [
+    "CHECKS",
+    "Options",
+    "RobotReport",
+    "check_compiled",
+    "check_loaded",
+    "check_paths",
+    "precheck",
+]

@@ -9,6 +9,7 @@ from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Checks
+from robospec.physics.crash import Crash, from_exception
 from robospec.physics.sim import CPU, Backend, Sim
 from robospec.resolve.resolved import ResolvedKeyframe, ResolvedRobot
 
@@ -16,12 +17,20 @@ from robospec.resolve.resolved import ResolvedKeyframe, ResolvedRobot
 @dataclass
 class CheckRun:
     """One robot under check. ``sim(mode)`` gives that mode's environment, made once and
-    shared by the checks (each puts the robot where it needs it first)."""
+    shared by the checks (each starts from a freshly built scene: ``Sim.start``).
+
+    ``on_phase`` hears what is about to happen ("loading the robot in mode X", "keyframe_hold
+    in mode X"): if it kills the process, the parent of a worker process can say what it was."""
 
     uid: str
     context: CheckContext
     settings: Checks
     backend: Backend = CPU
+    on_phase: Callable[[str], None] | None = None
+    check: str | None = None  # the check running now
+    mode: str | None = None  # the mode it used last
+    # modes whose environment could not be made, with what crashed (robospec.physics.crash)
+    broken: dict[str, Crash] = field(default_factory=dict)
     _sims: dict[str, Sim] = field(default_factory=dict)
 
     @property
@@ -30,7 +39,8 @@ class CheckRun:
 
     @property
     def modes(self) -> list[str]:
-        return [m.name for m in self.context.robot.modes]
+        """The control modes the checks walk through: every mode of the spec that loads."""
+        return [m.name for m in self.context.robot.modes if m.name not in self.broken]
 
     @property
     def keyframes(self) -> list[ResolvedKeyframe | None]:
@@ -38,9 +48,26 @@ class CheckRun:
         return list(self.context.robot.keyframes) or [None]
 
     def sim(self, mode: str) -> Sim:
+        self.mode = mode
         if mode not in self._sims:
+            self.phase(f"loading the robot in mode {mode}")
             self._sims[mode] = Sim(self.uid, mode, self.backend)
+        self.phase(f"running {self.check} in mode {mode}" if self.check else f"mode {mode}")
         return self._sims[mode]
+
+    def phase(self, doing: str) -> None:
+        if self.on_phase is not None:
+            self.on_phase(doing)
+
+    def open_modes(self) -> dict[str, Crash]:
+        """Make every mode's environment; returns ``{mode: crash}`` for those ManiSkill or
+        SAPIEN could not make (they leave :attr:`modes`)."""
+        for mode in [m.name for m in self.context.robot.modes]:
+            try:
+                self.sim(mode)
+            except Exception as exc:  # upstream's crash becomes a diagnostic
+                self.broken[mode] = from_exception(exc)
+        return dict(self.broken)
 
     def close(self) -> None:
         for sim in self._sims.values():

@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from robospec.checks.mimic_joints import physx_mimic_joints
 from robospec.diagnostics import Diagnostic
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
+from robospec.physics.nan_cause import nan_cause
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe
 
@@ -105,26 +105,9 @@ def _problems(
     where = ("control_modes", sim.mode)
     found: list[Diagnostic] = []
     if nan_step is not None:
-        mimics = physx_mimic_joints(run.context, sim.mode)
-        if mimics:
-            pairs = ", ".join(f"'{j.name}' mimics '{j.mimic.joint}'" for j in mimics if j.mimic)
-            cause = (
-                f"; the cause is the URDF <mimic> tags ({pairs}; {run.context.description_file}"
-                f":{mimics[0].line}): SAPIEN turns them into PhysX mimic joints, which alone go "
-                "NaN on the CPU"
-            )
-            hint = (
-                "remove the <mimic> tags from the URDF and drive each pair with a "
-                "pd_joint_pos_mimic controller, e.g. mimic: {"
-                + ", ".join(f"{j.name}: {j.mimic.joint}" for j in mimics if j.mimic)
-                + "}"
-            )
-        elif unbounded := _normalized_over_infinite_bounds(sim):
-            cause = (
-                f"; the cause is {', '.join(unbounded)}: actions normalized to [-1, 1] over "
-                "infinite joint limits scale to infinite targets"
-            )
-            hint = "give the controller finite lower/upper, or set normalize_action: false"
+        known = nan_cause(run.context, sim.mode, [(g.name, g.controller) for g in sim.groups()])
+        if known is not None:
+            cause, hint = f"; the cause is {known.cause}", known.hint
         else:
             cause = ""
             hint = (
@@ -177,17 +160,3 @@ def _problems(
             )
         )
     return tuple(found)
-
-
-def _normalized_over_infinite_bounds(sim: Sim) -> list[str]:
-    """The groups of ``sim``'s mode whose normalized actions scale to infinite bounds."""
-    found = []
-    for group in sim.groups():
-        controller = group.controller
-        if not getattr(controller.config, "normalize_action", False):
-            continue
-        low = controller.action_space_low.cpu().numpy()
-        high = controller.action_space_high.cpu().numpy()
-        if not (np.isfinite(low).all() and np.isfinite(high).all()):
-            found.append(f"group '{group.name}'")
-    return found

@@ -13,12 +13,13 @@ from robospec.diagnostics import Diagnostic, Severity, sort_key
 from robospec.physics.action_layout import NAME as ACTION_LAYOUT
 from robospec.physics.batch import RobotReport
 from robospec.physics.findings import Finding, Status
+from robospec.physics.results import LOAD
 
 COLUMNS = ("check", "mode", "subject", "result", "details")
 
 
 def robot_status(report: RobotReport) -> str:
-    if not report.findings and report.failed:
+    if report.failed and all(f.check == LOAD for f in report.findings):
         return "error"  # the spec did not compile, or the robot could not be loaded
     return "fail" if report.failed else "pass"
 
@@ -58,6 +59,7 @@ def render_json(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> 
                     "status": robot_status(r),
                     "findings": [_strict(_finding_json(f)) for f in r.findings],
                     "diagnostics": [d.to_json() for d in sorted(r.all_diagnostics, key=sort_key)],
+                    "messages": [m.to_json() for m in r.messages],
                 }
                 for r in reports
             ],
@@ -94,6 +96,9 @@ def render_text(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> 
         if layouts:
             lines.append("  action layout:")
             lines.extend(f"    {f.mode} ({f.subject}): {f.summary}" for f in layouts)
+        if report.messages:
+            lines.append("  ManiSkill and SAPIEN said, each message once:")
+            lines.extend(f"    {m.describe()}" for m in report.messages)
         lines.append("")
     problems = sorted([d for r in reports for d in r.all_diagnostics] + list(extra), key=sort_key)
     lines.extend(d.format_text() for d in problems)

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from robospec.maniskill.headless import make_empty_env
+from robospec.maniskill.headless import headless_loading, make_empty_env
 from robospec.resolve.resolved import ResolvedKeyframe
 
 
@@ -91,12 +91,17 @@ class Sim:
     """A headless ``Empty-v1`` environment holding the robot ``uid`` in ``mode``."""
 
     def __init__(self, uid: str, mode: str, backend: Backend = CPU) -> None:
+        self.uid = uid
         self.mode = mode
         self.backend = backend
         self.env = make_empty_env(
             uid, mode, num_envs=backend.num_envs, sim_backend=backend.sim_backend
         )
         self.env.reset(seed=0)
+        self._bind()
+
+    def _bind(self) -> None:
+        """Read what the checks use from the environment as (re)built."""
         self.base = self.env.unwrapped
         self.agent = self.base.agent
         self.robot = self.agent.robot
@@ -108,14 +113,28 @@ class Sim:
         )
         self.sim_freq: int = int(self.base.sim_freq)
         self.control_freq: int = int(self.base.control_freq)
-        self.fixed_root = bool(self.agent.fix_root_link)
-        if self.fixed_root and not backend.gpu:
+        # what the loader made of it: ManiSkill's MJCF loader frees a root with a <freejoint>
+        # whatever fix_root_link says
+        self.fixed_root = self.robot._objs[0].root.joint.type == "fixed"
+        if self.fixed_root and not self.backend.gpu:
             # A fixed robot is mounted where its task puts it; at the origin of Empty-v1 it may
             # reach through the floor (trifingerpro hangs from above a table), which says
             # nothing about the robot. Floating robots keep the floor: they stand on it.
             self.base.ground.remove_from_scene()
         # the state the robot is loaded in: ``start(None)``
         self._loaded = (self.robot.get_qpos().clone(), self.robot.pose)
+        self._used = False  # whether anything moved since the scene was built
+
+    def _rebuild(self) -> None:
+        """A new scene with the robot loaded afresh. Putting the robot back where it was is
+        not enough: PhysX keeps the contact pairs of the last step (and the solver's state
+        with them) across a teleport, so a measurement would depend on what ran before it —
+        random actions on the Ability hand reached 531 rad/s from a fresh scene and 370 after
+        a keyframe hold. Rebuilding costs about 30 ms once the process's long-lived objects are
+        out of the garbage collector's way (``robospec.physics.worker`` freezes them)."""
+        with headless_loading():
+            self.env.reset(seed=0, options={"reconfigure": True})
+        self._bind()
 
     def close(self) -> None:
         self.env.close()
@@ -127,6 +146,11 @@ class Sim:
         self.close()
 
     # -- the mode's controllers ---------------------------------------------------------------
+
+    def group(self, name: str) -> ControllerGroup:
+        """The mode's controller group ``name``, of the scene as it is now (a rebuilt scene
+        has new controllers)."""
+        return next(g for g in self.groups() if g.name == name)
 
     def groups(self) -> list[ControllerGroup]:
         controller = self.agent.controller
@@ -172,7 +196,13 @@ class Sim:
 
     def start(self, keyframe: ResolvedKeyframe | None) -> np.ndarray:
         """Put the robot at ``keyframe`` (or as it was loaded), at rest, with the controller
-        reset there; returns the qpos it starts from, shape ``(J,)``."""
+        reset there, in a scene nothing has run in yet (on the CPU: see :meth:`_rebuild`);
+        returns the qpos it starts from, shape ``(J,)``. Every measurement starts here, so
+        none depends on which ran before it. On ``physx_cuda`` the scene is reused (building
+        one there costs seconds)."""
+        if self._used and not self.backend.gpu:
+            self._rebuild()
+        self._used = True
         if keyframe is not None:
             set_keyframe(self.robot, keyframe, self.backend.num_envs)
         else:
@@ -197,6 +227,11 @@ class Sim:
 
     def root_position(self) -> np.ndarray:
         return self.robot.pose.p.cpu().numpy().astype(np.float64)
+
+    def gravity_off(self) -> bool:
+        """Whether ManiSkill turned gravity off on every link of the robot: what its
+        ``balance_passive_force`` (true unless a mode says otherwise) does."""
+        return all(bool(np.all(np.asarray(link.disable_gravity))) for link in self.robot.links)
 
     def root_speed(self) -> np.ndarray:
         velocity = self.robot.root_linear_velocity.cpu().numpy().astype(np.float64)

@@ -95,6 +95,7 @@ def _step(
 ) -> Finding:
     settings = run.settings.step_response.for_controller(controller)
     start = sim.start(run.keyframes[0])
+    group = sim.group(group.name)  # the controller of the scene start() built
     sim.hold_drive_targets()
     joints = list(group.joint_indices)
     pin = None if sim.fixed_root else sim.lifted_root(LIFT)
