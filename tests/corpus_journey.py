@@ -154,17 +154,24 @@ def exception_line(text: str) -> str:
     return ends[0][:300] if ends else "(no exception line)"
 
 
-def _json_of(*texts: str) -> Any:
-    """The JSON document a command printed (--format json), on stdout or stderr, skipping
-    whatever SAPIEN or ManiSkill printed before it."""
+def _json_documents(*texts: str) -> list[dict[str, Any]]:
+    """The JSON objects a command printed (--format json) on stdout and stderr, skipping
+    whatever SAPIEN or ManiSkill printed around them: ``inspect`` prints its facts on stdout
+    and its diagnostics on stderr."""
     decoder = json.JSONDecoder()
+    documents = []
     for text in texts:
+        end = 0
         for match in re.finditer(r"^\{", text, re.M):
+            if match.start() < end:
+                continue  # inside the document just read
             try:
-                return decoder.raw_decode(text, match.start())[0]
+                document, end = decoder.raw_decode(text, match.start())
             except ValueError:
                 continue
-    return None
+            if isinstance(document, dict):
+                documents.append(document)
+    return documents
 
 
 # -- naming files without this machine's folders
@@ -224,13 +231,13 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
     journey = Journey(robot, {name: Step(name) for name in STEPS})
     spec_name = f"{robot.key}.yaml"
 
-    def cli(name: str, *args: str) -> tuple[Step, Any]:
+    def cli(name: str, *args: str) -> tuple[Step, list[dict[str, Any]]]:
         step = journey.steps[name]
         ran = _robospec(workdir, name, *args)
         step.seconds = ran.seconds
-        document = _json_of(ran.stdout, ran.stderr)
-        if isinstance(document, dict):
-            step.found = _found(_all_diagnostics(document), workdir, folders, quoted)
+        documents = _json_documents(ran.stdout, ran.stderr)
+        for document in documents:
+            step.found += _found(_all_diagnostics(document), workdir, folders, quoted)
         crash = crash_of(ran, TIMEOUTS[name])
         step.crash = None if crash is None else scrub(crash, quoted)
         if step.crash:
@@ -239,7 +246,7 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
             step.outcome = PASSED
         else:
             step.outcome = FAILED
-        return step, document
+        return step, documents
 
     cli("inspect", "inspect", str(description), "--format", "json")
     cli("new", "new", "--from-urdf", str(description), "-o", spec_name, "--format", "json")
@@ -248,8 +255,8 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
     validate, _ = cli("validate", "validate", spec_name, "--format", "json")
     if validate.outcome != PASSED:
         return journey
-    _, report = cli("check", "check", spec_name, "--steps", str(RANDOM_STEPS), "--format", "json")
-    _read_uid(journey, report)
+    _, reports = cli("check", "check", spec_name, "--steps", str(RANDOM_STEPS), "--format", "json")
+    _read_uid(journey, reports)
     build, _ = cli("build", "build", spec_name, "-o", BUILD_PACKAGE, "--format", "json")
     _run_in_maniskill(journey, workdir, spec_name, folders, quoted, built=build.outcome == PASSED)
     return journey
@@ -263,8 +270,8 @@ def _all_diagnostics(document: dict[str, Any]) -> list[dict[str, Any]]:
     return items
 
 
-def _read_uid(journey: Journey, report: Any) -> None:
-    if isinstance(report, dict):
+def _read_uid(journey: Journey, reports: list[dict[str, Any]]) -> None:
+    for report in reports:
         for robot in report.get("robots") or []:
             journey.uid = robot.get("uid") or journey.uid
 
