@@ -12,7 +12,8 @@ from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_k
 from robospec.load.discovery import discover
 from robospec.load.reader import read_spec
 from robospec.load.source_map import LoadedSpec
-from robospec.maniskill.builtin_uids import MANISKILL_UIDS, Overrides, override_allowed
+from robospec.maniskill.builtin_uids import Overrides, override_allowed
+from robospec.maniskill.installed import registered_uids
 from robospec.model.validate import build_spec
 from robospec.resolve import resolve
 from robospec.resolve.description_files import shown_path
@@ -70,7 +71,7 @@ def _compile_into(result: CompiledSpec, overrides: Overrides) -> None:
     if model.spec is None or model.diagnostics:
         return
     spec = model.spec
-    if spec.uid in MANISKILL_UIDS and not override_allowed(spec.uid, spec.override, overrides):
+    if spec.uid in registered_uids() and not override_allowed(spec.uid, spec.override, overrides):
         result.diagnostics.append(
             error(
                 loaded.source.value(("uid",)),

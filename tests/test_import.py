@@ -27,11 +27,11 @@ from maniskill_compare import (
     assert_same_value,
 )
 
-from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+from robospec.maniskill.installed import registered_uids
 
 pytestmark = pytest.mark.maniskill
 
-ALL_AGENTS = sorted(MANISKILL_UIDS)
+ALL_AGENTS = sorted(registered_uids())
 # import errors that report a mistake in the upstream class (the spec leaves the thing out)
 UPSTREAM_ERRORS = {"RS405", "RS406", "RS414"}
 PANDA = "mani_skill.agents.robots.panda.panda:Panda"

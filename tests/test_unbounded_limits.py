@@ -82,3 +82,20 @@ def test_an_unbounded_ee_pose_controller_registers_and_steps(agent_class: type) 
         assert np.isfinite(np.asarray(obs)).all()
     finally:
         env.close()
+
+
+@pytest.mark.parametrize("missing", ["stiffness", "damping", "ee_link"])
+def test_the_fields_maniskill_requires_of_an_ee_controller_are_required(
+    tmp_path: Path, missing: str
+) -> None:
+    # ManiSkill's PDEEPos(e)ControllerConfig has no default for them (nightly also makes
+    # ee_link and urdf_path required; robospec always writes urdf_path)
+    line = next(n for n in SPEC.read_text().splitlines() if n.startswith("  arm: {type"))
+    kept = ", ".join(p for p in line.split(", ") if not p.startswith(f"{missing}:"))
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(SPEC.read_text().replace(line, kept))
+    errors = [d for d in compile_spec(spec).diagnostics if d.is_error]
+    assert [(d.code, d.location.line) for d in errors] == [("RS103", 10)], [
+        d.format_text() for d in errors
+    ]
+    assert f"'{missing}'" in errors[0].message

@@ -155,12 +155,12 @@ def _rest_warnings(
 
 def _uid_problem(uid: str, at: Location) -> Diagnostic | None:
     from robospec.cli.uid_option import invalid_uid
-    from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+    from robospec.maniskill.installed import registered_uids
 
     problem = invalid_uid(uid, at)
     if problem is not None:
         return problem
-    if uid in MANISKILL_UIDS:
+    if uid in registered_uids():
         return error(
             at,
             "RS306",

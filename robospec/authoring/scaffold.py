@@ -37,7 +37,7 @@ from robospec.authoring.scaffold_controllers import controllers_and_modes
 from robospec.description.facts import Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
-from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+from robospec.maniskill.installed import registered_uids
 from robospec.model.names import NAME_PATTERN
 from robospec.resolve.paths import ASSETS_PLACEHOLDER, maniskill_assets_dir
 from robospec.resolve.root_pose import root_body_pose
@@ -103,7 +103,7 @@ def default_uid(robot_name: str | None, path: Path) -> str:
         raw = path.name.split(".")[0]
     raw = _GENERIC_SUFFIX.sub("", raw) or raw
     uid = re.sub(r"[^A-Za-z0-9_.\-]+", "_", raw).lstrip("_.-")[:64].rstrip("_") or "robot"
-    if uid in MANISKILL_UIDS:
+    if uid in registered_uids():
         uid = f"rs_{uid}"[:64]
     return uid
 

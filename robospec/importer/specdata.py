@@ -178,7 +178,7 @@ def _class_warnings(
 ) -> list[Diagnostic]:
     """What the spec cannot carry over from the class (RS409, RS410), and a uid ManiSkill
     registers itself (RS411)."""
-    from robospec.maniskill.builtin_uids import MANISKILL_UIDS
+    from robospec.maniskill.installed import registered_uids
 
     at_class = Location(record.source.file, record.source.line, record.source.column)
     diagnostics: list[Diagnostic] = []
@@ -215,7 +215,7 @@ def _class_warnings(
                 hint,
             )
         )
-    if uid in MANISKILL_UIDS:
+    if uid in registered_uids():
         diagnostics.append(
             warning(
                 Location("<uid>", 1, 1),

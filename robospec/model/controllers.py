@@ -334,16 +334,6 @@ class PDEEPoseConfig(PDEEPosConfig):
         "three axes or a list of three.",
         examples=[0.1],
     )
-    stiffness: PerJoint | None = Field(  # type: ignore[assignment]
-        default=None,
-        description="Drive stiffness (the P gain) of each arm joint.",
-        examples=[1e3],
-    )
-    damping: PerJoint | None = Field(  # type: ignore[assignment]
-        default=None,
-        description="Drive damping (the D gain) of each arm joint.",
-        examples=[1e2],
-    )
     frame: Literal[  # type: ignore[assignment]
         "body_translation:root_aligned_body_rotation",
         "root_translation:root_aligned_body_rotation",

@@ -44,17 +44,19 @@ def _file_hash(path: str) -> str | None:
 
 
 def cache_salt() -> str:
-    """What else a cache entry depends on: the cache layout, robospec's and ManiSkill's versions."""
-    return CACHE_FORMAT + "/" + _robospec_version()
-
-
-def _robospec_version() -> str:
+    """What else a cache entry depends on: the cache layout, robospec's version, and which
+    ManiSkill is installed (its distribution, version and files: the nightly's
+    ``__version__`` says 3.0.1 too)."""
     from importlib.metadata import PackageNotFoundError, version
 
+    from robospec.maniskill.installed import installed
+
     try:
-        return version("robospec") + "/" + version("mani-skill")
+        robospec_version = version("robospec")
     except PackageNotFoundError:
-        return "unknown"
+        robospec_version = "unknown"
+    maniskill = installed()
+    return "/".join((CACHE_FORMAT, robospec_version, maniskill.identity if maniskill else "none"))
 
 
 def register(
