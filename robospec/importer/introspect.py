@@ -25,6 +25,7 @@ from robospec.importer.records import (
     AgentRecord,
     CameraRecord,
     ControllerRecord,
+    HookFacts,
     JointFacts,
     KeyframeRecord,
     ModeRecord,
@@ -237,7 +238,10 @@ def _sources(cls: type) -> tuple[tuple[str, tuple[str, ...]], ...]:
     return tuple(out)
 
 
-def _unreproduced(cls: type) -> tuple[str, ...]:
+def _unreproduced(cls: type, hooks: HookFacts) -> tuple[str, ...]:
+    """Members of the class that are code the spec does not reproduce: a hook the spec
+    reproduces in part is named with what it leaves out."""
+    partly = {hook: ", ".join(statements) for hook, statements in hooks.left_out}
     names: list[str] = []
     seen: set[str] = set()
     for klass in _own_classes(cls):
@@ -259,12 +263,12 @@ def _unreproduced(cls: type) -> tuple[str, ...]:
                 if own:
                     names.append(f"__init__({', '.join(own)})")
                 continue
-            if name in DATA_MEMBERS:
+            if name in DATA_MEMBERS or name in hooks.reproduced:
                 continue
             if isinstance(member, (property, staticmethod, classmethod)) or inspect.isfunction(
                 member
             ):
-                names.append(name)
+                names.append(f"{name} (in part: {partly[name]})" if name in partly else name)
     return tuple(names)
 
 
@@ -407,6 +411,10 @@ def read_agent(
             downloads = tuple(entry.asset_download_ids)
             break
 
+    from robospec.importer.afterinit import read_hooks
+
+    hooks = read_hooks(cls, obj, description.link_names if description is not None else None)
+
     kind = "urdf" if cls.urdf_path is not None else "mjcf"
     raw_path = cls.urdf_path if cls.urdf_path is not None else cls.mjcf_path
     record = AgentRecord(
@@ -427,7 +435,7 @@ def read_agent(
         modes=tuple(modes),
         cameras=tuple(cameras),
         asset_download_ids=downloads,
-        unreproduced=_unreproduced(cls),
+        unreproduced=_unreproduced(cls, hooks),
         active_joints=(
             tuple(
                 JointFacts(j.name, j.lower, j.upper, j.mimic is not None)
@@ -441,6 +449,7 @@ def read_agent(
         urdf_config_at=_defined_at(cls, "urdf_config"),
         sources=_sources(cls),
         not_imported=tuple(d.message for d in diagnostics if d.code in ("RS404", "RS413")),
+        hooks=hooks,
     )
     return record, diagnostics
 

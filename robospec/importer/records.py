@@ -89,6 +89,52 @@ class JointFacts:
     mimic: bool = False  # a URDF mimic joint (it follows another; no controller drives it)
 
 
+# -- what _after_init / _after_loading_articulation do (robospec.importer.afterinit) ---------
+
+
+@dataclass(frozen=True)
+class CollisionRecord:
+    links: tuple[str, ...]
+    group: int
+    bit: int
+    value: int
+
+
+@dataclass(frozen=True)
+class FingerRecord:
+    attribute: str  # the named link (agent attribute) of the finger
+    opening: str  # "+y", "-x", ...
+
+
+@dataclass(frozen=True)
+class GraspingRecord:
+    method: str
+    fingers: tuple[FingerRecord, FingerRecord]
+    min_force: float
+    max_angle: float
+
+
+@dataclass(frozen=True)
+class TcpRecord:
+    link: str | None  # the link bound to self.tcp
+    midpoint: tuple[str, str] | None = None  # named-link attributes
+    orientation: str | None = None  # "midpoint" or a named-link attribute
+
+
+@dataclass(frozen=True)
+class HookFacts:
+    """What the hooks do that a spec can say, and what they do that it cannot."""
+
+    named_links: tuple[tuple[str, str | tuple[str, ...]], ...] = ()
+    tcp: TcpRecord | None = None
+    collision_rules: tuple[CollisionRecord, ...] = ()
+    grasping: tuple[GraspingRecord, ...] = ()
+    # members whose every statement the spec reproduces
+    reproduced: frozenset[str] = frozenset()
+    # hook name → the statements left out (shown briefly)
+    left_out: tuple[tuple[str, tuple[str, ...]], ...] = ()
+
+
 @dataclass(frozen=True)
 class AgentRecord:
     module: str
@@ -121,6 +167,8 @@ class AgentRecord:
     urdf_config_at: SourceRef | None = None
     # the source files of the class and its bases below BaseAgent: (shown path, lines)
     sources: tuple[tuple[str, tuple[str, ...]], ...] = field(default=(), compare=False)
+    # what the class's hooks do that the spec reproduces (named links, tcp, collision bits)
+    hooks: HookFacts = field(default_factory=HookFacts)
 
     def locate(self, literal: str, default: SourceRef | None = None) -> SourceRef:
         """Where ``literal`` first appears in the agent's source: quoted (``"ee_align"``) or

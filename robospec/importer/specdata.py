@@ -23,6 +23,7 @@ from robospec.importer.records import (
     ALL_JOINTS,
     AgentRecord,
     CameraRecord,
+    HookFacts,
     KeyframeRecord,
     ModeRecord,
 )
@@ -134,6 +135,48 @@ def _data(
     cameras = [c for c in record.cameras if c.uid not in found.dropped_cameras]
     if cameras:
         data["cameras"] = {camera.uid: _camera(camera) for camera in cameras}
+    data.update(_hook_data(record.hooks))
+    return data
+
+
+def _hook_data(hooks: HookFacts) -> dict[str, Any]:
+    """What the class's ``_after_init`` / ``_after_loading_articulation`` do, as spec sections
+    (:mod:`robospec.importer.afterinit` read them), in the order the zoo's specs write them."""
+    data: dict[str, Any] = {}
+    if hooks.collision_rules:
+        data["collision_rules"] = [
+            {
+                "links": rule.links[0] if len(rule.links) == 1 else list(rule.links),
+                "group": rule.group,
+                "bit": rule.bit,
+                **({"value": rule.value} if rule.value != 1 else {}),
+            }
+            for rule in hooks.collision_rules
+        ]
+    tcp = hooks.tcp
+    if tcp is not None:
+        if tcp.midpoint is None:
+            data["tcp"] = tcp.link
+        else:
+            data["tcp"] = {
+                **({"link": tcp.link} if tcp.link is not None else {}),
+                "midpoint": list(tcp.midpoint),
+                "orientation": tcp.orientation,
+            }
+    if hooks.named_links:
+        data["named_links"] = {
+            name: value if isinstance(value, str) else list(value)
+            for name, value in hooks.named_links
+        }
+    if hooks.grasping:
+        data["grasping"] = {
+            check.method: {
+                "fingers": [{"link": f.attribute, "opening": f.opening} for f in check.fingers],
+                "min_force": check.min_force,
+                "max_angle": check.max_angle,
+            }
+            for check in hooks.grasping
+        }
     return data
 
 

@@ -20,7 +20,16 @@ from robospec.importer.specdata import KeyPath, SpecDoc
 WIDTH = 100
 FLOW_LINES = 3  # a mapping below a section is written in flow style up to this many lines
 NESTED_FLOW = 48  # ... when no list or mapping nested in it is longer than this
-BLANK_BEFORE = ("materials", "groups", "keyframes", "controllers", "control_modes", "cameras")
+BLANK_BEFORE = (
+    "materials",
+    "groups",
+    "keyframes",
+    "controllers",
+    "control_modes",
+    "cameras",
+    "collision_rules",
+    "tcp",
+)
 _TOKEN = "RSFLOW{}X"
 _TOKEN_LINE = re.compile(r"^(?P<head>\s*(?:\S.*?:|-))\s+RSFLOW(?P<n>\d+)X$")
 
@@ -156,8 +165,17 @@ class _Writer:
         self.flows: list[Any] = []
 
     def node(self, value: Any, path: KeyPath, indent: int) -> Any:
-        from ruamel.yaml.comments import CommentedMap
+        from ruamel.yaml.comments import CommentedMap, CommentedSeq
 
+        if (
+            len(path) == 1
+            and isinstance(value, list)
+            and value
+            and all(isinstance(item, dict) for item in value)
+        ):  # a section that is a list of mappings (collision_rules): one mapping a line
+            seq = CommentedSeq()
+            seq.extend(self.node(item, (*path, i), indent + 2) for i, item in enumerate(value))
+            return seq
         if isinstance(value, list) or (
             isinstance(value, dict)
             and (len(path) >= 2 or path == ("loader",))
