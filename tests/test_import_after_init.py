@@ -199,3 +199,72 @@ def test_fetch_spec_sections_from_after_init(imported: dict[str, Any], tmp_path:
         {"link": "finger1_link", "opening": "-y"},
         {"link": "finger2_link", "opening": "+y"},
     ]
+
+
+# -- the patterns, on a made-up agent ----------------------------------------------------------
+
+WHEEL_BIT = 30
+
+
+def _made_up_agent() -> type:
+    from mani_skill.agents.base_agent import BaseAgent
+    from mani_skill.utils import sapien_utils
+
+    class Base(BaseAgent):
+        finger_names = ("finger_a", "finger_b")
+
+        def _after_init(self):
+            """Links by name, from a class attribute."""
+            self.fingers = sapien_utils.get_objs_by_names(self.robot.get_links(), self.finger_names)
+
+    class MadeUp(Base):
+        ee_link_name = "hand"
+
+        def _after_init(self):
+            super()._after_init()
+            self.tcp = self.robot.links_map[self.ee_link_name]
+            for side in ["left", "right"]:
+                self.robot.links_map[f"{side}_wheel"].set_collision_group_bit(2, WHEEL_BIT, 1)
+            for link in self.robot.get_links():
+                link.set_collision_group_bit(group=2, bit_idx=5, bit=1)
+            self.robot.links_map["hand"].set_collision_group_bit(bit=0, group=2, bit_idx=5)
+            for link in self.robot.get_links():
+                if link.name == "hand":  # an `if`: not a pattern, so the loop is left out
+                    link.set_collision_group_bit(2, 6, 1)
+            self.missing = self.robot.links_map["no_such_link"]
+            self.counter = 0
+
+        @property
+        def tcp_pos(self):
+            return self.tcp.pose.p
+
+        @property
+        def tcp_pose(self):
+            return self.tcp.pose
+
+    return MadeUp
+
+
+def test_hook_patterns_on_a_made_up_agent() -> None:
+    from robospec.importer.afterinit import read_hooks
+    from robospec.importer.introspect import StandInRobot, instantiate
+    from robospec.importer.records import CollisionRecord
+
+    links = ("base", "left_wheel", "right_wheel", "hand", "finger_a", "finger_b")
+    cls = _made_up_agent()
+    obj, failure = instantiate(cls, StandInRobot(None))
+    assert failure is None
+    facts = read_hooks(cls, obj, links)
+    assert facts.named_links == (("fingers", ("finger_a", "finger_b")),)
+    assert facts.tcp is not None and facts.tcp.link == "hand" and facts.tcp.midpoint is None
+    # set on every link, then cleared on one: both stay in that order
+    assert facts.collision_rules == (
+        CollisionRecord(("left_wheel", "right_wheel"), 2, WHEEL_BIT, 1),
+        CollisionRecord(links, 2, 5, 1),
+        CollisionRecord(("hand",), 2, 5, 0),
+    )
+    assert facts.reproduced == {"tcp_pos", "tcp_pose"}
+    ((hook, left_out),) = facts.left_out
+    assert hook == "_after_init"
+    assert left_out[0].startswith("for link in self.robot.get_links():")
+    assert left_out[1:] == ("self.missing", "self.counter")
