@@ -37,6 +37,8 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
+from robospec.maniskill.installed import installed
+
 if TYPE_CHECKING:
     from click.testing import Result
 
@@ -58,6 +60,11 @@ POSITIVE_SPECS = ROOT / "tests" / "specs" / "positive"
 
 # what the maniskill extra brings that a test may import
 MANISKILL_MODULES = ("mani_skill", "sapien", "torch")
+
+# Which ManiSkill the suite runs on (scripts/test: 3.0.1; scripts/test --nightly: the nightly):
+# tests that assert an upstream bug assert it where this ManiSkill has it, and the fix where not
+_INSTALLED = installed()
+MANISKILL_VERSION = None if _INSTALLED is None else "nightly" if _INSTALLED.is_nightly else "3.0.1"
 MANISKILL_MARK = "maniskill"
 INSTALL_MANISKILL = (
     "the maniskill extra is not installed: run scripts/setup (pip install -e '.[maniskill]')"

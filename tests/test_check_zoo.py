@@ -20,10 +20,10 @@ pytestmark = [
 ]
 pytest.importorskip("mani_skill")
 
-from conftest import DOCS, MANISKILL_SPECS  # noqa: E402
+from conftest import DOCS, MANISKILL_SPECS, MANISKILL_VERSION  # noqa: E402
 from shipped_checks import shipped_spec_reports  # noqa: E402
 
-from robospec.physics.batch import CHECKS, Options, RobotReport, _settings  # noqa: E402
+from robospec.physics.batch import Options, RobotReport, _settings, run_checks  # noqa: E402
 from robospec.physics.check_run import CheckRun  # noqa: E402
 from robospec.physics.findings import Finding  # noqa: E402
 from robospec.pipeline import compile_spec  # noqa: E402
@@ -67,6 +67,22 @@ KNOWN_BROKEN_UPSTREAM: dict[str, tuple[frozenset[str], str]] = {
         "stiffness 50 with damping 1 is underdamped: joints overshoot a small step by ~75%",
     ),
 }
+
+# What the nightly changes (docs/check.md and docs/zoo.md say it too): Fetch's end-effector
+# modes crash in its PDEEPosController (root_link read before it is set), upstream's agent and
+# the spec's alike; the xArm7's end-effector gains are named, not shifted by position, so
+# upstream's measurements in those modes are not the spec's (which reproduces 3.0.1).
+if MANISKILL_VERSION == "nightly":
+    KNOWN_BROKEN_UPSTREAM["rs_fetch"] = (
+        frozenset({"RS502", "RS516"}),
+        KNOWN_BROKEN_UPSTREAM["rs_fetch"][1] + "; in the nightly the end-effector modes crash "
+        "upstream (PDEEPosController reads root_link before setting it)",
+    )
+FIXED_UPSTREAM_MODES: dict[str, set[str]] = (
+    {"rs_xarm7_ability": {"pd_ee_delta_pose", "pd_ee_target_delta_pose"}}
+    if MANISKILL_VERSION == "nightly"
+    else {}
+)
 
 
 # the specs whose robots have a free root
@@ -129,7 +145,7 @@ def _upstream_findings(uid: str) -> list[Finding]:
     assert item.robot.uid == uid
     run = CheckRun(upstream, item.context, _settings(item, Options()))
     try:
-        return [finding for _, check in CHECKS for finding in check(run)]
+        return run_checks(run)
     finally:
         run.close()
 
@@ -157,4 +173,7 @@ def test_each_listed_failure_happens_on_maniskills_own_agent_too(
     found = {d.code for f in upstream for d in f.diagnostics if d.is_error}
     assert found == codes, reason  # ManiSkill's hand-written agent fails with the listed codes ...
     # ... in the same checks, modes and subjects, with the same measurements, as the spec's
-    assert [_observed(f) for f in upstream] == [_observed(f) for f in reports[uid].findings]
+    fixed = FIXED_UPSTREAM_MODES.get(uid, set())
+    assert [_observed(f) for f in upstream if f.mode not in fixed] == [
+        _observed(f) for f in reports[uid].findings if f.mode not in fixed
+    ]

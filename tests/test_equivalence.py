@@ -16,6 +16,7 @@ joint limits, a link rule that names no link): ``LEFT_OUT_DATA``.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import gc
 import re
@@ -36,6 +37,7 @@ pytest.importorskip("mani_skill")
 
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
+from conftest import MANISKILL_VERSION  # noqa: E402
 from maniskill_compare import (  # noqa: E402
     LOADER_FLAGS,
     MANISKILL_SPECS,
@@ -69,14 +71,38 @@ class UpstreamProblem:
     proves it: ``infinite_bounds`` (a normalized action scaled to infinite joint limits) or
     ``urdf_mimic`` (URDF ``<mimic>`` joints that PhysX simulates alone, which robospec warns
     about as RS309).
+    ``crash``: the spec offers the mode (it works in another ManiSkill), and this ManiSkill's
+    controller code crashes building it, upstream's agent and the spec's alike.
+
+    ``versions``: the ManiSkill versions that have the problem (``MANISKILL_VERSION``). Where the
+    installed one does not, the test proves the fix instead: ``gone`` says how upstream fixed
+    it there (``removed`` the mode, or ``fixed`` it so that it works).
     """
 
-    kind: Literal["left_out", "nan"]
+    kind: Literal["left_out", "nan", "crash"]
     reason: str
     error: type[Exception] | None = None
     match: str | None = None
     fails_at: Literal["make", "step"] = "step"
     cause: Literal["infinite_bounds", "urdf_mimic"] | None = None
+    versions: frozenset[str] = frozenset({"3.0.1", "nightly"})  # _EVERY
+    gone: Literal["removed", "fixed"] | None = None
+
+    @property
+    def here(self) -> bool:
+        """Whether the installed ManiSkill has the problem."""
+        return MANISKILL_VERSION in self.versions
+
+
+@dataclass(frozen=True)
+class UpstreamFix:
+    """Controller fields a later ManiSkill corrected, which the spec writes as 3.0.1 has them
+    (specs/maniskill reproduce 3.0.1): on ``version`` upstream's config equals the spec's with
+    ``fields`` in place, and only so."""
+
+    version: str
+    fields: dict[str, Any]
+    reason: str
 
 
 _EE_ALIGN = (
@@ -107,10 +133,39 @@ def _mimic_nan(robot: str, how: str) -> UpstreamProblem:
     return UpstreamProblem("nan", _URDF_MIMIC.format(robot=robot, how=how), cause="urdf_mimic")
 
 
+_EVERY = frozenset({"3.0.1", "nightly"})
+_ONLY_3_0_1 = frozenset({"3.0.1"})
+_ROOT_LINK = (
+    "Fetch's end-effector controllers set root_link_name; the nightly's "
+    "PDEEPosController._initialize_joints reads self.root_link before assigning it, so "
+    "building the mode raises AttributeError, for ManiSkill's Fetch and the spec's alike "
+    "(robospec check reports it as RS516, upstream's code)."
+)
 KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
     ("fetch", "pd_ee_delta_pose_align"): UpstreamProblem(
-        "left_out", f"Fetch {_EE_ALIGN}", error=UnboundLocalError, match=_EE_ALIGN_ERROR
+        "left_out",
+        f"Fetch {_EE_ALIGN}",
+        error=UnboundLocalError,
+        match=_EE_ALIGN_ERROR,
+        versions=_ONLY_3_0_1,
+        gone="removed",
     ),
+    **{
+        ("fetch", mode): UpstreamProblem(
+            "crash",
+            _ROOT_LINK,
+            error=AttributeError,
+            match="object has no attribute 'root_link'",
+            fails_at="make",
+            versions=frozenset({"nightly"}),
+        )
+        for mode in (
+            "pd_ee_delta_pos",
+            "pd_ee_delta_pose",
+            "pd_ee_target_delta_pos",
+            "pd_ee_target_delta_pose",
+        )
+    },
     ("fetch", "pd_joint_pos_vel"): UpstreamProblem(
         "nan",
         "The arm's PDJointPosVelControllerConfig has lower=upper=None (the joint limits) with "
@@ -124,6 +179,8 @@ KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
         f"PandaStick, like Fetch, {_EE_ALIGN}",
         error=UnboundLocalError,
         match=_EE_ALIGN_ERROR,
+        versions=_ONLY_3_0_1,
+        gone="removed",
     ),
     ("floating_panda_gripper", "pd_ee_pose"): UpstreamProblem(
         "left_out",
@@ -131,6 +188,8 @@ KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
         error=ValueError,
         match=_NAN_BOUNDS_ERROR,
         fails_at="make",
+        versions=_ONLY_3_0_1,
+        gone="fixed",  # pos_lower=-inf, pos_upper=inf: tests/test_unbounded_limits.py
     ),
     ("floating_panda_gripper", "pd_ee_pose_quat"): UpstreamProblem(
         "left_out",
@@ -142,6 +201,8 @@ KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
         error=ValueError,
         match=_NAN_BOUNDS_ERROR,
         fails_at="make",
+        versions=_ONLY_3_0_1,
+        gone="removed",
     ),
     **{
         (robot, mode): _mimic_nan(robot, _INSPIRE)
@@ -163,6 +224,29 @@ KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
         )
     },
 }
+
+
+UPSTREAM_FIXES: dict[tuple[str, str], UpstreamFix] = {
+    ("xarm7_ability", mode): UpstreamFix(
+        "nightly",
+        {
+            "rot_lower": -0.1,
+            "rot_upper": 0.1,
+            "stiffness": 1e3,
+            "damping": 1e2,
+            "force_limit": 500,
+            "friction": 0.0,
+        },
+        "3.0.1 passes the end-effector controller's arguments by position, one place off "
+        "(stiffness 0.1, damping 1e3, ...; the spec reproduces them); the nightly names them",
+    )
+    for mode in ("pd_ee_delta_pose", "pd_ee_target_delta_pose")
+}
+
+
+def _fix_here(robot: str, mode: str | None) -> UpstreamFix | None:
+    fix = UPSTREAM_FIXES.get((robot, mode or ""))
+    return fix if fix is not None and fix.version == MANISKILL_VERSION else None
 
 
 @dataclass(frozen=True)
@@ -285,7 +369,14 @@ def _problems(kind: str) -> list[tuple[str, str]]:
 
 
 def _left_out(robot: str) -> set[str]:
+    """The modes the spec leaves out because they fail upstream in 3.0.1 (or in every version)."""
     return {mode for r, mode in _problems("left_out") if r == robot}
+
+
+def _missing_here(robot: str, upstream_modes: list[str]) -> set[str]:
+    """The modes upstream offers here that the spec does not: those it leaves out, less the ones
+    this ManiSkill removed."""
+    return _left_out(robot) & set(upstream_modes)
 
 
 def _case_id(case: tuple[str, str]) -> str:
@@ -358,8 +449,32 @@ def twins_in_mode(request: pytest.FixtureRequest, registered: dict[str, type]) -
     """Both agents of one pair in one control mode; built once for all the tests of the mode
     (module scope makes pytest run those tests together and close the environments after)."""
     robot, mode = request.param
+    problem = KNOWN_UPSTREAM_PROBLEMS.get((robot, mode))
+    if problem is not None and problem.kind == "crash" and problem.here:
+        pytest.skip(f"the mode crashes in this ManiSkill, upstream and ours alike: {problem}")
     with _twins(robot, mode) as pair:
         yield pair
+
+
+def registered_agent_modes(robot: str) -> list[str]:
+    """The control modes ManiSkill's own agent ``robot`` offers here."""
+    env = make_env(robot, None)
+    try:
+        return list(env.unwrapped.agent._controller_configs)
+    finally:
+        env.close()
+
+
+def _assert_steps_finite(uid: str, mode: str, steps: int = 5) -> None:
+    env = make_env(uid, mode)
+    try:
+        env.reset(seed=SEED)
+        for _ in range(steps):
+            env.step(env.action_space.sample())
+        qpos = env.unwrapped.agent.robot.get_qpos()
+        assert torch.isfinite(qpos).all(), (uid, mode, qpos)
+    finally:
+        env.close()
 
 
 # -- control modes ---------------------------------------------------------------------------------
@@ -370,10 +485,11 @@ def test_spec_built_agent_offers_upstream_control_modes_in_order_less_the_broken
 ) -> None:
     upstream = list(twins.upstream_agent._controller_configs)
     ours = list(twins.our_agent._controller_configs)
-    assert ours == [mode for mode in upstream if mode not in _left_out(twins.robot)]
+    missing = _missing_here(twins.robot, upstream)
+    assert ours == [mode for mode in upstream if mode not in missing]
     assert ours == MODES[twins.robot]
     # exactly the modes documented as broken are missing, and nothing else
-    assert set(upstream) - set(ours) == _left_out(twins.robot)
+    assert set(upstream) - set(ours) == missing
 
 
 def test_exactly_the_documented_modes_are_left_out() -> None:
@@ -392,6 +508,16 @@ def test_mode_left_out_of_the_spec_really_fails_upstream(
     robot, mode = case
     problem = KNOWN_UPSTREAM_PROBLEMS[case]
     assert problem.error is not None and problem.match is not None
+    if not problem.here:  # this ManiSkill fixed it: prove the fix
+        upstream_modes = registered_agent_modes(robot)
+        if problem.gone == "removed":
+            assert mode not in upstream_modes, problem.reason
+        else:
+            assert problem.gone == "fixed" and mode in upstream_modes, problem.reason
+            _assert_steps_finite(robot, mode)
+        with pytest.raises(AssertionError, match=f"{mode} not in supported modes"):
+            make_env(TWINS[robot], mode)  # the spec still leaves it out, as 3.0.1 needs
+        return
     if problem.fails_at == "make":
         # upstream offers the mode but cannot build it
         with pytest.raises(problem.error, match=re.escape(problem.match)) as failure:
@@ -411,6 +537,21 @@ def test_mode_left_out_of_the_spec_really_fails_upstream(
         make_env(TWINS[robot], mode)
 
 
+@pytest.mark.parametrize("case", _problems("crash"), ids=_case_id)
+def test_mode_that_crashes_in_this_maniskill_crashes_upstream_and_ours_alike(
+    case: tuple[str, str], registered: dict[str, type]
+) -> None:
+    robot, mode = case
+    problem = KNOWN_UPSTREAM_PROBLEMS[case]
+    assert problem.error is not None and problem.match is not None
+    for uid in (robot, TWINS[robot]):
+        if not problem.here:  # a ManiSkill without the bug builds and steps the mode
+            _assert_steps_finite(uid, mode)
+            continue
+        with pytest.raises(problem.error, match=re.escape(problem.match)):
+            make_env(uid, mode)
+
+
 # -- configuration ---------------------------------------------------------------------------------
 
 
@@ -421,7 +562,15 @@ def test_controller_configs_are_equal_field_by_field_in_every_mode(twins: Twins)
         for mode, configs in twins.upstream_agent._controller_configs.items()
         if mode not in left_out
     }
-    assert_same_controller_configs(twins.our_agent._controller_configs, upstream)
+    ours = dict(twins.our_agent._controller_configs)
+    for mode in list(ours):
+        fix = _fix_here(twins.robot, mode)
+        if fix is not None:  # upstream's config is the spec's with the fix in place, only so
+            arm = copy.deepcopy(ours[mode])
+            for name, value in fix.fields.items():
+                setattr(arm["arm"], name, value)
+            ours[mode] = arm
+    assert_same_controller_configs(ours, upstream)
 
 
 def test_action_space_is_equal(twins_in_mode: Twins) -> None:
@@ -607,6 +756,9 @@ def _rollouts(twins: Twins) -> tuple[tuple[torch.Tensor, ...], tuple[torch.Tenso
 
 def test_rollout_is_bit_identical(twins_in_mode: Twins) -> None:
     robot, mode = twins_in_mode.robot, twins_in_mode.mode
+    fix = _fix_here(robot, mode)
+    if fix is not None:
+        pytest.skip(f"upstream fixed this mode's config here (compared field by field): {fix}")
     (qpos_up, qvel_up), (qpos, qvel) = _rollouts(twins_in_mode)
     assert qpos.shape == qpos_up.shape == (STEPS + 1, 1, qpos.shape[-1])
     problem = KNOWN_UPSTREAM_PROBLEMS.get((robot, mode))
@@ -673,10 +825,14 @@ def test_rs309_warns_for_exactly_the_modes_that_go_nan_from_urdf_mimic_joints() 
 def test_every_known_upstream_problem_names_a_real_robot_and_mode() -> None:
     for (robot, mode), problem in KNOWN_UPSTREAM_PROBLEMS.items():
         assert robot in TWINS
-        assert (mode in MODES[robot]) == (problem.kind == "nan"), (robot, mode)
+        # the spec offers a mode that goes NaN or crashes in some ManiSkill, not one left out
+        assert (mode in MODES[robot]) == (problem.kind in ("nan", "crash")), (robot, mode)
         assert (problem.cause is not None) == (problem.kind == "nan"), (robot, mode)
-        left_out = problem.kind == "left_out"  # an exception, exactly named, proves it
-        assert (problem.error is not None) == (problem.match is not None) == left_out
+        raises = problem.kind in ("left_out", "crash")  # an exception, exactly named, proves it
+        assert (problem.error is not None) == (problem.match is not None) == raises
+        assert problem.versions <= _EVERY and problem.versions
+        if problem.kind == "left_out" and problem.versions != _EVERY:
+            assert problem.gone is not None, (robot, mode)  # how the other version fixed it
         assert problem.reason
     for robot, items in LEFT_OUT_DATA.items():
         assert robot in TWINS

@@ -15,6 +15,7 @@ from typing import Any
 
 import pytest
 import torch
+from conftest import MANISKILL_VERSION
 from maniskill_compare import (
     TWINS,
     assert_same_value,
@@ -116,12 +117,18 @@ def test_zoo_table_lists_every_registered_agent_and_every_spec() -> None:
     from mani_skill.agents.registration import REGISTERED_AGENTS
     from maniskill_compare import MANISKILL_SPECS
 
+    zoo = (Path(__file__).parent.parent / "docs" / "zoo.md").read_text(encoding="utf-8")
+    versions_section = zoo.split("## ManiSkill versions", 1)[-1]
     rows = re.findall(
         r"^\| (\S+) \| (bundled|download) \| (\S+?(?:\.yaml`)?|import only) \|",
-        (Path(__file__).parent.parent / "docs" / "zoo.md").read_text(encoding="utf-8"),
+        zoo,
         re.MULTILINE,
     )
     table = {uid: (assets, spec) for uid, assets, spec in rows}
+    if MANISKILL_VERSION == "nightly":  # the table is 3.0.1's; the nightly removed these
+        removed = {"stompy"}
+        assert removed <= set(table) and all(f"`{uid}`" in versions_section for uid in removed)
+        table = {uid: row for uid, row in table.items() if uid not in removed}
     # ManiSkill's own agents: other tests in this process register robospec's robots too
     maniskill = {
         uid

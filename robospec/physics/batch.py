@@ -152,28 +152,36 @@ def check_loaded(
         return [_crashed(LOAD, None, crash, diagnostic)], []
     run = CheckRun(robot.uid, context, _settings(item, options), options.backend, on_phase)
     try:
-        broken = run.open_modes()
-        if broken and not run.modes:
-            return _unloadable(run, broken), []
-        findings = [
-            _crashed(LOAD, mode, crash, crash_diagnostics.mode_failure(context, mode, crash))
-            for mode, crash in broken.items()
-        ]
-        for index, (name, check) in enumerate(CHECKS):
-            if progress is not None:
-                progress(index, f"{robot.uid}: {name}")
-            run.check = name
-            try:
-                findings.extend(check(run))
-            except Exception as exc:  # upstream's crash becomes a diagnostic
-                crash = from_exception(exc)
-                diagnostic = crash_diagnostics.check_failure(context, name, run.mode, crash)
-                findings.append(_crashed(name, run.mode, crash, diagnostic))
+        findings = run_checks(run, progress)
         if options.render_dir is not None:
             findings.extend(render.check(run, options.render_dir))
         return findings, []
     finally:
         run.close()
+
+
+def run_checks(run: CheckRun, progress: RobotProgress | None = None) -> list[Finding]:
+    """Every check of :data:`CHECKS` on ``run``'s robot, each mode's environment made first: a
+    mode ManiSkill or SAPIEN cannot make, or a check that crashes inside them (a Python
+    exception), becomes a finding with its diagnostic, and the checks that can still run, run."""
+    broken = run.open_modes()
+    if broken and not run.modes:
+        return _unloadable(run, broken)
+    findings = [
+        _crashed(LOAD, mode, crash, crash_diagnostics.mode_failure(run.context, mode, crash))
+        for mode, crash in broken.items()
+    ]
+    for index, (name, check) in enumerate(CHECKS):
+        if progress is not None:
+            progress(index, f"{run.uid}: {name}")
+        run.check = name
+        try:
+            findings.extend(check(run))
+        except Exception as exc:  # upstream's crash becomes a diagnostic
+            crash = from_exception(exc)
+            diagnostic = crash_diagnostics.check_failure(run.context, name, run.mode, crash)
+            findings.append(_crashed(name, run.mode, crash, diagnostic))
+    return findings
 
 
 def _unloadable(run: CheckRun, broken: dict[str, Crash]) -> list[Finding]:
@@ -216,4 +224,5 @@ __all__ = [
     "check_loaded",
     "check_paths",
     "precheck",
+    "run_checks",
 ]
