@@ -24,7 +24,8 @@ from robospec.authoring.frames import (
     normalized,
     translation,
 )
-from robospec.authoring.mjcf_model import MjBody, MjcfModel, numbers, vector
+from robospec.authoring.mjcf_model import MjBody, MjcfModel, vector
+from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 
 
@@ -93,7 +94,7 @@ def urdf_kinematics(text: bytes | str) -> KinematicModel | None:
         rpy = vector(origin.get("rpy") if origin is not None else None)
         xyz = vector(origin.get("xyz") if origin is not None else None)
         axis_element = element.find("axis")
-        axis = numbers(axis_element.get("xyz") if axis_element is not None else None, 3)
+        axis = finite_numbers(axis_element.get("xyz") if axis_element is not None else None, 3)
         joints.append(
             MovingJoint(
                 name=element.get("name", ""),
@@ -144,7 +145,7 @@ def _link_body(model: MjcfModel, body: MjBody, parent: str, out: list[MovingJoin
         limited = joint.attributes.get("limited", "auto")
         bounded = "range" in joint.attributes if limited == "auto" else limited == "true"
         kind = "prismatic" if joint.type == "slide" else "revolute" if bounded else "continuous"
-        axis = numbers(joint.attributes.get("axis"), 3) or (0.0, 0.0, 1.0)
+        axis = finite_numbers(joint.attributes.get("axis"), 3) or (0.0, 0.0, 1.0)
         out.append(
             MovingJoint(
                 name=joint.name,

@@ -27,6 +27,7 @@ from robospec.authoring.frames import (
     from_quaternion,
     from_z_axis,
 )
+from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml, read_file_bytes
 
 MAIN_CLASS = "main"
@@ -146,45 +147,30 @@ def _read_body(element: etree._Element, childclass: str, model: MjcfModel) -> Mj
 def orientation(model: MjcfModel, attributes: dict[str, str]) -> Matrix:
     """A frame's rotation from whichever of MuJoCo's orientation attributes it has."""
     if "quat" in attributes:
-        w, x, y, z = numbers(attributes["quat"], 4) or (1.0, 0.0, 0.0, 0.0)
+        w, x, y, z = finite_numbers(attributes["quat"], 4) or (1.0, 0.0, 0.0, 0.0)
         return from_quaternion(w, x, y, z)
     if "axisangle" in attributes:
-        values = numbers(attributes["axisangle"], 4)
+        values = finite_numbers(attributes["axisangle"], 4)
         if values:
             return about_axis(values[:3], model.angle(values[3]))  # type: ignore[arg-type]
     if "euler" in attributes:
-        values = numbers(attributes["euler"], 3)
+        values = finite_numbers(attributes["euler"], 3)
         if values:
             angles = tuple(model.angle(v) for v in values)
             return from_euler(angles, model.eulerseq)  # type: ignore[arg-type]
     if "xyaxes" in attributes:
-        values = numbers(attributes["xyaxes"], 6)
+        values = finite_numbers(attributes["xyaxes"], 6)
         if values:
             return from_axes(values[:3], values[3:])  # type: ignore[arg-type]
     if "zaxis" in attributes:
-        values = numbers(attributes["zaxis"], 3)
+        values = finite_numbers(attributes["zaxis"], 3)
         if values:
             return from_z_axis(values)  # type: ignore[arg-type]
     return IDENTITY_ROTATION
 
 
-def numbers(text: str | None, count: int | None = None) -> tuple[float, ...] | None:
-    """The numbers of an attribute, or None when it is absent, malformed or the wrong count."""
-    if text is None:
-        return None
-    try:
-        values = tuple(float(part) for part in text.split())
-    except ValueError:
-        return None
-    if count is not None and len(values) != count:
-        return None
-    if not all(math.isfinite(v) for v in values):
-        return None
-    return values
-
-
 def vector(text: str | None, count: int = 3) -> Vector:
-    values = numbers(text, count)
+    values = finite_numbers(text, count)
     return values if values is not None else (0.0, 0.0, 0.0)  # type: ignore[return-value]
 
 

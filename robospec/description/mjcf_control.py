@@ -22,6 +22,7 @@ from robospec.description.facts import Actuator, FileKeyframe, Pose
 from robospec.description.mjcf_frames import Unparsable, normalized
 from robospec.description.mjcf_loaded import LoadedMjcf
 from robospec.description.mjcf_mujoco import MAIN_CLASS, Table
+from robospec.description.numbers import finite_numbers
 
 QPOS_WIDTH = {"free": 7, "ball": 4, "hinge": 1, "slide": 1}
 QVEL_WIDTH = {"free": 6, "ball": 3, "hinge": 1, "slide": 1}
@@ -38,16 +39,6 @@ ACTUATOR_TAGS = (
 )
 
 
-def _floats(text: str | None) -> tuple[float, ...] | None:
-    if text is None:
-        return None
-    try:
-        values = tuple(float(part) for part in text.split())
-    except ValueError:
-        return None
-    return values if all(math.isfinite(v) for v in values) else None
-
-
 def _model_joints(loaded: LoadedMjcf) -> Iterator[tuple[etree._Element, str, float]]:
     """Every joint of the model in MuJoCo's qpos order: (element, type, ref in radians)."""
 
@@ -61,7 +52,7 @@ def _model_joints(loaded: LoadedMjcf) -> Iterator[tuple[etree._Element, str, flo
                 table = _table(loaded.mujoco_classes, child.get("class", childclass))
                 attributes = {**table.get("joint", {}), **child.attrib}
                 kind = attributes.get("type", "hinge")
-                ref = (_floats(attributes.get("ref")) or (0.0,))[0]
+                ref = (finite_numbers(attributes.get("ref")) or (0.0,))[0]
                 if kind == "hinge" and loaded.degrees:
                     ref = math.radians(ref)
                 yield child, kind, ref
@@ -95,8 +86,8 @@ def file_keyframes(
     ]
     found = []
     for index, key in enumerate(keys):
-        qpos = _floats(key.get("qpos")) if key.get("qpos") is not None else None
-        qvel = _floats(key.get("qvel")) if key.get("qvel") is not None else None
+        qpos = finite_numbers(key.get("qpos")) if key.get("qpos") is not None else None
+        qvel = finite_numbers(key.get("qvel")) if key.get("qvel") is not None else None
         if (key.get("qpos") is not None and (qpos is None or len(qpos) > nq)) or (
             key.get("qvel") is not None and (qvel is None or len(qvel) > nv)
         ):
@@ -177,7 +168,7 @@ def _actuator(loaded: LoadedMjcf, element: etree._Element) -> Actuator:
 
 
 def _first(text: str | None, default: float) -> float:
-    values = _floats(text)
+    values = finite_numbers(text)
     return values[0] if values else default
 
 
@@ -186,8 +177,8 @@ def _general_servo(attributes: dict[str, str]) -> tuple[float | None, float | No
     servo (Menagerie writes its arms this way)."""
     if attributes.get("gaintype", "fixed") != "fixed" or attributes.get("biastype") != "affine":
         return None, None
-    gain = _floats(attributes.get("gainprm", "1")) or (1.0,)
-    bias = (*(_floats(attributes.get("biasprm", "0")) or (0.0,)), 0.0, 0.0, 0.0)
+    gain = finite_numbers(attributes.get("gainprm", "1")) or (1.0,)
+    bias = (*(finite_numbers(attributes.get("biasprm", "0")) or (0.0,)), 0.0, 0.0, 0.0)
     kp = gain[0]
     if bias[0] != 0 or not math.isclose(bias[1], -kp, rel_tol=1e-9, abs_tol=1e-12):
         return None, None
@@ -195,7 +186,7 @@ def _general_servo(attributes: dict[str, str]) -> tuple[float | None, float | No
 
 
 def _limited_range(attributes: dict[str, str], what: str) -> tuple[float, float] | None:
-    values = _floats(attributes.get(f"{what}range"))
+    values = finite_numbers(attributes.get(f"{what}range"))
     limited = attributes.get(f"{what}limited", "auto")
     if values is None or len(values) != 2 or limited == "false":
         return None

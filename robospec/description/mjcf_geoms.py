@@ -48,6 +48,7 @@ from robospec.description.mjcf_loaded import (
 )
 from robospec.description.mjcf_mujoco import MAIN_CLASS, attributes
 from robospec.description.mjcf_structure import names
+from robospec.description.numbers import finite_numbers
 from robospec.diagnostics import Diagnostic, error, warning
 
 COLLISION_FILTER = "RS073"
@@ -65,16 +66,6 @@ MINIMUM_MASS = 1e-6  # what SAPIEN gives a link without collision shapes, kg
 CERTAINLY_WRONG = 10.0  # a mesh this many times too large or small is an error
 MANISKILL_VISUAL_GROUPS = (0, 2)
 MUJOCO_VISUAL_GROUPS = (0, 1, 2)
-
-
-def _floats(text: str | None) -> tuple[float, ...] | None:
-    if text is None:
-        return None
-    try:
-        values = tuple(float(part) for part in text.split())
-    except ValueError:
-        return None
-    return values if all(math.isfinite(v) for v in values) else None
 
 
 def _elsewhere(elements: list[etree._Element]) -> str:
@@ -185,7 +176,7 @@ def mesh_scale(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     for mesh, geoms in used.items():
         if "scale" in mesh.attrib:
             continue
-        meant = _floats(attributes(loaded.mujoco_classes, mesh, MAIN_CLASS).get("scale"))
+        meant = finite_numbers(attributes(loaded.mujoco_classes, mesh, MAIN_CLASS).get("scale"))
         if meant is None or len(meant) != 3 or meant == (1.0, 1.0, 1.0):
             continue
         collides = any(geom.collides for geom in geoms)
@@ -386,13 +377,13 @@ def _collisions_added(
 def _volume(geom: LoadedGeom) -> float | None:
     """The volume SAPIEN gives the geom's collision shape; None for a mesh (its convex hull
     is not computed here)."""
-    size = _floats(geom.attributes.get("size")) or (1.0, 1.0, 1.0)
+    size = finite_numbers(geom.attributes.get("size")) or (1.0, 1.0, 1.0)
     kind = geom.type
     if kind == "sphere":
         return 4 / 3 * math.pi * size[0] ** 3
     if kind not in ("capsule", "cylinder", "box"):
         return None
-    fromto = _floats(geom.attributes.get("fromto"))
+    fromto = finite_numbers(geom.attributes.get("fromto"))
     if fromto is not None and len(fromto) == 6:
         half = math.dist(fromto[:3], fromto[3:]) / 2
     else:
@@ -412,7 +403,7 @@ def _loaded_mass(geoms: list[LoadedGeom]) -> float | None:
         volume = _volume(geom)
         if volume is None:
             return None
-        density = _floats(geom.attributes.get("density")) or (DENSITY,)
+        density = finite_numbers(geom.attributes.get("density")) or (DENSITY,)
         total += density[0] * volume
     return total if shapes else MINIMUM_MASS
 
@@ -425,7 +416,7 @@ def _file_mass(
     contype), and the element that sets it; (None, None) where the file sets none."""
     inertial = body.element.find("inertial")
     if inertial is not None:
-        mass = _floats(inertial.get("mass"))
+        mass = finite_numbers(inertial.get("mass"))
         return (mass[0] if mass else None), inertial
     with_mass = [geom for geom in geoms if "mass" in geom.attributes]
     if not with_mass:
@@ -433,12 +424,12 @@ def _file_mass(
     total = 0.0
     for geom in geoms:
         if "mass" in geom.attributes:
-            total += (_floats(geom.attributes["mass"]) or (0.0,))[0]
+            total += (finite_numbers(geom.attributes["mass"]) or (0.0,))[0]
             continue
         volume = _volume(geom)
         if volume is None:
             return None, with_mass[0].element
-        total += (_floats(geom.attributes.get("density")) or (DENSITY,))[0] * volume
+        total += (finite_numbers(geom.attributes.get("density")) or (DENSITY,))[0] * volume
     return total, with_mass[0].element
 
 
