@@ -20,6 +20,7 @@ from typing import Any
 
 import pytest
 import torch
+from conftest import MANISKILL_VERSION
 from maniskill_compare import BUNDLED_AGENTS, make_env, random_actions, rollout
 
 pytestmark = [
@@ -42,7 +43,24 @@ UPSTREAM_ERRORS = {
     "unitree_g1_simplified_upper_body_right_arm": "RS414",
     "xarm7_ability": "RS406",
 }
+# the nightly removed the modes behind these (fetch's and panda_stick's ee_align) or fixed them
+# (floating_panda_gripper's pd_ee_pose): docs/zoo.md, "ManiSkill versions"
+FIXED_IN_NIGHTLY = {"fetch", "floating_panda_gripper", "panda_stick"}
 SOUND = [uid for uid in BUNDLED_AGENTS if uid not in UPSTREAM_ERRORS]
+# modes whose controllers the installed ManiSkill cannot build, upstream's agent and ours alike:
+# the nightly's PDEEPosController reads root_link before setting it (fetch sets root_link_name)
+CRASHING_HERE: dict[str, set[str]] = (
+    {
+        "fetch": {
+            "pd_ee_delta_pos",
+            "pd_ee_delta_pose",
+            "pd_ee_target_delta_pos",
+            "pd_ee_target_delta_pose",
+        }
+    }
+    if MANISKILL_VERSION == "nightly"
+    else {}
+)
 CHECKED = [*SOUND, "fetch"]  # fetch: in the modes its spec keeps
 
 
@@ -89,9 +107,10 @@ def test_exactly_the_listed_agents_report_upstream_errors(imported: dict[str, An
         upstream: sorted({d.code for d in result.diagnostics} & UPSTREAM_CODES)
         for upstream, result in imported.items()
     }
-    assert {u: codes for u, codes in found.items() if codes} == {
-        u: [code] for u, code in UPSTREAM_ERRORS.items()
-    }
+    expected = {u: [code] for u, code in UPSTREAM_ERRORS.items()}
+    if MANISKILL_VERSION == "nightly":
+        expected = {u: codes for u, codes in expected.items() if u not in FIXED_IN_NIGHTLY}
+    assert {u: codes for u, codes in found.items() if codes} == expected
 
 
 def _collision_groups(agent: Any) -> dict[str, list[list[int]]]:
@@ -136,10 +155,12 @@ def test_imported_spec_is_rollout_identical_with_the_same_collision_bits(
     finally:
         theirs_env.close()
         our_env.close()
-    assert (upstream == "fetch") == bool(left_out)  # only fetch leaves a mode out
+    if MANISKILL_VERSION != "nightly":  # the nightly removed fetch's broken mode
+        assert (upstream == "fetch") == bool(left_out)  # only fetch leaves a mode out
 
     moved = False
-    for mode in (m for m in modes if m not in left_out):
+    crashing = CRASHING_HERE.get(upstream, set())
+    for mode in (m for m in modes if m not in left_out | crashing):
         theirs_env, our_env = make_env(upstream, mode), make_env(ours, mode)
         try:
             actions = random_actions(theirs_env.action_space, SEED, STEPS)
@@ -169,7 +190,10 @@ def test_rs409_lists_only_what_the_spec_leaves_out(imported: dict[str, Any]) -> 
     assert listed("panda") == "is_static, build_grasp_pose"
     assert listed("so100") == "is_static, build_grasp_pose"
     # fetch: links, tcp (a midpoint), collision bits; only the GPU contact-query cache is not
-    assert listed("fetch").startswith("_after_init (in part: self.queries), is_static")
+    if MANISKILL_VERSION == "nightly":  # its _after_init binds links and sets bits, nothing more
+        assert listed("fetch") == "is_static, build_grasp_pose"
+    else:
+        assert listed("fetch").startswith("_after_init (in part: self.queries), is_static")
     # the G1's finger joint indices are plain data for methods the spec does not have
     assert listed("unitree_g1_simplified_upper_body").startswith(
         "_after_init (in part: self.right_finger_joints, self.right_finger_joint_indexes, "
@@ -207,6 +231,8 @@ WHEEL_BIT = 30
 
 
 def _made_up_agent() -> type:
+    from typing import cast
+
     from mani_skill.agents.base_agent import BaseAgent
     from mani_skill.utils import sapien_utils
 
@@ -214,8 +240,10 @@ def _made_up_agent() -> type:
         finger_names = ("finger_a", "finger_b")
 
         def _after_init(self):
-            """Links by name, from a class attribute."""
-            self.fingers = sapien_utils.get_objs_by_names(self.robot.get_links(), self.finger_names)
+            """Links by name, from a class attribute, through typing.cast (as the nightly)."""
+            self.fingers = cast(
+                list, sapien_utils.get_objs_by_names(self.robot.get_links(), self.finger_names)
+            )
 
     class MadeUp(Base):
         ee_link_name = "hand"

@@ -284,6 +284,8 @@ def _eval(state: _State, env: dict[str, Any], node: ast.expr) -> Any:
         return _link(state, _eval(state, env, node.slice))
     if isinstance(node, ast.Call) and not node.keywords and len(node.args) == 2:
         name = _call_name(node.func)
+        if name == "cast":  # typing.cast(T, value) is value (ManiSkill's nightly writes it)
+            return _eval(state, env, node.args[1])
         if name in ("get_obj_by_name", "get_objs_by_names"):
             if not _is_all_links(node.args[0]):
                 raise _Unknown
@@ -360,7 +362,7 @@ def _call_name(func: ast.expr) -> str | None:
     if isinstance(func, ast.Name):
         return func.id
     if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
-        return func.attr if func.value.id in ("sapien_utils", "utils") else None
+        return func.attr if func.value.id in ("sapien_utils", "utils", "typing") else None
     return None
 
 
