@@ -65,6 +65,15 @@ MANISKILL_MODULES = ("mani_skill", "sapien", "torch")
 # tests that assert an upstream bug assert it where this ManiSkill has it, and the fix where not
 _INSTALLED = installed()
 MANISKILL_VERSION = None if _INSTALLED is None else "nightly" if _INSTALLED.is_nightly else "3.0.1"
+# The control modes this ManiSkill cannot build, ManiSkill's agent and the spec's alike
+# (docs/zoo.md, "ManiSkill versions"): the nightly's PDEEPosController reads root_link before
+# setting it whenever root_link_name is set, as Fetch's end-effector controllers set it
+FETCH_EE_MODES = frozenset(
+    {"pd_ee_delta_pos", "pd_ee_delta_pose", "pd_ee_target_delta_pos", "pd_ee_target_delta_pose"}
+)
+CRASHING_MODES: dict[str, frozenset[str]] = (
+    {"fetch": FETCH_EE_MODES} if MANISKILL_VERSION == "nightly" else {}
+)
 MANISKILL_MARK = "maniskill"
 INSTALL_MANISKILL = (
     "the maniskill extra is not installed: run scripts/setup (pip install -e '.[maniskill]')"

@@ -37,7 +37,7 @@ pytest.importorskip("mani_skill")
 
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
-from conftest import MANISKILL_VERSION  # noqa: E402
+from conftest import FETCH_EE_MODES, MANISKILL_VERSION  # noqa: E402
 from maniskill_compare import (  # noqa: E402
     LOADER_FLAGS,
     MANISKILL_SPECS,
@@ -159,12 +159,7 @@ KNOWN_UPSTREAM_PROBLEMS: dict[tuple[str, str], UpstreamProblem] = {
             fails_at="make",
             versions=frozenset({"nightly"}),
         )
-        for mode in (
-            "pd_ee_delta_pos",
-            "pd_ee_delta_pose",
-            "pd_ee_target_delta_pos",
-            "pd_ee_target_delta_pose",
-        )
+        for mode in sorted(FETCH_EE_MODES)
     },
     ("fetch", "pd_joint_pos_vel"): UpstreamProblem(
         "nan",

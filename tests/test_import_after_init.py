@@ -20,7 +20,7 @@ from typing import Any
 
 import pytest
 import torch
-from conftest import MANISKILL_VERSION
+from conftest import CRASHING_MODES, MANISKILL_VERSION
 from maniskill_compare import BUNDLED_AGENTS, make_env, random_actions, rollout
 
 pytestmark = [
@@ -47,20 +47,6 @@ UPSTREAM_ERRORS = {
 # (floating_panda_gripper's pd_ee_pose): docs/zoo.md, "ManiSkill versions"
 FIXED_IN_NIGHTLY = {"fetch", "floating_panda_gripper", "panda_stick"}
 SOUND = [uid for uid in BUNDLED_AGENTS if uid not in UPSTREAM_ERRORS]
-# modes whose controllers the installed ManiSkill cannot build, upstream's agent and ours alike:
-# the nightly's PDEEPosController reads root_link before setting it (fetch sets root_link_name)
-CRASHING_HERE: dict[str, set[str]] = (
-    {
-        "fetch": {
-            "pd_ee_delta_pos",
-            "pd_ee_delta_pose",
-            "pd_ee_target_delta_pos",
-            "pd_ee_target_delta_pose",
-        }
-    }
-    if MANISKILL_VERSION == "nightly"
-    else {}
-)
 CHECKED = [*SOUND, "fetch"]  # fetch: in the modes its spec keeps
 
 
@@ -159,7 +145,7 @@ def test_imported_spec_is_rollout_identical_with_the_same_collision_bits(
         assert (upstream == "fetch") == bool(left_out)  # only fetch leaves a mode out
 
     moved = False
-    crashing = CRASHING_HERE.get(upstream, set())
+    crashing = CRASHING_MODES.get(upstream, frozenset())
     for mode in (m for m in modes if m not in left_out | crashing):
         theirs_env, our_env = make_env(upstream, mode), make_env(ours, mode)
         try:
