@@ -149,3 +149,27 @@ def test_the_scan_equals_the_registry_of_the_installed_maniskill() -> None:
     assert scan_registered_uids(found.package_dir) == own == facts.registered_uids()
     if (found.distribution, found.version) == ("mani-skill", "3.0.1"):
         assert own == facts.UIDS_OF_3_0_1  # the stand-in without ManiSkill
+
+
+def test_both_distributions_installed_is_a_warning_of_check(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from robospec.maniskill.installed import mixed_install_problem
+    from robospec.physics.command import run_check
+
+    package = _package(tmp_path, {})
+    _dist_info(tmp_path, "mani_skill_nightly-2026.8.2.400")
+    assert mixed_install_problem(installed_at(package)) is None  # one distribution: nothing
+    _dist_info(tmp_path, "mani_skill-3.0.1")
+    found = installed_at(package)
+    problem = mixed_install_problem(found)
+    assert problem is not None and problem.code == "RS520" and not problem.is_error
+    assert "mani-skill and mani-skill-nightly" in problem.message
+    assert problem.location.file == str(package)
+
+    monkeypatch.setattr(facts, "installed", lambda: found)
+    spec = tmp_path / "broken.yaml"
+    spec.write_text("robospec: 1\n")
+    code, output = run_check([spec], None, "text", gpu=False, num_envs=1, render_dir=None)
+    assert code == 1  # the spec's own errors
+    assert "warning[RS520]" in output and "error[RS103]" in output

@@ -140,6 +140,7 @@ _CODES = [
     Code("RS517", "a check crashed inside ManiSkill or SAPIEN"),
     Code("RS518", "floating robot hovers under gravity compensation"),
     Code("RS519", "the root ManiSkill loads is not the one the spec says"),
+    Code("RS520", "two ManiSkill distributions installed over each other"),
     # -- writing files, authoring commands: robospec build, inspect, new, doc (RS600-RS619)
     Code("RS600", "file is not a robot description robospec reads"),
     Code("RS601", "spec file already exists"),

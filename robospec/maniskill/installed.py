@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+from robospec.diagnostics import Diagnostic, Location, warning
 from robospec.files import cache_root, write_atomically
 
 # the distributions that install the ``mani_skill`` package
@@ -116,6 +117,24 @@ def _mtime(path: Path) -> float:
         return path.stat().st_mtime
     except OSError:
         return 0.0
+
+
+def mixed_install_problem(found: Installed | None) -> Diagnostic | None:
+    """RS520 where both ManiSkill distributions are installed: pip put one's files over the
+    other's in one ``mani_skill/`` folder, and uninstalling either breaks the other."""
+    if found is None or not found.mixed:
+        return None
+    others = [name for name in found.mixed if name != found.distribution]
+    return warning(
+        Location(str(found.package_dir)),
+        "RS520",
+        f"both {' and '.join(found.mixed)} are installed; mani_skill/ holds the files of "
+        f"{found.distribution} {found.version}, installed over {', '.join(others)}'s (files "
+        "only the other one has stay behind, and uninstalling either removes the other's)",
+        "pip uninstall -y " + " ".join(found.mixed) + f", then pip install {found.distribution}"
+        " (robospec's scripts/setup installs one or the other: the extras maniskill and "
+        "maniskill-nightly)",
+    )
 
 
 def registered_uids() -> frozenset[str]:

@@ -22,7 +22,7 @@ def run_check(
     render_dir: Path | None,
 ) -> tuple[int, str]:
     problems = _unavailable(gpu, render_dir)
-    if problems:
+    if has_errors(problems):
         return 1, _render([], problems, fmt)
     backend = Backend("physx_cuda", num_envs) if gpu else CPU
     progress = ProgressLine()
@@ -30,6 +30,7 @@ def run_check(
         reports, extra = check_paths(paths, Options(steps, backend, render_dir), progress)
     finally:
         progress.close()
+    extra = [*problems, *extra]
     failed = has_errors(extra) or any(r.failed for r in reports)
     return (1 if failed else 0), _render(reports, extra, fmt)
 
@@ -39,8 +40,12 @@ def _render(reports: Sequence[RobotReport], extra: Sequence[Diagnostic], fmt: st
 
 
 def _unavailable(gpu: bool, render_dir: Path | None) -> list[Diagnostic]:
-    """What the machine lacks for the options asked for, before any robot is loaded."""
-    problems = []
+    """What the machine lacks for the options asked for, before any robot is loaded, and what
+    is wrong with its ManiSkill."""
+    from robospec.maniskill.installed import installed, mixed_install_problem
+
+    mixed = mixed_install_problem(installed())
+    problems = [mixed] if mixed is not None else []
     if gpu:
         import torch
 
