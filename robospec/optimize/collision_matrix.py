@@ -1,0 +1,242 @@
+"""Which link pairs of a robot never collide: the MoveIt Setup Assistant's sampling method.
+
+The robot is loaded into a bare SAPIEN scene (no renderer, gravity off, every self-collision
+enabled) and put in many configurations: the keyframes given, then random ones drawn uniformly
+within the joint limits. At each, PhysX computes contacts and every pair of the robot's own links
+touching (a contact point with separation <= 0) is counted. Then, as MoveIt classifies them:
+
+- ``adjacent``: parent and child in the articulation, which PhysX never collides;
+- ``always``: touching in every sample (e.g. two links whose meshes overlap at the joint);
+- ``never``: touching in no sample;
+- ``sometimes``: the rest, which must keep colliding.
+
+``never`` is statistical: a pair that touches only in a rare corner of the joint space can be
+missed (MoveIt's default is 10,000 samples). MoveIt calls a pair "always" from 95 % of samples
+on; here it takes every sample, so a pair that can come apart keeps colliding.
+
+``never ∪ always`` become ``never_collide`` entries (:func:`never_collide_pairs`), packed into
+group-2 bits by :func:`robospec.resolve.collision_packing.pack`; when bits run short that packing
+also disables pairs in ``sometimes`` (:func:`packing_side_effects`).
+
+SAPIEN and numpy are imported inside the functions: importing this module stays cheap.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Collection, Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from itertools import combinations
+from typing import TYPE_CHECKING, Any
+
+from robospec.maniskill.render_fallback import strip_urdf_visuals
+from robospec.resolve.collision_packing import FREE_BITS, Pair, pack, pair
+
+if TYPE_CHECKING:
+    import numpy as np
+
+# Long enough for PhysX to run its collision pass, short enough that the contact impulses it
+# then applies move nothing measurably before the next sample resets the pose.
+CONTACT_TIMESTEP = 1e-6
+
+
+@dataclass(frozen=True)
+class CollisionMatrix:
+    """Every pair of links with collision shapes (sorted names, a < b), in exactly one set."""
+
+    adjacent: frozenset[Pair]  # joined by a joint (PhysX never collides them)
+    always: frozenset[Pair]  # in contact in every sample
+    never: frozenset[Pair]  # in contact in no sample (and not adjacent)
+    sometimes: frozenset[Pair]  # the rest: must keep colliding
+    samples: int  # configurations tried, keyframes included
+
+
+def sample_collision_matrix(
+    urdf_path: str,
+    *,
+    samples: int = 1000,
+    seed: int = 0,
+    keyframes: Sequence[Mapping[str, float]] = (),
+    fix_root_link: bool = True,
+) -> CollisionMatrix:
+    """Classify the link pairs of the URDF at ``urdf_path`` by sampling: every keyframe (joint
+    name -> position; joints it leaves out at 0, clipped into their limits), then ``samples``
+    random configurations from ``numpy.random.default_rng(seed)``. Deterministic for a seed."""
+    if samples < 0:
+        raise ValueError(f"samples must be >= 0, not {samples}")
+    if samples == 0 and not keyframes:
+        raise ValueError("nothing to sample: give samples > 0 or at least one keyframe")
+    scene, robot = load_for_contacts(urdf_path, fix_root_link=fix_root_link)
+    names, lower, upper = joint_ranges(robot)
+    shaped = [link for link in robot.links if link.collision_shapes]
+    configurations = _configurations(names, lower, upper, keyframes, samples, seed)
+    counts = count_contacts(scene, robot, configurations)
+    return classify(
+        universe={pair(a.name, b.name) for a, b in combinations(shaped, 2)},
+        adjacent=adjacent_pairs(shaped),
+        counts=counts,
+        total=len(configurations),
+    )
+
+
+# -- loading ------------------------------------------------------------------------------------
+
+
+def load_for_contacts(urdf_path: str, *, fix_root_link: bool = True) -> tuple[Any, Any]:
+    """A bare SAPIEN scene holding the robot, every self-collision enabled and gravity off:
+    ``(scene, articulation)``."""
+    import sapien
+    from sapien.wrapper.urdf_loader import URDFLoader
+
+    class CollisionOnlyLoader(URDFLoader):
+        # Visuals are dropped: without a rendering device SAPIEN fails on <material> tags and
+        # primitive visuals, and contacts need only the collision shapes.
+        def _parse_urdf(self, urdf_string: str) -> Any:
+            return super()._parse_urdf(strip_urdf_visuals(urdf_string))
+
+    # physics only: a default Scene() also makes a render system, which needs a device
+    scene = sapien.Scene([sapien.physx.PhysxCpuSystem()])
+    scene.set_timestep(CONTACT_TIMESTEP)
+    loader = CollisionOnlyLoader()
+    loader.set_scene(scene)
+    loader.fix_root_link = fix_root_link
+    # srdf_file="" is no file: SAPIEN would otherwise read the SRDF beside the URDF and disable
+    # its pairs, which are what this method must find out for itself
+    robot = loader.load(urdf_path, srdf_file="")
+    for link in robot.links:
+        link.disable_gravity = True
+        for shape in link.collision_shapes:
+            # group 2 bits disable pairs (SRDF, ManiSkill's disable_self_collisions): none here
+            groups = shape.get_collision_groups()
+            shape.set_collision_groups([groups[0], groups[1], 0, groups[3]])
+    return scene, robot
+
+
+def joint_ranges(robot: Any) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """The active joints' names and limits, one value per degree of freedom; an unbounded
+    (continuous) joint ranges over [-pi, pi]."""
+    import numpy as np
+
+    names, lower, upper = [], [], []
+    for joint in robot.active_joints:
+        for low, high in joint.limit:
+            names.append(joint.name)
+            lower.append(low if math.isfinite(low) else -math.pi)
+            upper.append(high if math.isfinite(high) else math.pi)
+    return names, np.array(lower), np.array(upper)
+
+
+def adjacent_pairs(links: Iterable[Any]) -> frozenset[Pair]:
+    """Parent-child pairs among ``links`` (SAPIEN link components)."""
+    present = {link.name for link in links}
+    return frozenset(
+        pair(link.name, link.parent.name)
+        for link in links
+        if link.parent is not None and link.parent.name in present
+    )
+
+
+# -- sampling -----------------------------------------------------------------------------------
+
+
+def _configurations(
+    names: Sequence[str],
+    lower: np.ndarray,
+    upper: np.ndarray,
+    keyframes: Sequence[Mapping[str, float]],
+    samples: int,
+    seed: int,
+) -> np.ndarray:
+    """The keyframes, then ``samples`` uniform draws within the limits: one row each."""
+    import numpy as np
+
+    index = {name: i for i, name in enumerate(names)}
+    default = np.clip(np.zeros(len(names)), lower, upper)
+    rows = []
+    for keyframe in keyframes:
+        unknown = sorted(set(keyframe) - set(index))
+        if unknown:
+            raise ValueError(f"keyframe names joints the robot has not: {', '.join(unknown)}")
+        row = default.copy()
+        for name, value in keyframe.items():
+            row[index[name]] = value
+        rows.append(row)
+    drawn = np.random.default_rng(seed).uniform(lower, upper, size=(samples, len(names)))
+    return np.concatenate([np.array(rows).reshape(-1, len(names)), drawn])
+
+
+def count_contacts(scene: Any, robot: Any, configurations: np.ndarray) -> Counter[Pair]:
+    """In how many of ``configurations`` each pair of the robot's links touches."""
+    import numpy as np
+
+    # id() of the link components as contacts name them; the list keeps those Python objects
+    # alive, so pybind11 hands back these same objects in every contact
+    links = list(robot.links)
+    names = {id(link): link.name for link in links}
+    still = np.zeros(configurations.shape[1])
+    counts: Counter[Pair] = Counter()
+    for qpos in configurations:
+        robot.set_qpos(qpos)
+        robot.set_qvel(still)
+        scene.step()  # PhysX computes contacts only in a step
+        # the pairs, not the mapping: Counter.update would add the depths
+        counts.update(touching_pairs(scene.get_contacts(), names).keys())
+    return counts
+
+
+def touching_pairs(contacts: Iterable[Any], names: Mapping[int, str]) -> dict[Pair, float]:
+    """Pairs of distinct named bodies in contact, ``{(a, b): depth}`` with the deepest
+    penetration in metres. ``names`` maps ``id()`` of a body component to its link name; bodies
+    it does not name (other objects) are skipped, and so are contacts that only come within
+    PhysX's contact offset (every point at a positive separation)."""
+    touching: dict[Pair, float] = {}
+    for contact in contacts:
+        a, b = (names.get(id(body)) for body in contact.bodies)
+        if a is None or b is None or a == b:
+            continue
+        separations = [point.separation for point in contact.points]
+        if not separations or min(separations) > 0:
+            continue
+        key = pair(a, b)
+        touching[key] = max(touching.get(key, 0.0), -float(min(separations)))
+    return touching
+
+
+def classify(
+    universe: Collection[Pair], adjacent: Collection[Pair], counts: Mapping[Pair, int], total: int
+) -> CollisionMatrix:
+    """MoveIt's rules: adjacent first, then always (every sample), never (none), sometimes."""
+    rest = set(universe) - set(adjacent)
+    always = {p for p in rest if counts.get(p, 0) >= total}
+    never = {p for p in rest if counts.get(p, 0) == 0}
+    return CollisionMatrix(
+        adjacent=frozenset(adjacent),
+        always=frozenset(always),
+        never=frozenset(never),
+        sometimes=frozenset(rest - always - never),
+        samples=total,
+    )
+
+
+# -- into the spec ------------------------------------------------------------------------------
+
+
+def never_collide_pairs(matrix: CollisionMatrix) -> list[list[str]]:
+    """``never ∪ always`` as the spec's ``never_collide`` entries: ``[link_a, link_b]`` pairs,
+    sorted. Adjacent pairs are left out: PhysX already ignores them."""
+    return [list(p) for p in sorted(matrix.never | matrix.always)]
+
+
+def packing_side_effects(
+    matrix: CollisionMatrix,
+    *,
+    available: Iterable[int] = FREE_BITS,
+    free: Collection[Pair] = (),
+) -> tuple[Pair, ...]:
+    """Pairs that packing :func:`never_collide_pairs` into the ``available`` group-2 bits would
+    disable though they can collide (bits too few: cliques merged, RS321), sorted. ``free``:
+    pairs already kept apart (loader or spec bits); adjacent pairs count as free."""
+    requested = [(a, b) for a, b in never_collide_pairs(matrix)]
+    packing = pack(requested, free=set(matrix.adjacent) | set(free), available=available)
+    return packing.side_effects
