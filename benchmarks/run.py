@@ -12,6 +12,8 @@
    (benchmarks/step_throughput.py).
 4. Validate time and peak memory on synthetic robots of 100 to 10,000 links
    (benchmarks/scaling.py).
+5. `env.step` throughput of robots optimized by `robospec optimize` against the same robots
+   as written (benchmarks/optimize_throughput.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
 """
@@ -27,6 +29,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import first_error
+import optimize_throughput
 import registration
 import scaling
 import step_throughput
@@ -34,10 +37,16 @@ from measure import ROOT
 from section import Section
 
 COMMAND = ".venv/bin/python benchmarks/run.py"
-SECTION_TITLES = (first_error.TITLE, registration.TITLE, step_throughput.TITLE, scaling.TITLE)
+SECTION_TITLES = (
+    first_error.TITLE,
+    registration.TITLE,
+    step_throughput.TITLE,
+    scaling.TITLE,
+    optimize_throughput.TITLE,
+)
 
 
-PARTS = ("first_error", "registration", "step_throughput", "scaling")
+PARTS = ("first_error", "registration", "step_throughput", "scaling", "optimize_throughput")
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
 
@@ -49,12 +58,16 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             "registration": lambda: registration.measure(1),
             "step_throughput": lambda: step_throughput.measure(steps=10, rounds=1, only=["panda"]),
             "scaling": lambda: scaling.measure([100], 1),
+            "optimize_throughput": lambda: optimize_throughput.measure(
+                steps=10, rounds=1, only=["panda"], corpus=False, samples=20
+            ),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
         "registration": lambda: registration.measure(repeat),
         "step_throughput": lambda: step_throughput.measure(steps=200, rounds=5),
         "scaling": lambda: scaling.measure([100, 1_000, 10_000], repeat),
+        "optimize_throughput": lambda: optimize_throughput.measure(steps=200, rounds=5),
     }
 
 

@@ -149,6 +149,8 @@ _CODES = [
     Code("RS604", "output would overwrite a file robospec did not write"),
     Code("RS605", "scaffold's rest keyframe still has links touching"),
     Code("RS606", "scaffold's rest keyframe could not be checked in ManiSkill"),
+    Code("RS607", "robospec optimize cannot optimize this robot as asked"),
+    Code("RS608", "links named only in Python code may be merged away"),
     # -- internal
     Code("RS900", "internal error"),
 ]

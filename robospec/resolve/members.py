@@ -42,6 +42,8 @@ def link_or_named(context: ResolveContext, name: str, path: KeyPath) -> str:
     if context.description.link(name) is None:
         candidates = [*context.description.link_names, *context.spec.named_links]
         context.err(path, "RS202", f"unknown link '{name}'", did_you_mean(name, candidates))
+    else:
+        context.bindings.link_names.append((path, name))
     return name
 
 

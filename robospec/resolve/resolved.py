@@ -29,6 +29,9 @@ class Bindings:
     links: dict[KeyPath, tuple[str, ...]] = field(default_factory=dict)
     # every name that named a joint of the description (active or not), where it was written
     joint_names: list[tuple[KeyPath, str]] = field(default_factory=list)
+    # every link of the description the spec names (directly, by a glob or a rule), and where:
+    # what robospec optimize must keep
+    link_names: list[tuple[KeyPath, str]] = field(default_factory=list)
 
 
 @dataclass(frozen=True)

@@ -107,11 +107,13 @@ def select_links(context: ResolveContext, selection: Any, path: KeyPath) -> list
 def links_matching(context: ResolveContext, pattern: str, path: KeyPath) -> list[str]:
     description = context.description
     if description.link(pattern) is not None:
+        context.bindings.link_names.append((path, pattern))
         return [pattern]
     if GLOB.search(pattern):
         matched = [n for n in description.link_names if fnmatch.fnmatchcase(n, pattern)]
         if not matched:
             context.err(path, "RS206", f"pattern '{pattern}' matches no link")
+        context.bindings.link_names.extend((path, n) for n in matched)
         return matched
     context.err(
         path, "RS202", f"unknown link '{pattern}'", did_you_mean(pattern, description.link_names)
@@ -129,4 +131,5 @@ def link(context: ResolveContext, name: str, path: KeyPath) -> str | None:
             did_you_mean(name, context.description.link_names),
         )
         return None
+    context.bindings.link_names.append((path, name))
     return name

@@ -41,8 +41,10 @@ def _links_for_rule(context: ResolveContext, pattern: str, path: KeyPath) -> lis
     """The links a rule's key names; a rule that matches none is reported at its key."""
     description = context.description
     if description.link(pattern) is not None:
+        context.bindings.link_names.append((path, pattern))
         return [pattern]
     matched = [n for n in description.link_names if fnmatch.fnmatchcase(n, pattern)]
+    context.bindings.link_names.extend((path, n) for n in matched)
     if not matched:
         code = "RS206" if GLOB.search(pattern) else "RS202"
         message = (

@@ -1,0 +1,255 @@
+"""`env.step` throughput of robots optimized by `robospec optimize` against the same robots as
+written.
+
+The robots: ManiSkill's Unitree G1, Fetch and Allegro hand (specs/maniskill), and robots of the
+corpus of descriptions nobody here wrote (tests/corpus.py) with many fixed links or mesh
+collisions, scaffolded with `robospec new` exactly as a user would. Each is optimized
+(`robospec optimize SPEC -o OUT.yaml`, default options) in a temporary folder; one worker process
+registers the original and the optimized spec, makes ``Empty-v1`` (physx_cpu, no renderer, the
+spec's first control mode) with each, and steps both with the same uniformly random actions,
+timed in alternating rounds so that drift of the machine's load hits both alike. The report
+gives links and collision shapes before and after, steps/s of both, and their ratio per round
+(median and spread). Target: a median speed-up of at least 1.5x over the robots.
+
+    python benchmarks/optimize_throughput.py --worker --steps N --rounds R ORIGINAL OPTIMIZED...
+
+is the worker; it prints one JSON object per pair.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from measure import PYTHON, ROOT, child_env, run
+from section import Section
+
+TITLE = "env.step throughput: robospec optimize against the robot as written"
+SPECS = ROOT / "specs" / "maniskill"
+MANISKILL_ROBOTS = ("unitree_g1", "fetch", "allegro_hand_right")
+# corpus robots (tests/corpus.py keys) with many fixed links or mesh collisions
+CORPUS_ROBOTS = ("erd_g1", "erd_baxter", "rtb_ridgeback", "rtb_panda")
+TARGET = 1.5
+SEED = 0
+WARM_UP_STEPS = 5
+
+
+def measure(
+    steps: int,
+    rounds: int,
+    only: list[str] | None = None,
+    corpus: bool = True,
+    samples: int = 1000,
+) -> Section:
+    with tempfile.TemporaryDirectory(prefix="robospec-bench-optimize-") as folder:
+        work = Path(folder)
+        specs = [SPECS / f"{name}.yaml" for name in (only or MANISKILL_ROBOTS)]
+        notes: list[str] = []
+        if corpus and not only:
+            scaffolded, problems = _scaffold_corpus(work)
+            specs += scaffolded
+            notes += problems
+        pairs: list[tuple[Path, Path, dict[str, Any]]] = []
+        for spec in specs:
+            out = work / f"{spec.stem}_optimized.yaml"
+            optimized = subprocess.run(
+                [
+                    PYTHON,
+                    "-m",
+                    "robospec",
+                    "optimize",
+                    str(spec),
+                    "-o",
+                    str(out),
+                    "-f",
+                    "json",
+                    "--samples",
+                    str(samples),
+                ],
+                capture_output=True,
+                text=True,
+                cwd=ROOT,
+                env=child_env(),
+            )
+            if optimized.returncode != 0:
+                notes.append(f"- `{_shown(spec)}`: optimize failed: {_last(optimized)}")
+                continue
+            pairs.append((spec, out, json.loads(optimized.stdout)))
+        args = [PYTHON, str(Path(__file__)), "--worker", "--steps", str(steps)]
+        args += ["--rounds", str(rounds)]
+        for spec, out, _ in pairs:
+            args += [str(spec), str(out)]
+        result = run(args, child_env())
+        rows = [json.loads(line) for line in result.output.splitlines() if line.startswith("{")]
+        if result.returncode != 0 or len(rows) != len(pairs):
+            raise RuntimeError(f"optimize throughput worker failed:\n{result.output[-3000:]}")
+        return _section(pairs, rows, notes, steps, rounds)
+
+
+def _section(
+    pairs: list[tuple[Path, Path, dict[str, Any]]],
+    rows: list[dict[str, Any]],
+    notes: list[str],
+    steps: int,
+    rounds: int,
+) -> Section:
+    lines = [
+        "| robot | links | collision shapes | never_collide entries | as written steps/s | "
+        "optimized steps/s | speed-up (median) | spread |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+    ]
+    speedups = []
+    for (spec, _, report), row in zip(pairs, rows, strict=True):
+        if "reason" in row:
+            notes.append(f"- `{_shown(spec)}`: {row['reason']}")
+            continue
+        shapes = report.get("collision_shapes") or []
+        before = sum(s["shapes_before"] for s in shapes)
+        after = sum(s["shapes_after"] for s in shapes)
+        ratios = row["ratios"]
+        speedups.append(statistics.median(ratios))
+        lines.append(
+            f"| `{_shown(spec)}` | {report['links']['before']} → {report['links']['after']} | "
+            f"{before} → {after} | {len(report['never_collide']['entries'])} | "
+            f"{row['original']:.0f} | {row['optimized']:.0f} | "
+            f"{statistics.median(ratios):.2f} | {min(ratios):.2f}–{max(ratios):.2f} |"
+        )
+    overall = statistics.median(speedups) if speedups else float("nan")
+    lines += [
+        "",
+        f"{len(speedups)} robot(s), {rounds} alternating round(s) of {steps} steps each per "
+        "spec after a short warm-up, same random actions (seed 0) for both, physx_cpu. Median "
+        f"speed-up: **{overall:.2f}×** (target ≥ {TARGET}×).",
+    ]
+    if notes:
+        lines += ["", "Not measured:", "", *notes]
+    return Section(TITLE, "\n".join(lines), meets_target=overall >= TARGET)
+
+
+def _scaffold_corpus(work: Path) -> tuple[list[Path], list[str]]:
+    """Specs written by `robospec new` for the corpus robots that are installed."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from corpus import BY_KEY, CorpusMissing, locate
+
+    specs, notes = [], []
+    for key in CORPUS_ROBOTS:
+        try:
+            description = locate(BY_KEY[key])
+        except CorpusMissing as missing:
+            notes.append(f"- `{key}`: {missing}")
+            continue
+        spec = work / f"{key}.yaml"
+        made = subprocess.run(
+            [PYTHON, "-m", "robospec", "new", str(description), "-o", str(spec)],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env=child_env(),
+        )
+        if made.returncode != 0:
+            notes.append(f"- `{key}`: robospec new failed: {_last(made)}")
+            continue
+        specs.append(spec)
+    return specs, notes
+
+
+def _last(done: subprocess.CompletedProcess[str]) -> str:
+    text = (done.stdout + done.stderr).strip().splitlines()
+    errors = [line for line in text if "error[" in line]
+    return (errors or text or ["(no output)"])[0][:200]
+
+
+def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
+    import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
+    import mani_skill.envs  # noqa: F401
+    import numpy as np
+    import torch
+
+    import robospec
+    from robospec.maniskill.headless import make_empty_env
+
+    cache = tempfile.mkdtemp(prefix="robospec-bench-optimize-")
+    for original, optimized in pairs:
+        try:
+            envs = {}
+            for name, spec in (("original", original), ("optimized", optimized)):
+                (uid,) = robospec.register(str(spec), cache_dir=cache)
+                envs[name] = make_empty_env(uid)
+        except Exception as exc:  # a robot that cannot load here is listed, not fatal
+            print(json.dumps({"spec": str(original), "reason": _reason(exc)}), flush=True)
+            continue
+        space = envs["original"].action_space
+        low = np.maximum(np.asarray(space.low, dtype=np.float64), -np.pi)
+        high = np.minimum(np.asarray(space.high, dtype=np.float64), np.pi)
+        rng = np.random.default_rng(SEED)
+        actions = torch.from_numpy(
+            rng.uniform(low, high, size=(steps, *low.shape)).astype(np.float32)
+        )
+        rates: dict[str, list[float]] = {name: [] for name in envs}
+        for env in envs.values():
+            env.reset(seed=SEED)
+            for action in actions[:WARM_UP_STEPS]:
+                env.step(action)
+        for round_ in range(rounds):
+            order = list(envs) if round_ % 2 == 0 else list(reversed(envs))
+            for name in order:
+                rates[name].append(_steps_per_second(envs[name], actions))
+        pairs_ = zip(rates["optimized"], rates["original"], strict=True)
+        print(
+            json.dumps(
+                {
+                    "spec": str(original),
+                    "original": statistics.median(rates["original"]),
+                    "optimized": statistics.median(rates["optimized"]),
+                    "ratios": [fast / slow for fast, slow in pairs_],
+                }
+            ),
+            flush=True,
+        )
+        for env in envs.values():
+            env.close()
+
+
+def _steps_per_second(env: Any, actions: Any) -> float:
+    env.reset(seed=SEED)
+    started = time.perf_counter()
+    for action in actions:
+        env.step(action)
+    return len(actions) / (time.perf_counter() - started)
+
+
+def _shown(spec: Path) -> str:
+    try:
+        return spec.resolve().relative_to(ROOT).as_posix()
+    except ValueError:
+        return f"corpus: {spec.stem}"
+
+
+def _reason(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0] if text else ''}"[:200]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--worker", action="store_true")
+    parser.add_argument("--steps", type=int, default=200)
+    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("specs", nargs="*", type=Path)
+    args = parser.parse_args()
+    if args.worker:
+        pairs = list(zip(args.specs[::2], args.specs[1::2], strict=True))
+        _worker(pairs, args.steps, args.rounds)
+    else:
+        print(measure(args.steps, args.rounds).markdown())
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,92 @@
+"""The optimized spec: the user's spec as written, with only what optimize changes changed — its
+uid, its description (now the optimized URDF beside it) and the never_collide entries added.
+
+A YAML spec goes through ruamel's round trip, so comments, key order and flow style stay; a TOML
+spec through tomlkit, likewise, when the output is TOML too, else it is written as YAML. Paths
+the spec gives relative to itself (a controller's ``urdf_path``) are rewritten relative to the
+output's folder.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from pathlib import Path
+from typing import Any
+
+# keys of description: that name the old description and its files
+_DESCRIPTION_KEYS = ("urdf", "xacro", "mjcf", "args", "packages", "download")
+TOML_SUFFIXES = (".toml",)
+
+
+def rewrite_spec(
+    spec: Path,
+    out: Path,
+    *,
+    uid: str,
+    urdf: str,
+    never_collide: list[list[str]],
+    header: str,
+) -> str:
+    text = spec.read_text(encoding="utf-8")
+    if spec.suffix in TOML_SUFFIXES and out.suffix in TOML_SUFFIXES:
+        import tomlkit
+
+        document: Any = tomlkit.parse(text)
+        _change(document, spec, out, uid, urdf, never_collide, table=tomlkit.inline_table)
+        return f"{header}\n{tomlkit.dumps(document)}"
+    from ruamel.yaml import YAML
+
+    yaml = YAML(typ="rt")
+    yaml.preserve_quotes = True
+    yaml.width = 100
+    if spec.suffix in TOML_SUFFIXES:
+        import tomllib
+
+        document = tomllib.loads(text)
+    else:
+        document = yaml.load(text)
+    _change(document, spec, out, uid, urdf, never_collide, table=None)
+    stream = io.StringIO()
+    yaml.dump(document, stream)
+    return f"{header}\n{stream.getvalue()}"
+
+
+def _change(
+    document: Any,
+    spec: Path,
+    out: Path,
+    uid: str,
+    urdf: str,
+    never_collide: list[list[str]],
+    table: Any,
+) -> None:
+    document["uid"] = uid
+    description = document.get("description")
+    if hasattr(description, "keys"):
+        for key in _DESCRIPTION_KEYS:
+            if key in description:
+                del description[key]
+        description["urdf"] = urdf
+    else:
+        document["description"] = {"urdf": urdf}
+    for controller in (document.get("controllers") or {}).values():
+        path = controller.get("urdf_path") if hasattr(controller, "get") else None
+        if isinstance(path, str) and not path.startswith("{") and not os.path.isabs(path):
+            moved = os.path.relpath(spec.parent / path, out.parent)
+            controller["urdf_path"] = Path(moved).as_posix()
+    if never_collide:
+        entries = document.get("never_collide")
+        if entries is None:
+            document["never_collide"] = entries = []
+        for entry in never_collide:
+            entries.append(_flow(list(entry)))
+
+
+def _flow(items: list[str]) -> Any:
+    """A list written on one line in YAML, as people write a pair."""
+    from ruamel.yaml.comments import CommentedSeq
+
+    seq = CommentedSeq(items)
+    seq.fa.set_flow_style()
+    return seq
