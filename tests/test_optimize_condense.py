@@ -304,6 +304,35 @@ def test_a_fixed_joint_a_mimic_names_stays() -> None:
     assert [step.joint for step in condensed.merged] == ["b_to_e"]
 
 
+@pytest.mark.parametrize(
+    ("joint_rpy", "visual_rpy"),
+    [
+        ((0.3, -1.2, 2.5), (-0.7, 0.4, 1.1)),
+        ((0.0, Q, 0.0), (0.3, 0.0, 0.0)),  # gimbal lock: pitch π/2
+        ((0.2, Q - 0.4, 0.1), (0.0, 0.4, 0.0)),  # pitch at π/2 by a sum
+        ((0.0, -Q + 1e-9, 0.5), (0.25, 0.0, 0.0)),  # a hair from it
+        ((math.pi, 0.0, 0.0), (0.0, 0.0, math.pi)),  # turned half about two axes
+    ],
+)
+def test_rotations_compose_as_matrices_do(
+    joint_rpy: tuple[float, float, float], visual_rpy: tuple[float, float, float]
+) -> None:
+    def rpy(values: tuple[float, float, float]) -> str:
+        return " ".join(repr(value) for value in values)
+
+    text = f"""<robot name="turned">
+      <link name="a"/>
+      <link name="b"><visual><origin xyz="0.1 0.2 0.3" rpy="{rpy(visual_rpy)}"/>
+        <geometry><sphere radius="0.1"/></geometry></visual></link>
+      <joint name="a_to_b" type="fixed"><origin xyz="1 2 3" rpy="{rpy(joint_rpy)}"/>
+        <parent link="a"/><child link="b"/></joint>
+    </robot>"""
+    visual = _only(condense(_parse(text), keep=()).robot, "link[@name='a']/visual")
+    joint = _origin(_only(_parse(text), "joint"))
+    expected = joint @ _origin(_only(_parse(text), "link[@name='b']/visual"))
+    np.testing.assert_allclose(_origin(visual), expected, atol=1e-14)
+
+
 # -- ManiSkill's robots, in SAPIEN and in float64
 
 

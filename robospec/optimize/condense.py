@@ -4,7 +4,7 @@ Every link costs a simulator a body, and a body on a fixed joint buys nothing bu
 fixed joint whose child link is not in ``keep`` (the links something names: a tcp, a camera
 mount, a link rule) is removed and its child merged into its parent:
 
-- the child's mass and inertia join the parent's (masses add; inertias combine about the joint
+- the child's mass and inertia join the parent's (masses add; inertias combine about the combined
   centre of mass with the parallel-axis theorem, written in the parent's frame);
 - the child's ``<visual>`` and ``<collision>`` elements move to the parent, their origins
   composed with the joint's;
@@ -288,13 +288,14 @@ def _rotation(rpy: Vector) -> Matrix:
 
 
 def _rpy(r: Matrix) -> Vector:
-    """The roll, pitch, yaw of a rotation (yaw 0 at gimbal lock, where only their sum or
-    difference is defined)."""
-    cos_pitch = math.hypot(r[0][0], r[1][0])
-    pitch = math.atan2(-r[2][0], cos_pitch)
-    if cos_pitch < 1e-12:
-        return math.atan2(-r[1][2], r[1][1]), pitch, 0.0
-    return math.atan2(r[2][1], r[2][2]), pitch, math.atan2(r[1][0], r[0][0])
+    """The roll, pitch, yaw of a rotation. Yaw first, then pitch and roll from Rz(yaw)ᵀ R:
+    unlike reading roll off the last row, this stays exact near pitch ±π/2 (gimbal lock,
+    where roll and yaw are not separately defined and any consistent pair is right)."""
+    yaw = math.atan2(r[1][0], r[0][0])
+    sy, cy = math.sin(yaw), math.cos(yaw)
+    pitch = math.atan2(-r[2][0], cy * r[0][0] + sy * r[1][0])
+    roll = math.atan2(sy * r[0][2] - cy * r[1][2], cy * r[1][1] - sy * r[0][1])
+    return roll, pitch, yaw
 
 
 def _matmul(a: Matrix, b: Matrix) -> Matrix:
