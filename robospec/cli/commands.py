@@ -401,7 +401,7 @@ def optimize(
             min=0,
             help="random configurations for the self-collision matrix (0: no never_collide)",
         ),
-    ] = 1000,
+    ] = 10_000,
     format: ReportFormatOpt = ReportFormat.text,
 ) -> None:
     """Write OUT.yaml: the same robot with a description that simulates faster.

@@ -39,7 +39,7 @@ class OptimizeOptions:
     uid: str | None = None  # the optimized spec's uid; default: the spec's, plus "_optimized"
     shapes: str = "convert"  # what becomes of collision meshes: SHAPE_METHODS
     max_vertices: int | None = None  # a cap on each convex shape's vertices (hull)
-    samples: int = 1000  # random configurations for the collision matrix; 0: none
+    samples: int = 10_000  # configurations for the collision matrix (MoveIt's default); 0: none
     seed: int = 0
 
 

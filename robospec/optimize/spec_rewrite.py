@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import io
 import os
+import re
 from pathlib import Path
 from typing import Any
 
 # keys of description: that name the old description and its files
 _DESCRIPTION_KEYS = ("urdf", "xacro", "mjcf", "args", "packages", "download")
 TOML_SUFFIXES = (".toml",)
+MODELINE = re.compile(r"^(#\s*yaml-language-server:\s*\$schema=)(\S+)", re.M)
 
 
 def rewrite_spec(
@@ -39,7 +41,7 @@ def rewrite_spec(
 
     yaml = YAML(typ="rt")
     yaml.preserve_quotes = True
-    yaml.width = 100
+    yaml.width = 4096  # an entry on one line: a wrapped flow list leaves trailing spaces
     if spec.suffix in TOML_SUFFIXES:
         import tomllib
 
@@ -49,7 +51,20 @@ def rewrite_spec(
     _change(document, spec, out, uid, urdf, never_collide, table=None)
     stream = io.StringIO()
     yaml.dump(document, stream)
-    return f"{header}\n{stream.getvalue()}"
+    return f"{header}\n{_moved_schema_modeline(stream.getvalue(), spec, out)}"
+
+
+def _moved_schema_modeline(text: str, spec: Path, out: Path) -> str:
+    """The editors' ``$schema=`` modeline, still reaching the schema from the output's folder."""
+
+    def moved(match: re.Match[str]) -> str:
+        target = match.group(2)
+        if "://" in target or os.path.isabs(target):
+            return match.group(0)
+        relative = os.path.relpath((spec.parent / target).resolve(), out.parent.resolve())
+        return match.group(1) + Path(relative).as_posix()
+
+    return MODELINE.sub(moved, text, count=1)
 
 
 def _change(
