@@ -391,7 +391,14 @@ def _never_collide(
     taken = {rule.bit for rule in robot.collision_rules if rule.group == 2}
     taken |= set(compiled.context.spec.scene_collision_bits)
     taken |= {bit for bit, _ in compiled.description.loader_collision_bits}
-    return never_collide_entries(matrix.never | matrix.always, matrix.adjacent, free_bits(taken))
+    parents = {
+        child: parent.get("link")
+        for joint in urdf.iter("joint")
+        if (child := _child(joint)) is not None and (parent := joint.find("parent")) is not None
+    }
+    return never_collide_entries(
+        matrix.never | matrix.always, matrix.adjacent, free_bits(taken), parents
+    )
 
 
 def _optimized_spec(compiled: Any, targets: dict[str, Path], report: OptimizeReport) -> str:

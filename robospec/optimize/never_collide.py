@@ -4,35 +4,85 @@ honour without side effects.
 Every pair that never touched (or always did: MoveIt disables those too, as a pair in contact at
 every pose is two shapes of one rigid body in effect) may be disabled. The packer
 (:func:`robospec.resolve.collision_packing.pack`) covers them with cliques, one group-2 bit each;
-a clique whose links are all pairwise disabled-or-adjacent disables nothing that can touch. Only
-29 bits exist, fewer once the spec's own rules and the scene's are set, so the cliques that
-cover the most pairs are written, largest first, and a clique that would disable a pair that
-sometimes touches is never written: the robot must behave as before.
+a clique whose links are all pairwise disabled-or-adjacent disables nothing that can touch.
+Only 29 bits exist, fewer once the spec's own rules and the scene's are set, and a humanoid has
+hundreds of such pairs: too many to cover. What costs PhysX time is a pair whose bounding boxes
+overlap — links a joint or two apart in the tree — while a left ankle and a right shoulder are
+never looked at past the broad phase. So pairs are taken nearest first: all pairs at most two
+joints apart, then three, ... as far as the bits cover them without a side effect, and the
+remaining bits go to the cliques of the next band that cover the most pairs.
 """
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterable
+from collections.abc import Callable, Collection, Iterable, Mapping
 
 from robospec.resolve.collision_packing import FREE_BITS, Pair, clique_pairs, pack
 
 
 def never_collide_entries(
-    disabled: Iterable[Pair], adjacent: Collection[Pair], bits: int
+    disabled: Iterable[Pair],
+    adjacent: Collection[Pair],
+    bits: int,
+    parents: Mapping[str, str] | None = None,
 ) -> list[list[str]]:
-    """At most ``bits`` cliques covering pairs of ``disabled`` (adjacent pairs may join them
-    for free), most pairs covered first; each clique disables only ``disabled`` or
-    ``adjacent`` pairs. Deterministic."""
-    want = {tuple(sorted(p)) for p in disabled} - {tuple(sorted(p)) for p in adjacent}
+    """At most ``bits`` cliques covering pairs of ``disabled`` (adjacent pairs may join them for
+    free), nearest pairs first (``parents``: link -> parent link, the tree); each clique
+    disables only ``disabled`` or ``adjacent`` pairs. Deterministic."""
+    adjacent_pairs = {_sorted(p) for p in adjacent}
+    want = {_sorted(p) for p in disabled} - adjacent_pairs
     if not want or bits <= 0:
         return []
-    ok = want | {tuple(sorted(p)) for p in adjacent}
-    packing = pack(want, free=adjacent, available=FREE_BITS)
-    cliques = [links for _, links in packing.cliques if clique_pairs(links) <= ok]
-    cliques.sort(key=lambda links: (-len(clique_pairs(links) & want), links))
-    return [list(links) for links in cliques[:bits]]
+    ok = want | adjacent_pairs
+    available = sorted(FREE_BITS)[:bits]
+    distance = _tree_distance(parents or {})
+    bands = sorted({distance(p) for p in want})
+    chosen: list[tuple[str, ...]] = []
+    for band in bands:
+        near = {p for p in want if distance(p) <= band}
+        packing = pack(near, free=adjacent_pairs, available=available)
+        if packing.side_effects or packing.uncovered:
+            # this band does not fit: what is left of the bits goes to its best cliques
+            whole = pack(near, free=adjacent_pairs, available=FREE_BITS)
+            covered = {p for links in chosen for p in clique_pairs(links)}
+            extra = [
+                links
+                for _, links in whole.cliques
+                if clique_pairs(links) <= ok and not clique_pairs(links) & want <= covered
+            ]
+            extra.sort(key=lambda links: (-len((clique_pairs(links) & want) - covered), links))
+            chosen += extra[: bits - len(chosen)]
+            break
+        chosen = [links for _, links in packing.cliques]
+    return [list(links) for links in chosen]
 
 
 def free_bits(taken: Iterable[int]) -> int:
     """How many group-2 bits a spec has left for new entries once ``taken`` are used."""
     return len(set(FREE_BITS) - set(taken))
+
+
+def _sorted(p: Iterable[str]) -> Pair:
+    a, b = sorted(p)
+    return (a, b)
+
+
+def _tree_distance(parents: Mapping[str, str]) -> Callable[[Pair], int]:
+    """Joints between two links of the tree (links it does not know: far apart)."""
+
+    def chain(link: str) -> list[str]:
+        out = [link]
+        while out[-1] in parents and len(out) <= len(parents):
+            out.append(parents[out[-1]])
+        return out
+
+    def distance(p: Pair) -> int:
+        a, b = chain(p[0]), chain(p[1])
+        common = set(a) & set(b)
+        if not common:
+            return len(parents) + 1
+        return next(i for i, x in enumerate(a) if x in common) + next(
+            i for i, x in enumerate(b) if x in common
+        )
+
+    return distance
