@@ -140,3 +140,25 @@ def test_the_optimized_panda_registers_behaves_alike_and_passes_check(
     assert divergence < 1e-4, f"rollouts diverge by {divergence:.2e} rad after 40 steps"
     code, text = run_check([out], None, "text", gpu=False, num_envs=1, render_dir=None)
     assert code == 0, text
+
+
+def _urdf_specs() -> list[Path]:
+    """The shipped specs whose description is a URDF or xacro (read without compiling: this
+    runs at collection)."""
+    specs = sorted((PANDA_SPEC.parent.parent).rglob("*.yaml"))
+    return [p for p in specs if "urdf:" in p.read_text() or "xacro:" in p.read_text()]
+
+
+@pytest.mark.parametrize("spec", _urdf_specs(), ids=lambda p: p.stem)
+def test_no_link_a_shipped_spec_names_is_lost(spec: Path) -> None:
+    from robospec.optimize.command import _absolute_meshes, _description_text, _links_to_keep
+    from robospec.optimize.condense import condense
+
+    compiled = compile_spec(spec)
+    assert compiled.ok and compiled.robot is not None and compiled.context is not None
+    urdf = _absolute_meshes(_description_text(compiled.robot.description), compiled.description)
+    keep = _links_to_keep(compiled, urdf, OptimizeOptions())
+    condensed = condense(urdf, keep)
+    left = {link.get("name") for link in condensed.robot.iter("link")}
+    assert {name for _, name in compiled.context.bindings.link_names} <= left
+    assert not {m.link for m in condensed.merged} & keep
