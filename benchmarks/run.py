@@ -59,7 +59,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             "step_throughput": lambda: step_throughput.measure(steps=10, rounds=1, only=["panda"]),
             "scaling": lambda: scaling.measure([100], 1),
             "optimize_throughput": lambda: optimize_throughput.measure(
-                steps=10, rounds=1, only=["panda"], corpus=False, samples=20
+                steps=10, rounds=1, only=["panda"], corpus=False, samples=20, every_spec=False
             ),
         }
     return {
