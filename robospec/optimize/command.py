@@ -242,7 +242,12 @@ def _optimize_into(
         (collision_dir / ".robospec-optimize").write_text(MARK + "\n")
         try:
             optimized, changes = optimize_collisions(
-                optimized, collision_dir, method=options.shapes, max_vertices=options.max_vertices
+                optimized,
+                collision_dir,
+                method=options.shapes,
+                max_vertices=options.max_vertices,
+                # what SAPIEN builds from a mesh depends on it: one hull, or one per part
+                multiple_collisions=robot.load_multiple_collisions,
             )
         except MissingDependency as exc:
             return [error(Location("<command line>"), "RS607", str(exc), exc.hint)]
