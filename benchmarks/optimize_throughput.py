@@ -24,7 +24,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 from typing import Any
 
@@ -38,8 +37,6 @@ MANISKILL_ROBOTS = ("unitree_g1", "fetch", "allegro_hand_right")
 CORPUS_ROBOTS = ("erd_g1", "erd_baxter", "rtb_ridgeback", "rtb_panda")
 TARGET = 1.5
 NOT_SLOWER = 0.97
-SEED = 0
-WARM_UP_STEPS = 5
 
 
 def measure(
@@ -202,8 +199,7 @@ def _last(done: subprocess.CompletedProcess[str]) -> str:
 def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
     import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
     import mani_skill.envs  # noqa: F401
-    import numpy as np
-    import torch
+    from stepping import alternating_rates, random_actions
 
     import robospec
     from robospec.maniskill.headless import make_empty_env
@@ -218,22 +214,8 @@ def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
         except Exception as exc:  # a robot that cannot load here is listed, not fatal
             print(json.dumps({"spec": str(original), "reason": _reason(exc)}), flush=True)
             continue
-        space = envs["original"].action_space
-        low = np.maximum(np.asarray(space.low, dtype=np.float64), -np.pi)
-        high = np.minimum(np.asarray(space.high, dtype=np.float64), np.pi)
-        rng = np.random.default_rng(SEED)
-        actions = torch.from_numpy(
-            rng.uniform(low, high, size=(steps, *low.shape)).astype(np.float32)
-        )
-        rates: dict[str, list[float]] = {name: [] for name in envs}
-        for env in envs.values():
-            env.reset(seed=SEED)
-            for action in actions[:WARM_UP_STEPS]:
-                env.step(action)
-        for round_ in range(rounds):
-            order = list(envs) if round_ % 2 == 0 else list(reversed(envs))
-            for name in order:
-                rates[name].append(_steps_per_second(envs[name], actions))
+        actions = random_actions(envs["original"].action_space, steps)
+        rates = alternating_rates(envs, actions, rounds)
         pairs_ = zip(rates["optimized"], rates["original"], strict=True)
         print(
             json.dumps(
@@ -248,14 +230,6 @@ def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
         )
         for env in envs.values():
             env.close()
-
-
-def _steps_per_second(env: Any, actions: Any) -> float:
-    env.reset(seed=SEED)
-    started = time.perf_counter()
-    for action in actions:
-        env.step(action)
-    return len(actions) / (time.perf_counter() - started)
 
 
 def _shown(spec: Path) -> str:

@@ -20,17 +20,13 @@ import json
 import statistics
 import sys
 import tempfile
-import time
 from pathlib import Path
-from typing import Any
 
 from measure import PYTHON, ROOT, child_env, run
 from section import Section
 
 TITLE = "env.step throughput: generated agent against its hand-written twin"
 SPECS = ROOT / "specs" / "maniskill"
-SEED = 0
-WARM_UP_STEPS = 5
 
 
 def measure(steps: int, rounds: int, only: list[str] | None = None) -> Section:
@@ -73,8 +69,7 @@ def measure(steps: int, rounds: int, only: list[str] | None = None) -> Section:
 def _worker(specs: list[Path], steps: int, rounds: int) -> None:
     import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
     import mani_skill.envs  # noqa: F401
-    import numpy as np
-    import torch
+    from stepping import alternating_rates, random_actions
 
     import robospec
     from robospec.maniskill.headless import make_empty_env
@@ -88,22 +83,8 @@ def _worker(specs: list[Path], steps: int, rounds: int) -> None:
         except Exception as exc:  # a robot that cannot load here is listed, not fatal
             print(json.dumps({"spec": _shown(spec), "reason": _reason(exc)}))
             continue
-        space = envs["hand_written"].action_space
-        low = np.maximum(np.asarray(space.low, dtype=np.float64), -np.pi)
-        high = np.minimum(np.asarray(space.high, dtype=np.float64), np.pi)
-        rng = np.random.default_rng(SEED)
-        actions = torch.from_numpy(
-            rng.uniform(low, high, size=(steps, *low.shape)).astype(np.float32)
-        )
-        rates: dict[str, list[float]] = {name: [] for name in envs}
-        for env in envs.values():
-            env.reset(seed=SEED)
-            for action in actions[:WARM_UP_STEPS]:
-                env.step(action)
-        for round_ in range(rounds):
-            order = list(envs) if round_ % 2 == 0 else list(reversed(envs))
-            for name in order:
-                rates[name].append(_steps_per_second(envs[name], actions))
+        actions = random_actions(envs["hand_written"].action_space, steps)
+        rates = alternating_rates(envs, actions, rounds)
         pairs = zip(rates["generated"], rates["hand_written"], strict=True)
         print(
             json.dumps(
@@ -121,14 +102,6 @@ def _worker(specs: list[Path], steps: int, rounds: int) -> None:
         )
         for env in envs.values():
             env.close()
-
-
-def _steps_per_second(env: Any, actions: Any) -> float:
-    env.reset(seed=SEED)
-    started = time.perf_counter()
-    for action in actions:
-        env.step(action)
-    return len(actions) / (time.perf_counter() - started)
 
 
 def _shown(spec: Path) -> str:
