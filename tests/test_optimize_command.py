@@ -162,3 +162,20 @@ def test_no_link_a_shipped_spec_names_is_lost(spec: Path) -> None:
     left = {link.get("name") for link in condensed.robot.iter("link")}
     assert {name for _, name in compiled.context.bindings.link_names} <= left
     assert not {m.link for m in condensed.merged} & keep
+
+
+def test_a_failure_of_ours_is_a_diagnostic_and_writes_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from robospec.optimize import condense
+
+    def broken(*_: object) -> None:
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(condense, "condense", broken)
+    report, diagnostics = run_optimize(PANDA_SPEC, tmp_path / "p.yaml", QUICK)
+    assert report is None
+    assert [(d.code, d.message) for d in diagnostics] == [
+        ("RS900", "internal error: RuntimeError: boom")
+    ]
+    assert list(tmp_path.iterdir()) == []

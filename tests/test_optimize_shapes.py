@@ -179,6 +179,11 @@ def test_convert_keeps_what_is_not_an_stl_split(tmp_path: Path) -> None:
         robot, tmp_path / "out2", method="convert", multiple_collisions=False
     )
     assert {c.method for c in changes} == {"kept"}
+    # what is kept is reported as it stays: a primitive one shape, a mesh its vertices
+    assert [(c.shapes_after, c.vertices_after) for c in changes] == [
+        (c.shapes_before, c.vertices_before) for c in changes
+    ]
+    assert [c.shapes_after for c in changes] == [1, 1, 1] and changes[0].vertices_after > 0
 
 
 @needs_g1
@@ -307,3 +312,16 @@ def test_numbers_read_back_by_assimp_as_the_same_float32(x: float) -> None:
     text = shapes._number(x)
     assert shapes._assimp_reads(text) == float(np.float32(x))
     assert float(text) == pytest.approx(float(np.float32(x)), rel=1e-6)
+
+
+def test_a_mesh_trimesh_cannot_read_is_kept_as_sapien_reads_it(tmp_path: Path) -> None:
+    # COLLADA needs pycollada, which robospec does not install; SAPIEN reads it with assimp
+    (tmp_path / "part.dae").write_text("<COLLADA/>")
+    robot = etree.fromstring(
+        f"""<robot name="r"><link name="a"><collision><geometry>
+        <mesh filename="{tmp_path / "part.dae"}"/></geometry></collision></link></robot>"""
+    )
+    for method in ("convert", "hull", "primitives"):
+        out, changes = optimize_collisions(robot, tmp_path / method, method=method)
+        assert [(c.method, c.shapes_after) for c in changes] == [("kept", 1)]
+        assert etree.tostring(out) == etree.tostring(robot)

@@ -109,6 +109,22 @@ def run_optimize(
     spec: Path, out: Path, options: OptimizeOptions = OptimizeOptions()
 ) -> tuple[OptimizeReport | None, list[Diagnostic]]:
     """Optimize ``spec`` into ``out``; the report, or None and the diagnostics that stopped it."""
+    try:
+        return _run_optimize(spec, out, options)
+    except Exception as exc:  # a bug of ours must still be a located diagnostic, and no output
+        return None, [
+            error(
+                Location(str(spec)),
+                "RS900",
+                f"internal error: {type(exc).__name__}: {exc}",
+                "please report this with the spec that caused it",
+            )
+        ]
+
+
+def _run_optimize(
+    spec: Path, out: Path, options: OptimizeOptions
+) -> tuple[OptimizeReport | None, list[Diagnostic]]:
     from robospec.pipeline import compile_spec
 
     command_line = Location("<command line>")

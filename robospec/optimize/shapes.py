@@ -142,12 +142,17 @@ def _optimize_one(
     shape = None if geometry is None or len(geometry) == 0 else geometry[0]
     if shape is None or shape.tag != "mesh":
         source = "nothing" if shape is None else str(shape.tag)
-        return ShapeChange(link, source, "kept", (), int(shape is not None), 0, 0, 0), {}
+        kept = int(shape is not None)  # a primitive stays as it is: one shape, no vertices
+        return ShapeChange(link, source, "kept", (), kept, kept, 0, 0), {}
     filename = shape.get("filename", "")
     path = Path(filename)
     if not path.is_file():  # SAPIEN loads a missing file as nothing: leave it to the checks
         return ShapeChange(link, filename, "kept", (), 0, 0, 0, 0), {}
-    mesh = _read_mesh(path)
+    try:
+        mesh = _read_mesh(path)
+    except Exception:  # a format trimesh cannot read here (COLLADA without pycollada, ...):
+        # SAPIEN reads it with assimp, as it is
+        return ShapeChange(link, filename, "kept", (), 1, 1, 0, 0), {}
     parts_before = _sapien_parts(mesh) if multiple and filename.endswith(_STL_SUFFIXES) else None
     shapes_before = 1 if parts_before is None else len(parts_before)
     stem = f"{_safe(link)}_{index}"
@@ -155,8 +160,9 @@ def _optimize_one(
         method, collision, shape, mesh, parts_before, stem, assets, max_vertices, tolerance
     )
     if result is None:
+        vertices = len(mesh.vertices)
         change = ShapeChange(
-            link, filename, "kept", (), shapes_before, shapes_before, len(mesh.vertices), 0
+            link, filename, "kept", (), shapes_before, shapes_before, vertices, vertices
         )
         return change, {}
     _replace(collision, result.elements)
