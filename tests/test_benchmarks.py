@@ -19,6 +19,7 @@ from conftest import ROOT
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import first_error
+import optimize_throughput
 import registration
 import run
 import scaling
@@ -66,7 +67,7 @@ def test_the_run_exits_1_exactly_when_a_section_misses_its_target_and_names_it(
     capsys: pytest.CaptureFixture[str],
 ) -> None:
     # every part's measurement stubbed: a section with its title and the verdict asked for
-    for part in (first_error, registration, step_throughput, scaling):
+    for part in (first_error, registration, step_throughput, scaling, optimize_throughput):
         section = Section(part.TITLE, "figures\n", part.TITLE not in missed)
         monkeypatch.setattr(part, "measure", lambda *_, section=section, **__: section)
     out = tmp_path / "performance.md"
