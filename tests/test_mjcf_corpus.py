@@ -6,13 +6,13 @@ whose files are found through the distributions that install them, and ManiSkill
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from importlib.metadata import PackageNotFoundError, distribution
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+from mjcf_scene import parse, scene_fixture  # noqa: F401  (the scene fixture)
 
 from robospec.description import load_description
 from robospec.diagnostics import Diagnostic
@@ -49,36 +49,6 @@ def reported(path: Path, code: str, severity: str | None = None) -> Diagnostic:
     ]
     assert found, f"{path.name}: no {code}"
     return found[0]
-
-
-@pytest.fixture(scope="module")
-def scene() -> Iterator[Any]:
-    import gymnasium as gym
-    import mani_skill.envs  # noqa: F401
-
-    from robospec.maniskill.headless import headless_loading
-
-    with headless_loading():
-        env = gym.make(
-            "Empty-v1",
-            robot_uids="panda",
-            obs_mode="state",
-            sim_backend="physx_cpu",
-            render_backend="none",
-        )
-    try:
-        yield env.unwrapped.scene  # type: ignore[attr-defined]
-    finally:
-        env.close()
-
-
-def parse(scene: Any, path: Path) -> Any:
-    from robospec.maniskill.headless import headless_loading
-
-    with headless_loading():
-        loader = scene.create_mjcf_loader()
-        loader.name = path.stem
-        return loader.parse(str(path))["articulation_builders"][0]
 
 
 def test_walker_floor_zaxis_fails_the_load(scene: Any) -> None:

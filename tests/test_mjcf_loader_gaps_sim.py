@@ -6,12 +6,12 @@ absent, the size, mass or frame shown as said, the failure shown to happen."""
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pytest
+from mjcf_scene import parse, scene_fixture  # noqa: F401  (the scene fixture)
 
 from robospec.description import load_description
 from robospec.description.mjcf_frames import (
@@ -25,40 +25,6 @@ from robospec.description.mjcf_frames import (
 pytestmark = pytest.mark.maniskill
 
 GAPS = Path(__file__).parent / "data" / "mjcf" / "gaps"
-_count = [0]
-
-
-@pytest.fixture(scope="module")
-def scene() -> Iterator[Any]:
-    """A CPU scene with ManiSkill's ground, as ``Empty-v1`` makes it (panda at the origin)."""
-    import gymnasium as gym
-    import mani_skill.envs  # noqa: F401
-
-    from robospec.maniskill.headless import headless_loading
-
-    with headless_loading():
-        env = gym.make(
-            "Empty-v1",
-            robot_uids="panda",
-            obs_mode="state",
-            sim_backend="physx_cpu",
-            render_backend="none",
-        )
-    try:
-        yield env.unwrapped.scene  # type: ignore[attr-defined]
-    finally:
-        env.close()
-
-
-def parse(scene: Any, path: Path) -> Any:
-    """ManiSkill's loader's parse of ``path``: the robot's articulation builder."""
-    from robospec.maniskill.headless import headless_loading
-
-    with headless_loading():
-        loader = scene.create_mjcf_loader()
-        _count[0] += 1
-        loader.name = f"gap{_count[0]}"
-        return loader.parse(str(path))["articulation_builders"][0]
 
 
 def build(scene: Any, path: Path, x: float = 3.0) -> Any:
