@@ -264,3 +264,18 @@ def test_tomllib_error_at_end_of_document() -> None:
     text = "a = 1\nb = [1,"
     error = FakeError("Unclosed array (at end of document)")
     assert tomllib_error_location(error, text) == (2, 8, "Unclosed array")
+
+
+def test_an_error_at_the_end_after_a_final_newline_is_on_a_line_the_file_has(
+    tmp_path: Any,
+) -> None:
+    # found by the fuzz tests: a quote opened on the first line runs to the end of the file,
+    # which tomllib puts on the line after the final newline
+    from robospec.load.reader import read_spec
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text("'#:schema x\nrobospec = 1\n\n[[collision_rules]]\nbit = 5\n\n")
+    _, (diagnostic,) = read_spec(spec)
+    lines = spec.read_text().splitlines()
+    assert diagnostic.code == "RS002"
+    assert (diagnostic.location.line, diagnostic.location.column) == (len(lines), 1)

@@ -405,7 +405,8 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         from robospec.load.toml_positions import tomllib_error_location
 
         line, column, message = tomllib_error_location(exc, text)
-        location = Location(source.file, line, column)
+        # "end of document" after a final newline is a line the file does not show
+        location = Location(source.file, *_within_text(text, line, column))
         code = "RS003" if "overwrite" in message.lower() else "RS002"
         return None, [error(location, code, f"TOML: {message}")]
     except ValueError as exc:  # an integer longer than Python converts
