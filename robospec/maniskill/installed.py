@@ -16,9 +16,9 @@ takes one would clash with the ManiSkill most users install.
 
 from __future__ import annotations
 
-import ast
-import hashlib
-import json
+import ast  # already imported with dataclasses: costs validate nothing
+import zlib
+from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -29,7 +29,7 @@ from robospec.files import cache_root, write_atomically
 # the distributions that install the ``mani_skill`` package
 DISTRIBUTIONS = ("mani-skill", "mani-skill-nightly")
 # the scan's own format: a new one rescans
-_SCAN_FORMAT = "1"
+_SCAN_FORMAT = "2"
 
 
 @dataclass(frozen=True)
@@ -87,7 +87,7 @@ def installed_at(package: Path) -> Installed | None:
     return Installed(
         distribution=name,
         version=info.name.removesuffix(".dist-info").split("-", 1)[-1],
-        record_hash=hashlib.sha256(record).hexdigest(),
+        record_hash=f"{zlib.crc32(record):08x}",
         package_dir=package,
         mixed=tuple(sorted(n for n, _ in found)) if len(found) > 1 else (),
     )
@@ -146,21 +146,23 @@ def registered_uids() -> frozenset[str]:
 def _registered_uids(found: Installed | None) -> frozenset[str]:
     if found is None:
         return UIDS_OF_3_0_1
-    cached = cache_root() / "maniskill" / f"uids-{_SCAN_FORMAT}-{_file_key(found.identity)}.json"
+    cached = cache_root() / "maniskill" / f"uids-{_SCAN_FORMAT}-{_file_key(found.identity)}.txt"
     try:
-        return frozenset(json.loads(cached.read_text(encoding="utf-8")))
-    except (OSError, ValueError, TypeError):
-        pass
+        read = frozenset(cached.read_text(encoding="utf-8").split())
+    except (OSError, ValueError):
+        read = frozenset()
+    if read:  # an empty file is a write that did not finish: scan again
+        return read
     uids = scan_registered_uids(found.package_dir)
     try:
-        write_atomically(cached, json.dumps(sorted(uids)))
+        write_atomically(cached, "".join(f"{uid}\n" for uid in sorted(uids)))
     except OSError:
         pass  # a read-only cache: scan again next time
     return uids
 
 
 def _file_key(identity: str) -> str:
-    return hashlib.sha256(identity.encode()).hexdigest()[:24]
+    return f"{zlib.crc32(identity.encode()):08x}"
 
 
 def scan_registered_uids(package_dir: Path) -> frozenset[str]:
@@ -170,7 +172,7 @@ def scan_registered_uids(package_dir: Path) -> frozenset[str]:
     classes: dict[str, ast.ClassDef] = {}
     registered: list[ast.ClassDef] = []
     for tree in _imported_modules(package_dir, ("envs",)):
-        for node in ast.walk(tree):
+        for node in _executed_statements(tree):
             if isinstance(node, ast.ClassDef):
                 classes.setdefault(node.name, node)
                 if any(_is_register_agent(d) for d in node.decorator_list):
@@ -216,10 +218,11 @@ def _module_file(package_dir: Path, name: tuple[str, ...]) -> Path | None:
 def _imports_of(
     tree: ast.Module, module: tuple[str, ...], is_package: bool, root: str, package_dir: Path
 ) -> list[tuple[str, ...]]:
-    """The modules of the package that ``tree`` imports at its top level or anywhere."""
+    """The modules of the package that ``tree`` imports when it is imported (not the imports
+    inside its functions, which run later if ever)."""
     here = module if is_package else module[:-1]
     found: list[tuple[str, ...]] = []
-    for node in ast.walk(tree):
+    for node in _executed_statements(tree):
         if isinstance(node, ast.Import):
             for alias in node.names:
                 parts = tuple(alias.name.split("."))
@@ -241,6 +244,21 @@ def _imports_of(
                 if _module_file(package_dir, (*target, alias.name)) is not None
             )
     return found
+
+
+def _executed_statements(tree: ast.Module) -> Iterator[ast.stmt]:
+    """The statements importing the module runs: its top level, into the blocks of ``if``,
+    ``try`` and ``with`` but not into functions or classes (a walk of every node of every
+    module took seconds)."""
+    pending = list(reversed(tree.body))
+    while pending:
+        statement = pending.pop()
+        yield statement
+        if isinstance(statement, (ast.If, ast.Try, ast.With)):
+            blocks = [statement.body, getattr(statement, "orelse", [])]
+            blocks += [getattr(statement, "finalbody", [])]
+            blocks += [h.body for h in getattr(statement, "handlers", [])]
+            pending.extend(reversed([s for block in blocks for s in block]))
 
 
 def _is_register_agent(decorator: ast.expr) -> bool:
