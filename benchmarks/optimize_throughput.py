@@ -199,7 +199,7 @@ def _last(done: subprocess.CompletedProcess[str]) -> str:
 def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
     import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
     import mani_skill.envs  # noqa: F401
-    from stepping import alternating_rates, random_actions
+    from stepping import alternating_rates, failure_reason, random_actions
 
     import robospec
     from robospec.maniskill.headless import make_empty_env
@@ -212,7 +212,7 @@ def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
                 (uid,) = robospec.register(str(spec), cache_dir=cache)
                 envs[name] = make_empty_env(uid)
         except Exception as exc:  # a robot that cannot load here is listed, not fatal
-            print(json.dumps({"spec": str(original), "reason": _reason(exc)}), flush=True)
+            print(json.dumps({"spec": str(original), "reason": failure_reason(exc)}), flush=True)
             continue
         actions = random_actions(envs["original"].action_space, steps)
         rates = alternating_rates(envs, actions, rounds)
@@ -237,11 +237,6 @@ def _shown(spec: Path) -> str:
         return spec.resolve().relative_to(ROOT).as_posix()
     except ValueError:
         return f"corpus: {spec.stem}"
-
-
-def _reason(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()
-    return f"{type(exc).__name__}: {text[0] if text else ''}"[:200]
 
 
 def main() -> None:

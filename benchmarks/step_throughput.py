@@ -69,7 +69,7 @@ def measure(steps: int, rounds: int, only: list[str] | None = None) -> Section:
 def _worker(specs: list[Path], steps: int, rounds: int) -> None:
     import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
     import mani_skill.envs  # noqa: F401
-    from stepping import alternating_rates, random_actions
+    from stepping import alternating_rates, failure_reason, random_actions
 
     import robospec
     from robospec.maniskill.headless import make_empty_env
@@ -81,7 +81,7 @@ def _worker(specs: list[Path], steps: int, rounds: int) -> None:
             (spec_uid,) = robospec.register(str(spec), cache_dir=cache)
             envs = {"generated": make_empty_env(spec_uid), "hand_written": make_empty_env(twin)}
         except Exception as exc:  # a robot that cannot load here is listed, not fatal
-            print(json.dumps({"spec": _shown(spec), "reason": _reason(exc)}))
+            print(json.dumps({"spec": _shown(spec), "reason": failure_reason(exc)}))
             continue
         actions = random_actions(envs["hand_written"].action_space, steps)
         rates = alternating_rates(envs, actions, rounds)
@@ -106,11 +106,6 @@ def _worker(specs: list[Path], steps: int, rounds: int) -> None:
 
 def _shown(spec: Path) -> str:
     return spec.resolve().relative_to(ROOT).as_posix()
-
-
-def _reason(exc: BaseException) -> str:
-    text = str(exc).strip().splitlines()
-    return f"{type(exc).__name__}: {text[0] if text else ''}"[:200]
 
 
 if __name__ == "__main__":

@@ -45,3 +45,9 @@ def _steps_per_second(env: Any, actions: torch.Tensor) -> float:
     for action in actions:
         env.step(action)
     return len(actions) / (time.perf_counter() - started)
+
+
+def failure_reason(exc: BaseException) -> str:
+    """Why a robot could not be loaded here, in one short line for the report."""
+    text = str(exc).strip().splitlines()
+    return f"{type(exc).__name__}: {text[0] if text else ''}"[:200]
