@@ -279,6 +279,50 @@ class Sim:
         self._drive(group, targets)
         self._apply()
 
+    def set_drive(
+        self,
+        group: ControllerGroup | str,
+        stiffness: float | np.ndarray,
+        damping: float | np.ndarray,
+        force_limit: float | np.ndarray | None = None,
+    ) -> None:
+        """Give ``group``'s joints other drive gains on the live robot, without recompiling:
+        one number for all of its joints or one per joint, in the group's joint order
+        (:attr:`ControllerGroup.joint_indices`); ``force_limit`` None keeps the controller's.
+        The drive mode (force or acceleration) stays the controller's. Applies to the scene
+        as it is now: :meth:`start` builds a new one from the spec's gains, so set the drive
+        after it (and before stepping)."""
+        if isinstance(group, str):
+            group = self.group(group)
+        controller = group.controller
+        config = controller.config
+        n = len(controller.joints)
+        limits = config.force_limit if force_limit is None else force_limit
+        stiffness_ = np.broadcast_to(np.asarray(stiffness, dtype=np.float64), n)
+        damping_ = np.broadcast_to(np.asarray(damping, dtype=np.float64), n)
+        limits_ = np.broadcast_to(np.asarray(limits, dtype=np.float64), n)
+        for i, joint in enumerate(controller.joints):
+            mode = config.drive_mode if isinstance(config.drive_mode, str) else config.drive_mode[i]
+            joint.set_drive_properties(
+                float(stiffness_[i]), float(damping_[i]), force_limit=float(limits_[i]), mode=mode
+            )
+        self._apply()
+
+    def inertia(self, group: ControllerGroup | str) -> np.ndarray:
+        """Each of ``group``'s joints' effective inertia (kg m², or kg for a prismatic joint)
+        at the robot's configuration now, with the root held and the other joints locked: the
+        diagonal of the joint-space mass matrix plus the joint's armature. CPU only."""
+        if isinstance(group, str):
+            group = self.group(group)
+        articulation = self.robot._objs[0]
+        model = articulation.create_pinocchio_model()
+        qpos = self.robot.get_qpos()[0].cpu().numpy().astype(np.float64)
+        mass = np.diag(np.asarray(model.compute_generalized_mass_matrix(qpos), dtype=np.float64))
+        joints = articulation.get_active_joints()
+        armature = np.array([float(np.sum(j.armature)) for j in joints], dtype=np.float64)
+        indices = list(group.joint_indices)
+        return mass[indices] + armature[indices]
+
     def _drive(self, group: ControllerGroup, targets: Any) -> None:
         controller = group.controller
         if group.kind == "position":
