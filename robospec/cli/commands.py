@@ -238,6 +238,12 @@ def check(
         Path | None,
         typer.Option("--render", help="save each camera's image under DIR (needs a GPU)"),
     ] = None,
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            "--plot", help="save each controller's step response as DIR/<uid>/<controller>.png"
+        ),
+    ] = None,
 ) -> None:
     """Run headless physics checks on each robot (exit 1 when a check fails).
 
@@ -248,7 +254,7 @@ def check(
     """
     from robospec.physics.command import run_check
 
-    code, text = run_check(paths, steps, format.value, gpu, num_envs, render)
+    code, text = run_check(paths, steps, format.value, gpu, num_envs, render, plot)
     typer.echo(text)
     raise typer.Exit(code)
 
@@ -428,6 +434,53 @@ def optimize(
 
 
 @app.command()
+def tune(
+    spec: Annotated[Path, typer.Argument(help="the spec of the robot to tune")],
+    uid: Annotated[
+        str | None,
+        typer.Option("--uid", help="with --write, also give the written spec this uid"),
+    ] = None,
+    controller: Annotated[
+        list[str] | None,
+        typer.Option("--controller", "-c", help="tune only this controller (repeatable)"),
+    ] = None,
+    write: Annotated[
+        bool, typer.Option("--write", help="write the new gains into the spec")
+    ] = False,
+    plot: Annotated[
+        Path | None,
+        typer.Option(
+            "--plot", help="save each controller's step, before and after, under DIR/<uid>/"
+        ),
+    ] = None,
+    reference: Annotated[
+        str | None,
+        typer.Option(
+            "--reference",
+            help="fit to a recorded trajectory instead (a CSV or NPZ file, or 'mujoco')",
+        ),
+    ] = None,
+    format: ReportFormatOpt = ReportFormat.text,
+) -> None:
+    """Find stiffness and damping (and force_limit where a drive saturates) per controller.
+
+    Each controller's step response is measured as robospec check measures it, and its gains
+    searched until every joint meets the spec's checks.tune targets (by default overshoot
+    <= 5%, settling <= 0.5 s, steady-state error <= 2% of the step). Prints a before/after
+    table; exit 1 when a target cannot be met, saying why. --write changes only the gain
+    values in the spec (comments, order and style stay).
+
+    Example: robospec tune specs/maniskill/panda.yaml --controller arm_pos --write --plot plots
+    """
+    from robospec.tune.command import run_tune
+
+    code, text = run_tune(spec, uid, tuple(controller or ()), write, plot, format.value, reference)
+    if text:
+        typer.echo(text)
+    raise typer.Exit(code)
+
+
+@app.command()
 def doc(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot")],
     out: Annotated[Path, typer.Option("--out", "-o", help="the Markdown card to write")],
@@ -445,6 +498,29 @@ def doc(
 
     diagnostics = run_doc(spec, out)
     _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
+
+
+@app.command()
+def lsp() -> None:
+    """Run the robospec Language Server on stdin/stdout, for editors.
+
+    While you type, the editor shows robospec validate's diagnostics (on the unsaved text, in the
+    URDF/MJCF too), completes the robot's joint, link, group and controller names, shows a
+    joint's limits or a controller's fields on hover and jumps into the URDF. Needs pygls:
+    pip install 'robospec[lsp]'. See docs/editors.md.
+
+    Example: robospec lsp   (started by the editor, not by hand)
+    """
+    try:
+        from robospec.lsp.server import main
+    except ImportError as exc:
+        typer.echo(
+            f"robospec lsp needs pygls and lsprotocol ({exc.name or exc} is missing): "
+            "pip install 'robospec[lsp]'",
+            err=True,
+        )
+        raise typer.Exit(2) from None
+    main()
 
 
 __all__ = ["app"]

@@ -148,6 +148,68 @@ class StepResponse(StrictModel, StepResponseBehaviour):
     )
 
 
+class TuneLimits(StrictModel):
+    """What ``robospec tune`` aims for with one controller; every field defaults to the
+    spec-wide ``tune`` value."""
+
+    max_overshoot: Fraction | None = Field(
+        default=None,
+        description="The largest overshoot to aim for, as a fraction of the step; default: "
+        "the spec-wide value.",
+        examples=[0.1],
+    )
+    max_settling_time: PositiveNumber | None = Field(
+        default=None,
+        description="The longest settling time to aim for, in seconds; default: the "
+        "spec-wide value.",
+        examples=[1.0],
+    )
+    max_steady_state_error: Fraction | None = Field(
+        default=None,
+        description="The largest steady-state error to aim for, as a fraction of the step; "
+        "default: the spec-wide value.",
+        examples=[0.05],
+    )
+    keep_force_limit: bool | None = Field(
+        default=None,
+        description="Never raise this controller's force_limit; default: the spec-wide value.",
+        examples=[True],
+    )
+
+
+class Tune(StrictModel, StepResponseBehaviour):
+    """What ``robospec tune`` aims for: each joint's response to the step of
+    ``step_response`` (same step, duration and settling band), within these bounds."""
+
+    max_overshoot: Fraction = Field(
+        default=0.05,
+        description="The largest overshoot to aim for, as a fraction of the step.",
+        examples=[0.1],
+    )
+    max_settling_time: PositiveNumber = Field(
+        default=0.5,
+        description="The longest time to settle within `step_response.settling_band` of "
+        "the target, in seconds.",
+        examples=[1.0],
+    )
+    max_steady_state_error: Fraction = Field(
+        default=0.02,
+        description="The largest error at the end of the window, as a fraction of the step.",
+        examples=[0.05],
+    )
+    keep_force_limit: bool = Field(
+        default=False,
+        description="Never raise a force_limit (a real motor's torque limit): a target that "
+        "needs more torque is reported as not met instead.",
+        examples=[True],
+    )
+    controllers: dict[ControllerName, TuneLimits] = Field(
+        default_factory=dict,
+        description="Other targets for some controllers, by controller name.",
+        examples=[{"body_pos": {"max_settling_time": 1.0}}],
+    )
+
+
 class SelfContact(StrictModel):
     """At each keyframe, links of the robot that touch each other."""
 
@@ -180,4 +242,9 @@ class Checks(StrictModel):
         default_factory=SelfContact,
         description="Links touching each other at the keyframes.",
         examples=[{"min_depth": 0.002}],
+    )
+    tune: Tune = Field(
+        default_factory=Tune,
+        description="What `robospec tune` aims for with each controller's step response.",
+        examples=[{"max_overshoot": 0.1, "max_settling_time": 1.0}],
     )

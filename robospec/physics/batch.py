@@ -150,7 +150,9 @@ def check_loaded(
         crash = from_exception(exc)
         diagnostic = crash_diagnostics.check_failure(context, "register", None, crash)
         return [_crashed(LOAD, None, crash, diagnostic)], []
-    run = CheckRun(robot.uid, context, _settings(item, options), options.backend, on_phase)
+    run = CheckRun(
+        robot.uid, context, _settings(item, options), options.backend, on_phase, options.plot_dir
+    )
     try:
         findings = run_checks(run, progress)
         if options.render_dir is not None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, Location, error
@@ -27,6 +28,7 @@ class CheckRun:
     settings: Checks
     backend: Backend = CPU
     on_phase: Callable[[str], None] | None = None
+    plot_dir: Path | None = None  # check --plot: one PNG of each controller's step there
     check: str | None = None  # the check running now
     mode: str | None = None  # the mode it used last
     # modes whose environment could not be made, with what crashed (robospec.physics.crash)

@@ -20,6 +20,7 @@ def run_check(
     gpu: bool,
     num_envs: int,
     render_dir: Path | None,
+    plot_dir: Path | None = None,
 ) -> tuple[int, str]:
     problems = _unavailable(gpu, render_dir)
     if has_errors(problems):
@@ -27,7 +28,9 @@ def run_check(
     backend = Backend("physx_cuda", num_envs) if gpu else CPU
     progress = ProgressLine()
     try:
-        reports, extra = check_paths(paths, Options(steps, backend, render_dir), progress)
+        reports, extra = check_paths(
+            paths, Options(steps, backend, render_dir, plot_dir and plot_dir.resolve()), progress
+        )
     finally:
         progress.close()
     extra = [*problems, *extra]

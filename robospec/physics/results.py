@@ -36,6 +36,7 @@ class Options:
     steps: int | None = None  # overrides keyframe_hold.steps and random_actions.steps
     backend: Backend = CPU
     render_dir: Path | None = None  # save each camera's image there (needs a render device)
+    plot_dir: Path | None = None  # save a PNG of each controller's step response there
 
 
 DEFAULT_OPTIONS = Options()

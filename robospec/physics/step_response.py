@@ -22,6 +22,7 @@ percent of the step (RS505, with the numbers).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -29,10 +30,24 @@ from robospec.diagnostics import Diagnostic
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import ControllerGroup, Sim
+from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "step_response"
 SETTLE_TIME = 0.5  # seconds of holding before the step
 LIFT = 5.0  # metres a floating robot is lifted for its step: feet on the floor would block it
+
+
+class StepSettings(Protocol):
+    """What the measurement reads of ``checks.step_response`` (for one controller)."""
+
+    @property
+    def step(self) -> float: ...
+    @property
+    def prismatic_step(self) -> float: ...
+    @property
+    def duration(self) -> float: ...
+    @property
+    def settling_band(self) -> float: ...
 
 
 @dataclass(frozen=True)
@@ -94,8 +109,59 @@ def _step(
     run: CheckRun, sim: Sim, group: ControllerGroup, controller: str, subject: str
 ) -> Finding:
     settings = run.settings.step_response.for_controller(controller)
-    start = sim.start(run.keyframes[0])
-    group = sim.group(group.name)  # the controller of the scene start() built
+    trace = step_trace(sim, group.name, run.keyframes[0], settings)
+    if run.plot_dir is not None:
+        from robospec.physics.plot import Limits, plot_controller
+
+        limits = Limits(float(settings.settling_band))
+        plot_controller(run.plot_dir, run.uid, controller, [("step response", trace)], limits)
+    return _finding(run, sim, sim.group(group.name), controller, subject, list(trace.responses))
+
+
+@dataclass(frozen=True)
+class Drive:
+    """Drive gains to measure with instead of the controller's, one value per joint of the
+    group (``force_limit`` None: the controller's)."""
+
+    stiffness: np.ndarray
+    damping: np.ndarray
+    force_limit: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class StepTrace:
+    """One step of a controller group, as measured: every joint's trace and its timings."""
+
+    kind: str  # "position" or "velocity"
+    joints: tuple[str, ...]
+    dt: float  # seconds per sample (a physics step)
+    fraction: np.ndarray  # (samples, joints): the response as a fraction of the step
+    size: np.ndarray  # (joints,): the step, in rad or m (rad/s or m/s), signed
+    target: np.ndarray  # (joints,): the commanded position (or velocity)
+    position: np.ndarray  # (samples, joints): joint positions
+    velocity: np.ndarray  # (samples, joints): joint velocities
+    responses: tuple[Response, ...]
+
+
+def step_trace(
+    sim: Sim,
+    group_name: str,
+    keyframe: ResolvedKeyframe | None,
+    settings: StepSettings,
+    drive: Drive | None = None,
+    stepped: np.ndarray | None = None,
+) -> StepTrace:
+    """Step controller group ``group_name`` of ``sim`` and time each of its joints: the one
+    measurement of ``robospec check`` and ``robospec tune``. From ``keyframe`` in a fresh scene,
+    every drive holds still for :data:`SETTLE_TIME` (a floating robot held by its root, lifted
+    clear of the floor), then the group's drive targets jump by ``settings.step`` (rad, or
+    ``prismatic_step`` m, away from the nearer limit) and the joints are watched for
+    ``settings.duration``. ``drive`` gives the group other gains first (``Sim.set_drive``);
+    ``stepped`` (one bool per joint of the group) steps only some joints, the rest holding."""
+    start = sim.start(keyframe)
+    group = sim.group(group_name)  # the controller of the scene start() built
+    if drive is not None:
+        sim.set_drive(group, drive.stiffness, drive.damping, drive.force_limit)
     sim.hold_drive_targets()
     joints = list(group.joint_indices)
     pin = None if sim.fixed_root else sim.lifted_root(LIFT)
@@ -106,37 +172,52 @@ def _step(
     size = np.where(sim.prismatic[joints], settings.prismatic_step, settings.step)
     lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
     direction = np.where(upper - start[joints] >= start[joints] - lower, 1.0, -1.0)
+    signed = direction * size
+    if stepped is not None:
+        signed = np.where(stepped, signed, 0.0)
     if group.kind == "position":
         origin = sim.qpos()[0, joints]
-        read = sim.qpos
-        sim.set_joint_targets(group, start[joints] + direction * size)
+        target = start[joints] + signed
+        if stepped is not None:  # the joints not stepped hold where they settled
+            target = np.where(stepped, target, origin)
     else:
         origin = sim.qvel()[0, joints]
-        read = sim.qvel
-        sim.set_joint_targets(group, direction * size)
+        target = signed
+    sim.set_joint_targets(group, target)
     n_steps = max(round(settings.duration * sim.sim_freq), 2)
-    trace = np.empty((n_steps, len(joints)))
+    position = np.empty((n_steps, len(joints)))
+    velocity = np.empty((n_steps, len(joints)))
     for i in range(n_steps):
         sim.sim_step(pin)
-        trace[i] = read()[0, joints]
-    fraction = (trace - origin) / (direction * size)
+        position[i] = sim.qpos()[0, joints]
+        velocity[i] = sim.qvel()[0, joints]
+    trace = position if group.kind == "position" else velocity
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fraction = (trace - origin) / np.where(signed != 0, signed, np.nan)
     fraction = np.where(np.isfinite(fraction), fraction, np.nan)
     responses = []
     for k, joint in enumerate(joints):
+        name = sim.joint_names[joint]
+        if stepped is not None and not stepped[k]:
+            continue
         if np.isnan(fraction[:, k]).any():
-            responses.append(
-                Response(
-                    sim.joint_names[joint], None, float("nan"), None, float("nan"), float("nan")
-                )
-            )
+            responses.append(Response(name, None, float("nan"), None, float("nan"), float("nan")))
             continue
         rise, overshoot, settling, steady, reached = measure(
             fraction[:, k], sim.sim_dt, settings.settling_band
         )
-        responses.append(
-            Response(sim.joint_names[joint], rise, overshoot, settling, steady, reached)
-        )
-    return _finding(run, sim, group, controller, subject, responses)
+        responses.append(Response(name, rise, overshoot, settling, steady, reached))
+    return StepTrace(
+        kind="velocity" if group.kind == "velocity" else "position",
+        joints=tuple(sim.joint_names[j] for j in joints),
+        dt=sim.sim_dt,
+        fraction=fraction,
+        size=signed,
+        target=np.asarray(target, dtype=np.float64),
+        position=position,
+        velocity=velocity,
+        responses=tuple(responses),
+    )
 
 
 def _finding(
