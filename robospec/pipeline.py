@@ -10,7 +10,7 @@ from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_chec
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
 from robospec.load.discovery import discover
-from robospec.load.reader import read_spec
+from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
 from robospec.load.source_map import LoadedSpec
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
 from robospec.maniskill.installed import registered_uids
@@ -37,13 +37,19 @@ class CompiledSpec:
 
 
 def compile_spec(
-    path: Path, display: str | None = None, *, overrides: Overrides = False
+    path: Path,
+    display: str | None = None,
+    *,
+    overrides: Overrides = False,
+    text: bytes | None = None,
 ) -> CompiledSpec:
     """``overrides``: uids this compilation may take over from ManiSkill (True: any), as
-    ``register(..., override=...)`` allows, on top of a spec's own ``override: true``."""
+    ``register(..., override=...)`` allows, on top of a spec's own ``override: true``.
+    ``text``: the spec's contents as an editor holds them, unsaved (the file's are read when
+    None); relative paths in it are still relative to ``path``."""
     result = CompiledSpec(path, display or str(path))
     try:
-        _compile_into(result, overrides)
+        _compile_into(result, overrides, text)
     except Exception as exc:  # a bug of ours must still be a located diagnostic
         result.robot = None
         result.diagnostics.append(
@@ -60,8 +66,12 @@ def compile_spec(
     return result
 
 
-def _compile_into(result: CompiledSpec, overrides: Overrides) -> None:
-    loaded, diagnostics = read_spec(result.path, result.display)
+def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None) -> None:
+    fmt = SPEC_SUFFIXES.get(result.path.suffix.lower())
+    if text is not None and fmt is not None:
+        loaded, diagnostics = parse_spec_bytes(text, result.display, fmt)
+    else:
+        loaded, diagnostics = read_spec(result.path, result.display)
     result.diagnostics.extend(diagnostics)
     if loaded is None:
         return

@@ -33,7 +33,24 @@ def load_description(
     A URDF file's SRDF (``robot.srdf`` beside ``robot.urdf``), which SAPIEN reads by itself,
     gives the description's ``loader_collision_bits``. A URDF's meshes and textures are looked
     for beside ``path`` (``package://`` URIs with ``packages``, name -> absolute folder, first).
+    Inside :func:`robospec.description.memo.remembering` an unchanged file is parsed once.
     """
+    from robospec.description.memo import active_memo
+
+    memo = active_memo()
+    if memo is not None:
+        return memo.load(
+            path, kind, text, packages, lambda: _load_description(path, kind, text, packages)
+        )
+    return _load_description(path, kind, text, packages)
+
+
+def _load_description(
+    path: str,
+    kind: Literal["urdf", "mjcf"],
+    text: str | bytes | None,
+    packages: Mapping[str, str] | None,
+) -> tuple[RobotDescription | None, list[Diagnostic]]:
     given_text = text is not None
     if text is None:
         from robospec.description.urdf import read_file_bytes

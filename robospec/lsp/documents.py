@@ -1,0 +1,210 @@
+"""What the server knows about each open spec: its text as the editor holds it (unsaved), the
+compilation of that text, and the files the compilation read.
+
+Everything here is plain Python over the pipeline (no LSP types), so it is tested and
+benchmarked without a client. Descriptions are parsed through one
+:class:`~robospec.description.memo.DescriptionMemo` for the life of the server: an edit of the
+spec reuses the parsed URDF, an edit of the URDF (on disk) parses it again.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from robospec.description.facts import RobotDescription
+from robospec.description.memo import DescriptionMemo, remembering
+from robospec.diagnostics import Diagnostic, Location
+from robospec.load.reader import SPEC_SUFFIXES
+from robospec.pipeline import CompiledSpec, compile_spec
+from robospec.resolve.paths import (
+    maniskill_assets_dir,
+    maniskill_data_dir,
+    split_assets,
+    split_data,
+)
+
+EXPANDED = " (expanded)"  # how diagnostics name a xacro's expansion (resolve.description_files)
+
+
+def _signature(path: Path) -> tuple[int, int] | None:
+    try:
+        status = path.stat()
+    except (OSError, ValueError):
+        return None
+    return status.st_mtime_ns, status.st_size
+
+
+@dataclass
+class Analysis:
+    """One compilation of one spec text."""
+
+    path: Path  # the spec file (absolute)
+    text: str
+    version: int | None
+    compiled: CompiledSpec
+    # the description file it read (absolute), None when it read none
+    description_file: Path | None
+    # signatures of the files read besides the spec (description, SRDF): a change makes it stale
+    read: dict[Path, tuple[int, int] | None] = field(default_factory=dict)
+
+    @property
+    def fmt(self) -> str:
+        return SPEC_SUFFIXES.get(self.path.suffix.lower(), "yaml")
+
+    @property
+    def description(self) -> RobotDescription | None:
+        return self.compiled.description
+
+    @property
+    def data(self) -> Any:
+        loaded = self.compiled.loaded
+        return loaded.data if loaded is not None else None
+
+    @property
+    def expanded(self) -> bool:
+        """The description is a xacro's expansion: its lines are not the file's."""
+        data = self.data
+        return (
+            isinstance(data, dict)
+            and isinstance(data.get("description"), dict)
+            and ("xacro" in data["description"])
+        )
+
+    def stale(self) -> bool:
+        return any(_signature(path) != known for path, known in self.read.items())
+
+    def by_file(self) -> dict[Path, list[Diagnostic]]:
+        """The diagnostics by the file they are in: the spec's, and the description's (a
+        problem in the URDF is shown in the URDF). What cannot be placed in a file (a xacro's
+        expansion) is shown on the spec's ``description`` key, naming where it is."""
+        out: dict[Path, list[Diagnostic]] = {self.path: []}
+        for diagnostic in self.compiled.diagnostics:
+            file = self.file_of(diagnostic.location.file)
+            if file is None:
+                diagnostic = self._on_spec(diagnostic)
+                file = self.path
+            out.setdefault(file, []).append(diagnostic)
+        return out
+
+    def file_of(self, shown: str) -> Path | None:
+        """The file a diagnostic's ``file`` names, as the pipeline showed it."""
+        if shown == str(self.path):
+            return self.path
+        if shown.endswith(EXPANDED):
+            return None
+        in_assets, in_data = split_assets(shown), split_data(shown)
+        if in_assets is not None:
+            assets = maniskill_assets_dir()
+            return assets / in_assets if assets is not None else None
+        if in_data is not None:
+            return maniskill_data_dir() / in_data
+        candidate = Path(os.path.normpath(shown))
+        return candidate if candidate.is_absolute() and candidate.is_file() else None
+
+    def _on_spec(self, diagnostic: Diagnostic) -> Diagnostic:
+        loaded = self.compiled.loaded
+        where = (
+            loaded.source.key(("description",)) if loaded is not None else Location(str(self.path))
+        )
+        loc = diagnostic.location
+        shown = Path(loc.file.removesuffix(EXPANDED)).name
+        suffix = EXPANDED if loc.file.endswith(EXPANDED) else ""
+        return Diagnostic(
+            where,
+            diagnostic.code,
+            diagnostic.severity,
+            f"{shown}{suffix}:{loc.line}:{loc.column}: {diagnostic.message}",
+            diagnostic.hint,
+        )
+
+
+class Workspace:
+    """The open specs, compiled on demand, and the description files they read."""
+
+    def __init__(self) -> None:
+        self.memo = DescriptionMemo()
+        self.texts: dict[Path, tuple[str, int | None]] = {}
+        self.analyses: dict[Path, Analysis] = {}
+
+    def open(self, path: Path, text: str, version: int | None = None) -> None:
+        self.texts[path] = (text, version)
+
+    def close(self, path: Path) -> None:
+        self.texts.pop(path, None)
+        self.analyses.pop(path, None)
+
+    def is_spec(self, path: Path) -> bool:
+        return path.suffix.lower() in SPEC_SUFFIXES
+
+    def analyse(self, path: Path) -> Analysis:
+        """Compile the spec's current text (the editor's, else the file's)."""
+        text, version = self.texts.get(path, (None, None))
+        if text is None:
+            try:
+                text = path.read_text(encoding="utf-8")
+            except (OSError, UnicodeDecodeError):
+                text = ""
+        with remembering(self.memo):
+            compiled = compile_spec(path, str(path), text=text.encode("utf-8"))
+        description_file = None
+        if compiled.description is None and compiled.loaded is not None:
+            # a spec with errors in its model (half written) is not resolved: its description
+            # is still what completion and hover need
+            compiled.description = self._description_alone(path, compiled.loaded.data)
+        if compiled.description is not None:
+            description_file = Path(compiled.description.path)
+        read: dict[Path, tuple[int, int] | None] = {}
+        if description_file is not None:
+            read[description_file] = _signature(description_file)
+            srdf = description_file.with_suffix(".srdf")
+            read[srdf] = _signature(srdf)
+        analysis = Analysis(path, text, version, compiled, description_file, read)
+        self.analyses[path] = analysis
+        return analysis
+
+    def _description_alone(self, spec: Path, data: Any) -> RobotDescription | None:
+        """The URDF or MJCF a spec names (not a xacro: that needs expanding), parsed alone."""
+        from robospec.description import load_description
+
+        given = data.get("description") if isinstance(data, dict) else None
+        if not isinstance(given, dict):
+            return None
+        for kind in ("urdf", "mjcf"):
+            text = given.get(kind)
+            if not isinstance(text, str):
+                continue
+            in_assets, in_data = split_assets(text), split_data(text)
+            assets = maniskill_assets_dir()
+            if in_assets is not None:
+                if assets is None:
+                    return None
+                file = assets / in_assets
+            elif in_data is not None:
+                file = maniskill_data_dir() / in_data
+            else:
+                file = Path(os.path.normpath(spec.parent / text))
+            if not file.is_file():
+                return None
+            with remembering(self.memo):
+                description, _ = load_description(str(file), kind)  # type: ignore[arg-type]
+            return description
+        return None
+
+    def current(self, path: Path) -> Analysis:
+        """The analysis of the spec's current text, compiled again only when the text or a
+        file it read changed since."""
+        known = self.analyses.get(path)
+        text, _ = self.texts.get(path, (None, None))
+        if known is None or known.stale() or (text is not None and known.text != text):
+            return self.analyse(path)
+        return known
+
+    def dependents(self, changed: Path) -> Iterator[Path]:
+        """The open specs that read ``changed`` (a description or its SRDF)."""
+        for path, analysis in list(self.analyses.items()):
+            if changed in analysis.read or changed == path:
+                yield path
