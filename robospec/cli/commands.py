@@ -523,28 +523,4 @@ def lsp() -> None:
     main()
 
 
-
-@app.command()
-def lsp() -> None:
-    """Run the robospec Language Server on stdin/stdout, for editors.
-
-    While you type, the editor shows robospec validate's diagnostics (on the unsaved text, in the
-    URDF/MJCF too), completes the robot's joint, link, group and controller names, shows a
-    joint's limits or a controller's fields on hover and jumps into the URDF. Needs pygls:
-    pip install 'robospec[lsp]'. See docs/editors.md.
-
-    Example: robospec lsp   (started by the editor, not by hand)
-    """
-    try:
-        from robospec.lsp.server import main
-    except ImportError as exc:
-        typer.echo(
-            f"robospec lsp needs pygls and lsprotocol ({exc.name or exc} is missing): "
-            "pip install 'robospec[lsp]'",
-            err=True,
-        )
-        raise typer.Exit(2) from None
-    main()
-
-
 __all__ = ["app"]
