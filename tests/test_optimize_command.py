@@ -179,3 +179,17 @@ def test_a_failure_of_ours_is_a_diagnostic_and_writes_nothing(
         ("RS900", "internal error: RuntimeError: boom")
     ]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_out_in_a_folder_that_does_not_exist_yet_makes_it(tmp_path: Path) -> None:
+    out = tmp_path / "new" / "folder" / "p.yaml"
+    report, diagnostics = run_optimize(PANDA_SPEC, out, OptimizeOptions(shapes="keep", samples=0))
+    assert report is not None, [d.format_text() for d in diagnostics]
+    assert compile_spec(out).ok
+
+
+def test_out_under_a_file_is_a_located_error_not_a_traceback(tmp_path: Path) -> None:
+    (tmp_path / "a_file").write_text("")
+    report, diagnostics = run_optimize(PANDA_SPEC, tmp_path / "a_file" / "p.yaml", QUICK)
+    assert report is None
+    assert [(d.code, d.location.file) for d in diagnostics] == [("RS603", "<command line>")]

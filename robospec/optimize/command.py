@@ -162,6 +162,10 @@ def _run_optimize(
                 "pin each with --keep LINK",
             )
         )
+    try:  # -o into a folder that does not exist yet makes it, as build -o does
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return None, [error(command_line, "RS603", f"cannot make {out.parent}: {exc.strerror}")]
     with tempfile.TemporaryDirectory(prefix=".robospec-optimize-", dir=out.parent) as staging:
         written = _optimize_into(Path(staging), compiled, targets, options, report)
         if has_errors(written):
