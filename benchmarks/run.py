@@ -14,6 +14,8 @@
    (benchmarks/scaling.py).
 5. `env.step` throughput of robots optimized by `robospec optimize` against the same robots
    as written (benchmarks/optimize_throughput.py).
+6. How soon `robospec lsp` publishes fresh diagnostics after an edit of the Panda spec
+   (benchmarks/lsp_latency.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
 """
@@ -29,6 +31,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import first_error
+import lsp_latency
 import optimize_throughput
 import registration
 import scaling
@@ -43,10 +46,18 @@ SECTION_TITLES = (
     step_throughput.TITLE,
     scaling.TITLE,
     optimize_throughput.TITLE,
+    lsp_latency.TITLE,
 )
 
 
-PARTS = ("first_error", "registration", "step_throughput", "scaling", "optimize_throughput")
+PARTS = (
+    "first_error",
+    "registration",
+    "step_throughput",
+    "scaling",
+    "optimize_throughput",
+    "lsp_latency",
+)
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
 
@@ -61,6 +72,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             "optimize_throughput": lambda: optimize_throughput.measure(
                 steps=10, rounds=1, only=["panda"], corpus=False, samples=20, every_spec=False
             ),
+            "lsp_latency": lambda: lsp_latency.measure(4),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
@@ -68,6 +80,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "step_throughput": lambda: step_throughput.measure(steps=200, rounds=5),
         "scaling": lambda: scaling.measure([100, 1_000, 10_000], repeat),
         "optimize_throughput": lambda: optimize_throughput.measure(steps=200, rounds=5),
+        "lsp_latency": lambda: lsp_latency.measure(40),
     }
 
 

@@ -27,7 +27,7 @@ from robospec.lsp.hover import hover_text
 from robospec.lsp.positions import Cursor, locate, word_span
 
 # after the last keystroke; small, so that fresh diagnostics arrive within 200 ms of an edit
-DEBOUNCE_S = 0.05
+DEBOUNCE_S = 0.03
 # description files whose changes the server asks the client to report
 WATCHED = "**/*.{urdf,URDF,xml,srdf,xacro}"
 
