@@ -14,7 +14,6 @@ from __future__ import annotations
 import asyncio
 import statistics
 import time
-from pathlib import Path
 
 from measure import PYTHON, ROOT, child_env
 from section import Section
