@@ -155,6 +155,18 @@ _CODES = [
     Code("RS620", "a controller cannot meet its tuning targets"),
     Code("RS621", "--controller names no controller a control mode uses"),
     Code("RS622", "robospec tune cannot write the new gains into the spec"),
+    # -- robospec tune --reference: fitting gains to a recorded trajectory (RS640-RS659)
+    Code("RS640", "reference trajectory file cannot be read"),
+    Code("RS641", "reference trajectory file is malformed"),
+    Code("RS642", "reference trajectory value is not a finite number"),
+    Code("RS643", "reference trajectory too short or out of time order"),
+    Code("RS644", "reference joint is not a joint of the robot"),
+    Code("RS645", "reference joint not driven by a joint-position controller"),
+    Code("RS646", "reference joint does not move"),
+    Code("RS647", "--reference mujoco needs an MJCF robot with position actuators"),
+    Code("RS648", "simulated robot cannot match the reference"),
+    Code("RS649", "reference does not determine stiffness and damping each"),
+    Code("RS650", "reference fit crashed"),
     # -- internal
     Code("RS900", "internal error"),
 ]

@@ -1,0 +1,123 @@
+"""``--reference mujoco``: the reference trajectory made by MuJoCo itself, from the robot's MJCF
+and its position actuators, so that a robot ported from MuJoCo can be fitted to behave as it
+did there.
+
+The same steps the fit replays: each joint a position actuator drives gets a square wave of a
+small step about where it starts (:mod:`robospec.tune.reference.excitation`) as its actuator's
+``ctrl``; MuJoCo integrates with the model's own timestep and options, and the joints are
+sampled at ManiSkill's physics rate. Treated as ManiSkill treats the robot: a free root is held
+where it starts (``check`` holds a floating robot by its root too), and where the control mode
+compensates gravity (``balance_passive_force``) MuJoCo runs without gravity.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from robospec.tune.reference.excitation import square_waves
+from robospec.tune.reference.trajectory import Reference
+
+SOURCE = "mujoco"
+
+
+@dataclass
+class Made:
+    reference: Reference | None
+    actuated: dict[str, tuple[float, float]]  # joint -> MuJoCo's (kp, kv)
+    notes: list[str] = field(default_factory=list)
+
+
+def position_actuators(model: object) -> dict[str, tuple[int, float, float, float]]:
+    """Joint name -> (actuator id, kp, kv, gear) for MuJoCo's position servos on one joint:
+    fixed gain kp and affine bias ``(0, -kp, -kv)``."""
+    import mujoco
+
+    found: dict[str, tuple[int, float, float, float]] = {}
+    m: mujoco.MjModel = model  # type: ignore[assignment]
+    for a in range(m.nu):
+        if m.actuator_trntype[a] != mujoco.mjtTrn.mjTRN_JOINT:
+            continue
+        kp = float(m.actuator_gainprm[a, 0])
+        bias = m.actuator_biasprm[a]
+        if (
+            m.actuator_gaintype[a] != mujoco.mjtGain.mjGAIN_FIXED
+            or m.actuator_biastype[a] != mujoco.mjtBias.mjBIAS_AFFINE
+            or kp <= 0
+            or abs(float(bias[1]) + kp) > 1e-9 * kp
+        ):
+            continue
+        joint = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, int(m.actuator_trnid[a, 0]))
+        if joint is not None:
+            found[joint] = (a, kp, -float(bias[2]), float(m.actuator_gear[a, 0]))
+    return found
+
+
+def make_reference(
+    path: str,
+    joints: Sequence[str],
+    start: Mapping[str, float],
+    limits: np.ndarray,
+    prismatic: np.ndarray,
+    sample_dt: float,
+    gravity: bool,
+) -> Made:
+    """Simulate ``joints`` (those of them a position actuator drives) in MuJoCo from
+    ``start`` (joint -> position; others at the model's qpos0)."""
+    import mujoco
+
+    model = mujoco.MjModel.from_xml_path(path)
+    data = mujoco.MjData(model)
+    servos = position_actuators(model)
+    notes: list[str] = []
+    used = [j for j in joints if j in servos and abs(servos[j][3] - 1.0) < 1e-12]
+    geared = [j for j in joints if j in servos and j not in used]
+    if geared:
+        notes.append(
+            "not fitted, their MuJoCo actuators have a gear other than 1: " + ", ".join(geared)
+        )
+    if not used:
+        return Made(None, {}, notes)
+    if not gravity:
+        model.opt.gravity[:] = 0.0
+    for joint, value in start.items():
+        jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
+        if jid >= 0:
+            data.qpos[model.jnt_qposadr[jid]] = value
+    mujoco.mj_forward(model, data)
+    # a free root held where it starts, as ManiSkill's replay holds it
+    free = [
+        (int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]))
+        for j in range(model.njnt)
+        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE
+    ]
+    held = [(q, d, data.qpos[q : q + 7].copy()) for q, d in free]
+    index = [list(joints).index(j) for j in used]
+    t, targets = square_waves(
+        np.array([start[j] for j in used]), limits[index], prismatic[index], sample_dt
+    )
+    substeps = max(round(sample_dt / model.opt.timestep), 1)
+    if abs(substeps * model.opt.timestep - sample_dt) > 1e-9:
+        notes.append(
+            f"MuJoCo's timestep {model.opt.timestep:g} s does not divide ManiSkill's "
+            f"{sample_dt:g} s: MuJoCo was sampled every {substeps * model.opt.timestep:g} s"
+        )
+    addresses = [
+        int(model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j)]) for j in used
+    ]
+    actuators = [servos[j][0] for j in used]
+    qpos = np.empty_like(targets)
+    qpos[0] = data.qpos[addresses]
+    for k in range(1, t.size):
+        data.ctrl[actuators] = targets[k - 1]
+        for _ in range(substeps):
+            mujoco.mj_step(model, data)
+            for q, d, pose in held:
+                data.qpos[q : q + 7] = pose
+                data.qvel[d : d + 6] = 0.0
+        qpos[k] = data.qpos[addresses]
+    t = t[: qpos.shape[0]] * (substeps * model.opt.timestep / sample_dt)
+    reference = Reference(t, targets, qpos, tuple(used), SOURCE)
+    return Made(reference, {j: (servos[j][1], servos[j][2]) for j in used}, notes)
