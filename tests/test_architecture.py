@@ -148,3 +148,32 @@ def test_each_check_module_is_one_rule_with_its_code_and_examples_and_runs_once(
         assert reported, module.__name__
         assert all(code in head for code in reported), (module.__name__, reported, head)
         assert "Passing" in doc and "Failing" in doc, module.__name__
+
+
+# The language server is the light core: it compiles specs as `robospec validate` does and
+# reads descriptions, never the stages that import ManiSkill, SAPIEN or torch (emit, output,
+# physics, optimize, tune, the authoring commands); tests/test_lsp.py checks the running server.
+LSP_MAY_IMPORT = (
+    "robospec.lsp",
+    "robospec.pipeline",
+    "robospec.load",
+    "robospec.description",
+    "robospec.diagnostics",
+    "robospec.model",
+    "robospec.resolve",
+    "robospec.schema",
+    "robospec.reporting",
+)
+
+
+def test_the_language_server_imports_only_the_validation_stages() -> None:
+    graph = import_graph()
+    outside = {
+        (name, target)
+        for name, targets in graph.items()
+        if name.startswith("robospec.lsp")
+        for target in targets
+        # `robospec` itself: its __version__ (register is imported only when asked for)
+        if target != "robospec" and not target.startswith(LSP_MAY_IMPORT)
+    }
+    assert outside == set()

@@ -434,3 +434,40 @@ async def test_lsp_without_pygls_says_what_to_install_and_exits_2() -> None:
     assert done.returncode == 2
     assert "pip install 'robospec[lsp]'" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+# -- the server's state, without a client ------------------------------------------------------
+
+
+async def test_the_description_is_parsed_once_and_again_only_when_its_file_changes(
+    tmp_path: Path,
+) -> None:
+    from robospec.lsp.documents import Workspace
+
+    spec, urdf = tiny_robot(tmp_path)
+    state = Workspace()
+    state.open(spec, TINY_SPEC, 1)
+    for version, typed in enumerate([TINY_SPEC, TINY_SPEC + "\n", TINY_SPEC + "tcp: lower\n"]):
+        state.open(spec, typed, version + 2)
+        assert state.current(spec).description is not None
+    assert state.memo.parses == 1
+    urdf.write_text(TWO_JOINT_URDF.replace('"elbow"', '"knee"'))
+    assert state.current(spec).description.joint("knee") is not None  # type: ignore[union-attr]
+    assert state.memo.parses == 2
+
+
+async def test_the_server_imports_neither_maniskill_nor_sapien_nor_torch() -> None:
+    program = (
+        "import sys\n"
+        "from pathlib import Path\n"
+        "import robospec.lsp.server\n"
+        "from robospec.lsp.documents import Workspace\n"
+        f"Workspace().analyse(Path({str(PANDA_SPEC)!r}))\n"
+        "heavy = ('mani_skill', 'sapien', 'torch', 'trimesh', 'yourdfpy')\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in heavy))\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", program], capture_output=True, text=True, timeout=60, cwd=ROOT
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
