@@ -177,3 +177,25 @@ def test_the_language_server_imports_only_the_validation_stages() -> None:
         if target != "robospec" and not target.startswith(LSP_MAY_IMPORT)
     }
     assert outside == set()
+
+
+def test_only_the_command_line_reaches_robospec_tune() -> None:
+    # tune is a front end over physics (it measures with check's step_response and Sim); no
+    # stage and no other front end imports it, and it reaches its reference fitting
+    # (robospec.tune.reference) only through the command's --reference
+    graph = import_graph()
+    users = {
+        name
+        for name, targets in graph.items()
+        if any(t == "robospec.tune" or t.startswith("robospec.tune.") for t in targets)
+        and not name.startswith("robospec.tune")
+    }
+    assert users <= {"robospec.cli.commands"}
+    into_reference = {
+        name
+        for name, targets in graph.items()
+        if name.startswith("robospec.tune")
+        and not name.startswith("robospec.tune.reference")
+        and any(t.startswith("robospec.tune.reference") for t in targets)
+    }
+    assert into_reference <= {"robospec.tune.command"}

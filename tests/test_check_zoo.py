@@ -85,8 +85,25 @@ FIXED_UPSTREAM_MODES: dict[str, set[str]] = (
 )
 
 
+# Variants of ManiSkill's robots with gains from `robospec tune --write` (specs/*_tuned.yaml):
+# their step responses pass; what they still fail is not a matter of gains, and listed here
+TUNED_VARIANTS: dict[str, tuple[frozenset[str], str]] = {
+    "rs_humanoid_tuned": (frozenset(), "passes every check"),
+    "rs_unitree_g1_tuned": (
+        frozenset({"RS503"}),
+        "random joint targets still push finger and ankle joints past their limits (not a "
+        "step-response matter: the upstream G1 fails the same way)",
+    ),
+}
+
 # the specs whose robots have a free root
-FLOATING = {"rs_humanoid", "rs_unitree_g1", "rs_unitree_g1_simplified_legs"}
+FLOATING = {
+    "rs_humanoid",
+    "rs_unitree_g1",
+    "rs_unitree_g1_simplified_legs",
+    "rs_humanoid_tuned",
+    "rs_unitree_g1_tuned",
+}
 
 
 @pytest.fixture(scope="module")
@@ -99,8 +116,19 @@ def _codes(report: RobotReport) -> set[str]:
 
 
 def test_every_spec_passes_except_the_ones_broken_upstream(reports: dict[str, RobotReport]) -> None:
-    failing = {uid: frozenset(_codes(r)) for uid, r in reports.items() if r.failed}
+    failing = {
+        uid: frozenset(_codes(r))
+        for uid, r in reports.items()
+        if r.failed and uid not in TUNED_VARIANTS
+    }
     assert failing == {uid: codes for uid, (codes, _) in KNOWN_BROKEN_UPSTREAM.items()}
+
+
+def test_tuned_variants_pass_their_step_responses(reports: dict[str, RobotReport]) -> None:
+    for uid, (codes, reason) in TUNED_VARIANTS.items():
+        steps = [f for f in reports[uid].findings if f.check == "step_response"]
+        assert steps and all(not f.failed for f in steps), uid
+        assert _codes(reports[uid]) == codes, reason
 
 
 def test_every_spec_was_really_checked(reports: dict[str, RobotReport]) -> None:

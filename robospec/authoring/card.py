@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 
 from robospec.authoring.layout import ActionRow, mode_layout
 from robospec.authoring.tree import KinematicTree
@@ -60,8 +61,15 @@ def description_text(ref: FileRef) -> str:
     return ref.placeholder_text or ref.relative + " (relative to the spec)"
 
 
-def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_link: str) -> str:
-    """The card; ``spec_link`` is the spec's path relative to the card's folder."""
+def robot_card(
+    robot: ResolvedRobot,
+    description: RobotDescription,
+    spec_link: str,
+    plots: Sequence[tuple[str, str]] = (),
+) -> str:
+    """The card; ``spec_link`` is the spec's path relative to the card's folder, ``plots``
+    each controller's step-response picture (``check --plot``, ``tune --plot``) as
+    ``(controller, path relative to the card's folder)``."""
     lines = [f"# {robot.uid}", ""]
     lines += _summary(robot, description, spec_link)
     lines += _tree(description)
@@ -69,9 +77,24 @@ def robot_card(robot: ResolvedRobot, description: RobotDescription, spec_link: s
     lines += _actions(robot, description)
     lines += _keyframes(robot, description)
     lines += _cameras(robot)
+    lines += _plots(plots)
     while lines and lines[-1] == "":
         lines.pop()
     return "\n".join(lines) + "\n"
+
+
+def _plots(plots: Sequence[tuple[str, str]]) -> list[str]:
+    if not plots:
+        return []
+    lines = ["## Step responses", ""]
+    lines += [
+        "Each controller's joints after a small step of their drive targets "
+        "(`robospec check --plot`, `robospec tune --plot`).",
+        "",
+    ]
+    for controller, link in plots:
+        lines += [f"### {code(controller)}", "", f"![{controller} step response]({link})", ""]
+    return lines
 
 
 def _summary(robot: ResolvedRobot, description: RobotDescription, spec_link: str) -> list[str]:

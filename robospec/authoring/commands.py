@@ -170,7 +170,7 @@ def _uid_problem(uid: str, at: Location) -> Diagnostic | None:
     return None
 
 
-def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
+def run_doc(spec: Path, out: Path, plots: Path | None = None) -> list[Diagnostic]:
     from robospec.authoring.card import robot_card
     from robospec.pipeline import compile_spec
 
@@ -180,7 +180,14 @@ def run_doc(spec: Path, out: Path) -> list[Diagnostic]:
         return diagnostics
     # the spec as seen from the card, so the card links to it wherever both are
     spec_link = Path(os.path.relpath(spec.resolve(), out.resolve().parent)).as_posix()
-    text = robot_card(compiled.robot, compiled.description, spec_link)
+    links = []
+    if plots is not None:  # check --plot / tune --plot wrote DIR/<uid>/<controller>.png
+        for controller in compiled.robot.controllers:
+            picture = plots / compiled.robot.uid / f"{controller.name}.png"
+            if picture.is_file():
+                relative = os.path.relpath(picture.resolve(), out.resolve().parent)
+                links.append((controller.name, Path(relative).as_posix()))
+    text = robot_card(compiled.robot, compiled.description, spec_link, links)
     return diagnostics + write_text(out, text)
 
 

@@ -484,6 +484,12 @@ def tune(
 def doc(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot")],
     out: Annotated[Path, typer.Option("--out", "-o", help="the Markdown card to write")],
+    plots: Annotated[
+        Path | None,
+        typer.Option(
+            "--plots", help="link the step-response plots check/tune --plot wrote under DIR"
+        ),
+    ] = None,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
 ) -> None:
@@ -496,7 +502,7 @@ def doc(
     """
     from robospec.authoring.commands import run_doc
 
-    diagnostics = run_doc(spec, out)
+    diagnostics = run_doc(spec, out, plots)
     _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
 
 

@@ -14,12 +14,20 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from robospec.physics.step_response import StepTrace
+
+class StepTrace(Protocol):
+    """What a plot reads of a measured step (``robospec.physics.step_response.StepTrace``)."""
+
+    kind: str
+    joints: tuple[str, ...]
+    dt: float
+    fraction: np.ndarray
+    size: np.ndarray
+
 
 LEGEND_JOINTS = 12  # more joints than this: no legend (the lines would hide the plot)
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from robospec.tune.edits import Edit, WriteError, number, plan, uniform
 from robospec.tune.results import ControllerTuning
-from robospec.tune.write import Edit, WriteError, number, plan, uniform
 
 
 def edit_toml(

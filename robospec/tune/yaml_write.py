@@ -11,8 +11,8 @@ from typing import Any
 from ruamel.yaml import YAML
 from ruamel.yaml.comments import CommentedMap, CommentedSeq
 
+from robospec.tune.edits import Edit, WriteError, flow_list, number_text, plan, uniform
 from robospec.tune.results import ControllerTuning
-from robospec.tune.write import Edit, WriteError, flow_list, number_text, plan, uniform
 
 Span = tuple[int, int]  # offsets into the text: [start, end)
 # a replacement's text, or what makes it from the column it will start at in the edited text
@@ -208,7 +208,7 @@ def _insert(text: Text, controllers: CommentedMap, owner: str, edits: Sequence[E
         text.replace((at, at), pieces)
         return
     keys = list(entry)
-    line, column = entry.lc.key(keys[0])
+    _line, column = entry.lc.key(keys[0])
     last_line = _last_line(text, entry)
     at = text.starts[last_line + 1] if last_line + 1 < len(text.starts) else len(text.text)
     lines = []

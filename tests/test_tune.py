@@ -1,0 +1,82 @@
+"""robospec tune end to end on the small TOML twolink arm (about a second per controller): the
+search meets the targets, --write changes only gain lines, --plot writes a PNG per controller,
+a kept force_limit is RS620 saying why, and check --plot draws the same measurement."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.maniskill
+
+from conftest import ROOT, TWOLINK_SPEC, invoke_robospec  # noqa: E402
+
+# a settling time the shipped gains (stiffness 400, damping 40: about 0.23 s) miss
+FAST = "\n[checks.tune]\nmax_settling_time = 0.15\n"
+# and a force_limit too small to get there, which tune may not raise
+WEAK = FAST + "keep_force_limit = true\n"
+
+
+def _copy(tmp_path: Path, extra: str) -> Path:
+    shutil.copytree(ROOT / "specs" / "robots", tmp_path / "robots")
+    spec = tmp_path / "twolink.toml"
+    spec.write_text(TWOLINK_SPEC.read_text(encoding="utf-8") + extra, encoding="utf-8")
+    return spec
+
+
+def _changed(before: str, after: str) -> list[str]:
+    old, new = before.splitlines(), after.splitlines()
+    assert len(old) == len(new)
+    return [b for a, b in zip(old, new, strict=True) if a != b]
+
+
+def test_tune_write_meets_the_targets_changing_only_gain_lines(tmp_path: Path) -> None:
+    spec = _copy(tmp_path, FAST)
+    original = spec.read_text(encoding="utf-8")
+    result = invoke_robospec(
+        "tune", str(spec), "--write", "--plot", str(tmp_path / "plots"), "--format", "json"
+    )
+    assert result.exit_code == 0, result.output
+    report = json.loads(result.output)
+    assert report["written"] and report["summary"]["failed"] == 0
+    for controller in report["controllers"]:
+        for joint in controller["joints"]:
+            assert joint["after"]["settling_time"] <= 0.15
+            assert joint["after"]["overshoot"] <= 0.05
+    changed = _changed(original, spec.read_text(encoding="utf-8"))
+    assert changed and all(line.startswith(("stiffness = ", "damping = ")) for line in changed)
+    # the plots: one per controller, before and after
+    plots = sorted(p.name for p in (tmp_path / "plots" / "twolink").iterdir())
+    assert plots == sorted(f"{c['controller']}.png" for c in report["controllers"])
+    assert all(p.read_bytes().startswith(b"\x89PNG") for p in (tmp_path / "plots").rglob("*.png"))
+    # tuned, the spec meets its targets as it is
+    again = invoke_robospec("tune", str(spec), "--controller", "arm_pos", "--format", "json")
+    assert again.exit_code == 0, again.output
+    assert [c["status"] for c in json.loads(again.output)["controllers"]] == ["met"]
+
+
+def test_a_target_the_kept_force_limit_forbids_is_rs620_naming_the_force_limit(
+    tmp_path: Path,
+) -> None:
+    spec = _copy(tmp_path, WEAK.replace("force_limit = 50", "force_limit = 0.5"))
+    spec.write_text(
+        spec.read_text(encoding="utf-8").replace("force_limit = 50", "force_limit = 0.5")
+    )
+    result = invoke_robospec("tune", str(spec), "--controller", "arm_pos", "--write")
+    assert result.exit_code == 1, result.output
+    assert "error[RS620] controller 'arm_pos'" in result.output
+    assert "force limit" in result.output
+    assert "wrote the new gains" not in result.output
+
+
+def test_check_plot_writes_each_controllers_step(tmp_path: Path) -> None:
+    from robospec.physics.batch import Options, check_paths
+
+    spec = _copy(tmp_path, "")
+    reports, _ = check_paths([spec], Options(steps=5, plot_dir=tmp_path / "plots"))
+    assert not reports[0].failed
+    names = sorted(p.name for p in (tmp_path / "plots" / "twolink").iterdir())
+    assert names == ["arm_delta_pos.png", "arm_ee_delta_pos.png", "arm_pos.png", "gripper.png"]

@@ -1,0 +1,113 @@
+"""robospec tune --write's editing, without simulation: which controller a gain is written at
+(``extends``), and that a YAML spec's text changes only in the gain values."""
+
+from __future__ import annotations
+
+import pytest
+
+from robospec.tune.edits import Edit, WriteError, flow_list, plan
+from robospec.tune.results import ControllerTuning, Gains
+from robospec.tune.yaml_write import edit_yaml
+
+JOINTS = ("j1", "j2", "j3")
+
+
+def _tuned(name: str, stiffness: tuple[float, ...], damping: tuple[float, ...]) -> ControllerTuning:
+    before = Gains((10.0,) * 3, (1.0,) * 3, (1e10,) * 3)
+    after = Gains(stiffness, damping, (1e10,) * 3)
+    return ControllerTuning(name, "m", "arm", "position", JOINTS, "tuned", None, before, after)
+
+
+CONTROLLERS = {
+    "base": {"type": "pd_joint_pos", "joints": "arm", "stiffness": 10, "damping": 1},
+    "child": {"extends": "base", "use_delta": True},
+}
+
+
+def test_a_gain_every_controller_extending_it_agrees_on_changes_at_the_base() -> None:
+    same = ((100.0, 100.0, 100.0), (20.0, 20.0, 20.0))
+    edits = plan(CONTROLLERS, [_tuned("base", *same), _tuned("child", *same)])
+    assert {(e.owner, e.field, e.insert) for e in edits} == {
+        ("base", "stiffness", False),
+        ("base", "damping", False),
+    }
+
+
+def test_a_gain_the_controllers_disagree_on_is_overridden_at_the_one_that_inherits_it() -> None:
+    edits = plan(
+        CONTROLLERS,
+        [
+            _tuned("base", (100.0,) * 3, (20.0,) * 3),
+            _tuned("child", (300.0,) * 3, (20.0,) * 3),
+        ],
+    )
+    assert Edit("child", "stiffness", JOINTS, (300.0,) * 3, insert=True) in edits
+    assert Edit("base", "stiffness", JOINTS, (100.0,) * 3, insert=False) in edits
+    assert Edit("base", "damping", JOINTS, (20.0,) * 3, insert=False) in edits
+
+
+def test_a_base_changed_under_a_controller_not_tuned_needs_that_controller_tuned_too() -> None:
+    with pytest.raises(WriteError, match="tune both"):
+        plan(CONTROLLERS, [_tuned("base", (100.0, 200.0, 300.0), (20.0,) * 3)])
+
+
+YAML_SPEC = """\
+# a comment that stays
+controllers:
+  base:   {type: pd_joint_pos, joints: arm, stiffness: 10,   # aligned by hand
+           damping: 1e0, force_limit: 100}
+  child: {extends: base, use_delta: true}   # inherits the gains
+  named:
+    type: pd_joint_pos
+    joints: [j1, j2, j3]
+    stiffness: {j1: 10, j2: 10, j3: 10}   # by joint
+    damping: [1, 1, 1]
+"""
+
+
+def _changed_lines(before: str, after: str) -> list[tuple[str, str]]:
+    old, new = before.splitlines(), after.splitlines()
+    assert len(old) == len(new)
+    return [(a, b) for a, b in zip(old, new, strict=True) if a != b]
+
+
+def test_yaml_gains_change_in_place_and_nothing_else_does() -> None:
+    tunings = [
+        _tuned("base", (100.0,) * 3, (20.0,) * 3),
+        _tuned("child", (100.0,) * 3, (20.0,) * 3),
+        _tuned("named", (10.0, 55.5, 10.0), (1.0, 3.0, 1.0)),
+    ]
+    edited = edit_yaml(YAML_SPEC, tunings, None)
+    assert _changed_lines(YAML_SPEC, edited) == [
+        (
+            "  base:   {type: pd_joint_pos, joints: arm, stiffness: 10,   # aligned by hand",
+            "  base:   {type: pd_joint_pos, joints: arm, stiffness: 100,   # aligned by hand",
+        ),
+        ("           damping: 1e0, force_limit: 100}", "           damping: 20, force_limit: 100}"),
+        (
+            "    stiffness: {j1: 10, j2: 10, j3: 10}   # by joint",
+            "    stiffness: {j1: 10, j2: 55.5, j3: 10}   # by joint",
+        ),
+        ("    damping: [1, 1, 1]", "    damping: [1, 3, 1]"),
+    ]
+
+
+def test_yaml_one_value_becomes_a_flow_list_per_joint_and_an_override_is_a_new_key() -> None:
+    tunings = [
+        _tuned("base", (100.0, 200.0, 300.0), (20.0,) * 3),
+        _tuned("child", (7.0,) * 3, (20.0,) * 3),
+    ]
+    edited = edit_yaml(YAML_SPEC, tunings, None)
+    assert "stiffness: [100, 200, 300]," in edited
+    assert (
+        "  child: {extends: base, use_delta: true, stiffness: 7}   # inherits the gains" in edited
+    )
+    assert edited.startswith("# a comment that stays\n")
+
+
+def test_a_long_flow_list_wraps_with_its_lines_aligned_after_the_bracket() -> None:
+    text = flow_list([123.0] * 30, 10)
+    lines = text.splitlines()
+    assert len(lines) > 1 and all(10 + len(lines[0]) <= 100 for _ in lines)
+    assert all(line.startswith(" " * 11) for line in lines[1:])
+    assert text.replace("\n", " ").split() == ["[123,", *["123,"] * 28, "123]"]
