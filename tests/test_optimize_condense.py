@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 from lxml import etree
 
+from robospec.optimize.condense import SAPIEN_EMPTY_LINK as STAND_IN
 from robospec.optimize.condense import Condensed, MergedLink, condense
 
 # -- a hand-written robot for exact arithmetic
@@ -140,9 +141,10 @@ def _only(root: etree._Element, path: str) -> etree._Element:
 
 
 def test_two_boxes_merge_into_one_body_worked_out_by_hand() -> None:
-    condensed = condense(_parse(TWO_BOXES), keep=())
+    # e kept: empty, it would add SAPIEN's 1e-6 kg stand-in (the next tests but one)
+    condensed = condense(_parse(TWO_BOXES), keep={"e"})
     robot = condensed.robot
-    assert [link.get("name") for link in robot.iterfind("link")] == ["a", "c", "d"]
+    assert [link.get("name") for link in robot.iterfind("link")] == ["a", "c", "d", "e"]
     inertial = _only(robot, "link[@name='a']/inertial")
     assert float(_only(inertial, "mass").get("value")) == 3.0
     origin = _only(inertial, "origin")
@@ -279,21 +281,49 @@ MASSLESS = """<robot name="frames">
 """
 
 
-def test_links_without_mass_add_nothing() -> None:
+def test_links_without_a_usable_inertial_merge_as_the_body_sapien_gives_them() -> None:
     robot = _parse(MASSLESS)
-    # a massless inertial and no inertial at all, into a link without one: still none
-    no_mass = condense(robot, keep={"arm"}).robot
-    assert no_mass.find("link[@name='base']/inertial") is None
-    # a body into a link without one: that body, in the survivor's frame
+    # an empty link and one whose inertial has no mass: SAPIEN simulates each as its stand-in
+    # body (1e-6 kg, 1e-6 kg·m² about each axis), so three of them merge into three times that
+    stand_ins = _only(condense(robot, keep={"arm"}).robot, "link[@name='base']/inertial")
+    assert float(_only(stand_ins, "mass").get("value")) == pytest.approx(3e-6, rel=1e-12)
+    assert _floats(_only(stand_ins, "origin"), "xyz") == [0.0, 0.0, 0.0]
+    stand_in_tensor = _only(stand_ins, "inertia")
+    assert float(stand_in_tensor.get("ixx")) == pytest.approx(3e-6, rel=1e-12)
+    assert float(stand_in_tensor.get("ixy")) == 0.0
+    # a real body into them: the body, moved, plus the stand-ins at the survivor's origin
     inertial = _only(condense(robot, keep=()).robot, "link[@name='base']/inertial")
-    assert _only(inertial, "mass").get("value") == "1.5"
-    assert _floats(_only(inertial, "origin"), "xyz") == [1.0, 0.0, 0.5]
+    mass = 1.5 + 3e-6
+    assert float(_only(inertial, "mass").get("value")) == pytest.approx(mass, rel=1e-15)
+    centre = _floats(_only(inertial, "origin"), "xyz")
+    assert centre == pytest.approx([1.5 / mass, 0.0, 0.75 / mass], rel=1e-14)
     tensor = _only(inertial, "inertia")
     c, s = math.cos(0.3), math.sin(0.3)  # the rolled axes: yy and zz mix
-    assert float(tensor.get("ixx")) == pytest.approx(0.1, rel=1e-15)
-    assert float(tensor.get("iyy")) == pytest.approx(0.2 * c * c + 0.3 * s * s, rel=1e-14)
-    assert float(tensor.get("izz")) == pytest.approx(0.2 * s * s + 0.3 * c * c, rel=1e-14)
-    assert float(tensor.get("iyz")) == pytest.approx((0.2 - 0.3) * c * s, rel=1e-14)
+    # the parallel-axis terms of two bodies, 1.5 kg and 3e-6 kg, r = (1, 0, 0.5) apart: the
+    # reduced mass times |r|² E - r rᵀ
+    reduced = 1.5 * 3e-6 / mass
+    expected = {
+        "ixx": 0.1 + 3e-6 + reduced * 0.25,
+        "iyy": 0.2 * c * c + 0.3 * s * s + 3e-6 + reduced * 1.25,
+        "izz": 0.2 * s * s + 0.3 * c * c + 3e-6 + reduced * 1.0,
+        "ixz": -reduced * 0.5,
+        "iyz": (0.2 - 0.3) * c * s,
+        "ixy": 0.0,
+    }
+    for key, value in expected.items():
+        assert float(tensor.get(key)) == pytest.approx(value, rel=1e-12, abs=1e-18), key
+
+
+def test_a_link_whose_mass_sapien_takes_from_its_shapes_is_never_merged() -> None:
+    # no inertial but a collision box: SAPIEN computes its mass from the box, a number a merge
+    # would overwrite with the inertial it writes; so neither it nor its children merge
+    box = "<collision><geometry><box size='1 1 1'/></geometry></collision>"
+    text = MASSLESS.replace('<link name="base"/>', f'<link name="base">{box}</link>').replace(
+        '<link name="marker"/>', f'<link name="marker">{box}</link>'
+    )
+    condensed = condense(_parse(text), keep=())
+    assert condensed.merged == ()
+    assert condensed.robot.find("link[@name='base']/inertial") is None
 
 
 def test_a_fixed_joint_a_mimic_names_stays() -> None:
@@ -377,6 +407,8 @@ CASES = [
         22,
     ),
     ("allegro/allegro_hand_right_glb.urdf", set(), 23, 17),
+    # empty fingertip links: SAPIEN's stand-in body outweighs the fingertip's own inertia
+    ("inspire_hand/RH56DFX-2LR/urdf/inspire_hand_left.urdf", set(), 20, 15),
 ]
 
 
@@ -490,10 +522,9 @@ def _shape_poses(link: Any) -> list[np.ndarray]:
 
 
 def _same_mass_properties(before: Any, after: Any) -> None:
-    """Total mass, centre of mass and inertia about it, in the root's frame at qpos 0.
-
-    SAPIEN gives a link with neither a usable inertial nor a collision shape a placeholder
-    1e-6 kg; those links are what condensing removes, so the placeholders are left out."""
+    """Total mass, centre of mass and inertia about it, in the root's frame at qpos 0, of every
+    body SAPIEN simulates — the stand-in it gives a link with neither a usable inertial nor a
+    collision shape included: its 1e-6 kg·m² is ten times an Inspire fingertip's inertia."""
     zero = np.zeros(len(before.get_active_joints()))
     before.set_qpos(zero)
     after.set_qpos(zero)
@@ -507,8 +538,6 @@ def _same_mass_properties(before: Any, after: Any) -> None:
 def _sapien_mass_properties(articulation: Any) -> tuple[float, np.ndarray, np.ndarray]:
     bodies = []
     for link in articulation.get_links():
-        if link.mass < 2e-6:  # SAPIEN's placeholder
-            continue
         frame = (link.entity_pose * link.cmass_local_pose).to_transformation_matrix()
         rotation = frame[:3, :3].astype(float)
         tensor = rotation @ np.diag(link.inertia.astype(float)) @ rotation.T
@@ -602,6 +631,8 @@ class _Kinematics:
         for name, link in self.links.items():
             inertial = link.find("inertial")
             if inertial is None or float(inertial.find("mass").get("value")) == 0:
+                if link.find("collision") is None:  # SAPIEN's stand-in, isotropic: axes moot
+                    bodies.append((STAND_IN.mass, poses[name][:3, 3], np.array(STAND_IN.inertia)))
                 continue
             frame = poses[name] @ _origin(inertial)
             tensor = inertial.find("inertia")
@@ -649,3 +680,19 @@ def _motion(joint: etree._Element, value: float) -> np.ndarray:
     if kind == "prismatic":
         return transformations.translation_matrix(np.asarray(axis) / np.linalg.norm(axis) * value)
     return np.eye(4)
+
+
+def test_sapien_gives_an_empty_link_the_stand_in_body_condense_merges(
+    maniskill: Any, tmp_path: Path
+) -> None:
+    import sapien
+
+    from robospec.optimize.condense import SAPIEN_EMPTY_LINK
+
+    scene = sapien.Scene([sapien.physx.PhysxCpuSystem()])
+    robot = _load(scene, MASSLESS.encode(), tmp_path / "massless.urdf")
+    for name in ("base", "frame", "marker"):
+        link = next(link for link in robot.get_links() if link.name == name)
+        assert link.mass == pytest.approx(SAPIEN_EMPTY_LINK.mass, rel=1e-6)
+        np.testing.assert_allclose(link.inertia, np.diag(SAPIEN_EMPTY_LINK.inertia), rtol=1e-6)
+        np.testing.assert_allclose(link.cmass_local_pose.p, SAPIEN_EMPTY_LINK.centre, atol=0)

@@ -91,9 +91,26 @@ def _next_mergeable(robot: etree._Element, kept: frozenset[str]) -> etree._Eleme
         if joint.get("type") != "fixed" or joint.get("name") in kept:
             continue
         child = _link_of(joint, "child")
-        if child not in kept and _find_link(robot, child) is not None:
+        child_link, parent_link = (
+            _find_link(robot, child),
+            _find_link(robot, _link_of(joint, "parent")),
+        )
+        if (
+            child not in kept
+            and child_link is not None
+            and parent_link is not None
+            and not _mass_from_shapes(child_link)
+            and not _mass_from_shapes(parent_link)
+        ):
             return joint
     return None
+
+
+def _mass_from_shapes(link: etree._Element) -> bool:
+    """SAPIEN computes this link's mass and inertia from its collision shapes (it has no usable
+    ``<inertial>`` but has ``<collision>``s): a number robospec cannot reproduce without
+    SAPIEN, and one an ``<inertial>`` written by a merge would replace, so the link stays."""
+    return _read_body(link) is None and link.find("collision") is not None
 
 
 def _final(link: str, survivor: dict[str, str]) -> str:
@@ -338,7 +355,21 @@ class _Body:
     inertia: Matrix
 
 
+# SAPIEN's body for a link without a usable <inertial> and without collision shapes (measured
+# by tests/test_optimize_condense.py, which loads one): 1e-6 kg at the link's origin and
+# 1e-6 kg·m² about each of its axes.
+SAPIEN_EMPTY_MASS = 1e-6
+SAPIEN_EMPTY_LINK = _Body(
+    SAPIEN_EMPTY_MASS,
+    _ZERO,
+    ((SAPIEN_EMPTY_MASS, 0.0, 0.0), (0.0, SAPIEN_EMPTY_MASS, 0.0), (0.0, 0.0, SAPIEN_EMPTY_MASS)),
+)
+
+
 def _read_body(link: etree._Element) -> _Body | None:
+    """The link's body as SAPIEN simulates it from its ``<inertial>``; None when SAPIEN ignores
+    that (missing, zero mass or an all-zero tensor) and takes the mass from the link's
+    collision shapes instead."""
     inertial = link.find("inertial")
     if inertial is None:
         return None
@@ -354,8 +385,18 @@ def _read_body(link: etree._Element) -> _Body | None:
         (i["ixy"], i["iyy"], i["iyz"]),
         (i["ixz"], i["iyz"], i["izz"]),
     )
+    if mass == 0.0 or all(value == 0.0 for value in i.values()):
+        return None
     centre, rpy = _read_origin(inertial)
     return _Body(mass, centre, _rotated(_rotation(rpy), matrix))
+
+
+def _simulated_body(link: etree._Element) -> _Body:
+    """What SAPIEN simulates for a link that may be merged (one whose mass does not come from
+    its shapes): its ``<inertial>``, or, with neither a usable one nor collision shapes,
+    SAPIEN's stand-in body — not nothing: 1e-6 kg·m² about each axis is ten times a
+    fingertip's own inertia (the Inspire hand's empty tip links), which merging must keep."""
+    return _read_body(link) or SAPIEN_EMPTY_LINK
 
 
 def _rotated(r: Matrix, inertia: Matrix) -> Matrix:
@@ -400,19 +441,10 @@ def _sum(a: Matrix, b: Matrix) -> Matrix:
 def _merge_inertial(
     parent: etree._Element, child: etree._Element, offset: tuple[Vector, Vector]
 ) -> None:
-    """The parent's ``<inertial>`` with the child's body added. Nothing to add (no child
-    inertial, or no mass in either) leaves the parent's as it is."""
-    child_body = _read_body(child)
-    if child_body is None:
-        return
-    moved = _moved(child_body, offset)
-    parent_body = _read_body(parent)
-    if parent_body is None:
-        if moved.mass == 0.0:
-            return
-        _write_inertial(parent, moved)
-    elif parent_body.mass + moved.mass != 0.0:
-        _write_inertial(parent, _combined(parent_body, moved))
+    """The parent's ``<inertial>`` with the child's body added, each as SAPIEN simulates it
+    (:func:`_simulated_body`), so the merged link moves as the two did together."""
+    moved = _moved(_simulated_body(child), offset)
+    _write_inertial(parent, _combined(_simulated_body(parent), moved))
 
 
 def _write_inertial(link: etree._Element, body: _Body) -> None:

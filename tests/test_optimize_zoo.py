@@ -1,0 +1,74 @@
+"""Every shipped spec whose robot is a URDF, optimized by `robospec optimize` with its defaults,
+passes `robospec check` — or fails exactly as its original does, for the reasons
+tests/test_check_zoo.py lists (an optimization must neither break a robot nor hide its faults).
+
+Optimizing is deterministic, so one run per test session serves every test here. Judged on
+ManiSkill 3.0.1 only: the optimized files do not depend on the version, and the run takes minutes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import MANISKILL_VERSION, SPECS
+from test_check_zoo import KNOWN_BROKEN_UPSTREAM, TUNED_VARIANTS
+
+from robospec.optimize.command import OptimizeOptions, run_optimize
+from robospec.physics.batch import RobotReport, check_paths
+
+pytestmark = [
+    pytest.mark.maniskill,
+    # what optimize writes does not depend on ManiSkill's version, and checking two dozen robots
+    # twice would cost CI minutes: judged on 3.0.1, where tests/test_check_zoo.py's list holds
+    pytest.mark.skipif(MANISKILL_VERSION == "nightly", reason="judged on ManiSkill 3.0.1"),
+]
+
+SUFFIX = "_optimized"
+
+
+def _urdf_specs() -> list[Path]:
+    """The shipped specs whose description is a URDF or xacro (read without compiling: this
+    runs at collection)."""
+    specs = sorted(SPECS.rglob("*.yaml"))
+    return [p for p in specs if "urdf:" in p.read_text() or "xacro:" in p.read_text()]
+
+
+@pytest.fixture(scope="module")
+def optimized_reports(tmp_path_factory: pytest.TempPathFactory) -> dict[str, RobotReport]:
+    folder = tmp_path_factory.mktemp("optimized-zoo")
+    for spec in _urdf_specs():
+        # specs/panda.yaml and specs/maniskill/panda.yaml: one folder each
+        out = folder / spec.parent.relative_to(SPECS) / spec.name
+        report, diagnostics = run_optimize(spec, out, OptimizeOptions())
+        assert report is not None, [d.format_text() for d in diagnostics]
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "cache"))
+        found, extra = check_paths([folder])
+    assert extra == []
+    return {r.uid or r.spec: r for r in found}
+
+
+def test_every_urdf_spec_is_optimized_and_checked(
+    optimized_reports: dict[str, RobotReport],
+) -> None:
+    assert len(optimized_reports) == len(_urdf_specs())
+    for uid, report in optimized_reports.items():
+        checks = {f.check for f in report.findings}
+        assert {"keyframe_hold", "random_actions", "step_response"} <= checks, uid
+
+
+def test_optimized_specs_pass_check_or_fail_as_their_originals_do(
+    optimized_reports: dict[str, RobotReport],
+) -> None:
+    failing = {
+        uid.removesuffix(SUFFIX): frozenset(d.code for d in r.all_diagnostics if d.is_error)
+        for uid, r in optimized_reports.items()
+        if r.failed
+    }
+    expected = {
+        uid: codes
+        for uid, (codes, _) in (KNOWN_BROKEN_UPSTREAM | TUNED_VARIANTS).items()
+        if codes and f"{uid}{SUFFIX}" in optimized_reports
+    }
+    assert failing == expected
