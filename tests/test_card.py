@@ -226,3 +226,21 @@ def test_unwritable_card_is_rs603_and_exit_1(tmp_path: Path) -> None:
     assert result.returncode == 1
     assert f"{out}:1:1: error[RS603] cannot write {out}" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+def test_doc_plots_links_the_step_plots_check_and_tune_wrote_for_this_robot(
+    tmp_path: Path,
+) -> None:
+    # check --plot / tune --plot write DIR/<uid>/<controller>.png; a controller without a
+    # picture, and another robot's, are not linked
+    plots = tmp_path / "plots"
+    (plots / "rs_panda").mkdir(parents=True)
+    (plots / "rs_panda" / "arm_pos.png").write_bytes(b"\x89PNG")
+    (plots / "rs_other").mkdir()
+    (plots / "rs_other" / "arm_delta_pos.png").write_bytes(b"\x89PNG")
+    out = tmp_path / "cards" / "panda.md"
+    result = run_robospec("doc", str(PANDA_SPEC), "-o", str(out), "--plots", str(plots))
+    assert result.returncode == 0, result.stderr
+    links = re.findall(r"!\[([^\]]*)\]\(([^)]*)\)", out.read_text())
+    assert links == [("arm_pos step response", "../plots/rs_panda/arm_pos.png")]
+    assert (out.parent / links[0][1]).resolve() == (plots / "rs_panda" / "arm_pos.png").resolve()
