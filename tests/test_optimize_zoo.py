@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 from conftest import MANISKILL_VERSION, SPECS
-from test_check_zoo import KNOWN_BROKEN_UPSTREAM, TUNED_VARIANTS
+from test_check_zoo import FLOATING, KNOWN_BROKEN_UPSTREAM, TUNED_VARIANTS
 
 from robospec.optimize.command import OptimizeOptions, run_optimize
 from robospec.physics.batch import RobotReport, check_paths
@@ -58,17 +58,23 @@ def test_every_urdf_spec_is_optimized_and_checked(
         assert {"keyframe_hold", "random_actions", "step_response"} <= checks, uid
 
 
+# A free-rooted robot falls under check's random actions, and where its limbs hit the floor is
+# chaos: the G1 with simplified legs passes them with damping 1 and fails them (a foot's joint
+# 0.3 rad past its limit, RS503, running away, RS504) with damping 0.999999. Any optimization
+# moves such a rollout as much, so for those robots these two codes may come or go.
+CHAOTIC = frozenset({"RS503", "RS504"})
+
+
 def test_optimized_specs_pass_check_or_fail_as_their_originals_do(
     optimized_reports: dict[str, RobotReport],
 ) -> None:
-    failing = {
-        uid.removesuffix(SUFFIX): frozenset(d.code for d in r.all_diagnostics if d.is_error)
-        for uid, r in optimized_reports.items()
-        if r.failed
+    expected_codes = {
+        uid: codes for uid, (codes, _) in (KNOWN_BROKEN_UPSTREAM | TUNED_VARIANTS).items()
     }
-    expected = {
-        uid: codes
-        for uid, (codes, _) in (KNOWN_BROKEN_UPSTREAM | TUNED_VARIANTS).items()
-        if codes and f"{uid}{SUFFIX}" in optimized_reports
-    }
-    assert failing == expected
+    for optimized_uid, report in optimized_reports.items():
+        uid = optimized_uid.removesuffix(SUFFIX)
+        codes = frozenset(d.code for d in report.all_diagnostics if d.is_error)
+        expected = expected_codes.get(uid, frozenset())
+        if uid in FLOATING:
+            codes, expected = codes - CHAOTIC, expected - CHAOTIC
+        assert codes == expected, optimized_uid
