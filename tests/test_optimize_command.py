@@ -193,3 +193,16 @@ def test_out_under_a_file_is_a_located_error_not_a_traceback(tmp_path: Path) -> 
     report, diagnostics = run_optimize(PANDA_SPEC, tmp_path / "a_file" / "p.yaml", QUICK)
     assert report is None
     assert [(d.code, d.location.file) for d in diagnostics] == [("RS603", "<command line>")]
+
+
+def test_links_whose_mass_sapien_takes_from_their_shapes_stay_and_are_reported(
+    tmp_path: Path,
+) -> None:
+    # the touch Allegro's sensor pads hang on fixed joints with collision boxes and no inertial
+    spec = MANISKILL_SPECS / "allegro_hand_right_touch.yaml"
+    options = OptimizeOptions(shapes="keep", samples=0)
+    report, diagnostics = run_optimize(spec, tmp_path / "touch.yaml", options)
+    assert report is not None, [d.format_text() for d in diagnostics]
+    assert len(report.unmerged) == 16 and all("link_" in name for name in report.unmerged)
+    assert "their mass (or their parent's) SAPIEN takes" in report.to_text()
+    assert report.to_json()["unmerged"] == report.unmerged

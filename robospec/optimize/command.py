@@ -53,6 +53,9 @@ class OptimizeReport:
     links_after: int = 0
     merged: list[tuple[str, str, str]] = field(default_factory=list)  # (link, into, joint)
     kept: list[str] = field(default_factory=list)  # links on fixed joints kept: named by the spec
+    # links on fixed joints kept because SAPIEN takes their mass (or their parent's) from
+    # collision shapes, or a <mimic> names their joint
+    unmerged: list[str] = field(default_factory=list)
     shapes: list[dict[str, Any]] = field(default_factory=list)
     never_collide: list[list[str]] = field(default_factory=list)  # entries added
     samples: int = 0
@@ -67,6 +70,7 @@ class OptimizeReport:
             "links": {"before": self.links_before, "after": self.links_after},
             "merged": [{"link": a, "into": b, "joint": j} for a, b, j in self.merged],
             "kept": self.kept,
+            "unmerged": self.unmerged,
             "collision_shapes": self.shapes,
             "never_collide": {"samples": self.samples, "entries": self.never_collide},
             "diagnostics": [d.to_json() for d in self.diagnostics],
@@ -82,6 +86,11 @@ class OptimizeReport:
         ]
         if self.kept:
             lines.append("  kept on fixed joints, named by the spec: " + ", ".join(self.kept))
+        if self.unmerged:
+            lines.append(
+                "  kept on fixed joints, their mass (or their parent's) SAPIEN takes from their "
+                "collision shapes, or a <mimic> names the joint: " + ", ".join(self.unmerged)
+            )
         if self.shapes:
             before = sum(s["shapes_before"] for s in self.shapes)
             after = sum(s["shapes_after"] for s in self.shapes)
@@ -252,6 +261,12 @@ def _optimize_into(
         name
         for name in keep
         if any(j.get("type") == "fixed" and _child(j) == name for j in urdf.findall("joint"))
+    )
+    report.unmerged = sorted(
+        name
+        for joint in condensed.robot.findall("joint")
+        if joint.get("type") == "fixed" and (name := _child(joint)) is not None
+        if name not in keep
     )
     optimized = condensed.robot
     collision_dir = staging / targets["collision"].name
