@@ -5,6 +5,7 @@ a kept force_limit is RS620 saying why, and check --plot draws the same measurem
 from __future__ import annotations
 
 import json
+import os
 import shutil
 from pathlib import Path
 
@@ -12,7 +13,7 @@ import pytest
 
 pytestmark = pytest.mark.maniskill
 
-from conftest import ROOT, TWOLINK_SPEC, invoke_robospec  # noqa: E402
+from conftest import ROOT, TWOLINK_SPEC, invoke_robospec, run_robospec  # noqa: E402
 
 # a settling time the shipped gains (stiffness 400, damping 40: about 0.23 s) miss
 FAST = "\n[checks.tune]\nmax_settling_time = 0.15\n"
@@ -80,3 +81,20 @@ def test_check_plot_writes_each_controllers_step(tmp_path: Path) -> None:
     assert not reports[0].failed
     names = sorted(p.name for p in (tmp_path / "plots" / "twolink").iterdir())
     assert names == ["arm_delta_pos.png", "arm_ee_delta_pos.png", "arm_pos.png", "gripper.png"]
+
+
+def test_a_robot_that_kills_the_tune_process_is_rs515_with_no_traceback(
+    tmp_path: Path,
+) -> None:
+    # the hook aborts the process while ManiSkill builds the agent, as a native crash would
+    spec = ROOT / "tests" / "data" / "check" / "isolation" / "c_abort.yaml"
+    env = {
+        **os.environ,
+        "ROBOSPEC_CACHE_DIR": str(tmp_path / "cache"),
+        "PYTHONPATH": os.pathsep.join([str(ROOT / "tests"), os.environ.get("PYTHONPATH", "")]),
+    }
+    result = run_robospec("tune", str(spec), env=env, timeout=300)
+    assert result.returncode == 1
+    assert "Traceback" not in result.stdout + result.stderr
+    assert "error[RS515]" in result.stdout + result.stderr
+    assert "SIGABRT" in result.stdout + result.stderr

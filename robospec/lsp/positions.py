@@ -112,15 +112,15 @@ def _find(node: Any, path: KeyPath) -> tuple[KeyPath, Literal["key", "value"]] |
     return None
 
 
-def value_at(data: Any, path: KeyPath) -> Any:
-    """The value at ``path`` in ``data``; None when there is none."""
+def value_at(data: Any, path: KeyPath, missing: Any = None) -> Any:
+    """The value at ``path`` in ``data``; ``missing`` when there is none."""
     for key in path:
         if isinstance(data, dict) and key in data:
             data = data[key]
         elif isinstance(data, list) and isinstance(key, int) and 0 <= key < len(data):
             data = data[key]
         else:
-            return None
+            return missing
     return data
 
 

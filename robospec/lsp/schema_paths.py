@@ -15,6 +15,7 @@ from functools import cache
 from typing import Any
 
 from robospec.load.source_map import KeyPath
+from robospec.lsp.positions import value_at
 from robospec.model.refs import REF_KEY
 
 Schema = dict[str, Any]
@@ -45,7 +46,7 @@ def allowed_at(path: KeyPath, data: Any, schema: Schema | None = None) -> Allowe
     root = schema or spec_schema()
     nodes = _expand(root, [root], data)
     for depth, key in enumerate(path):
-        here = _at(data, path[: depth + 1])
+        here = value_at(data, path[: depth + 1], _MISSING)
         following: list[Schema] = []
         for node in nodes:
             following.extend(_child(node, key))
@@ -54,17 +55,6 @@ def allowed_at(path: KeyPath, data: Any, schema: Schema | None = None) -> Allowe
     for node in nodes:
         _collect(node, allowed)
     return allowed
-
-
-def _at(data: Any, path: KeyPath) -> Any:
-    for key in path:
-        if isinstance(data, dict) and key in data:
-            data = data[key]
-        elif isinstance(data, list) and isinstance(key, int) and 0 <= key < len(data):
-            data = data[key]
-        else:
-            return _MISSING
-    return data
 
 
 def _child(node: Schema, key: str | int) -> list[Schema]:

@@ -31,6 +31,7 @@ from robospec.maniskill.upstream_output import UpstreamLog
 from robospec.physics.crash import from_fault_log
 from robospec.physics.crash_diagnostics import process_died
 from robospec.physics.findings import Finding, Status
+from robospec.physics.one_shot import child_environment, read_text
 from robospec.physics.results import LOAD, Options, RobotProgress, RobotReport
 from robospec.pipeline import CompiledSpec
 
@@ -81,7 +82,7 @@ class Worker:
                 stdin=subprocess.DEVNULL,
                 stdout=startup,
                 stderr=startup,
-                env=_child_environment(),
+                env=child_environment(),
             )
         os.close(jobs_read)
         os.close(results_write)
@@ -128,10 +129,10 @@ class Worker:
             return self.process.wait()
 
     def fault_log(self) -> str:
-        return _read(self.folder / FAULT_LOG)
+        return read_text(self.folder / FAULT_LOG)
 
     def startup_output(self) -> str:
-        return _read(self.folder / STARTUP_LOG)
+        return read_text(self.folder / STARTUP_LOG)
 
     def close(self) -> None:
         try:
@@ -204,7 +205,7 @@ class WorkerPool:
         assert item.robot is not None and item.context is not None
         crash = from_fault_log(worker.fault_log(), returncode)
         said = UpstreamLog()
-        said.feed(_read(job.log))
+        said.feed(read_text(job.log))
         diagnostic = process_died(
             item.context, item.robot.uid, crash, worker.phase, said.messages()
         )
@@ -231,22 +232,6 @@ class WorkerPool:
             "'.[maniskill]'), then run robospec check again",
         )
         return RobotReport(item.display, item.robot.uid, [], [*item.diagnostics, diagnostic])
-
-
-def _child_environment() -> dict[str, str]:
-    """This process's environment, with its module search path: the worker imports robospec,
-    the generated agents' hook modules and whatever else this process can."""
-    env = dict(os.environ)
-    paths = [p for p in sys.path if p and os.path.isdir(p)]
-    env["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
-    return env
-
-
-def _read(path: Path) -> str:
-    try:
-        return path.read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return ""
 
 
 def _last_line(text: str) -> str:

@@ -9,12 +9,6 @@ controllers that miss a target get RS620 at their gains, ``--write`` edits the s
 
 from __future__ import annotations
 
-import os
-import pickle
-import shutil
-import subprocess
-import sys
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -22,7 +16,7 @@ from robospec.diagnostics import Diagnostic, Location, error, has_errors
 from robospec.pipeline import CompiledSpec, compile_spec
 from robospec.tune.report import render_json, render_text
 from robospec.tune.results import ControllerTuning, TuneReport
-from robospec.tune.worker import FAULT_LOG, LOG, PHASE, REQUEST, RESULT, Request
+from robospec.tune.worker import Request
 
 COMMAND_LINE = "<command line>"
 
@@ -179,70 +173,35 @@ def _plots(folder: Path, report: TuneReport) -> list[str]:
 def run_worker(item: CompiledSpec, controllers: tuple[str, ...], traces: bool) -> TuneReport:
     """Tune in a worker process; a worker that dies is RS515 (what it was doing, the last
     ManiSkill/SAPIEN frame), a worker that cannot start is RS510."""
-    assert item.robot is not None and item.context is not None
-    folder = Path(tempfile.mkdtemp(prefix="robospec-tune-"))
-    try:
-        request = Request(item.path.resolve(), item.display, controllers, traces)
-        (folder / REQUEST).write_bytes(pickle.dumps(request))
-        with open(folder / LOG, "ab") as log:
-            process = subprocess.run(
-                [sys.executable, "-m", "robospec.tune.worker", str(folder)],
-                stdin=subprocess.DEVNULL,
-                stdout=log,
-                stderr=log,
-                env=_child_environment(),
-                check=False,
-            )
-        result = folder / RESULT
-        if process.returncode == 0 and result.is_file():
-            found: TuneReport = pickle.loads(result.read_bytes())
-            return found
-        return _died(item, folder, process.returncode)
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
-
-
-def _died(item: CompiledSpec, folder: Path, returncode: int) -> TuneReport:
     from robospec.maniskill.upstream_output import UpstreamLog
     from robospec.physics.crash import from_fault_log
     from robospec.physics.crash_diagnostics import process_died
+    from robospec.physics.one_shot import Death, run_once
 
     assert item.robot is not None and item.context is not None
-    log = _read(folder / LOG)
-    doing = _read(folder / PHASE) or "starting"
+    request = Request(item.path.resolve(), item.display, controllers, traces)
+    found = run_once("robospec.tune.worker", request, "robospec-tune-")
+    if not isinstance(found, Death):
+        tuned: TuneReport = found
+        return tuned
     said = UpstreamLog()
-    said.feed(log)
+    said.feed(found.log)
     report = TuneReport(item.display, item.robot.uid)
-    if doing == "importing ManiSkill" and returncode > 0:
-        last = [line for line in log.splitlines() if line.strip()]
+    if found.at_start:
         report.diagnostics.append(
             error(
                 Location(item.display),
                 "RS510",
                 f"'{item.robot.uid}' cannot be tuned: the tune process could not start "
-                f"({last[-1].strip() if last else f'exit status {returncode}'})",
+                f"({found.last_line()})",
                 "it imports ManiSkill: install the maniskill extra (pip install -e "
                 "'.[maniskill]'), then run robospec tune again",
             )
         )
         return report
-    crash = from_fault_log(_read(folder / FAULT_LOG), returncode)
+    crash = from_fault_log(found.fault_log, found.returncode)
     report.diagnostics.append(
-        process_died(item.context, item.robot.uid, crash, doing, said.messages())
+        process_died(item.context, item.robot.uid, crash, found.doing, said.messages())
     )
     report.messages = said.messages()
     return report
-
-
-def _child_environment() -> dict[str, str]:
-    env = dict(os.environ)
-    paths = [p for p in sys.path if p and os.path.isdir(p)]
-    env["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
-    return env
-
-
-def _read(path: Path) -> str:
-    try:
-        return path.read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return ""

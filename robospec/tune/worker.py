@@ -13,18 +13,12 @@ controllers in ManiSkill and writes ``FOLDER/result.pickle`` (a
 
 from __future__ import annotations
 
-import faulthandler
-import pickle
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-REQUEST = "request.pickle"
-RESULT = "result.pickle"
-PHASE = "phase"
-LOG = "job.log"
-FAULT_LOG = "fault.log"
+from robospec.physics.one_shot import serve
 
 
 @dataclass(frozen=True)
@@ -36,21 +30,7 @@ class Request:
 
 
 def main(argv: Sequence[str]) -> int:
-    folder = Path(argv[0])
-    fault_log = open(folder / FAULT_LOG, "w")  # open while the process lives
-    faulthandler.enable(fault_log)
-    request: Request = pickle.loads((folder / REQUEST).read_bytes())
-    from robospec.maniskill.upstream_output import captured_output
-
-    def phase(doing: str) -> None:
-        (folder / PHASE).write_text(doing, encoding="utf-8")
-
-    phase("importing ManiSkill")
-    with captured_output(folder / LOG) as output:
-        report = tune_spec(request, phase)
-    report.messages = output.messages()
-    (folder / RESULT).write_bytes(pickle.dumps(report))
-    return 0
+    return serve(argv, tune_spec)
 
 
 def tune_spec(request: Request, phase: object) -> object:

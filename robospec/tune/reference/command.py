@@ -11,12 +11,7 @@ after; exit 0 when the fitted robot matches the reference (normalized error at m
 from __future__ import annotations
 
 import json
-import os
-import pickle
-import shutil
-import subprocess
 import sys
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -26,15 +21,7 @@ from robospec.diagnostics import Diagnostic, Location, Severity, error, has_erro
 from robospec.pipeline import CompiledSpec, compile_spec
 from robospec.tune.reference.plan import Plan, plan
 from robospec.tune.reference.trajectory import Reference, read_reference
-from robospec.tune.reference.worker import (
-    FAULT_LOG,
-    LOG,
-    PHASE,
-    REQUEST,
-    RESULT,
-    Outcome,
-    Request,
-)
+from robospec.tune.reference.worker import Outcome, Request
 
 COMMAND_LINE = "<command line>"
 MUJOCO = "mujoco"
@@ -295,65 +282,32 @@ def _significant(value: float) -> float:
 
 
 def _run_worker(item: CompiledSpec, request: Request) -> Outcome:
-    assert item.robot is not None and item.context is not None
-    folder = Path(tempfile.mkdtemp(prefix="robospec-reference-"))
-    try:
-        (folder / REQUEST).write_bytes(pickle.dumps(request))
-        with open(folder / LOG, "ab") as log:
-            process = subprocess.run(
-                [sys.executable, "-m", "robospec.tune.reference.worker", str(folder)],
-                stdin=subprocess.DEVNULL,
-                stdout=log,
-                stderr=log,
-                env=_child_environment(),
-                check=False,
-            )
-        result = folder / RESULT
-        if process.returncode == 0 and result.is_file():
-            outcome: Outcome = pickle.loads(result.read_bytes())
-            return outcome
-        return _died(item, request, folder, process.returncode)
-    finally:
-        shutil.rmtree(folder, ignore_errors=True)
-
-
-def _died(item: CompiledSpec, request: Request, folder: Path, returncode: int) -> Outcome:
+    """The fit, in a worker process; one that dies is RS650 (what it was doing, the last
+    ManiSkill/SAPIEN/MuJoCo frame)."""
     from robospec.maniskill.upstream_output import UpstreamLog
     from robospec.physics.crash import from_fault_log
+    from robospec.physics.one_shot import Death, run_once
 
-    log = _read(folder / LOG)
-    doing = _read(folder / PHASE) or "starting"
+    found = run_once("robospec.tune.reference.worker", request, "robospec-reference-")
+    if not isinstance(found, Death):
+        outcome: Outcome = found
+        return outcome
     said = UpstreamLog()
-    said.feed(log)
-    crash = from_fault_log(_read(folder / FAULT_LOG), returncode)
-    last = [line.strip() for line in log.splitlines() if line.strip()]
-    why = crash.what if doing != "importing ManiSkill" else (last[-1] if last else crash.what)
+    said.feed(found.log)
+    crash = from_fault_log(found.fault_log, found.returncode)
+    why = found.last_line() if found.at_start else crash.what
     outcome = Outcome(request.plan, request.reference)
     outcome.diagnostics.append(
         error(
             Location(item.display),
             "RS650",
-            f"the reference fit's process died while {doing}: {why} ({crash.where()})",
+            f"the reference fit's process died while {found.doing}: {why} ({crash.where()})",
             "it needs the maniskill extra (and mujoco for --reference mujoco: the reference "
             "extra); run robospec check on the spec to see which part of the robot fails",
         )
     )
     outcome.messages = list(said.messages())
     return outcome
-
-
-def _child_environment() -> dict[str, str]:
-    env = dict(os.environ)
-    paths = [p for p in sys.path if p and os.path.isdir(p)]
-    env["PYTHONPATH"] = os.pathsep.join(dict.fromkeys(paths))
-    return env
-
-
-def _read(path: Path) -> str:
-    try:
-        return path.read_text(encoding="utf-8", errors="replace")
-    except OSError:
-        return ""
 
 
 # -- the report ----------------------------------------------------------------------------

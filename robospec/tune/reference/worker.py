@@ -13,23 +13,16 @@ to ``FOLDER/fault.log``, so a robot that kills the process is a diagnostic, not 
 
 from __future__ import annotations
 
-import faulthandler
-import pickle
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.physics.one_shot import serve
 from robospec.tune.reference.fit import Fit
 from robospec.tune.reference.plan import Plan
 from robospec.tune.reference.trajectory import Reference
-
-REQUEST = "request.pickle"
-RESULT = "result.pickle"
-PHASE = "phase"
-LOG = "job.log"
-FAULT_LOG = "fault.log"
 
 
 @dataclass(frozen=True)
@@ -53,21 +46,7 @@ class Outcome:
 
 
 def main(argv: Sequence[str]) -> int:
-    folder = Path(argv[0])
-    fault_log = open(folder / FAULT_LOG, "w")  # open while the process lives
-    faulthandler.enable(fault_log)
-    request: Request = pickle.loads((folder / REQUEST).read_bytes())
-    from robospec.maniskill.upstream_output import captured_output
-
-    def phase(doing: str) -> None:
-        (folder / PHASE).write_text(doing, encoding="utf-8")
-
-    phase("importing ManiSkill")
-    with captured_output(folder / LOG) as output:
-        outcome = run(request, phase)
-    outcome.messages = list(output.messages())
-    (folder / RESULT).write_bytes(pickle.dumps(outcome))
-    return 0
+    return serve(argv, run)
 
 
 def run(request: Request, phase: object) -> Outcome:
