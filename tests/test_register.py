@@ -86,3 +86,19 @@ def test_a_uid_registered_by_other_code_is_an_error_not_a_silent_skip(
         robospec.register(other, cache_dir=tmp_path / "b")
     assert caught.value.diagnostics[0].code == "RS306"
     assert uid in str(caught.value)
+
+
+def test_a_spec_edited_and_registered_again_replaces_its_own_agent(
+    panda_spec: Path, tmp_path: Path
+) -> None:
+    # a notebook's loop: register, edit the spec, register again — the new agent, not RS306
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    cache = tmp_path / "cache"
+    (first,) = robospec.register(panda_spec, cache_dir=cache).values()
+    panda_spec.write_text(panda_spec.read_text().replace("stiffness: 1e3", "stiffness: 2e3"))
+    classes = robospec.register(panda_spec, cache_dir=cache)
+    ((uid, second),) = classes.items()
+    assert second is not first
+    assert REGISTERED_AGENTS[uid].agent_cls is second
+    assert (first.arm_stiffness, second.arm_stiffness) == (1e3, 2e3)

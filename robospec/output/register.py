@@ -290,7 +290,11 @@ def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dic
             if getattr(existing.agent_cls, "__module__", None) == module_name:
                 loaded[uid] = existing.agent_cls  # the same spec, registered before
                 continue
-            if override_allowed(uid, bool(manifest.get("override")), overrides):
+            if _REGISTERED_FROM.get(uid) == file.resolve():
+                # this very file, edited since register() loaded it in this process (a
+                # notebook, a reload): its new agent replaces its old one
+                del REGISTERED_AGENTS[uid]
+            elif override_allowed(uid, bool(manifest.get("override")), overrides):
                 del REGISTERED_AGENTS[uid]  # replaced on purpose: the module registers ours
             else:
                 raise SpecError(
@@ -313,7 +317,12 @@ def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dic
             )
         module = _exec_module(module_name, module_file)
         loaded[uid] = getattr(module, manifest["class_name"])
+        _REGISTERED_FROM[uid] = file.resolve()
     return loaded
+
+
+# uid -> the spec file register() registered it from, in this process
+_REGISTERED_FROM: dict[str, Path] = {}
 
 
 def _exec_module(name: str, path: Path) -> ModuleType:
