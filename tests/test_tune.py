@@ -98,3 +98,22 @@ def test_a_robot_that_kills_the_tune_process_is_rs515_with_no_traceback(
     assert "Traceback" not in result.stdout + result.stderr
     assert "error[RS515]" in result.stdout + result.stderr
     assert "SIGABRT" in result.stdout + result.stderr
+
+
+@pytest.mark.parametrize(
+    ("twin", "tuned"),
+    [("humanoid", "humanoid_tuned"), ("unitree_g1", "unitree_g1_tuned")],
+)
+def test_tune_write_turns_the_upstream_twin_into_the_shipped_tuned_spec(
+    tmp_path: Path, twin: str, tuned: str
+) -> None:
+    # specs/*_tuned.yaml is exactly what `robospec tune --write` makes of the twin (beyond the
+    # schema modeline, relative to its folder); tests/test_check_zoo.py checks what it does
+    spec = tmp_path / f"{twin}.yaml"
+    original = (ROOT / "specs" / "maniskill" / f"{twin}.yaml").read_text(encoding="utf-8")
+    spec.write_text(original, encoding="utf-8")
+    result = invoke_robospec("tune", str(spec), "--uid", f"rs_{tuned}", "--write")
+    assert result.exit_code == 0, result.output
+    written = spec.read_text(encoding="utf-8")
+    shipped = (ROOT / "specs" / f"{tuned}.yaml").read_text(encoding="utf-8")
+    assert written.splitlines()[1:] == shipped.splitlines()[1:]
