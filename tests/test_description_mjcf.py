@@ -9,6 +9,7 @@ from typing import Any
 
 import pytest
 from conftest import INSTALL_MANISKILL
+from mjcf_scene import parse, scene_fixture  # noqa: F401  (the scene fixture)
 
 from robospec.description import load_description
 from robospec.description.facts import RobotDescription
@@ -349,46 +350,26 @@ def test_every_truncation_of_a_valid_mjcf_yields_diagnostics_not_exceptions() ->
 # -- against ManiSkill's MJCF loader ---------------------------------------------------------------
 
 
-def _maniskill_load(paths: list[Path]) -> list[dict[str, Any]]:
-    import gymnasium as gym
-    import mani_skill.envs  # noqa: F401
+def _maniskill_facts(scene: Any, path: Path) -> dict[str, Any]:
+    """What ManiSkill's MJCF loader makes of ``path``: links, active joints and their limits,
+    whether the root is fixed."""
     import sapien
 
-    from robospec.maniskill.headless import headless_loading
-
-    facts = []
-    with headless_loading():
-        env = gym.make(
-            "Empty-v1",
-            robot_uids="panda",
-            obs_mode="state",
-            sim_backend="physx_cpu",
-            render_backend="none",
-        )
-        try:
-            for index, path in enumerate(paths):
-                loader = env.unwrapped.scene.create_mjcf_loader()  # type: ignore[attr-defined]
-                loader.name = f"fixture{index}"
-                builder = loader.parse(str(path))["articulation_builders"][0]
-                builder.initial_pose = sapien.Pose()
-                robot = builder.build()
-                facts.append(
-                    {
-                        "links": [link.name for link in robot.links],
-                        "active": [j.name for j in robot.active_joints],
-                        "limits": [[float(x) for x in j.limits[0]] for j in robot.active_joints],
-                        "fixed_root": bool(robot.fixed_root_link.all()),
-                    }
-                )
-        finally:
-            env.close()
-    return facts
+    builder = parse(scene, path)
+    builder.initial_pose = sapien.Pose()
+    robot = builder.build()
+    return {
+        "links": [link.name for link in robot.links],
+        "active": [j.name for j in robot.active_joints],
+        "limits": [[float(x) for x in j.limits[0]] for j in robot.active_joints],
+        "fixed_root": bool(robot.fixed_root_link.all()),
+    }
 
 
 @pytest.mark.usefixtures("maniskill")
-def test_fixtures_and_humanoid_match_maniskill_mjcf_loader() -> None:
-    paths = [DATA / "tree.xml", DATA / "free_root.xml", humanoid_path()]
-    for path, facts in zip(paths, _maniskill_load(paths), strict=True):
+def test_fixtures_and_humanoid_match_maniskill_mjcf_loader(scene: Any) -> None:
+    for path in (DATA / "tree.xml", DATA / "free_root.xml", humanoid_path()):
+        facts = _maniskill_facts(scene, path)
         description, _ = parse_file(path)
         assert description is not None
         assert list(description.link_names) == facts["links"], path.name
