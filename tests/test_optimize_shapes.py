@@ -275,6 +275,7 @@ def test_primitives_leave_a_complex_mesh_alone(tmp_path: Path) -> None:
 
 
 @needs_g1
+@pytest.mark.slow  # coacd's decomposition takes half a minute here: out of the fast loop
 @pytest.mark.skipif(
     importlib.util.find_spec("coacd") is None,
     reason="coacd is not installed (pip install 'robospec[optimize]')",
