@@ -188,6 +188,19 @@ def test_out_in_a_folder_that_does_not_exist_yet_makes_it(tmp_path: Path) -> Non
     assert compile_spec(out).ok
 
 
+def test_a_relative_out_names_the_meshes_it_writes_from_the_new_urdf(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # hull writes a mesh per collision beside the new URDF
+    monkeypatch.chdir(tmp_path)
+    out = Path("sub") / "p.yaml"
+    report, diagnostics = run_optimize(PANDA_SPEC, out, OptimizeOptions(shapes="hull", samples=0))
+    assert report is not None, [d.format_text() for d in diagnostics]
+    compiled = compile_spec(tmp_path / out)
+    assert compiled.ok
+    assert [d.format_text() for d in compiled.diagnostics] == []
+
+
 def test_out_under_a_file_is_a_located_error_not_a_traceback(tmp_path: Path) -> None:
     (tmp_path / "a_file").write_text("")
     report, diagnostics = run_optimize(PANDA_SPEC, tmp_path / "a_file" / "p.yaml", QUICK)

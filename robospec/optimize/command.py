@@ -175,7 +175,10 @@ def _run_optimize(
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         return None, [error(command_line, "RS603", f"cannot make {out.parent}: {exc.strerror}")]
-    with tempfile.TemporaryDirectory(prefix=".robospec-optimize-", dir=out.parent) as staging:
+    # absolute: the meshes written there are named from it, and -o may be a relative path
+    with tempfile.TemporaryDirectory(
+        prefix=".robospec-optimize-", dir=out.parent.resolve()
+    ) as staging:
         written = _optimize_into(Path(staging), compiled, targets, options, report)
         if has_errors(written):
             return None, written
