@@ -43,6 +43,8 @@ if TYPE_CHECKING:
     from click.testing import Result
 
 ROOT = Path(__file__).resolve().parent.parent
+# property tests draw ROBOSPEC_FUZZ_SCALE times their examples (scripts/test --fast: a fifth)
+FUZZ_SCALE = max(float(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 0.01)
 SPECS = ROOT / "specs"
 MANISKILL_SPECS = SPECS / "maniskill"
 PANDA_SPEC = MANISKILL_SPECS / "panda.yaml"
@@ -150,6 +152,19 @@ def sample_fast(params: list[Any], sample: Container[Path]) -> list[Any]:
         if param.values[0] in sample
         else pytest.param(*param.values, id=param.id, marks=[*param.marks, pytest.mark.slow])
         for param in params
+    ]
+
+
+def fast_first(values: Iterable[Any], count: int = 1) -> list[Any]:
+    """A sweep's parameters whose cases each start processes: the fast loop runs the first
+    ``count``, the full suite every one (a tuple is one case of several arguments)."""
+    return [
+        value
+        if index < count
+        else pytest.param(
+            *(value if isinstance(value, tuple) else (value,)), marks=pytest.mark.slow
+        )
+        for index, value in enumerate(values)
     ]
 
 

@@ -59,6 +59,7 @@ def test_build_writes_one_module_per_spec_and_an_init_that_imports_them(tmp_path
             compile((out / name).read_text(), name, "exec")
 
 
+@pytest.mark.slow
 def test_build_output_is_byte_identical_across_runs_and_hash_seeds(tmp_path: Path) -> None:
     states = []
     for seed in ("0", "1", "4242"):  # 0: no hash randomization at all
@@ -71,6 +72,7 @@ def test_build_output_is_byte_identical_across_runs_and_hash_seeds(tmp_path: Pat
     assert states[0] == states[1] == states[2]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("specs", ["specs/", str(ROOT / "specs")], ids=["relative", "absolute"])
 def test_generated_files_name_no_path_of_this_machine(tmp_path: Path, specs: str) -> None:
     out = tmp_path / "agents"
@@ -122,6 +124,7 @@ def test_a_manifest_robospec_did_not_write_names_nothing_as_robospecs(tmp_path: 
     assert (out / MANIFEST).read_text() == "NOTES.txt\n"
 
 
+@pytest.mark.slow
 def test_a_build_from_before_the_manifest_header_is_still_robospecs(tmp_path: Path) -> None:
     # a manifest without the header, beside the __init__.py robospec generated, is trusted
     out = tmp_path / "agents"

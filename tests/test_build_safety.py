@@ -186,6 +186,7 @@ def assert_whole_and_listed(state: dict[str, bytes], built: dict[str, dict[str, 
     assert set(state) <= listed
 
 
+@pytest.mark.slow
 def test_a_build_cut_short_beside_the_users_files_is_finished_by_the_next(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:
@@ -241,6 +242,7 @@ class _Killed(BaseException):
     """The build's process dies here (not an OSError: nothing is reported, nothing tidied)."""
 
 
+@pytest.mark.slow
 def test_a_build_killed_between_its_two_renames_is_put_back_by_the_next(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:
@@ -303,6 +305,7 @@ def test_a_symlink_in_the_output_folder_is_never_followed_or_replaced(
     assert (out / "data").is_symlink()
 
 
+@pytest.mark.slow
 def test_a_link_to_the_output_folder_is_kept_and_its_target_built(
     versions: tuple[Path, Path], built: dict[str, dict[str, bytes]], tmp_path: Path
 ) -> None:

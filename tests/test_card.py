@@ -86,7 +86,7 @@ def test_odd_link_names_become_safe_mermaid(tmp_path: Path) -> None:
         "</joint></robot>\n"
     )
     spec = tmp_path / "odd.yaml"
-    written, diagnostics = run_new(urdf, spec, None, force=False)
+    written, diagnostics = run_new(urdf, spec, None, force=False, simulate=False)
     assert written is not None and not has_errors(diagnostics), diagnostics
     lines = mermaid(card(spec, tmp_path / "odd.md"))
     assert lines == [
@@ -143,7 +143,9 @@ def test_card_is_deterministic_and_names_no_machine_path(tmp_path: Path) -> None
 
 def test_spec_with_errors_gets_diagnostics_and_no_card(tmp_path: Path) -> None:
     spec = tmp_path / "bad.yaml"
-    run_new(ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False)
+    run_new(
+        ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False, simulate=False
+    )
     lines = spec.read_text().splitlines()
     line = next(i for i, text in enumerate(lines) if text.startswith("  arm: ["))
     lines[line] = lines[line].replace("twolink_joint3", "twolink_joint9")
@@ -219,7 +221,9 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
 
 def test_unwritable_card_is_rs603_and_exit_1(tmp_path: Path) -> None:
     spec = tmp_path / "twolink.yaml"
-    run_new(ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False)
+    run_new(
+        ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False, simulate=False
+    )
     (tmp_path / "afile").write_text("")
     out = tmp_path / "afile" / "card.md"
     result = run_robospec("doc", str(spec), "-o", str(out))

@@ -9,7 +9,7 @@ import subprocess
 import sys
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, fast_first
 
 from robospec.cli import fast_validate
 
@@ -27,17 +27,20 @@ def _run(prefix: list[str], args: list[str], env: dict[str, str]) -> tuple[str, 
 
 @pytest.mark.parametrize(
     "args",
-    [
-        ["validate", BAD],
-        ["validate", GOOD],
-        ["validate", GOOD, BAD, "--format", "json"],
-        ["validate", "-f", "github", BAD],
-        ["validate", "--format=sarif", BAD],
-        ["validate", "--color", "always", BAD],
-        ["validate", "--color=never", "docs/examples/codes/RS202"],
-        ["validate", "no/such/spec.yaml"],
-        ["validate", "specs/maniskill", "--format", "json", "--color", "auto"],
-    ],
+    fast_first(
+        [
+            ["validate", BAD],
+            ["validate", GOOD],
+            ["validate", GOOD, BAD, "--format", "json"],
+            ["validate", "-f", "github", BAD],
+            ["validate", "--format=sarif", BAD],
+            ["validate", "--color", "always", BAD],
+            ["validate", "--color=never", "docs/examples/codes/RS202"],
+            ["validate", "no/such/spec.yaml"],
+            ["validate", "specs/maniskill", "--format", "json", "--color", "auto"],
+        ],
+        count=3,  # two processes each case
+    ),
 )
 def test_plain_validate_prints_and_exits_as_the_typer_command(args: list[str]) -> None:
     assert fast_validate.parse(args, {}) is not None

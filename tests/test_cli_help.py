@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 import typer.main
-from conftest import ROOT, run_robospec
+from conftest import ROOT, fast_first, run_robospec
 
 from robospec.cli import app
 
@@ -26,7 +26,7 @@ def test_every_command_is_listed_in_the_top_level_help() -> None:
         assert name in result.stdout
 
 
-@pytest.mark.parametrize("name", COMMANDS)
+@pytest.mark.parametrize("name", fast_first(COMMANDS))
 def test_every_command_help_shows_an_example_of_itself(name: str) -> None:
     result = run_robospec(name, "--help", env={**os.environ, "COLUMNS": "200"})
     assert result.returncode == 0, result.stderr
@@ -63,6 +63,7 @@ def test_bash_completion_completes_command_names() -> None:
     assert set(_bash_complete("")) >= {"validate", "build", "schema", "check"}
 
 
+@pytest.mark.slow
 def test_bash_completion_completes_option_names_and_choices() -> None:
     assert "--format" in _bash_complete("validate", "--f")
     assert {"text", "json"} <= set(_bash_complete("validate", "--format", ""))

@@ -65,6 +65,7 @@ def test_the_diagnostics_table_links_a_page_for_every_code() -> None:
         assert len(code) == 5 and code.startswith("RS") and code[2:].isdigit()
 
 
+@pytest.mark.slow
 def test_generated_pages_name_no_path_of_this_machine() -> None:
     for name, text in generated_pages(DOCS).items():
         assert str(ROOT) not in text, name
@@ -159,6 +160,7 @@ def _mkdocs(config: Path, site: Path) -> subprocess.CompletedProcess[str]:
     )
 
 
+@pytest.mark.slow
 def test_the_site_builds_in_strict_mode(tmp_path: Path) -> None:
     result = _mkdocs(ROOT / "mkdocs.yml", tmp_path / "site")
     assert result.returncode == 0, result.stderr
@@ -172,6 +174,7 @@ def _site_copy(tmp_path: Path) -> Path:
     return tmp_path / "mkdocs.yml"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("target", ["no-such-page.md", "reference.md#no-such-model"])
 def test_strict_mode_fails_on_a_broken_link(target: str, tmp_path: Path) -> None:
     config = _site_copy(tmp_path)
@@ -181,6 +184,7 @@ def test_strict_mode_fails_on_a_broken_link(target: str, tmp_path: Path) -> None
     assert result.returncode != 0 and target.split("#")[-1] in result.stderr
 
 
+@pytest.mark.slow
 def test_strict_mode_fails_on_a_page_missing_from_the_nav(tmp_path: Path) -> None:
     config = _site_copy(tmp_path)
     (tmp_path / "docs" / "orphan.md").write_text("# Orphan\n", encoding="utf-8")
@@ -270,6 +274,7 @@ def _workdir(tmp_path: Path) -> Path:
 SIMULATES = "robospec check"  # runs SAPIEN: seconds, and the maniskill extra
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("page", GUIDE_PAGES)
 def test_every_command_of_the_guide_prints_what_the_guide_shows(page: str, tmp_path: Path) -> None:
     cwd = _workdir(tmp_path)

@@ -16,7 +16,7 @@ from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
 import pytest
-from conftest import CODE_EXAMPLES, DOCS, MISSPELLED_JOINT_SPEC, ROOT, run_robospec
+from conftest import CODE_EXAMPLES, DOCS, MISSPELLED_JOINT_SPEC, ROOT, fast_first, run_robospec
 from jsonschema import Draft202012Validator, FormatChecker
 
 from robospec.diagnostics import Location, error, sort_key
@@ -137,15 +137,18 @@ def test_piped_text_has_no_colour() -> None:
 
 @pytest.mark.parametrize(
     ("args", "env", "coloured"),
-    [
-        (["--color", "always"], {}, True),
-        ([], {"FORCE_COLOR": "1"}, True),
-        ([], {"FORCE_COLOR": "0"}, False),
-        ([], {"FORCE_COLOR": "1", "NO_COLOR": "1"}, False),  # NO_COLOR beats FORCE_COLOR
-        ([], {"FORCE_COLOR": "1", "NO_COLOR": ""}, True),  # an empty NO_COLOR is unset
-        (["--color", "always"], {"NO_COLOR": "1"}, True),  # the command line beats both
-        (["--color", "never"], {"FORCE_COLOR": "1"}, False),
-    ],
+    fast_first(
+        [
+            (["--color", "always"], {}, True),
+            ([], {"FORCE_COLOR": "1"}, True),
+            ([], {"FORCE_COLOR": "0"}, False),
+            ([], {"FORCE_COLOR": "1", "NO_COLOR": "1"}, False),  # NO_COLOR beats FORCE_COLOR
+            ([], {"FORCE_COLOR": "1", "NO_COLOR": ""}, True),  # an empty NO_COLOR is unset
+            (["--color", "always"], {"NO_COLOR": "1"}, True),  # the command line beats both
+            (["--color", "never"], {"FORCE_COLOR": "1"}, False),
+        ],
+        count=2,
+    ),
 )
 def test_colour_precedence(args: list[str], env: dict[str, str], coloured: bool) -> None:
     result = run_robospec("validate", *args, MISSPELLED, env=plain_env(**env))
@@ -272,6 +275,7 @@ def test_github_escapes_carriage_returns() -> None:
 # -- sarif --------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_sarif_of_every_failing_example_is_valid_and_round_trips_the_json_locations() -> None:
     sarif = run_robospec("validate", "--format", "sarif", *FAILING)
     report = run_robospec("validate", "--format", "json", *FAILING)

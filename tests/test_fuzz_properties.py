@@ -20,9 +20,9 @@ sets 5 or more, the fast loop (scripts/test --fast) 0.2.
 from __future__ import annotations
 
 import copy
+import functools
 import json
 import math
-import os
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -31,7 +31,7 @@ from typing import Any
 
 import pytest
 import tomllib
-from conftest import ROOT, extends_python, invoke_robospec
+from conftest import FUZZ_SCALE, ROOT, extends_python, invoke_robospec
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -40,15 +40,12 @@ from robospec.diagnostics.codes import CODES
 from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
 from robospec.pipeline import compile_spec
 
-# scripts/test --fast sets 0.2: the fast loop draws a fifth of the examples
-SCALE = max(float(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 0.01)
-
 
 def budget(examples: int) -> settings:
-    """A fixed budget in CI, ``SCALE`` times more when fuzzing; the examples come from the
+    """A fixed budget in CI, ``FUZZ_SCALE`` times more when fuzzing; the examples come from the
     run's seed (conftest.py), so they differ from run to run and a run can be repeated."""
     return settings(
-        max_examples=max(round(examples * SCALE), 1),
+        max_examples=max(round(examples * FUZZ_SCALE), 1),
         deadline=None,
         database=None,
         suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
@@ -61,15 +58,34 @@ class Seed:
     standing where the file stands so that its relative paths resolve."""
 
     path: Path
-    raw: bytes
     suffix: str  # of the file it stands for: ".yaml" or ".toml"
 
     @property
     def name(self) -> str:
         return self.path.stem + self.suffix
 
+    @property
+    def converted(self) -> bool:
+        """Whether this seed is a YAML file's data written as TOML."""
+        return self.suffix != self.path.suffix
+
+    @property
+    def raw(self) -> bytes:
+        return _seed_bytes(self.path, self.suffix)
+
     def __repr__(self) -> str:  # shown in a falsifying example
         return f"Seed({self.path.relative_to(ROOT)} as {self.suffix[1:]})"
+
+
+@functools.cache
+def _seed_bytes(path: Path, suffix: str) -> bytes:
+    # made when a test first draws the seed, not at collection: parsing every YAML spec costs
+    # seconds, in each worker
+    if suffix == path.suffix:
+        return path.read_bytes()
+    loaded, _ = read_spec(path)
+    assert loaded is not None, path
+    return _dump_toml(loaded.data)
 
 
 def _seed_specs() -> list[Seed]:
@@ -77,14 +93,11 @@ def _seed_specs() -> list[Seed]:
     found += sorted((ROOT / "tests/specs/positive").glob("*.yaml"))
     seeds = []
     for path in found:
-        raw = path.read_bytes()
-        if b"robospec" not in raw[:400] or extends_python(path):
+        if b"robospec" not in path.read_bytes()[:400] or extends_python(path):
             continue
-        seeds.append(Seed(path, raw, path.suffix))
+        seeds.append(Seed(path, path.suffix))
         if path.suffix != ".toml":
-            loaded, _ = read_spec(path)
-            assert loaded is not None, path
-            seeds.append(Seed(path, _dump_toml(loaded.data), ".toml"))
+            seeds.append(Seed(path, ".toml"))
     return seeds
 
 
@@ -387,7 +400,7 @@ def _without_none(node: Any) -> Any:
     return node
 
 
-@pytest.mark.parametrize("seed", [s for s in SEEDS if s.raw != s.path.read_bytes()], ids=repr)
+@pytest.mark.parametrize("seed", [s for s in SEEDS if s.converted], ids=repr)
 def test_a_toml_seed_reads_back_as_its_yaml_data_without_nulls(seed: Seed) -> None:
     loaded, _ = read_spec(seed.path)
     assert loaded is not None

@@ -28,7 +28,7 @@ import tokenize
 from pathlib import Path
 
 import pytest
-from conftest import PANDA_SPEC, POSITIVE_SPECS, SPECS
+from conftest import FUZZ_SCALE, PANDA_SPEC, POSITIVE_SPECS, SPECS
 from golden_modules import GOLDEN, generated_modules
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
@@ -39,8 +39,6 @@ from robospec.output.package import plan_package
 from robospec.pipeline import compile_spec
 
 LINE_LENGTH = 100
-# property tests draw ROBOSPEC_FUZZ_SCALE times their examples (the fast loop: a fifth)
-FUZZ_SCALE = max(float(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 0.01)
 RUFF = Path(sys.executable).parent / ("ruff.exe" if os.name == "nt" else "ruff")
 FORMAT = ["format", "--isolated", "--line-length", str(LINE_LENGTH), "--check", "--diff"]
 CANONICAL = ["--config", "format.skip-magic-trailing-comma = true"]

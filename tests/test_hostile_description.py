@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from conftest import invoke_robospec, run_robospec
+from conftest import fast_first, invoke_robospec, run_robospec
 
 import robospec
 from robospec.diagnostics.codes import CODES
@@ -409,7 +409,7 @@ def test_a_nested_include_that_is_no_cycle_is_a_warning_that_it_is_not_loaded(
     assert "not read by ManiSkill" in warning.message
 
 
-@pytest.mark.parametrize("name", ["urdf_bad_xml", "urdf_fifo", "mjcf_include_cycle"])
+@pytest.mark.parametrize("name", fast_first(["urdf_bad_xml", "urdf_fifo", "mjcf_include_cycle"]))
 def test_a_real_process_prints_no_traceback(name: str, tmp_path: Path) -> None:
     (case,) = [c for c in CASES if c.name == name]
     spec, description = _setup(case, tmp_path)

@@ -39,7 +39,7 @@ from pathlib import Path
 
 import pytest
 from ast_names import identifiers
-from conftest import ROOT
+from conftest import FUZZ_SCALE, ROOT
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 from lxml import etree
@@ -356,7 +356,9 @@ def toml_spec_text(robot: dict[str, object]) -> str:
 
 
 @settings(
-    max_examples=int(os.environ.get("ROBOSPEC_INJECTION_EXAMPLES", "300")),
+    # ROBOSPEC_INJECTION_EXAMPLES overrides; otherwise scaled like every property test (the
+    # fast loop draws a fifth)
+    max_examples=int(os.environ.get("ROBOSPEC_INJECTION_EXAMPLES", max(int(300 * FUZZ_SCALE), 20))),
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )

@@ -186,6 +186,7 @@ def test_convert_keeps_what_is_not_an_stl_split(tmp_path: Path) -> None:
     assert [c.shapes_after for c in changes] == [1, 1, 1] and changes[0].vertices_after > 0
 
 
+@pytest.mark.slow
 @needs_g1
 def test_hull_caps_vertices_and_keeps_nearly_all_the_volume(tmp_path: Path) -> None:
     links = ("pelvis", "head_link", "torso_link")
@@ -266,6 +267,7 @@ def test_primitives_fit_a_sphere_and_a_capsule(tmp_path: Path) -> None:
             assert float(shape.get("length")) == pytest.approx(0.6, rel=0.01)
 
 
+@pytest.mark.slow
 @needs_g1
 def test_primitives_leave_a_complex_mesh_alone(tmp_path: Path) -> None:
     robot = _robot(("pelvis",))

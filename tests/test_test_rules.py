@@ -62,6 +62,7 @@ def stand_in(pytester: pytest.Pytester, body: str) -> None:
     (package / "envs.py").write_text("")
 
 
+@pytest.mark.slow
 def test_the_fast_loop_leaves_out_maniskill_tests_and_fails_an_unmarked_import(
     suite: pytest.Pytester,
 ) -> None:
@@ -77,6 +78,7 @@ def test_the_fast_loop_leaves_out_maniskill_tests_and_fails_an_unmarked_import(
     assert "imported although every test here is deselected" not in result.stdout.str()
 
 
+@pytest.mark.slow
 def test_without_maniskill_the_tests_that_need_it_fail_instead_of_skipping(
     suite: pytest.Pytester,
 ) -> None:

@@ -131,6 +131,7 @@ def test_runaway_recursion_is_an_error_not_a_crash(tmp_path: Path) -> None:
     assert "recursion" in diags[0].message
 
 
+@pytest.mark.slow
 def test_memory_bomb_hits_the_memory_limit(tmp_path: Path) -> None:
     path = write(tmp_path, '  <link name="${2**2**34}"/>\n')
     # the message names the limit that stopped it: the memory limit, long before the clock's
@@ -147,6 +148,7 @@ def test_string_bomb_hits_the_memory_limit(tmp_path: Path) -> None:
     assert "memory limit of 256 MiB" in diags[0].message  # the memory limit ends it, not the clock
 
 
+@pytest.mark.slow
 def test_long_computation_hits_the_timeout(tmp_path: Path) -> None:
     # hours of work: only the time limit ends it, and the message says that it did
     path = write(tmp_path, '  <link name="${python.sum(python.range(10**12))}"/>\n')
@@ -219,6 +221,7 @@ def test_a_process_the_file_leaves_running_is_killed_when_expansion_ends(tmp_pat
     assert ended(pid), "a process started by the xacro file outlived the expansion"
 
 
+@pytest.mark.slow
 def test_a_process_started_before_a_runaway_loop_dies_with_it(tmp_path: Path) -> None:
     shell, pid_file = background(tmp_path)
     path = write(
