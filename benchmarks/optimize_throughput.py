@@ -11,9 +11,16 @@ timed in alternating rounds so that drift of the machine's load hits both alike.
 gives links and collision shapes before and after, steps/s of both, and their ratio per round
 (median and spread). Target: a median speed-up of at least 1.5x over the robots.
 
+For scale, the target's robots are also stepped with every self-collision off (the optimized
+robot with ManiSkill's ``disable_self_collisions`` bit on every link: not the same robot, the
+most that pruning pairs could give), and the share of the optimized robot's step spent in PhysX
+(``ManiSkillScene.step``) is measured: the rest is ManiSkill's Python, which no description
+changes.
+
     python benchmarks/optimize_throughput.py --worker --steps N --rounds R ORIGINAL OPTIMIZED...
 
-is the worker; it prints one JSON object per pair.
+is the worker (``--scale``: the self-collisions-off rate and the PhysX share too); it prints one
+JSON object per pair.
 """
 
 from __future__ import annotations
@@ -57,7 +64,8 @@ def measure(
             scaffolded, problems = _scaffold_corpus(work)
             specs += scaffolded
             notes += problems
-        main = _measure_pairs(_optimize_all(specs, work, samples, notes), steps, rounds, notes)
+        optimized = _optimize_all(specs, work, samples, notes)
+        main = _measure_pairs(optimized, steps, rounds, notes, scale=True)
         lines, median = _table(main)
         others: list[tuple[Path, dict[str, Any], dict[str, Any]]] = []
         if every_spec and not only:
@@ -70,7 +78,12 @@ def measure(
             f"{len(main)} robot(s), {rounds} alternating round(s) of {steps} steps each per spec "
             "after a short warm-up, same random actions (seed 0) for both, physx_cpu, "
             f"`robospec optimize` with its defaults ({samples} samples). Median speed-up: "
-            f"**{median:.2f}×** (target ≥ {TARGET}×).",
+            f"**{median:.2f}×** (target ≥ {TARGET}×). *Self-collisions off*: the optimized "
+            "robot with ManiSkill's `disable_self_collisions` bit on every link, stepped in the "
+            "same rounds — not the same robot, but the most that disabling pairs could give. "
+            "*PhysX share*: of the optimized robot's step, the time in `ManiSkillScene.step`; "
+            "the rest is ManiSkill's Python (controllers, observations), the same for any "
+            "description of the robot.",
         ]
         if others:
             other_lines, _ = _table(others)
@@ -105,13 +118,18 @@ def _optimize_all(
 
 
 def _measure_pairs(
-    pairs: list[tuple[Path, Path, dict[str, Any]]], steps: int, rounds: int, notes: list[str]
+    pairs: list[tuple[Path, Path, dict[str, Any]]],
+    steps: int,
+    rounds: int,
+    notes: list[str],
+    scale: bool = False,
 ) -> list[tuple[Path, dict[str, Any], dict[str, Any]]]:
-    """(spec, optimize's report, the worker's row) for each pair that loaded."""
+    """(spec, optimize's report, the worker's row) for each pair that loaded; with ``scale``,
+    the rows also hold the self-collisions-off rate and the PhysX share."""
     if not pairs:
         return []
     args = [PYTHON, str(Path(__file__)), "--worker", "--steps", str(steps)]
-    args += ["--rounds", str(rounds)]
+    args += ["--rounds", str(rounds), *(["--scale"] if scale else [])]
     for spec, out, _ in pairs:
         args += [str(spec), str(out)]
     result = run(args, child_env())
@@ -130,10 +148,13 @@ def _measure_pairs(
 def _table(
     measured: list[tuple[Path, dict[str, Any], dict[str, Any]]],
 ) -> tuple[list[str], float]:
+    scale = any("no_self_collision" in row for _, _, row in measured)
     lines = [
         "| robot | links | collision shapes | never_collide entries | as written steps/s | "
-        "optimized steps/s | speed-up (median) | spread |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
+        "optimized steps/s | speed-up (median) | spread |"
+        + (" self-collisions off steps/s | its speed-up | PhysX share |" if scale else ""),
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+        + (" ---: | ---: | ---: |" if scale else ""),
     ]
     speedups = []
     for spec, report, row in measured:
@@ -147,8 +168,18 @@ def _table(
             f"{before} → {after} | {len(report['never_collide']['entries'])} | "
             f"{row['original']:.0f} | {row['optimized']:.0f} | "
             f"{statistics.median(ratios):.2f} | {min(ratios):.2f}–{max(ratios):.2f} |"
+            + (_scale_cells(row) if scale else "")
         )
     return lines, statistics.median(speedups) if speedups else float("nan")
+
+
+def _scale_cells(row: dict[str, Any]) -> str:
+    if "no_self_collision" not in row:
+        return " — | — | — |"
+    return (
+        f" {row['no_self_collision']:.0f} | {statistics.median(row['no_self_ratios']):.2f} | "
+        f"{row['physx_share']:.0%} |"
+    )
 
 
 def _urdf_specs() -> list[Path]:
@@ -196,7 +227,7 @@ def _last(done: subprocess.CompletedProcess[str]) -> str:
     return (errors or text or ["(no output)"])[0][:200]
 
 
-def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
+def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int, scale: bool) -> None:
     import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
     import mani_skill.envs  # noqa: F401
     from stepping import alternating_rates, failure_reason, random_actions
@@ -211,25 +242,64 @@ def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int) -> None:
             for name, spec in (("original", original), ("optimized", optimized)):
                 (uid,) = robospec.register(str(spec), cache_dir=cache)
                 envs[name] = make_empty_env(uid)
+            if scale:
+                envs["no_self_collision"] = _without_self_collisions(make_empty_env(uid))
         except Exception as exc:  # a robot that cannot load here is listed, not fatal
             print(json.dumps({"spec": str(original), "reason": failure_reason(exc)}), flush=True)
             continue
         actions = random_actions(envs["original"].action_space, steps)
         rates = alternating_rates(envs, actions, rounds)
-        pairs_ = zip(rates["optimized"], rates["original"], strict=True)
-        print(
-            json.dumps(
-                {
-                    "spec": str(original),
-                    "original": statistics.median(rates["original"]),
-                    "optimized": statistics.median(rates["optimized"]),
-                    "ratios": [fast / slow for fast, slow in pairs_],
-                }
-            ),
-            flush=True,
-        )
+        row = {
+            "spec": str(original),
+            "original": statistics.median(rates["original"]),
+            "optimized": statistics.median(rates["optimized"]),
+            "ratios": _ratios(rates["optimized"], rates["original"]),
+        }
+        if scale:
+            row["no_self_collision"] = statistics.median(rates["no_self_collision"])
+            row["no_self_ratios"] = _ratios(rates["no_self_collision"], rates["original"])
+            row["physx_share"] = _physx_share(envs["optimized"], actions)
+        print(json.dumps(row), flush=True)
         for env in envs.values():
             env.close()
+
+
+def _ratios(fast: list[float], slow: list[float]) -> list[float]:
+    return [f / s for f, s in zip(fast, slow, strict=True)]
+
+
+def _without_self_collisions(env: Any) -> Any:
+    """``env`` with ManiSkill's ``disable_self_collisions`` bit (group 2, bit 29) set on every
+    link of its robot: no two of its links collide (the ground, without the bit, still does)."""
+    for link in env.unwrapped.agent.robot.links:
+        link.set_collision_group_bit(group=2, bit_idx=29, bit=1)
+    return env
+
+
+def _physx_share(env: Any, actions: Any) -> float:
+    """The fraction of ``env.step`` spent in ``ManiSkillScene.step`` (PhysX) over ``actions``."""
+    import time
+
+    from mani_skill.envs.scene import ManiSkillScene
+
+    spent = [0.0]
+    step = ManiSkillScene.step
+
+    def timed(scene: Any) -> None:
+        started = time.perf_counter()
+        step(scene)
+        spent[0] += time.perf_counter() - started
+
+    env.reset(seed=0)
+    ManiSkillScene.step = timed  # type: ignore[method-assign]
+    try:
+        started = time.perf_counter()
+        for action in actions:
+            env.step(action)
+        total = time.perf_counter() - started
+    finally:
+        ManiSkillScene.step = step  # type: ignore[method-assign]
+    return spent[0] / total
 
 
 def _shown(spec: Path) -> str:
@@ -242,13 +312,14 @@ def _shown(spec: Path) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--worker", action="store_true")
+    parser.add_argument("--scale", action="store_true")
     parser.add_argument("--steps", type=int, default=200)
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("specs", nargs="*", type=Path)
     args = parser.parse_args()
     if args.worker:
         pairs = list(zip(args.specs[::2], args.specs[1::2], strict=True))
-        _worker(pairs, args.steps, args.rounds)
+        _worker(pairs, args.steps, args.rounds, args.scale)
     else:
         print(measure(args.steps, args.rounds).markdown())
 
