@@ -82,6 +82,7 @@ def test_generated_files_name_no_path_of_this_machine(tmp_path: Path, specs: str
         assert str(tmp_path).encode() not in data, name
 
 
+@pytest.mark.slow
 def test_build_output_is_the_same_for_absolute_and_relative_spec_paths(tmp_path: Path) -> None:
     relative, absolute = tmp_path / "a" / "agents", tmp_path / "b" / "agents"
     assert build(relative, specs="specs/twolink.toml").returncode == 0
