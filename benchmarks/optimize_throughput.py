@@ -230,7 +230,7 @@ def _last(done: subprocess.CompletedProcess[str]) -> str:
 def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int, scale: bool) -> None:
     import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
     import mani_skill.envs  # noqa: F401
-    from stepping import alternating_rates, failure_reason, random_actions
+    from stepping import alternating_rates, failure_reason, physx_share, random_actions, ratios
 
     import robospec
     from robospec.maniskill.headless import make_empty_env
@@ -253,19 +253,15 @@ def _worker(pairs: list[tuple[Path, Path]], steps: int, rounds: int, scale: bool
             "spec": str(original),
             "original": statistics.median(rates["original"]),
             "optimized": statistics.median(rates["optimized"]),
-            "ratios": _ratios(rates["optimized"], rates["original"]),
+            "ratios": ratios(rates["optimized"], rates["original"]),
         }
         if scale:
             row["no_self_collision"] = statistics.median(rates["no_self_collision"])
-            row["no_self_ratios"] = _ratios(rates["no_self_collision"], rates["original"])
-            row["physx_share"] = _physx_share(envs["optimized"], actions)
+            row["no_self_ratios"] = ratios(rates["no_self_collision"], rates["original"])
+            row["physx_share"] = physx_share(envs["optimized"], actions)
         print(json.dumps(row), flush=True)
         for env in envs.values():
             env.close()
-
-
-def _ratios(fast: list[float], slow: list[float]) -> list[float]:
-    return [f / s for f, s in zip(fast, slow, strict=True)]
 
 
 def _without_self_collisions(env: Any) -> Any:
@@ -274,32 +270,6 @@ def _without_self_collisions(env: Any) -> Any:
     for link in env.unwrapped.agent.robot.links:
         link.set_collision_group_bit(group=2, bit_idx=29, bit=1)
     return env
-
-
-def _physx_share(env: Any, actions: Any) -> float:
-    """The fraction of ``env.step`` spent in ``ManiSkillScene.step`` (PhysX) over ``actions``."""
-    import time
-
-    from mani_skill.envs.scene import ManiSkillScene
-
-    spent = [0.0]
-    step = ManiSkillScene.step
-
-    def timed(scene: Any) -> None:
-        started = time.perf_counter()
-        step(scene)
-        spent[0] += time.perf_counter() - started
-
-    env.reset(seed=0)
-    ManiSkillScene.step = timed  # type: ignore[method-assign]
-    try:
-        started = time.perf_counter()
-        for action in actions:
-            env.step(action)
-        total = time.perf_counter() - started
-    finally:
-        ManiSkillScene.step = step  # type: ignore[method-assign]
-    return spent[0] / total
 
 
 def _shown(spec: Path) -> str:

@@ -69,7 +69,7 @@ def measure(steps: int, rounds: int, only: list[str] | None = None) -> Section:
 def _worker(specs: list[Path], steps: int, rounds: int) -> None:
     import gymnasium  # noqa: F401  (ManiSkill's environments need it imported first)
     import mani_skill.envs  # noqa: F401
-    from stepping import alternating_rates, failure_reason, random_actions
+    from stepping import alternating_rates, failure_reason, random_actions, ratios
 
     import robospec
     from robospec.maniskill.headless import make_empty_env
@@ -85,7 +85,6 @@ def _worker(specs: list[Path], steps: int, rounds: int) -> None:
             continue
         actions = random_actions(envs["hand_written"].action_space, steps)
         rates = alternating_rates(envs, actions, rounds)
-        pairs = zip(rates["generated"], rates["hand_written"], strict=True)
         print(
             json.dumps(
                 {
@@ -95,7 +94,7 @@ def _worker(specs: list[Path], steps: int, rounds: int) -> None:
                     "control_mode": envs["generated"].unwrapped.control_mode,
                     "generated": statistics.median(rates["generated"]),
                     "hand_written": statistics.median(rates["hand_written"]),
-                    "ratios": [generated / hand for generated, hand in pairs],
+                    "ratios": ratios(rates["generated"], rates["hand_written"]),
                 }
             ),
             flush=True,

@@ -39,6 +39,32 @@ def alternating_rates(
     return rates
 
 
+def ratios(fast: list[float], slow: list[float]) -> list[float]:
+    """Round by round, how many times as fast the first environment stepped as the second."""
+    return [f / s for f, s in zip(fast, slow, strict=True)]
+
+
+def physx_share(env: Any, actions: torch.Tensor) -> float:
+    """The fraction of ``env.step`` spent in ``ManiSkillScene.step`` (PhysX) over ``actions``;
+    the rest is ManiSkill's Python."""
+    from mani_skill.envs.scene import ManiSkillScene
+
+    spent = [0.0]
+    step = ManiSkillScene.step
+
+    def timed(scene: Any) -> None:
+        started = time.perf_counter()
+        step(scene)
+        spent[0] += time.perf_counter() - started
+
+    ManiSkillScene.step = timed  # type: ignore[method-assign]
+    try:
+        rate = _steps_per_second(env, actions)
+    finally:
+        ManiSkillScene.step = step  # type: ignore[method-assign]
+    return spent[0] * rate / len(actions)
+
+
 def _steps_per_second(env: Any, actions: torch.Tensor) -> float:
     env.reset(seed=SEED)
     started = time.perf_counter()

@@ -147,25 +147,19 @@ def spec_params(paths: Iterable[Path], root: Path | None = None) -> list[Any]:
 def sample_fast(params: list[Any], sample: Container[Path]) -> list[Any]:
     """A sweep's parameters (from :func:`spec_params`) with all but ``sample`` marked ``slow``:
     the fast loop runs the sample, the full suite every one."""
-    return [
-        param
-        if param.values[0] in sample
-        else pytest.param(*param.values, id=param.id, marks=[*param.marks, pytest.mark.slow])
-        for param in params
-    ]
+    return [param if param.values[0] in sample else _slow(param) for param in params]
 
 
 def fast_first(values: Iterable[Any], count: int = 1) -> list[Any]:
     """A sweep's parameters whose cases each start processes: the fast loop runs the first
     ``count``, the full suite every one (a tuple is one case of several arguments)."""
-    return [
-        value
-        if index < count
-        else pytest.param(
-            *(value if isinstance(value, tuple) else (value,)), marks=pytest.mark.slow
-        )
-        for index, value in enumerate(values)
-    ]
+    params = [pytest.param(*(v if isinstance(v, tuple) else (v,))) for v in values]
+    return [param if index < count else _slow(param) for index, param in enumerate(params)]
+
+
+def _slow(param: Any) -> Any:
+    """``param`` (a ``pytest.param``) also marked ``slow``: for the full suite only."""
+    return pytest.param(*param.values, id=param.id, marks=[*param.marks, pytest.mark.slow])
 
 
 def extends_python(spec: Path) -> bool:
