@@ -108,11 +108,17 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
     delta = data["controllers"]["arm_delta_pos"]
     assert (delta["lower"], delta["upper"], delta["use_delta"]) == (-0.1, 0.1, True)
     absolute = data["controllers"]["arm_pos"]
-    assert (absolute["stiffness"], absolute["damping"], absolute["force_limit"]) == (
-        1e3,
-        1e2,
-        100,
-    )
+    # force limits: the URDF's effort ratings (87 N m for the first four joints, 12 for the
+    # wrist); stiffness and damping: each joint's own, critically damped at 20 rad/s
+    assert absolute["force_limit"] == {
+        **{f"panda_joint{i}": 87 for i in range(1, 5)},
+        **{f"panda_joint{i}": 12 for i in range(5, 8)},
+    }
+    for joint, stiffness in absolute["stiffness"].items():
+        inertia = stiffness / 20.0**2
+        assert absolute["damping"][joint] == pytest.approx(2 * (stiffness * inertia) ** 0.5, 0.01)
+    # the shoulder carries the whole arm, the last joint only the hand
+    assert absolute["stiffness"]["panda_joint2"] > 100 * absolute["stiffness"]["panda_joint7"]
 
 
 @needs_assets

@@ -10,12 +10,15 @@ from dataclasses import dataclass, field
 from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.gains import Drive, actuator_drives
 from robospec.authoring.groups import Groups, guess_groups
+from robospec.authoring.joint_loads import Inertial, mjcf_inertials, urdf_inertials
 from robospec.authoring.kinematics import KinematicModel, mjcf_kinematics, urdf_kinematics
 from robospec.authoring.mjcf_model import read_mjcf_model
 from robospec.authoring.morphology import Morphology, morphology
-from robospec.description import RobotDescription
+from robospec.description import Joint, RobotDescription
+from robospec.description.numbers import finite_numbers
 
 PASSIVE_GROUP = "passive"
+IMMOBILE_GROUP = "immobile"
 
 
 @dataclass(frozen=True)
@@ -24,6 +27,9 @@ class RobotAnalysis:
     body: Morphology
     groups: Groups
     drives: dict[str, Drive] = field(default_factory=dict)  # MJCF actuators, by joint
+    kinematics: KinematicModel | None = None
+    inertials: dict[str, Inertial] = field(default_factory=dict)  # by link, as SAPIEN loads them
+    armature: dict[str, float] = field(default_factory=dict)  # MJCF joints' armature, by joint
 
     @property
     def description(self) -> RobotDescription:
@@ -32,6 +38,28 @@ class RobotAnalysis:
     @property
     def has_passive(self) -> bool:
         return "passive" in self.groups.kinds.values()
+
+    def feet(self) -> list[list[str]]:
+        """For each leg, the links below its last joint (where it meets the ground)."""
+        if self.kinematics is None:
+            return []
+        children: dict[str, list[str]] = {}
+        child_of = {}
+        for joint in self.kinematics.joints:
+            children.setdefault(joint.parent, []).append(joint.child)
+            child_of[joint.name] = joint.child
+        found = []
+        for leg in self.body.legs:
+            link = child_of.get(leg.joints[-1]) if leg.joints else None
+            if link is None:
+                continue
+            links, queue = [link], [link]
+            while queue:
+                below = children.get(queue.pop(), [])
+                links.extend(below)
+                queue.extend(below)
+            found.append(links)
+        return found
 
     def start_qpos(self) -> dict[str, float]:
         """0 where the limits allow (or there are none), else mid-range; mimic followers follow
@@ -56,6 +84,8 @@ def safe_position(lower: float | None, upper: float | None) -> float:
 def analyse(source: DescriptionFile) -> RobotAnalysis:
     kinematics: KinematicModel | None
     drives: dict[str, Drive] = {}
+    inertials: dict[str, Inertial] = {}
+    armature: dict[str, float] = {}
     indirect = False
     if source.kind == "mjcf":
         model = read_mjcf_model(source.text, str(source.path))
@@ -63,13 +93,21 @@ def analyse(source: DescriptionFile) -> RobotAnalysis:
         if model is not None:
             attributes = {joint.name: joint.attributes for joint, _ in model.joints()}
             drives, indirect = actuator_drives(source.description, attributes)
+            inertials = mjcf_inertials(model)
+            armature = {
+                name: value[0]
+                for name, values in attributes.items()
+                if (value := finite_numbers(values.get("armature"), 1))
+            }
     else:
         kinematics = urdf_kinematics(source.text)
+        inertials = urdf_inertials(source.text)
     body = morphology(source.description, kinematics)
     groups = guess_groups(source.description, body)
     if drives and not indirect:
         _set_apart_passive(groups, set(drives))
-    return RobotAnalysis(source, body, groups, drives)
+    _set_apart_immobile(groups, source.description)
+    return RobotAnalysis(source, body, groups, drives, kinematics, inertials, armature)
 
 
 def _set_apart_passive(groups: Groups, driven: set[str]) -> None:
@@ -91,3 +129,39 @@ def _set_apart_passive(groups: Groups, driven: set[str]) -> None:
         while name in groups.groups:
             name += "_"
         groups.add(name, "passive", loose)
+
+
+def immobile_reason(joint: Joint) -> str | None:
+    """Why ``joint`` cannot move (its limits are equal), or None. (An effort rating of 0 alone
+    says nothing: descriptions write ``effort="0"`` for "not rated", ManiSkill's so100 among
+    them, and their joints move.)"""
+    if joint.lower is not None and joint.upper is not None and joint.lower == joint.upper:
+        how = " and its effort rating is 0" if joint.effort == 0 else ""
+        return f"its limits are equal ([{joint.lower:g}, {joint.upper:g}]){how}"
+    return None
+
+
+def _set_apart_immobile(groups: Groups, description: RobotDescription) -> None:
+    """Joints that cannot move leave their groups for one ``immobile`` group, which a passive
+    controller holds (a drive there could only push against the limits: with a [0, 0] range a
+    step response can only fail). A mimic group keeps them: its leader moves them."""
+    loose: list[str] = []
+    for name in list(groups.groups):
+        if groups.kinds[name] in ("mimic", "passive"):
+            continue
+        joints = groups.groups[name]
+        stuck = [j for j in joints if (found := description.joint(j)) and immobile_reason(found)]
+        if not stuck:
+            continue
+        kept = [j for j in joints if j not in stuck]
+        if kept:
+            groups.groups[name] = kept
+        else:
+            del groups.groups[name]
+            del groups.kinds[name]
+        loose += stuck
+    if loose:
+        name = IMMOBILE_GROUP
+        while name in groups.groups:
+            name += "_"
+        groups.add(name, "immobile", loose)

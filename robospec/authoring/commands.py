@@ -100,8 +100,10 @@ def scaffold_text(
     analysis: RobotAnalysis, out: Path, uid: str | None, schema: str, simulate: bool
 ) -> tuple[str, list[Diagnostic]]:
     """The spec's text, and warnings about its rest pose."""
+    from robospec.authoring.joint_gains import joint_gains, rating_warnings
     from robospec.authoring.rest_pose import PROBE_UID, RestPose, probe_rest_pose
     from robospec.authoring.scaffold import scaffold
+    from robospec.authoring.scaffold_controllers import unbalanced
     from robospec.importer.yamlout import to_yaml
 
     start = analysis.start_qpos()
@@ -116,8 +118,9 @@ def scaffold_text(
         )
     else:
         rest = RestPose(start, unchecked_because="robospec new --no-sim")
-    text = to_yaml(scaffold(analysis, out, rest, uid), schema)
-    return text, _rest_warnings(analysis, rest, text, out)
+    gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
+    text = to_yaml(scaffold(analysis, out, rest, uid, gains=gains), schema)
+    return text, [*rating_warnings(analysis, gains), *_rest_warnings(analysis, rest, text, out)]
 
 
 def _rest_warnings(

@@ -1,5 +1,7 @@
-"""The gains an MJCF's actuators were tuned with, as joint drives for a scaffold's controllers
-(the actuators themselves are facts of the description: ``RobotDescription.actuators``).
+"""Drive gains for a scaffold's controllers: the gains an MJCF's actuators were tuned with
+(:func:`actuator_drives`; the actuators themselves are facts of the description:
+``RobotDescription.actuators``), and natural-frequency gains about a joint's effective inertia
+(:func:`analytic_gains`; :mod:`.joint_gains` applies both joint by joint).
 
 With ``g`` the actuator's gear (a joint feels ``g`` times its force and moves its length ``g``
 times as fast):
@@ -15,6 +17,7 @@ An actuator that drives a tendon, site or body says nothing about one joint and 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -28,6 +31,8 @@ class Drive:
     stiffness: float | None = None
     damping: float | None = None
     force_limit: float | None = None
+    rated_by: str | None = None  # what sets force_limit, for messages ("actuator 'a' forcerange")
+    line: int | None = None  # where (the actuator's line)
 
 
 def actuator_drives(
@@ -50,13 +55,18 @@ def actuator_drives(
         if stiffness is not None and damping is None:
             damping = _number(joint.get("damping")) or None
         force_limit = None
+        named = f"actuator '{actuator.name}'" if actuator.name else "its actuator"
+        rated_by: str | None = None
         if actuator.force_range is not None:
             force_limit = abs(g) * max(abs(v) for v in actuator.force_range)
+            rated_by = f"{named}'s forcerange"
         elif actuator.type == "motor" and actuator.ctrl_range is not None:
             force_limit = abs(g) * max(abs(v) for v in actuator.ctrl_range)
+            rated_by = f"{named}'s ctrlrange times its gear"
         else:
             force_limit = _largest(joint.get("actuatorfrcrange"))
-        drives[actuator.joint] = Drive(stiffness, damping, force_limit)
+            rated_by = "its actuatorfrcrange" if force_limit is not None else None
+        drives[actuator.joint] = Drive(stiffness, damping, force_limit, rated_by, actuator.line)
     return drives, indirect
 
 
@@ -73,3 +83,81 @@ def _largest(text: str | None) -> float | None:
     except ValueError:
         return None
     return max(values) if len(values) == 2 else None
+
+
+# -- gains from the robot's masses ---------------------------------------------------------------
+
+# The scaffold's drives: each joint a second-order system of natural frequency ``w`` and damping
+# ratio ``zeta`` about its effective inertia ``I`` at the rest keyframe — stiffness ``I w²``,
+# damping ``2 zeta sqrt(stiffness I)`` — as Isaac Lab's URDF importer sets natural-frequency
+# gains. At 20 rad/s, critically damped, a step rises (10 % to 90 %) in about 0.17 s and
+# settles within 10 % in about 0.2 s: well inside robospec check's defaults.
+NATURAL_FREQUENCY = 20.0  # rad/s
+DAMPING_RATIO = 1.0
+# Where the joint holds a gravity load (a floating robot, or passive joints turning
+# ManiSkill's gravity compensation off), stiff enough that the load moves it no further than
+# this: a fifth of robospec check's max_joint_drift (rad), a millimetre (m) for a slide.
+HOLD_DRIFT = {"revolute": 0.01, "prismatic": 0.001}
+# robospec check's step sizes (checks.step_response.step, prismatic_step): what a step asks of
+# a drive beyond its load
+STEP = {"revolute": 0.1, "prismatic": 0.01}
+MIN_INERTIA = 1e-6  # kg m² (kg): massless links still take a drive that moves them
+UNBOUNDED_SPAN = math.pi  # rad: a continuous joint's "range" for its force limit
+
+
+@dataclass(frozen=True)
+class Rating:
+    """The largest force the description says a joint's motor gives, and where it says so."""
+
+    value: float
+    what: str  # e.g. "its URDF <limit effort>", "actuator 'a1' forcerange"
+    line: int
+
+
+@dataclass(frozen=True)
+class JointGains:
+    """A scaffold's drive for one joint, and what it was made from."""
+
+    stiffness: float
+    damping: float
+    force_limit: float
+    inertia: float  # the effective inertia the gains are for (kg m², or kg)
+    load: float  # the gravity load the joint holds (N m, or N; 0 under gravity compensation)
+    needs: float  # force the gains ask for: the load plus a check step (N m, or N)
+    rating: Rating | None = None  # the description's rating, where it gives one
+
+    @property
+    def over_rating(self) -> bool:
+        return self.rating is not None and self.needs > self.rating.value * 1.0001
+
+
+def significant(value: float, digits: int = 3) -> float:
+    """``value`` to ``digits`` significant digits: what a scaffold writes."""
+    if value == 0 or not math.isfinite(value):
+        return value
+    return float(f"{value:.{digits}g}")
+
+
+def analytic_gains(
+    kind: str,
+    inertia: float,
+    load: float,
+    span: float | None,
+    rating: Rating | None,
+) -> JointGains:
+    """One joint's drive: ``kind`` revolute or prismatic (continuous counts as revolute),
+    ``load`` the gravity torque it holds, ``span`` its range (None: unbounded)."""
+    slide = "prismatic" if kind == "prismatic" else "revolute"
+    inertia = max(inertia, MIN_INERTIA)
+    stiffness = max(inertia * NATURAL_FREQUENCY**2, abs(load) / HOLD_DRIFT[slide])
+    stiffness = significant(stiffness)
+    damping = significant(2.0 * DAMPING_RATIO * math.sqrt(stiffness * inertia))
+    needs = abs(load) + stiffness * STEP[slide]
+    if rating is not None:
+        force_limit = rating.value
+    else:
+        # unrated: what the drive asks for across the joint's whole range, so the limit never
+        # clips its law
+        reach = span if span is not None and math.isfinite(span) else UNBOUNDED_SPAN
+        force_limit = significant(abs(load) + stiffness * max(reach, STEP[slide]))
+    return JointGains(stiffness, damping, force_limit, inertia, abs(load), needs, rating)

@@ -27,13 +27,16 @@ from __future__ import annotations
 import os
 import re
 import textwrap
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from robospec.authoring.analysis import RobotAnalysis
+from robospec.authoring.analysis import RobotAnalysis, immobile_reason
 from robospec.authoring.description_file import DescriptionFile
+from robospec.authoring.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
+from robospec.authoring.joint_gains import joint_gains
 from robospec.authoring.rest_pose import RestPose
-from robospec.authoring.scaffold_controllers import controllers_and_modes
+from robospec.authoring.scaffold_controllers import controllers_and_modes, unbalanced
 from robospec.description.facts import Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
@@ -135,9 +138,13 @@ def scaffold(
     rest: RestPose,
     uid: str | None = None,
     absolute_paths: bool = False,
+    gains: Mapping[str, JointGains] | None = None,
+    refined: bool = False,
 ) -> SpecDoc:
     """The spec; ``absolute_paths`` names the description by its absolute path (the draft
-    :mod:`.rest_pose` loads from a temporary folder)."""
+    :mod:`.rest_pose` loads from a temporary folder). ``gains`` by joint: the drives (default:
+    :func:`.joint_gains.joint_gains` at the rest pose); ``refined``: they were measured in
+    ManiSkill and changed where they missed (the comment says so)."""
     source = analysis.source
     groups = analysis.groups
     floating = analysis.body.floating
@@ -161,16 +168,24 @@ def scaffold(
         # (the header says why: a note here cannot follow the flow list the writer makes)
         data["never_collide"] = [list(pair) for pair in rest.overlapping]
 
-    controllers, modes = controllers_and_modes(analysis)
+    if gains is None:
+        gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
+    controllers, modes = controllers_and_modes(analysis, gains)
     data["controllers"] = controllers
-    notes[("controllers",)] = (
-        "gains from the MJCF's actuators where it has them"
-        if analysis.drives
-        else "defined once, used by the control modes below"
-    )
+    notes[("controllers",)] = _gains_note(analysis, refined)
     data["control_modes"] = modes
     notes[("control_modes",)] = "the first is the default"
     return SpecDoc(data, _header(analysis, rest), notes)
+
+
+def _gains_note(analysis: RobotAnalysis, refined: bool) -> str:
+    """Where the controllers' gains come from (the comment above them)."""
+    source = "the MJCF's actuators where it has them, else " if analysis.drives else ""
+    text = (
+        f"gains: {source}{NATURAL_FREQUENCY:g} rad/s, damping ratio {DAMPING_RATIO:g} "
+        "about each joint's inertia at rest; force limits: its ratings"
+    )
+    return text + ("; then tuned in ManiSkill" if refined else "")
 
 
 def _keyframes(analysis: RobotAnalysis, rest: RestPose) -> tuple[dict[str, Any], str]:
@@ -252,6 +267,18 @@ def _header(analysis: RobotAnalysis, rest: RestPose) -> tuple[str, ...]:
             "Its root body has no free joint, so ManiSkill's MJCF loader welds it in place "
             "whatever the legs or wheels do. To let it stand and move, add <freejoint/> to the "
             "root body and run robospec new again."
+        )
+    immobile = [
+        f"{joint} ({immobile_reason(found)})"
+        for name, kind in analysis.groups.kinds.items()
+        if kind == "immobile"
+        for joint in analysis.groups.groups[name]
+        if (found := analysis.description.joint(joint)) is not None
+    ]
+    if immobile:
+        paragraphs.append(
+            "Joints that cannot move are left to a passive controller (a drive could only "
+            "push them against their limits): " + ", ".join(immobile) + "."
         )
     if not body.floating and analysis.has_passive:
         paragraphs.append(

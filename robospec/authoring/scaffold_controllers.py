@@ -2,10 +2,12 @@
 pair) per group, and the two modes ``pd_joint_delta_pos`` and ``pd_joint_pos`` driving every
 group.
 
-* position groups (arm, legs, fingers...): ``pd_joint_pos`` and its delta, with the MJCF
-  actuators' gains where the description has them (one number where the group's joints agree,
-  by joint where they differ), else ManiSkill's Panda's (stiffness 1e3, damping 1e2,
-  force_limit 100);
+* position groups (arm, legs, fingers...): ``pd_joint_pos`` and its delta, with each joint's
+  gains from :mod:`.joint_gains` (the MJCF actuators' own where it has them, else from the
+  joint's effective inertia; force limits from the description's ratings): one number where
+  the group's joints agree, by joint where they differ;
+* joints that cannot move (equal limits): one ``passive`` controller
+  that leaves them be (gravity compensation stays on: they cannot fall);
 * a planar base: ``pd_base_forward_vel`` when the robot has wheels (they roll forward, not
   sideways), else ``pd_base_vel``;
 * wheels and a mobile root without planar joints: ``pd_joint_vel`` (±the wheels' velocity limit,
@@ -18,10 +20,13 @@ group.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from robospec.authoring.analysis import RobotAnalysis
+from robospec.authoring.gains import JointGains
 
+# where a joint has no gains of its own (none can be computed: no kinematic model)
 GAINS: dict[str, float] = {"stiffness": 1e3, "damping": 1e2, "force_limit": 100}
 ROOT_VELOCITY: dict[str, Any] = {"lower": -1.0, "upper": 1.0, "damping": 1e3, "force_limit": 500}
 WHEEL_SPEED = 10.0  # rad/s, when the description gives no velocity limit
@@ -30,7 +35,10 @@ DELTA = 0.1
 MODES = ("pd_joint_delta_pos", "pd_joint_pos")
 
 
-def controllers_and_modes(analysis: RobotAnalysis) -> tuple[dict[str, Any], dict[str, Any]]:
+def controllers_and_modes(
+    analysis: RobotAnalysis, gains: Mapping[str, JointGains]
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The controllers and the control modes; ``gains`` by joint (:mod:`.joint_gains`)."""
     groups = analysis.groups
     controllers: dict[str, Any] = {}
     absolute: dict[str, Any] = {}
@@ -43,7 +51,7 @@ def controllers_and_modes(analysis: RobotAnalysis) -> tuple[dict[str, Any], dict
         elif kind in ("base", "wheels"):
             controllers[f"{name}_vel"] = _joint_velocity(analysis, name, kind, joints)
             absolute[name] = relative[name] = f"{name}_vel"
-        elif kind == "passive":
+        elif kind in ("passive", "immobile"):
             controllers[name] = {"type": "passive", "joints": name, "damping": 0.0}
             absolute[name] = relative[name] = name
         elif kind == "mimic":
@@ -52,7 +60,7 @@ def controllers_and_modes(analysis: RobotAnalysis) -> tuple[dict[str, Any], dict
                 "joints": name,
                 "lower": None,
                 "upper": None,
-                **_gains(analysis, joints),
+                **_gains(gains, joints),
                 "normalize_action": False,
                 "mimic": _mimic_map(analysis, joints),
             }
@@ -63,7 +71,7 @@ def controllers_and_modes(analysis: RobotAnalysis) -> tuple[dict[str, Any], dict
                 "joints": name,
                 "lower": None,
                 "upper": None,
-                **_gains(analysis, joints),
+                **_gains(gains, joints),
                 "normalize_action": False,
             }
             controllers[f"{name}_delta_pos"] = {
@@ -116,16 +124,15 @@ def _joint_velocity(
     return {"type": "pd_joint_vel", "joints": group, **ROOT_VELOCITY}
 
 
-def _gains(analysis: RobotAnalysis, joints: list[str]) -> dict[str, Any]:
-    """stiffness, damping and force_limit for ``joints``: the actuators' where they say, one
-    number when every joint has the same, else a value by joint."""
+def _gains(gains: Mapping[str, JointGains], joints: list[str]) -> dict[str, Any]:
+    """stiffness, damping and force_limit for ``joints``: one number when every joint has the
+    same, else a value by joint."""
     out: dict[str, Any] = {}
     for key in ("stiffness", "damping", "force_limit"):
         values = {}
         for joint in joints:
-            drive = analysis.drives.get(joint)
-            value = getattr(drive, key) if drive is not None else None
-            values[joint] = GAINS[key] if value is None else _tidy(value)
+            drive = gains.get(joint)
+            values[joint] = _tidy(getattr(drive, key)) if drive is not None else GAINS[key]
         distinct = set(values.values())
         out[key] = distinct.pop() if len(distinct) == 1 else values
     return out

@@ -151,6 +151,7 @@ _CODES = [
     Code("RS606", "scaffold's rest keyframe could not be checked in ManiSkill"),
     Code("RS607", "robospec optimize cannot optimize this robot as asked"),
     Code("RS608", "links named only in Python code may be merged away"),
+    Code("RS609", "a joint's gains need more force than its rating"),
     # -- robospec tune (RS620-RS639)
     Code("RS620", "a controller cannot meet its tuning targets"),
     Code("RS621", "--controller names no controller a control mode uses"),

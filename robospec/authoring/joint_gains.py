@@ -1,0 +1,112 @@
+"""The drive gains of a scaffold, joint by joint, from the description alone: the MJCF
+actuators' own servo gains where it has them, else natural-frequency gains about the joint's
+effective inertia at the rest keyframe (:func:`.gains.analytic_gains`, :mod:`.joint_loads`);
+force limits from the description's ratings (URDF ``<limit effort>``, an MJCF actuator's
+``forcerange``, a motor's ``ctrlrange`` times its gear, the joint's ``actuatorfrcrange``).
+
+A joint whose gains would need more force than its rating keeps the rating as its force limit
+(the motor cannot give more): :func:`rating_warnings` says so, naming the rating. Joints that
+cannot move at all (equal limits) get no drive
+(:func:`.analysis.immobile_reason`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from robospec.authoring.analysis import RobotAnalysis, immobile_reason
+from robospec.authoring.gains import STEP, JointGains, Rating, analytic_gains, significant
+from robospec.authoring.joint_loads import JointLoad, joint_loads
+from robospec.description import Joint
+from robospec.diagnostics import Diagnostic, Location, warning
+
+OVER_RATING = "RS609"
+
+
+def rating(analysis: RobotAnalysis, joint: Joint) -> Rating | None:
+    """The largest force the description rates ``joint``'s motor for, and where."""
+    drive = analysis.drives.get(joint.name)
+    if drive is not None and drive.force_limit is not None and drive.force_limit > 0:
+        return Rating(drive.force_limit, drive.rated_by or "its actuator", drive.line or joint.line)
+    if joint.effort is not None and joint.effort > 0:  # effort="0" is "not rated"
+        return Rating(joint.effort, "its <limit effort>", joint.line)
+    return None
+
+
+def loads(
+    analysis: RobotAnalysis, qpos: Mapping[str, float], gravity: bool
+) -> dict[str, JointLoad]:
+    """Each joint's effective inertia and, with ``gravity``, the loads it holds at ``qpos``."""
+    if analysis.kinematics is None:
+        return {}
+    feet = analysis.feet() if gravity and analysis.body.floating else ()
+    found = joint_loads(analysis.kinematics, analysis.inertials, qpos, analysis.armature, feet=feet)
+    if gravity:
+        return found
+    return {name: JointLoad(load.inertia, 0.0, None) for name, load in found.items()}
+
+
+def joint_gains(
+    analysis: RobotAnalysis, qpos: Mapping[str, float], gravity: bool
+) -> dict[str, JointGains]:
+    """Every active joint that moves: its drive at the rest pose ``qpos``. ``gravity``: the
+    robot's modes keep gravity (``balance_passive_force: false``), so drives hold its weight."""
+    found = loads(analysis, qpos, gravity)
+    out: dict[str, JointGains] = {}
+    for joint in analysis.description.active_joints:
+        if immobile_reason(joint) is not None:
+            continue
+        load = found.get(joint.name, JointLoad(0.0, 0.0))
+        span = (
+            joint.upper - joint.lower
+            if joint.lower is not None and joint.upper is not None
+            else None
+        )
+        kind = "prismatic" if joint.type == "prismatic" else "revolute"
+        computed = analytic_gains(kind, load.inertia, load.load, span, rating(analysis, joint))
+        drive = analysis.drives.get(joint.name)
+        if drive is not None and drive.stiffness is not None:
+            # the model's own servo gains: what it was tuned with
+            damping = drive.damping if drive.damping is not None else computed.damping
+            computed = JointGains(
+                significant(drive.stiffness),
+                significant(damping),
+                computed.force_limit,
+                computed.inertia,
+                computed.load,
+                computed.load + drive.stiffness * STEP[kind],
+                computed.rating,
+            )
+        out[joint.name] = computed
+    return out
+
+
+def rating_warnings(analysis: RobotAnalysis, gains: Mapping[str, JointGains]) -> list[Diagnostic]:
+    """RS609 for each joint whose gains need more force than its rating: one warning at the
+    joint's element in the description, naming the rating."""
+    found = []
+    path = str(analysis.source.path)
+    for name, drive in gains.items():
+        if not drive.over_rating or drive.rating is None:
+            continue
+        unit = "N" if _prismatic(analysis, name) else "N m"
+        held = f"holding its load of {drive.load:.3g} {unit} and " if drive.load > 0 else ""
+        found.append(
+            warning(
+                Location(path, drive.rating.line, 1),
+                OVER_RATING,
+                f"joint '{name}': {held}stepping as robospec check does needs "
+                f"{drive.needs:.3g} {unit}, more than {drive.rating.what} of "
+                f"{drive.rating.value:g} {unit}; the scaffold keeps force_limit "
+                f"{drive.rating.value:g} (stiffness {drive.stiffness:g})",
+                "a motor rated this low cannot hold this pose as fast: lower the stiffness "
+                "(a softer, slower joint), move the rest keyframe where the load is smaller, "
+                "or check the rating",
+            )
+        )
+    return found
+
+
+def _prismatic(analysis: RobotAnalysis, name: str) -> bool:
+    joint = analysis.description.joint(name)
+    return joint is not None and joint.type == "prismatic"

@@ -1,0 +1,164 @@
+"""The gains ``robospec new`` writes come from the robot: each joint's effective inertia at rest
+(natural frequency 20 rad/s, critically damped), the gravity load it holds where gravity is
+not cancelled, force limits from the description's ratings (a shortfall is RS609, naming the
+rating), the MJCF actuators' own servo gains (gear squared); joints that cannot move get no
+drive. All without simulation (``--no-sim``)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+from ruamel.yaml import YAML
+
+from robospec.authoring.analysis import analyse
+from robospec.authoring.commands import run_new
+from robospec.authoring.description_file import read_description_file
+from robospec.authoring.joint_gains import loads
+from robospec.diagnostics import has_errors
+from robospec.pipeline import compile_spec
+
+# one arm link: a 2 kg point-like mass 0.5 m out along x, turning about y at the origin, and a
+# 1 kg slider on it; the inertias are small boxes about their centres
+ARM = """<?xml version="1.0"?>
+<robot name="lever">
+  <link name="base"/>
+  <link name="upper">
+    <inertial><origin xyz="0.5 0 0"/><mass value="2"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.03"/></inertial>
+  </link>
+  <link name="slider">
+    <inertial><origin xyz="0 0 0"/><mass value="1"/>
+      <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+  </link>
+  <link name="stuck">
+    <inertial><origin xyz="0 0 0"/><mass value="0.1"/>
+      <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+  </link>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="{effort}" velocity="2"/>
+  </joint>
+  <joint name="slide" type="prismatic">
+    <parent link="upper"/><child link="slider"/><origin xyz="1 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.2" effort="0" velocity="1"/>
+  </joint>
+  <joint name="locked" type="revolute">
+    <parent link="slider"/><child link="stuck"/><axis xyz="0 0 1"/>
+    <limit lower="0" upper="0" effort="0" velocity="0"/>
+  </joint>
+</robot>
+"""
+
+
+def _scaffold(tmp_path: Path, text: str, suffix: str = ".urdf") -> tuple[dict, list]:
+    description = tmp_path / f"robot{suffix}"
+    description.write_text(text)
+    out = tmp_path / "robot.yaml"
+    written, diagnostics = run_new(description, out, None, force=False, simulate=False)
+    assert written is not None and not has_errors(diagnostics), diagnostics
+    compiled = compile_spec(out)
+    assert not has_errors(compiled.diagnostics), [d.format_text() for d in compiled.diagnostics]
+    return YAML(typ="safe").load(out.read_text()), diagnostics
+
+
+def test_effective_inertia_is_everything_beyond_the_joint_about_its_axis(tmp_path: Path) -> None:
+    path = tmp_path / "lever.urdf"
+    path.write_text(ARM.format(effort=100))
+    source, _ = read_description_file(path)
+    assert source is not None
+    found = loads(analyse(source), {"shoulder": 0.0, "slide": 0.0, "locked": 0.0}, gravity=True)
+    # the arm (iyy 0.02 + 2 kg at 0.5 m) and the slider and the stuck link (1.1 kg at 1 m, their
+    # own iyy 0.001 each)
+    assert found["shoulder"].inertia == pytest.approx(0.02 + 2 * 0.25 + 0.002 + 1.1 * 1.0)
+    assert found["slide"].inertia == pytest.approx(1.1)  # the mass it pushes
+    # with the root held, the shoulder holds the weight of everything beyond it; the slider
+    # slides horizontally: gravity does not push it along its axis
+    assert abs(found["shoulder"].held) == pytest.approx(9.81 * (2 * 0.5 + 1.1 * 1.0))
+    assert found["slide"].held == pytest.approx(0.0, abs=1e-9)
+
+
+def test_gains_are_critically_damped_at_20_rad_s_with_the_rating_as_force_limit(
+    tmp_path: Path,
+) -> None:
+    data, diagnostics = _scaffold(tmp_path, ARM.format(effort=100))
+    assert [d.code for d in diagnostics] == []
+    arm = data["controllers"]["arm_pos"]
+    inertia = 0.02 + 2 * 0.25 + 0.002 + 1.1
+    # a fixed robot under ManiSkill's gravity compensation holds no load: stiffness I w²
+    assert arm["stiffness"]["shoulder"] == pytest.approx(inertia * 400, rel=1e-3)
+    assert arm["damping"]["shoulder"] == pytest.approx(
+        2 * math.sqrt(arm["stiffness"]["shoulder"] * inertia), rel=2e-3
+    )
+    assert arm["force_limit"]["shoulder"] == 100  # its <limit effort>
+    # effort="0" is "not rated" (so100 writes it): the limit lets the drive span the range
+    assert arm["stiffness"]["slide"] == pytest.approx(1.1 * 400, rel=1e-3)
+    assert arm["force_limit"]["slide"] == pytest.approx(1.1 * 400 * 0.2, rel=2e-3)
+
+
+def test_a_rating_too_low_for_the_gains_is_a_warning_that_names_it(tmp_path: Path) -> None:
+    data, diagnostics = _scaffold(tmp_path, ARM.format(effort=5))
+    (warning,) = [d for d in diagnostics if d.code == "RS609"]
+    assert not warning.is_error
+    # at the joint's element in the description, naming the rating and what is needed
+    assert warning.location.file.endswith("robot.urdf")
+    assert (
+        warning.location.line
+        == ARM.splitlines().index('  <joint name="shoulder" type="revolute">') + 1
+    )
+    assert "joint 'shoulder'" in warning.message and "<limit effort> of 5 N m" in warning.message
+    needs = float(warning.message.split(" needs ")[1].split(" ")[0])
+    assert needs == pytest.approx(
+        0.1 * data["controllers"]["arm_pos"]["stiffness"]["shoulder"], 0.01
+    )
+    # never a silent raise: the rating stays the force limit
+    assert data["controllers"]["arm_pos"]["force_limit"]["shoulder"] == 5
+
+
+def test_joints_that_cannot_move_get_a_passive_controller_and_a_comment(tmp_path: Path) -> None:
+    description = tmp_path / "robot.urdf"
+    description.write_text(ARM.format(effort=100))
+    out = tmp_path / "robot.yaml"
+    written, _ = run_new(description, out, None, force=False, simulate=False)
+    assert written is not None
+    data = YAML(typ="safe").load(out.read_text())
+    assert data["groups"]["immobile"] == ["locked"]
+    assert data["controllers"]["immobile"] == {
+        "type": "passive",
+        "joints": "immobile",
+        "damping": 0.0,
+    }
+    assert "locked" not in data["controllers"]["arm_pos"]["stiffness"]
+    text = out.read_text()
+    assert "Joints that cannot move" in text and "locked (its limits are equal ([0, 0])" in text
+    # they cannot fall: gravity compensation stays on
+    assert all("balance_passive_force" not in mode for mode in data["control_modes"].values())
+
+
+SERVO = """<mujoco model="servo">
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.1"/>
+      <body name="link" pos="0 0 0.2">
+        <joint name="hinge" axis="0 1 0" range="-1 1" limited="true"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <position joint="hinge" kp="10" kv="2" gear="3" forcerange="-4 4"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_an_mjcf_position_servo_is_geared_squared(tmp_path: Path) -> None:
+    data, _ = _scaffold(tmp_path, SERVO, ".xml")
+    (controller,) = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos"]
+    # the joint feels gear times the force and moves gear times slower: kp g², kv g², |g| f
+    assert (controller["stiffness"], controller["damping"], controller["force_limit"]) == (
+        90,
+        18,
+        12,
+    )
