@@ -173,3 +173,27 @@ def test_both_distributions_installed_is_a_warning_of_check(
     code, output = run_check([spec], None, "text", gpu=False, num_envs=1, render_dir=None)
     assert code == 1  # the spec's own errors
     assert "warning[RS520]" in output and "error[RS103]" in output
+
+
+@pytest.mark.usefixtures("maniskill")
+def test_the_task_scan_finds_every_registered_task_and_what_it_calls() -> None:
+    from mani_skill.utils.registration import REGISTERED_ENVS
+
+    from robospec.maniskill.tasks import TASKS_OF_3_0_1, installed_tasks, scan_tasks
+
+    found = installed()
+    assert found is not None
+    scan = scan_tasks(found.package_dir)
+    own = {k: v for k, v in REGISTERED_ENVS.items() if v.cls.__module__.startswith("mani_skill.")}
+    # every task a register_env decorator registers; the only others are the scene-builder
+    # variants scenes/__init__.py registers in a loop (exploration scenes, no task)
+    assert set(scan.tasks) <= set(own)
+    assert {own[k].cls.__name__ for k in set(own) - set(scan.tasks)} <= {"SceneManipulationEnv"}
+    assert installed_tasks().tasks == scan.tasks  # the cached scan is the scan
+    # what PickCube-v1 reads off its agent: BaseAgent leaves is_grasping and is_static
+    # unimplemented and has no tcp at all
+    assert scan.needed("PickCube-v1") == ("is_grasping", "is_static", "tcp_pose")
+    assert "tabletop" in scan.families and "PickCube-v1" in scan.family("tabletop")
+    if (found.distribution, found.version) == ("mani-skill", "3.0.1"):
+        # the stand-in without ManiSkill
+        assert {k: (t.family, scan.needed(k)) for k, t in scan.tasks.items()} == TASKS_OF_3_0_1

@@ -103,17 +103,18 @@ def test_a_rating_too_low_for_the_gains_is_a_warning_that_names_it(tmp_path: Pat
     assert not warning.is_error
     # at the joint's element in the description, naming the rating and what is needed
     assert warning.location.file.endswith("robot.urdf")
-    assert (
-        warning.location.line
-        == ARM.splitlines().index('  <joint name="shoulder" type="revolute">') + 1
-    )
+    lines = ARM.splitlines()
+    assert warning.location.line == lines.index('  <joint name="shoulder" type="revolute">') + 1
     assert "joint 'shoulder'" in warning.message and "<limit effort> of 5 N m" in warning.message
-    needs = float(warning.message.split(" needs ")[1].split(" ")[0])
-    assert needs == pytest.approx(
-        0.1 * data["controllers"]["arm_pos"]["stiffness"]["shoulder"], 0.01
-    )
-    # never a silent raise: the rating stays the force limit
-    assert data["controllers"]["arm_pos"]["force_limit"]["shoulder"] == 5
+    inertia = 0.02 + 2 * 0.25 + 0.002 + 1.1
+    needs = float(warning.message.split(" would need ")[1].split(" ")[0])
+    assert needs == pytest.approx(0.1 * inertia * 400, 0.01)
+    # never a silent raise: the rating stays the force limit, and the joint is softened to what
+    # the rating can drive through check's 0.1 rad step
+    arm = data["controllers"]["arm_pos"]
+    assert arm["force_limit"]["shoulder"] == 5
+    assert arm["stiffness"]["shoulder"] == pytest.approx(5 / 0.1)
+    assert "softens it to stiffness 50" in warning.message
 
 
 def test_joints_that_cannot_move_get_a_passive_controller_and_a_comment(tmp_path: Path) -> None:

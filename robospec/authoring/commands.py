@@ -99,9 +99,18 @@ def run_new(
 def scaffold_text(
     analysis: RobotAnalysis, out: Path, uid: str | None, schema: str, simulate: bool
 ) -> tuple[str, list[Diagnostic]]:
-    """The spec's text, and warnings about its rest pose."""
-    from robospec.authoring.joint_gains import joint_gains, rating_warnings
-    from robospec.authoring.rest_pose import PROBE_UID, RestPose, probe_rest_pose
+    """The spec's text, and warnings about its rest pose and its gains.
+
+    With ``simulate``: the rest pose is searched in ManiSkill (:mod:`.rest_pose`), then the
+    gains computed there are measured and changed where they miss (:mod:`.refine`), each in a
+    child process; without, both stay as computed from the description."""
+    from robospec.authoring.joint_gains import joint_gains, rating_warnings, with_refined
+    from robospec.authoring.rest_pose import (
+        PROBE_UID,
+        RestPose,
+        probe_rest_pose,
+        refine_gains,
+    )
     from robospec.authoring.scaffold import scaffold
     from robospec.authoring.scaffold_controllers import unbalanced
     from robospec.importer.yamlout import to_yaml
@@ -119,8 +128,31 @@ def scaffold_text(
     else:
         rest = RestPose(start, unchecked_because="robospec new --no-sim")
     gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
-    text = to_yaml(scaffold(analysis, out, rest, uid, gains=gains), schema)
-    return text, [*rating_warnings(analysis, gains), *_rest_warnings(analysis, rest, text, out)]
+    refined = False
+    problems: list[Diagnostic] = []
+    if simulate and rest.checked:
+        draft = scaffold(analysis, out, rest, PROBE_UID, absolute_paths=True, gains=gains)
+        joints = list(analysis.description.active_joint_names)
+        found = refine_gains(to_yaml(draft, schema), rest, analysis.body.floating, joints)
+        if isinstance(found, str):
+            problems.append(
+                warning(
+                    Location(str(analysis.source.path)),
+                    NOT_LOADED,
+                    f"the gains were not measured in ManiSkill: {found}",
+                    "they are written as computed from the description; robospec check "
+                    "measures them",
+                )
+            )
+        else:
+            gains = with_refined(gains, found.gains, found.over_rating)
+            refined = bool(found.changed)
+    text = to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
+    return text, [
+        *rating_warnings(analysis, gains),
+        *problems,
+        *_rest_warnings(analysis, rest, text, out),
+    ]
 
 
 def _rest_warnings(

@@ -22,6 +22,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from robospec.description import RobotDescription
+from robospec.description.ratings import Rating
 
 
 @dataclass(frozen=True)
@@ -106,15 +107,6 @@ UNBOUNDED_SPAN = math.pi  # rad: a continuous joint's "range" for its force limi
 
 
 @dataclass(frozen=True)
-class Rating:
-    """The largest force the description says a joint's motor gives, and where it says so."""
-
-    value: float
-    what: str  # e.g. "its URDF <limit effort>", "actuator 'a1' forcerange"
-    line: int
-
-
-@dataclass(frozen=True)
 class JointGains:
     """A scaffold's drive for one joint, and what it was made from."""
 
@@ -123,8 +115,11 @@ class JointGains:
     force_limit: float
     inertia: float  # the effective inertia the gains are for (kg m², or kg)
     load: float  # the gravity load the joint holds (N m, or N; 0 under gravity compensation)
-    needs: float  # force the gains ask for: the load plus a check step (N m, or N)
+    # force the natural-frequency gains ask for: the load plus a check step (N m, or N); for
+    # refined gains, what the drive asked for in ManiSkill when its rating held it back
+    needs: float
     rating: Rating | None = None  # the description's rating, where it gives one
+    measured: bool = False  # ``needs`` was measured in ManiSkill (refined gains)
 
     @property
     def over_rating(self) -> bool:
@@ -150,9 +145,14 @@ def analytic_gains(
     slide = "prismatic" if kind == "prismatic" else "revolute"
     inertia = max(inertia, MIN_INERTIA)
     stiffness = max(inertia * NATURAL_FREQUENCY**2, abs(load) / HOLD_DRIFT[slide])
+    needs = abs(load) + stiffness * STEP[slide]
+    if rating is not None and needs > rating.value:
+        # a step would saturate the motor: soften the joint to what its rating gives (slower,
+        # but a saturated drive brakes too late and overshoots); never below what holds the
+        # load where the rating allows that
+        stiffness = max((rating.value - abs(load)) / STEP[slide], 0.0) or stiffness
     stiffness = significant(stiffness)
     damping = significant(2.0 * DAMPING_RATIO * math.sqrt(stiffness * inertia))
-    needs = abs(load) + stiffness * STEP[slide]
     if rating is not None:
         force_limit = rating.value
     else:

@@ -15,21 +15,29 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from robospec.authoring.analysis import RobotAnalysis, immobile_reason
-from robospec.authoring.gains import STEP, JointGains, Rating, analytic_gains, significant
+from robospec.authoring.gains import (
+    NATURAL_FREQUENCY,
+    JointGains,
+    analytic_gains,
+    significant,
+)
 from robospec.authoring.joint_loads import JointLoad, joint_loads
 from robospec.description import Joint
+from robospec.description.ratings import Rating, joint_ratings
 from robospec.diagnostics import Diagnostic, Location, warning
 
 OVER_RATING = "RS609"
 
 
 def rating(analysis: RobotAnalysis, joint: Joint) -> Rating | None:
-    """The largest force the description rates ``joint``'s motor for, and where."""
+    """The largest force the description rates ``joint``'s motor for, and where (an MJCF
+    joint's own ``actuatorfrcrange`` too, which the facts leave out)."""
+    found = joint_ratings(analysis.description).get(joint.name)
+    if found is not None:
+        return found
     drive = analysis.drives.get(joint.name)
     if drive is not None and drive.force_limit is not None and drive.force_limit > 0:
         return Rating(drive.force_limit, drive.rated_by or "its actuator", drive.line or joint.line)
-    if joint.effort is not None and joint.effort > 0:  # effort="0" is "not rated"
-        return Rating(joint.effort, "its <limit effort>", joint.line)
     return None
 
 
@@ -74,7 +82,7 @@ def joint_gains(
                 computed.force_limit,
                 computed.inertia,
                 computed.load,
-                computed.load + drive.stiffness * STEP[kind],
+                0.0,  # the model's own gains: robospec claims nothing about them
                 computed.rating,
             )
         out[joint.name] = computed
@@ -83,25 +91,40 @@ def joint_gains(
 
 def rating_warnings(analysis: RobotAnalysis, gains: Mapping[str, JointGains]) -> list[Diagnostic]:
     """RS609 for each joint whose gains need more force than its rating: one warning at the
-    joint's element in the description, naming the rating."""
+    rating in the description, naming it."""
     found = []
     path = str(analysis.source.path)
     for name, drive in gains.items():
         if not drive.over_rating or drive.rating is None:
             continue
         unit = "N" if _prismatic(analysis, name) else "N m"
-        held = f"holding its load of {drive.load:.3g} {unit} and " if drive.load > 0 else ""
+        rating = f"{drive.rating.what} of {drive.rating.value:g} {unit}"
+        if drive.measured:
+            message = (
+                f"joint '{name}': measured in ManiSkill, its drive asked for {drive.needs:.3g} "
+                f"{unit} in robospec check's step, more than {rating}; held at its rating it "
+                f"is slower than the scaffold aims for (force_limit {drive.force_limit:g})"
+            )
+        elif drive.load >= drive.rating.value:
+            message = (
+                f"joint '{name}' holds a gravity load of {drive.load:.3g} {unit} at rest, "
+                f"more than {rating}: it cannot hold the rest pose"
+            )
+        else:
+            held = f" and its load of {drive.load:.3g} {unit}" if drive.load > 0.001 else ""
+            message = (
+                f"joint '{name}': at {NATURAL_FREQUENCY:g} rad/s its gains would need "
+                f"{drive.needs:.3g} {unit} for robospec check's step{held}, more than {rating}; "
+                f"the scaffold softens it to stiffness {drive.stiffness:g}, which the rating "
+                "can drive (a slower joint)"
+            )
         found.append(
             warning(
                 Location(path, drive.rating.line, 1),
                 OVER_RATING,
-                f"joint '{name}': {held}stepping as robospec check does needs "
-                f"{drive.needs:.3g} {unit}, more than {drive.rating.what} of "
-                f"{drive.rating.value:g} {unit}; the scaffold keeps force_limit "
-                f"{drive.rating.value:g} (stiffness {drive.stiffness:g})",
-                "a motor rated this low cannot hold this pose as fast: lower the stiffness "
-                "(a softer, slower joint), move the rest keyframe where the load is smaller, "
-                "or check the rating",
+                message,
+                "check the rating (its units, a placeholder value); or move the rest keyframe "
+                "where the load is smaller; the force limit stays at the rating",
             )
         )
     return found
@@ -110,3 +133,22 @@ def rating_warnings(analysis: RobotAnalysis, gains: Mapping[str, JointGains]) ->
 def _prismatic(analysis: RobotAnalysis, name: str) -> bool:
     joint = analysis.description.joint(name)
     return joint is not None and joint.type == "prismatic"
+
+
+def with_refined(
+    gains: Mapping[str, JointGains],
+    refined: Mapping[str, tuple[float, float, float]],
+    over_rating: Mapping[str, tuple[float, float]],
+) -> dict[str, JointGains]:
+    """``gains`` with the refined stiffness, damping and force limit where there are some:
+    a joint the search found needing more than its rating asks for what the search saw."""
+    out = dict(gains)
+    for name, (stiffness, damping, force_limit) in refined.items():
+        old = gains.get(name)
+        if old is None:
+            continue
+        needs, measured = (over_rating[name][0], True) if name in over_rating else (0.0, True)
+        out[name] = JointGains(
+            stiffness, damping, force_limit, old.inertia, old.load, needs, old.rating, measured
+        )
+    return out

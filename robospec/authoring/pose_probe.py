@@ -47,7 +47,14 @@ class Request:
     parents: dict[str, tuple[str, str]] = field(default_factory=dict)
     floating: bool = False
     min_depth: float = 0.001
+    # the search keeps links this far apart (m): two links just touching block each other, and
+    # a step of one towards the other (robospec check's step response) goes nowhere
+    clearance: float = 0.002
     budget: int = 400  # poses tried at most
+    # refine only: the spec is the scaffold, rest pose found; measure its gains at ``start``
+    # (the root ``height`` up) and change them where they miss
+    refine: bool = False
+    height: float | None = None
 
 
 Contacts = dict[tuple[str, str], float]
@@ -93,7 +100,7 @@ class Probe:
         touching = {
             pair: depth
             for pair, depth in sorted(self.sim.self_contacts().items())
-            if depth >= self.request.min_depth
+            if depth >= -self.request.clearance
         }
         self.always = set(touching) if self.always is None else self.always & set(touching)
         return touching
@@ -186,6 +193,40 @@ class Probe:
                 return trial, touching
         return None
 
+    def refine(self, qpos: list[float], height: float | None) -> Any:
+        """The draft's gains measured at the rest pose and changed where they miss
+        (:mod:`robospec.authoring.refine`)."""
+        from pathlib import Path
+
+        from robospec.authoring.refine import refine
+        from robospec.description.ratings import joint_ratings
+        from robospec.pipeline import compile_spec
+        from robospec.resolve.resolved import ResolvedKeyframe
+
+        item = compile_spec(Path(self.request.spec))
+        assert item.context is not None
+        ratings = {k: r.value for k, r in joint_ratings(item.context.description).items()}
+        keyframe = ResolvedKeyframe(
+            "rest", (0.0, 0.0, height or 0.0), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None
+        )
+        return refine(self.sim, item.context.spec.checks, ratings, keyframe)
+
+    def mount_height(self, qpos: list[float]) -> float | None:
+        """For a fixed robot whose moving links reach below the ground at ``qpos`` (its root at
+        the origin, where ManiSkill's scenes put it), the height to mount it at so they clear
+        the ground; None when nothing reaches below."""
+        from robospec.physics.ground import DEPTH, LIFT_MARGIN
+        from robospec.resolve.resolved import ResolvedKeyframe
+
+        self.sim.start(
+            ResolvedKeyframe("rest", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
+        )
+        mounted = self.sim.mounted_links()
+        lowest = [z for name, z in self.sim.lowest_points().items() if name not in mounted]
+        if not lowest or min(lowest) >= -DEPTH:
+            return None
+        return -min(lowest) + LIFT_MARGIN
+
     def standing_height(self, qpos: list[float]) -> float | None:
         """How far above the ground the root must be for the lowest collision point of the
         robot, at ``qpos`` and upright, to touch it."""
@@ -206,13 +247,24 @@ class Probe:
 def run(request: Request) -> dict[str, Any]:
     probe = Probe(request)
     try:
+        if request.refine:
+            found = probe.refine(request.start, request.height)
+            return {
+                "gains": found.gains,
+                "over_rating": found.over_rating,
+                "refined": found.changed,
+                "simulations": found.simulations,
+            }
         qpos, contacts = probe.search()
-        height = probe.standing_height(qpos) if request.floating else None
+        height = probe.standing_height(qpos) if request.floating else probe.mount_height(qpos)
     finally:
         probe.sim.close()
     return {
         "qpos": qpos,
-        "touching": [[a, b, depth] for (a, b), depth in contacts.items()],
+        # in contact as robospec check counts it (the search kept a clearance besides)
+        "touching": [
+            [a, b, depth] for (a, b), depth in contacts.items() if depth >= request.min_depth
+        ],
         "tried": probe.tried,
         # (one pose tried: no joint lies between the pairs touching there, so they always do)
         "always": sorted(probe.always or ()),

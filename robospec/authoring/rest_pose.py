@@ -34,7 +34,9 @@ NEIGHBOURS = 2
 @dataclass(frozen=True)
 class RestPose:
     qpos: dict[str, float]  # every active joint
-    root_height: float | None = None  # m, a floating robot's standing height
+    # m: a floating robot's standing height, or the height a fixed robot is mounted at so that
+    # its links clear the ground (None: it stands at the origin)
+    root_height: float | None = None
     checked: bool = False  # whether ManiSkill tested it for self-contact
     touching: tuple[tuple[str, str, float], ...] = ()  # pairs still in contact (m deep)
     # pairs among ``touching`` that touched in every pose tried, at most two joints apart: their
@@ -101,6 +103,48 @@ def probe_rest_pose(
         touching=touching,
         overlapping=overlapping,
         tried=int(answer["tried"]),
+    )
+
+
+@dataclass(frozen=True)
+class RefinedGains:
+    """The scaffold's gains as measured in ManiSkill (:mod:`.refine`)."""
+
+    gains: dict[str, tuple[float, float, float]]  # joint -> stiffness, damping, force_limit
+    over_rating: dict[str, tuple[float, float]]  # joint -> (force asked for, its rating)
+    changed: tuple[str, ...]  # the controllers (groups) whose gains changed, "hold" too
+    simulations: int
+
+
+def refine_gains(
+    spec: str, rest: RestPose, floating: bool, joints: list[str]
+) -> RefinedGains | str:
+    """Measure the gains of ``spec`` (the scaffold, uid :data:`PROBE_UID`, its rest keyframe
+    ``rest``) in ManiSkill and change them where they miss; a string says why it could not."""
+    if not maniskill_installed():
+        return "ManiSkill is not installed"
+    request: dict[str, Any] = {
+        "uid": PROBE_UID,
+        "mode": PROBE_MODE,
+        "joints": joints,
+        "start": [rest.qpos[name] for name in joints],
+        "limits": [],
+        "floating": floating,
+        "refine": True,
+        "height": rest.root_height,
+    }
+    with tempfile.TemporaryDirectory(prefix="robospec-new-") as folder:
+        path = Path(folder) / "probe.yaml"
+        path.write_text(spec, encoding="utf-8")
+        request["spec"] = str(path)
+        answer, problem = _run_child(request)
+    if answer is None:
+        return problem
+    return RefinedGains(
+        gains={k: (float(v[0]), float(v[1]), float(v[2])) for k, v in answer["gains"].items()},
+        over_rating={k: (float(v[0]), float(v[1])) for k, v in answer["over_rating"].items()},
+        changed=tuple(answer["refined"]),
+        simulations=int(answer["simulations"]),
     )
 
 

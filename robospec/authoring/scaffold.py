@@ -228,10 +228,11 @@ IDENTITY = (1.0, 0.0, 0.0, 0.0)
 
 
 def standing_pose(analysis: RobotAnalysis, rest: RestPose) -> Pose | None:
-    """The rest keyframe's pose for a floating robot whose standing height was measured: the
-    root link that high, upright — written as a keyframe's pose means it (for an MJCF robot the
-    root body's, which hangs below that link: robospec.resolve.root_pose)."""
-    if not analysis.body.floating or rest.root_height is None:
+    """The rest keyframe's pose for a floating robot whose standing height was measured, or a
+    fixed one that reaches below the ground at the origin: the root link that high, upright —
+    written as a keyframe's pose means it (for an MJCF robot the root body's, which hangs below
+    that link: robospec.resolve.root_pose)."""
+    if rest.root_height is None:
         return None
     return root_body_pose(analysis.description, ((0.0, 0.0, rest.root_height), IDENTITY))
 
@@ -335,9 +336,14 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
             f"joined, and are declared never_collide: {pairs}."
         )
     standing = standing_pose(analysis, rest)
-    if standing is not None:
+    if standing is not None and analysis.body.floating:
         text += (
             f" Its pose stands the robot {standing[0][2]:.3f} m up: there its lowest collision "
             "point touches the ground."
+        )
+    elif standing is not None:
+        text += (
+            f" Its pose mounts the robot {rest.root_height:.3f} m up: at the origin, where "
+            "ManiSkill's scenes load it, its links reach into the ground."
         )
     return text

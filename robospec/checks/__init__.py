@@ -39,6 +39,7 @@ from robospec.checks import (
     never_collide_entries,
     never_collide_no_free_bit,
     never_collide_self,
+    task_members,
     unbounded_normalization,
 )
 from robospec.checks.context import CheckContext
@@ -58,6 +59,7 @@ BINDING_CHECKS: tuple[Check, ...] = (
     base_controller_joints.check,  # RS315
     member_references.check,  # RS316
     member_names.check,  # RS317
+    task_members.check,  # RS330, RS331, RS332
     never_collide_entries.check,  # RS320
     never_collide_no_free_bit.check,  # RS323
     mjcf_link_rules.check,  # RS324

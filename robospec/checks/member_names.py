@@ -39,7 +39,7 @@ BASE_AGENT_MEMBERS = frozenset(
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     defined: dict[str, KeyPath] = {}
-    for name, path in _members(context):
+    for name, path in defined_members(context):
         at = context.key(path)
         if name in BASE_AGENT_MEMBERS and path[0] != "hooks":
             message = f"'{name}' is a member of ManiSkill's BaseAgent; a helper cannot replace it"
@@ -51,7 +51,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             defined[name] = path
 
 
-def _members(context: CheckContext) -> Iterator[tuple[str, KeyPath]]:
+def defined_members(context: CheckContext) -> Iterator[tuple[str, KeyPath]]:
     """Each member a section of the spec defines, with the key that defines it."""
     spec = context.spec
     for name in spec.named_links:

@@ -244,17 +244,29 @@ def check(
             "--plot", help="save each controller's step response as DIR/<uid>/<controller>.png"
         ),
     ] = None,
+    task: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--task",
+            help="also run the robot in this ManiSkill task (reset, 50 random steps); a folder "
+            "of tasks (tabletop) runs each; repeat for several",
+        ),
+    ] = None,
 ) -> None:
     """Run headless physics checks on each robot (exit 1 when a check fails).
 
-    The checks: keyframe hold, self-contact, step response per controller, random actions per
-    mode, and the action layout of every mode.
+    The checks: the ground under each start, keyframe hold, self-contact, step response per
+    controller, random actions per mode, and the action layout of every mode; with --task,
+    the robot in ManiSkill's tasks.
 
     Example: robospec check specs/maniskill/panda.yaml --steps 100 --format json
+    Example: robospec check specs/my_arm.yaml --task PickCube-v1 --task PushCube-v1
     """
     from robospec.physics.command import run_check
 
-    code, text = run_check(paths, steps, format.value, gpu, num_envs, render, plot)
+    code, text = run_check(
+        paths, steps, format.value, gpu, num_envs, render, plot, task or [], sys.argv[1:]
+    )
     typer.echo(text)
     raise typer.Exit(code)
 

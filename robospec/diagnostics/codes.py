@@ -104,6 +104,8 @@ _CODES = [
     Code("RS323", "no collision-group bit free for never_collide"),
     Code("RS324", "link rule on an MJCF robot"),
     Code("RS325", "end-effector controller without a URDF for its IK"),
+    Code("RS330", "a task calls an agent member the spec does not define"),
+    Code("RS331", "unknown ManiSkill task"),
     # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
     Code("RS400", "import target is not module:Class"),
     Code("RS401", "import target module cannot be imported"),
@@ -141,6 +143,14 @@ _CODES = [
     Code("RS518", "floating robot hovers under gravity compensation"),
     Code("RS519", "the root ManiSkill loads is not the one the spec says"),
     Code("RS520", "two ManiSkill distributions installed over each other"),
+    Code("RS521", "the robot starts inside the ground"),
+    Code("RS522", "ManiSkill or SAPIEN reported an error while the robot ran"),
+    Code("RS523", "floating robot cannot stand at a keyframe"),
+    Code("RS524", "--task names no task ManiSkill registers"),
+    Code("RS525", "a task cannot run with this robot"),
+    Code("RS526", "a task's objects lie beyond the robot's reach"),
+    Code("RS527", "a task crashed or went NaN with this robot"),
+    Code("RS528", "a task calls an agent member the robot does not have"),
     # -- writing files, authoring commands: robospec build, inspect, new, doc (RS600-RS619)
     Code("RS600", "file is not a robot description robospec reads"),
     Code("RS601", "spec file already exists"),
@@ -156,6 +166,7 @@ _CODES = [
     Code("RS620", "a controller cannot meet its tuning targets"),
     Code("RS621", "--controller names no controller a control mode uses"),
     Code("RS622", "robospec tune cannot write the new gains into the spec"),
+    Code("RS623", "tuned gains need more force than a joint's rating"),
     # -- robospec tune --reference: fitting gains to a recorded trajectory (RS640-RS659)
     Code("RS640", "reference trajectory file cannot be read"),
     Code("RS641", "reference trajectory file is malformed"),

@@ -17,14 +17,27 @@ from robospec.docgen.code_examples import (
 )
 from robospec.physics import (
     gravity,
+    ground,
     keyframe_hold,
     random_actions,
     self_contact,
     step_response,
+    task_run,
+    upstream_findings,
 )
 
-# the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519
-PHYSICS_CHECKS = (keyframe_hold, random_actions, step_response, self_contact, gravity)
+# the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519,
+# RS521-RS527
+PHYSICS_CHECKS = (
+    keyframe_hold,
+    random_actions,
+    step_response,
+    self_contact,
+    gravity,
+    ground,
+    task_run,
+    upstream_findings,
+)
 
 LANGUAGES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml", ".urdf": "xml", ".xml": "xml"}
 LANGUAGES |= {".xacro": "xml", ".srdf": "xml", ".json": "json", ".py": "python"}

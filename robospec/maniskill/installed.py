@@ -171,8 +171,8 @@ def scan_registered_uids(package_dir: Path) -> frozenset[str]:
     nothing); a class without its own ``uid`` takes its base class's (by name)."""
     classes: dict[str, ast.ClassDef] = {}
     registered: list[ast.ClassDef] = []
-    for tree in _imported_modules(package_dir, ("envs",)):
-        for node in _executed_statements(tree):
+    for _, tree in imported_modules(package_dir, ("envs",)):
+        for node in executed_statements(tree):
             if isinstance(node, ast.ClassDef):
                 classes.setdefault(node.name, node)
                 if any(_is_register_agent(d) for d in node.decorator_list):
@@ -181,11 +181,14 @@ def scan_registered_uids(package_dir: Path) -> frozenset[str]:
     return frozenset(uid for uid in uids if uid is not None)
 
 
-def _imported_modules(package_dir: Path, start: tuple[str, ...]) -> list[ast.Module]:
+def imported_modules(
+    package_dir: Path, start: tuple[str, ...]
+) -> list[tuple[tuple[str, ...], ast.Module]]:
     """The parsed modules of the package at ``package_dir`` that importing ``start`` (a module
-    path inside it) imports, following its imports of itself, relative and absolute."""
+    path inside it) imports, following its imports of itself, relative and absolute: (the
+    module's path inside the package, its tree)."""
     root = package_dir.name
-    parsed: list[ast.Module] = []
+    parsed: list[tuple[tuple[str, ...], ast.Module]] = []
     seen: set[tuple[str, ...]] = set()
     queue = [start]
     while queue:
@@ -203,7 +206,7 @@ def _imported_modules(package_dir: Path, start: tuple[str, ...]) -> list[ast.Mod
                 tree = ast.parse(path.read_bytes(), str(path))
             except (OSError, SyntaxError, ValueError):
                 continue
-            parsed.append(tree)
+            parsed.append((name, tree))
             is_package = path.name == "__init__.py"
             queue.extend(_imports_of(tree, name, is_package, root, package_dir))
     return parsed
@@ -222,7 +225,7 @@ def _imports_of(
     inside its functions, which run later if ever)."""
     here = module if is_package else module[:-1]
     found: list[tuple[str, ...]] = []
-    for node in _executed_statements(tree):
+    for node in executed_statements(tree):
         if isinstance(node, ast.Import):
             for alias in node.names:
                 parts = tuple(alias.name.split("."))
@@ -246,7 +249,7 @@ def _imports_of(
     return found
 
 
-def _executed_statements(tree: ast.Module) -> Iterator[ast.stmt]:
+def executed_statements(tree: ast.Module) -> Iterator[ast.stmt]:
     """The statements importing the module runs: its top level, into the blocks of ``if``,
     ``try`` and ``with`` but not into functions or classes (a walk of every node of every
     module took seconds)."""

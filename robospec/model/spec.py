@@ -351,6 +351,15 @@ NeverCollideEntry = Annotated[
     ),
 ]
 
+# a ManiSkill task id ("PickCube-v1") or a folder of them ("tabletop")
+TaskName = Annotated[
+    str,
+    Field(
+        pattern=r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,99}$",
+        description="A ManiSkill task id, or the folder of tasks under mani_skill/envs/tasks.",
+        examples=["PickCube-v1", "tabletop"],
+    ),
+]
 NamedLinkEntry = Annotated[
     NamedLink, Field(description="A link, or a list of links.", examples=["panda_leftfinger"])
 ]
@@ -545,6 +554,13 @@ class Spec(StrictModel):
         default_factory=Hooks,
         description="Python functions and members for what no declaration covers.",
         examples=[{"after_init": "my_robots.hooks:after_init"}],
+    )
+    tasks: list[TaskName] = Field(
+        default_factory=list,
+        description="ManiSkill tasks the robot is meant for: task ids, or a folder of them "
+        "(`tabletop`). `robospec validate` says which agent members they call that the spec "
+        "does not define; `robospec check --task` runs them.",
+        examples=[["PickCube-v1", "PushCube-v1"]],
     )
     checks: Checks = Field(
         default_factory=Checks,

@@ -22,11 +22,13 @@ from robospec.physics import (
     action_layout,
     crash_diagnostics,
     gravity,
+    ground,
     keyframe_hold,
     random_actions,
     render,
     self_contact,
     step_response,
+    task_run,
 )
 from robospec.physics.check_run import CheckRun
 from robospec.physics.crash import Crash, from_exception
@@ -45,6 +47,7 @@ from robospec.pipeline import CompiledSpec, compile_all
 # (name, check) in the order they run and are reported
 CHECKS: tuple[tuple[str, Callable[[CheckRun], list[Finding]]], ...] = (
     (action_layout.NAME, action_layout.check),
+    (ground.NAME, ground.check),
     (keyframe_hold.NAME, keyframe_hold.check),
     (gravity.NAME, gravity.check),
     (self_contact.NAME, self_contact.check),
@@ -153,6 +156,7 @@ def check_loaded(
     run = CheckRun(
         robot.uid, context, _settings(item, options), options.backend, on_phase, options.plot_dir
     )
+    run.tasks = options.tasks
     try:
         findings = run_checks(run, progress)
         if options.render_dir is not None:
@@ -183,6 +187,11 @@ def run_checks(run: CheckRun, progress: RobotProgress | None = None) -> list[Fin
             crash = from_exception(exc)
             diagnostic = crash_diagnostics.check_failure(run.context, name, run.mode, crash)
             findings.append(_crashed(name, run.mode, crash, diagnostic))
+    if run.tasks and not run.backend.gpu:
+        if progress is not None:
+            progress(len(CHECKS), f"{run.uid}: tasks")
+        run.check = task_run.NAME
+        findings.extend(task_run.check(run, run.tasks))
     return findings
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, Location, error
@@ -33,6 +34,10 @@ class CheckRun:
     mode: str | None = None  # the mode it used last
     # modes whose environment could not be made, with what crashed (robospec.physics.crash)
     broken: dict[str, Crash] = field(default_factory=dict)
+    # which links start inside the ground, by start (robospec.physics.ground)
+    clearances: dict[str, Any] = field(default_factory=dict)
+    # check --task: the tasks to run the robot in (robospec.physics.task_run.TaskRequest)
+    tasks: tuple[Any, ...] = ()
     _sims: dict[str, Sim] = field(default_factory=dict)
 
     @property

@@ -9,6 +9,7 @@ from robospec.diagnostics import Diagnostic, Location, error, has_errors
 from robospec.physics.batch import Options, RobotReport, check_paths
 from robospec.physics.report import ProgressLine, render_json, render_text
 from robospec.physics.sim import CPU, Backend
+from robospec.physics.task_run import TaskRequest
 
 COMMAND_LINE = "<command line>"
 
@@ -21,21 +22,60 @@ def run_check(
     num_envs: int,
     render_dir: Path | None,
     plot_dir: Path | None = None,
+    tasks: Sequence[str] = (),
+    arguments: Sequence[str] = (),
 ) -> tuple[int, str]:
+    """``arguments``: the command line as typed (after ``robospec``), to locate ``--task``."""
     problems = _unavailable(gpu, render_dir)
+    requests, task_problems = task_requests(tasks, arguments)
+    problems += task_problems
     if has_errors(problems):
         return 1, _render([], problems, fmt)
     backend = Backend("physx_cuda", num_envs) if gpu else CPU
     progress = ProgressLine()
     try:
-        reports, extra = check_paths(
-            paths, Options(steps, backend, render_dir, plot_dir and plot_dir.resolve()), progress
-        )
+        options = Options(steps, backend, render_dir, plot_dir and plot_dir.resolve(), requests)
+        reports, extra = check_paths(paths, options, progress)
     finally:
         progress.close()
     extra = [*problems, *extra]
     failed = has_errors(extra) or any(r.failed for r in reports)
     return (1 if failed else 0), _render(reports, extra, fmt)
+
+
+def task_requests(
+    tasks: Sequence[str], arguments: Sequence[str]
+) -> tuple[tuple[TaskRequest, ...], list[Diagnostic]]:
+    """The tasks ``--task`` names, folders expanded, each with where the command line names it;
+    RS524 for a name the installed ManiSkill does not register."""
+    if not tasks:
+        return (), []
+    from robospec.cli.uid_option import argument_location
+    from robospec.diagnostics.suggest import did_you_mean
+    from robospec.maniskill.tasks import installed_tasks
+
+    scan = installed_tasks()
+    requests: list[TaskRequest] = []
+    problems: list[Diagnostic] = []
+    for name in tasks:
+        at = argument_location("--task", name, arguments)
+        if name in scan.tasks:
+            requests.append(TaskRequest(name, at))
+        elif name in scan.families:
+            requests.extend(TaskRequest(task, at, explicit=False) for task in scan.family(name))
+        else:
+            suggestion = did_you_mean(name, [*scan.tasks, *scan.families])
+            problems.append(
+                error(
+                    at,
+                    "RS524",
+                    f"--task {name}: ManiSkill registers no such task"
+                    + (f" ({suggestion})" if suggestion else ""),
+                    "name a task id (PickCube-v1) or a folder of tasks: "
+                    + ", ".join(scan.families),
+                )
+            )
+    return tuple(requests), problems
 
 
 def _render(reports: Sequence[RobotReport], extra: Sequence[Diagnostic], fmt: str) -> str:

@@ -1,10 +1,20 @@
 """RS501: a keyframe drifts while it is held: the robot, commanded to stay at a keyframe with a
 joint-position mode for ``checks.keyframe_hold.steps`` control steps, moved further than
-``max_joint_drift`` (a joint) or ``max_root_drift`` (the root link).
+``max_joint_drift`` (a joint) or ``max_root_drift`` (the root link). RS523 (a warning): a
+floating robot cannot stand at a keyframe, whatever its drives do.
 
 ManiSkill's advice for a new robot is to watch exactly this in a viewer. Drift means the drives
-cannot hold the pose: gains too weak for the load, a keyframe pressing against a joint limit or
-into the robot itself, or a floating robot that cannot stand the way the keyframe puts it.
+cannot hold the pose: gains too weak for the load, a keyframe pressing against a joint limit,
+into the robot itself or into the ground. Joints a velocity controller drives (wheels) and
+passive joints are not held to an angle: they are left out of the joint drift.
+
+A robot with a free root is held twice. On a test stand first — its root held where the
+keyframe puts it — which measures its drives alone (RS501 when they cannot hold the pose).
+Then standing on the ground, but only where its statics say it can stand: its centre of mass
+over the support polygon of its contacts with the ground at the keyframe
+(:mod:`robospec.physics.statics`). There a fall is RS501; a robot whose centre of mass lies
+outside the polygon (a humanoid on one foot, or leaning) cannot stand on any drives, and its
+fall is RS523, a warning that says why. ``pin_root: true`` keeps only the test stand.
 
 Passing: the Panda's ``rest`` keyframe held with ``pd_joint_pos`` moves less than a millimetre.
 Failing: the same keyframe with ``pose: {p: [0, 0, 0.5]}`` on a robot with ``fix_root_link:
@@ -14,11 +24,17 @@ drift 0.5 m).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from robospec.diagnostics import warning
+from robospec.physics import ground
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import Sim
+from robospec.physics.statics import Support, support
+from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "keyframe_hold"
 
@@ -48,24 +64,50 @@ def check(run: CheckRun) -> list[Finding]:
         return [Finding(NAME, settings.mode, "-", Status.FAIL, "unknown mode", {}, (diagnostic,))]
     mode, by_action = hold_mode(run)
     sim = run.sim(mode)
-    return [_hold(run, sim, keyframe, by_action) for keyframe in run.keyframes]
+    findings = []
+    for keyframe in run.keyframes:
+        if sim.fixed_root:
+            findings.append(_hold(run, sim, keyframe, by_action, pinned=False))
+            continue
+        findings.append(_hold(run, sim, keyframe, by_action, pinned=True))
+        if not settings.pin_root and not sim.backend.gpu:
+            findings.append(_standing(run, sim, keyframe, by_action))
+    return findings
 
 
-def _hold(run: CheckRun, sim: Sim, keyframe: object, by_action: bool) -> Finding:
-    settings = run.settings.keyframe_hold
-    start = sim.start(keyframe)  # type: ignore[arg-type]
-    root_start = sim.root_position()
-    free = np.zeros(len(sim.joint_names), dtype=bool)
+def _held_joints(sim: Sim) -> np.ndarray:
+    """Which joints a hold keeps at an angle: not passive ones, not velocity-driven ones (a
+    wheel turns freely as the robot settles: that is no drift)."""
+    held = np.ones(len(sim.joint_names), dtype=bool)
     for group in sim.groups():
-        if group.kind == "passive":
-            free[list(group.joint_indices)] = True
+        if group.kind in ("passive", "velocity"):
+            held[list(group.joint_indices)] = False
+    return held
+
+
+@dataclass
+class _Held:
+    joint_drift: np.ndarray
+    root_drift: float
+    finite: bool
+    how: str
+    start: np.ndarray
+
+
+def _run_hold(
+    run: CheckRun, sim: Sim, keyframe: ResolvedKeyframe | None, by_action: bool, pinned: bool
+) -> _Held:
+    settings = run.settings.keyframe_hold
+    start = sim.start(keyframe)
+    root_start = sim.root_position()
     action = sim.hold_action(start) if by_action else None
     if action is None:
         sim.hold_drive_targets()
+    held = _held_joints(sim)
     joint_drift = np.zeros(len(sim.joint_names))
     root_drift = 0.0
     finite = True
-    pin = sim.robot.pose if settings.pin_root and not sim.fixed_root else None
+    pin = sim.robot.pose if pinned and not sim.fixed_root else None
     for _ in range(settings.steps):
         if action is not None:
             sim.step(action, pin)
@@ -80,19 +122,36 @@ def _hold(run: CheckRun, sim: Sim, keyframe: object, by_action: bool) -> Finding
         root_drift = max(
             root_drift, float(np.linalg.norm(sim.root_position() - root_start, axis=-1).max())
         )
-    joint_drift[free] = 0.0
-    worst = int(np.argmax(joint_drift))
-    label = keyframe_label(keyframe)  # type: ignore[arg-type]
+    joint_drift[~held] = 0.0
     how = "actions" if action is not None else "drive targets"
     if pin is not None:
-        how += ", root pinned"
+        how += ", root held"
+    return _Held(joint_drift, root_drift, finite, how, start)
+
+
+def _hold(
+    run: CheckRun,
+    sim: Sim,
+    keyframe: ResolvedKeyframe | None,
+    by_action: bool,
+    pinned: bool,
+    standing: Support | None = None,
+) -> Finding:
+    settings = run.settings.keyframe_hold
+    found = _run_hold(run, sim, keyframe, by_action, pinned)
+    joint_drift, root_drift = found.joint_drift, found.root_drift
+    worst = int(np.argmax(joint_drift))
+    label = keyframe_label(keyframe)
+    subject = label
+    if not sim.fixed_root and not settings.pin_root:
+        subject = f"{label} ({'test stand' if pinned else 'standing'})"
     values = metrics(
         steps=settings.steps,
-        held_by=how,
+        held_by=found.how,
         max_joint_drift=float(joint_drift[worst]),
         joint=sim.joint_names[worst],
         max_root_drift=root_drift,
-        finite=finite,
+        finite=found.finite,
     )
     unit = "m" if sim.prismatic[worst] else "rad"
     summary = (
@@ -100,7 +159,7 @@ def _hold(run: CheckRun, sim: Sim, keyframe: object, by_action: bool) -> Finding
         f"root drift {root_drift:.2g} m over {settings.steps} steps"
     )
     problems = []
-    if not finite:
+    if not found.finite:
         problems.append("the state went NaN")
     if joint_drift[worst] > settings.max_joint_drift:
         problems.append(
@@ -113,20 +172,80 @@ def _hold(run: CheckRun, sim: Sim, keyframe: object, by_action: bool) -> Finding
             f"{settings.max_root_drift:g})"
         )
     if not problems:
-        return Finding(NAME, sim.mode, label, Status.PASS, summary, values)
-    mimic = _mimic_mismatch(run, sim, start)
+        return Finding(NAME, sim.mode, subject, Status.PASS, summary, values)
+    mimic = _mimic_mismatch(
+        run, sim, np.asarray(keyframe.qpos) if keyframe and keyframe.qpos else sim.start(keyframe)
+    )
     if mimic:
         problems.append(mimic)
+    if standing is not None:
+        problems.append(
+            f"it can stand there: its centre of mass is {standing.inside * 100:.3g} cm inside "
+            f"the support polygon of its contacts ({', '.join(standing.links)})"
+        )
+    where = "on a test stand (its root held)" if pinned and not sim.fixed_root else ""
     diagnostic = run.fail(
-        run.keyframe_path(keyframe),  # type: ignore[arg-type]
+        run.keyframe_path(keyframe),
         "RS501",
-        f"keyframe '{label}' held with {sim.mode} ({how}) for {settings.steps} steps: "
-        + "; ".join(problems),
-        "stiffen the drives holding it, move the keyframe off joint limits and away from "
-        "self-contact, or set checks.keyframe_hold.max_joint_drift/max_root_drift if the "
-        "motion is expected (e.g. a floating robot settling onto the ground)",
+        f"keyframe '{label}' held with {sim.mode} ({found.how}) for {settings.steps} steps"
+        + (f" {where}" if where else "")
+        + ": "
+        + "; ".join(problems)
+        + ground.note(run, keyframe),
+        "stiffen the drives holding it (robospec tune finds gains), move the keyframe off joint "
+        "limits and away from self-contact and the ground, or set "
+        "checks.keyframe_hold.max_joint_drift/max_root_drift if the motion is expected",
     )
-    return Finding(NAME, sim.mode, label, Status.FAIL, summary, values, (diagnostic,))
+    return Finding(NAME, sim.mode, subject, Status.FAIL, summary, values, (diagnostic,))
+
+
+def _standing(
+    run: CheckRun, sim: Sim, keyframe: ResolvedKeyframe | None, by_action: bool
+) -> Finding:
+    """The floating robot on the ground: held there where its statics say it can stand, else
+    RS523 says why it falls."""
+    label = keyframe_label(keyframe)
+    subject = f"{label} (standing)"
+    base = support_at(sim, keyframe)
+    values = metrics(
+        contacts=len(base.links),
+        com_inside=float(base.inside) if np.isfinite(base.inside) else None,
+    )
+    if not base.touches:
+        return Finding(
+            NAME, sim.mode, subject, Status.SKIP, "touches no ground: nothing to stand on", values
+        )
+    if base.stands:
+        return _hold(run, sim, keyframe, by_action, pinned=False, standing=base)
+    outside = -base.inside
+    why = (
+        f"its centre of mass lies {outside * 100:.3g} cm outside the support polygon of its "
+        f"contacts with the ground ({', '.join(base.links)})"
+        if np.isfinite(outside) and len(base.polygon) >= 3
+        else f"it touches the ground only at {', '.join(base.links)}: a point or a line, no "
+        "polygon to balance over"
+    )
+    diagnostic = warning(
+        run.at(run.keyframe_path(keyframe)),
+        "RS523",
+        f"keyframe '{label}': the floating robot cannot stand there on any drives: {why}; "
+        "it falls without a balance controller",
+        "nothing to fix for a robot that balances actively (a humanoid): its drives were held "
+        "on a test stand; for one meant to stand still, change the keyframe so its centre of "
+        "mass is over its feet",
+    )
+    summary = "cannot stand: centre of mass outside its support"
+    return Finding(NAME, sim.mode, subject, Status.INFO, summary, values, (diagnostic,))
+
+
+def support_at(sim: Sim, keyframe: ResolvedKeyframe | None) -> Support:
+    """The robot's support at ``keyframe``: its root held there, its drives holding, one
+    physics step for the contacts."""
+    sim.start(keyframe)
+    sim.hold_drive_targets()
+    pin = sim.robot.pose
+    sim.sim_step(pin)
+    return support(sim.ground_contacts(), sim.centre_of_mass())
 
 
 def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> str | None:

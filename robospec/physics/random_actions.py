@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from robospec.diagnostics import Diagnostic
+from robospec.physics import ground
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.nan_cause import nan_cause
@@ -31,6 +32,8 @@ NAME = "random_actions"
 
 def check(run: CheckRun) -> list[Finding]:
     starts: list[ResolvedKeyframe | None] = [None, *run.context.robot.keyframes[:1]]
+    if ground.load_skipped(run, None):
+        starts = starts[1:]
     return [_run_mode(run, run.sim(mode), start) for mode in run.modes for start in starts]
 
 
@@ -76,7 +79,7 @@ def _run_mode(run: CheckRun, sim: Sim, start: ResolvedKeyframe | None) -> Findin
     )
     origin = f"from {start.name}" if start is not None else "from load"
     diagnostics = _problems(
-        run, sim, origin, nan_step, nan_joints, past_limit, top_speed, top_root_speed
+        run, sim, origin, nan_step, nan_joints, past_limit, top_speed, top_root_speed, start
     )
     if nan_step is not None:
         summary = f"NaN at step {nan_step} in {', '.join(nan_joints) or 'the root pose'}"
@@ -100,8 +103,10 @@ def _problems(
     past_limit: np.ndarray,
     top_speed: np.ndarray,
     top_root_speed: float,
+    start: ResolvedKeyframe | None,
 ) -> tuple[Diagnostic, ...]:
     settings = run.settings.random_actions
+    buried = ground.note(run, start)
     where = ("control_modes", sim.mode)
     found: list[Diagnostic] = []
     if nan_step is not None:
@@ -120,7 +125,7 @@ def _problems(
                 where,
                 "RS502",
                 f"mode {sim.mode} ({origin}): random actions made the state NaN at step {nan_step} "
-                f"(joints: {joints}){cause}",
+                f"(joints: {joints}){cause}{buried}",
                 hint,
             )
         )
@@ -133,7 +138,7 @@ def _problems(
                 "RS503",
                 f"mode {sim.mode} ({origin}): joint '{sim.joint_names[worst]}' went "
                 f"{past_limit[worst] + settings.joint_limit_tolerance:.3g} past its limit "
-                f"(tolerance {settings.joint_limit_tolerance:g})",
+                f"(tolerance {settings.joint_limit_tolerance:g}){buried}",
                 "the drive overpowers the joint limit: lower its stiffness or force_limit, or "
                 "narrow the controller's lower/upper to the joint's range",
             )
@@ -145,7 +150,8 @@ def _problems(
                 where,
                 "RS504",
                 f"mode {sim.mode} ({origin}): joint '{sim.joint_names[fastest]}' ran away at "
-                f"{top_speed[fastest]:.3g}/s (max_joint_speed {settings.max_joint_speed:g})",
+                f"{top_speed[fastest]:.3g}/s (max_joint_speed {settings.max_joint_speed:g})"
+                f"{buried}",
                 "add damping to the joint's controller, or lower its force_limit",
             )
         )
@@ -155,7 +161,7 @@ def _problems(
                 where,
                 "RS504",
                 f"mode {sim.mode} ({origin}): the root link ran away at {top_root_speed:.3g} m/s "
-                f"(max_root_speed {settings.max_root_speed:g})",
+                f"(max_root_speed {settings.max_root_speed:g}){buried}",
                 "check the root's mass and the forces the controllers can apply",
             )
         )

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from robospec.diagnostics import Diagnostic, has_errors
 from robospec.maniskill.upstream_output import UpstreamMessage
@@ -37,6 +38,8 @@ class Options:
     backend: Backend = CPU
     render_dir: Path | None = None  # save each camera's image there (needs a render device)
     plot_dir: Path | None = None  # save a PNG of each controller's step response there
+    # check --task: the tasks to run each robot in (robospec.physics.task_run.TaskRequest)
+    tasks: tuple[Any, ...] = ()
 
 
 DEFAULT_OPTIONS = Options()

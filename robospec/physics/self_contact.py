@@ -3,7 +3,10 @@
 Each keyframe is set, the drives are told to hold it, and one physics step runs; every pair of
 the robot's own links then in contact deeper than ``checks.self_contact.min_depth`` is reported
 with the rule that would let them touch. Links a joint connects never collide in PhysX, so they
-never appear. Skipped when ``loader.disable_self_collisions`` is set.
+never appear. Skipped when ``loader.disable_self_collisions`` is set. The robot as ManiSkill
+loads it (every joint at 0, within its limits) is checked too: for a spec without keyframes it
+is the only start (an error); with keyframes a warning — tasks start from those, and random
+actions skip the load (ManiSkill's own robots load this way in ``Empty-v1``, and blow up).
 
 A touching pair at rest pushes the robot away from its keyframe from the first step. When the
 contact is meant (a closed hand, a finger resting on the palm), declare it in the spec; else the
@@ -16,6 +19,8 @@ Failing: a keyframe that folds the Panda's fingers into its fifth link; the hint
 
 from __future__ import annotations
 
+from robospec.diagnostics import warning
+from robospec.physics import ground
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
 
@@ -30,6 +35,8 @@ def check(run: CheckRun) -> list[Finding]:
     sim = run.sim(run.modes[0])
     min_depth = run.settings.self_contact.min_depth
     findings = []
+    if run.robot.keyframes:
+        findings.append(_load(run))
     for keyframe in run.keyframes:
         sim.start(keyframe)
         sim.hold_drive_targets()
@@ -66,3 +73,31 @@ def check(run: CheckRun) -> list[Finding]:
             )
         )
     return findings
+
+
+def _load(run: CheckRun) -> Finding:
+    touching = ground.load_contacts(run)
+    if not touching:
+        return Finding(NAME, None, "load", Status.PASS, "no links touch", metrics(pairs=0))
+    listed = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for (a, b), d in touching.items())
+    rule = ", ".join(f"[{a}, {b}]" for a, b in touching)
+    diagnostic = warning(
+        run.at(("keyframes",)),
+        "RS508",
+        f"as ManiSkill loads the robot (every joint at 0, within its limits) these links touch: "
+        f"{listed}; the checks start from the keyframes instead",
+        f"a task that loads it this way gets them pushed apart; if they are meant to touch, "
+        f"add `never_collide: [{rule}]`",
+    )
+    details = tuple(metrics(link_a=a, link_b=b, depth=d) for (a, b), d in touching.items())
+    summary = f"{len(touching)} touching pair(s): {listed}"
+    return Finding(
+        NAME,
+        None,
+        "load",
+        Status.INFO,
+        summary,
+        metrics(pairs=len(touching)),
+        (diagnostic,),
+        details,
+    )

@@ -116,11 +116,9 @@ class Sim:
         # what the loader made of it: ManiSkill's MJCF loader frees a root with a <freejoint>
         # whatever fix_root_link says
         self.fixed_root = self.robot._objs[0].root.joint.type == "fixed"
-        if self.fixed_root and not self.backend.gpu:
-            # A fixed robot is mounted where its task puts it; at the origin of Empty-v1 it may
-            # reach through the floor (trifingerpro hangs from above a table), which says
-            # nothing about the robot. Floating robots keep the floor: they stand on it.
-            self.base.ground.remove_from_scene()
+        # the scene users get: Empty-v1's ground, whatever the robot (a fixed robot at the
+        # origin that reaches through it meets it there too: robospec.physics.ground says so)
+        self.ground = self.base.ground
         # the state the robot is loaded in: ``start(None)``
         self._loaded = (self.robot.get_qpos().clone(), self.robot.pose)
         self._used = False  # whether anything moved since the scene was built
@@ -308,6 +306,22 @@ class Sim:
             )
         self._apply()
 
+    def mass_matrix(self, group: ControllerGroup | str) -> np.ndarray:
+        """The joint-space mass matrix of ``group``'s joints (their block, armature on the
+        diagonal) at the robot's configuration now, the root held. CPU only."""
+        if isinstance(group, str):
+            group = self.group(group)
+        articulation = self.robot._objs[0]
+        model = articulation.create_pinocchio_model()
+        qpos = self.robot.get_qpos()[0].cpu().numpy().astype(np.float64)
+        mass = np.asarray(model.compute_generalized_mass_matrix(qpos), dtype=np.float64)
+        joints = articulation.get_active_joints()
+        armature = np.array([float(np.sum(j.armature)) for j in joints], dtype=np.float64)
+        indices = list(group.joint_indices)
+        block = mass[np.ix_(indices, indices)].copy()
+        block[np.diag_indices_from(block)] += armature[indices]
+        return block
+
     def inertia(self, group: ControllerGroup | str) -> np.ndarray:
         """Each of ``group``'s joints' effective inertia (kg m², or kg for a prismatic joint)
         at the robot's configuration now, with the root held and the other joints locked: the
@@ -374,18 +388,99 @@ class Sim:
 
     # -- contacts ------------------------------------------------------------------------------
 
+    def mounted_links(self) -> set[str]:
+        """The links that cannot move: a fixed root and what is welded to it (no active joint
+        between them). Empty for a floating robot."""
+        if not self.fixed_root:
+            return set()
+        moving: set[str] = set()
+        for joint in self.robot.get_active_joints():
+            child = joint.child_link
+            if child is not None:
+                moving.add(child.name)
+        # a link moves when an active joint lies on its path to the root
+        mounted: set[str] = set()
+        for link in self.robot.links:
+            node, moves = link, False
+            while node is not None:
+                if node.name in moving:
+                    moves = True
+                    break
+                parent = node.joint.parent_link if node.joint is not None else None
+                node = parent
+            if not moves:
+                mounted.add(link.name)
+        return mounted
+
+    def moved_by(self, joint: str) -> set[str]:
+        """The links ``joint`` moves: its child link and everything below it."""
+        found = next((j for j in self.robot.get_active_joints() if j.name == joint), None)
+        if found is None or found.child_link is None:
+            return set()
+        top = found.child_link.name
+        moved = set()
+        for link in self.robot.links:
+            node = link
+            while node is not None:
+                if node.name == top:
+                    moved.add(link.name)
+                    break
+                node = node.joint.parent_link if node.joint is not None else None
+        return moved
+
+    def lowest_points(self) -> dict[str, float]:
+        """Each link with collision shapes -> the height of its lowest point (m, world z; the
+        ground is at 0), as the robot is now. CPU only."""
+        found = {}
+        for link in self.robot.links:
+            body = link._objs[0]
+            if body.collision_shapes:
+                found[link.name] = float(body.compute_global_aabb_tight()[0][2])
+        return found
+
+    def ground_contacts(self) -> list[tuple[str, tuple[float, float, float], float]]:
+        """The robot's contacts with the ground now: (link, point, depth in m). CPU only."""
+        links = {id(link._objs[0]): link.name for link in self.robot.links}
+        ground = {id(body) for body in self.ground._bodies} if self.ground is not None else set()
+        found = []
+        for contact in self.scene.get_contacts():
+            a, b = contact.bodies
+            if id(a) in ground:
+                a, b = b, a
+            if id(b) not in ground or id(a) not in links:
+                continue
+            for point in contact.points:
+                p = tuple(float(v) for v in point.position)
+                found.append((links[id(a)], p, float(-point.separation)))  # type: ignore[arg-type]
+        return found
+
+    def centre_of_mass(self) -> np.ndarray:
+        """The robot's centre of mass now (world frame), shape (3,). CPU only."""
+        total = 0.0
+        weighted = np.zeros(3)
+        for link in self.robot.links:
+            body = link._objs[0]
+            mass = float(body.mass)
+            pose = body.entity_pose * body.cmass_local_pose
+            weighted += mass * np.asarray(pose.p, dtype=np.float64)
+            total += mass
+        return weighted / total if total > 0 else weighted
+
     def self_contacts(self) -> dict[tuple[str, str], float]:
-        """Pairs of the robot's links touching now (CPU only): ``{(link_a, link_b): depth}``,
-        the depth being the deepest penetration in metres."""
+        """Pairs of the robot's links in contact now (CPU only): ``{(link_a, link_b): depth}``,
+        the depth being the deepest penetration in metres — negative for a pair PhysX
+        reports within its contact offset but apart by that much."""
         links = {id(link._objs[0]): link.name for link in self.robot.links}
         touching: dict[tuple[str, str], float] = {}
         for contact in self.scene.get_contacts():
             a, b = (links.get(id(body)) for body in contact.bodies)
             if a is None or b is None or a == b:
                 continue
-            depth = max((-point.separation for point in contact.points), default=0.0)
+            if not contact.points:
+                continue
+            depth = max(-point.separation for point in contact.points)
             pair = (min(a, b), max(a, b))
-            touching[pair] = max(touching.get(pair, 0.0), float(depth))
+            touching[pair] = max(touching.get(pair, -np.inf), float(depth))
         return touching
 
 

@@ -10,8 +10,9 @@ steady-state error at the end of ``duration``, all measured from where the joint
 after half a second of holding (so a sag under gravity is not counted twice). This measures
 the drives ManiSkill sets from the controller's stiffness, damping, force_limit and friction,
 which every mode of that controller shares; passive groups and controllers that drive no joint
-directly are skipped. A floating robot is held by its root, lifted clear of the floor, during
-the step, so the drives are timed as if it were mounted.
+directly are skipped. The robot is lifted clear of the floor for the step (a floating robot held
+by its root there), so the drives are timed as on a test stand: a floor an arm is mounted on
+would block half its steps.
 
 Passing: the Panda's arm (stiffness 1e3, damping 1e2) reaches 90 % of a 0.1 rad step in well
 under 0.5 s and settles on it.
@@ -115,7 +116,9 @@ def _step(
 
         limits = Limits(float(settings.settling_band))
         plot_controller(run.plot_dir, run.uid, controller, [("step response", trace)], limits)
-    return _finding(run, sim, sim.group(group.name), controller, subject, list(trace.responses))
+    return _finding(
+        run, sim, sim.group(group.name), controller, subject, list(trace.responses), trace
+    )
 
 
 @dataclass(frozen=True)
@@ -164,7 +167,10 @@ def step_trace(
         sim.set_drive(group, drive.stiffness, drive.damping, drive.force_limit)
     sim.hold_drive_targets()
     joints = list(group.joint_indices)
-    pin = None if sim.fixed_root else sim.lifted_root(LIFT)
+    # on a test stand: lifted clear of the ground (a floating root held there), so nothing
+    # but the drives shapes the step — an arm mounted on the floor would hit it half the time
+    lifted = sim.lifted_root(LIFT)
+    pin = None if sim.fixed_root else lifted
     # settle first: under gravity a holding drive sags to an equilibrium; the step is measured
     # from there, so the sag itself (keyframe_hold's business) is not counted as step error
     for _ in range(round(SETTLE_TIME * sim.sim_freq)):
@@ -227,6 +233,7 @@ def _finding(
     controller: str,
     subject: str,
     responses: list[Response],
+    trace: StepTrace | None = None,
 ) -> Finding:
     settings = run.settings.step_response.for_controller(controller)
     kind = "velocity" if group.kind == "velocity" else "position"
@@ -278,14 +285,15 @@ def _finding(
             if slowest.rise_time is not None
             else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
         )
+        cause, hint = _slow_cause(sim, group, trace, slowest.joint, kind)
         problems.append(
             run.fail(
                 where,
                 "RS505",
                 f"controller '{controller}' ({sim.mode}/{group.name}) is too slow: given a "
                 f"{kind} step, joint '{slowest.joint}' {took} (max_rise_time "
-                f"{settings.max_rise_time:g} s)",
-                "raise its stiffness (position) or damping (velocity), or its force_limit",
+                f"{settings.max_rise_time:g} s){cause}",
+                hint,
             )
         )
     if (
@@ -293,16 +301,31 @@ def _finding(
         or wildest.overshoot > settings.max_overshoot
         or (wildest.settling_time is None and slowest.rise_time is not None)
     ):
+        if np.isfinite(wildest.overshoot) and wildest.overshoot <= settings.max_overshoot:
+            # it failed by never settling: say that, not an overshoot within the threshold
+            what = (
+                f"never settled within {settings.settling_band:.0%} of a {kind} step in "
+                f"{settings.duration:g} s (its overshoot, {wildest.overshoot:.0%}, is within "
+                f"max_overshoot {settings.max_overshoot:.0%})"
+            )
+        else:
+            what = (
+                f"overshot a {kind} step by {wildest.overshoot:.0%}"
+                + ("" if wildest.settling_time is not None else " and never settled")
+                + f" (max_overshoot {settings.max_overshoot:.0%})"
+            )
         problems.append(
             run.fail(
                 where,
                 "RS506",
                 f"controller '{controller}' ({sim.mode}/{group.name}) is unstable or "
-                f"underdamped: joint '{wildest.joint}' overshot a {kind} step by "
-                f"{wildest.overshoot:.0%}"
-                + ("" if wildest.settling_time is not None else " and never settled")
-                + f" (max_overshoot {settings.max_overshoot:.0%})",
-                "raise its damping relative to its stiffness",
+                f"underdamped: joint '{wildest.joint}' {what}",
+                "raise its damping relative to its stiffness"
+                + (
+                    " (a velocity drive: lower its damping's share of force_limit)"
+                    if kind == "velocity"
+                    else ""
+                ),
             )
         )
     if (
@@ -321,3 +344,68 @@ def _finding(
         )
     status = Status.FAIL if problems else Status.PASS
     return Finding(NAME, sim.mode, subject, status, summary, values, tuple(problems), details)
+
+
+def _slow_cause(
+    sim: Sim, group: ControllerGroup, trace: StepTrace | None, joint: str, kind: str
+) -> tuple[str, str]:
+    """Why a joint is slow, as far as the trace tells, and the hint that fixes that."""
+    stiffer = (
+        "raise its stiffness (robospec tune finds gains)"
+        if kind == "position"
+        else "raise its damping (a velocity drive's gain)"
+    )
+    if trace is None or joint not in trace.joints:
+        return "", stiffer + ", or its force_limit"
+    k = trace.joints.index(joint)
+    index = group.joint_indices[k]
+    lower, upper = sim.limits[index]
+    if kind == "position" and not lower <= trace.target[k] <= upper:
+        return (
+            f"; its step's target {trace.target[k]:.4g} lies past its limits "
+            f"[{lower:.4g}, {upper:.4g}]",
+            "step it from a keyframe further from its limits, or lower checks.step_response.step",
+        )
+    config = group.controller.config
+    force_limit = float(
+        np.broadcast_to(np.asarray(config.force_limit, float), len(trace.joints))[k]
+    )
+    stiffness = float(
+        np.broadcast_to(np.asarray(getattr(config, "stiffness", 0.0), float), len(trace.joints))[k]
+    )
+    damping = float(np.broadcast_to(np.asarray(config.damping, float), len(trace.joints))[k])
+    if kind == "position":
+        asked = (
+            stiffness * (trace.target[k] - trace.position[:, k]) - damping * trace.velocity[:, k]
+        )
+    else:
+        asked = damping * (trace.target[k] - trace.velocity[:, k])
+    asked = np.nan_to_num(np.abs(asked), nan=0.0)
+    saturated = float(np.mean(asked >= force_limit * 0.999))
+    blocking = _blocking_contacts(sim, joint) if not sim.backend.gpu else []
+    if blocking:
+        pairs = ", ".join(f"{a} + {b}" for a, b in blocking)
+        rule = ", ".join(f"[{a}, {b}]" for a, b in blocking)
+        return (
+            f"; links {pairs} touch: the contact blocks it",
+            "move the keyframe so that they are apart, or declare the contact with "
+            f"never_collide: [{rule}] if it is not meant to happen",
+        )
+    if saturated > 0.5:
+        return (
+            f"; its drive was held at force_limit {force_limit:g} for {saturated:.0%} of the step",
+            "raise its force_limit if the motor gives more; if that is its rating, the joint is "
+            "as fast as its motor: relax checks.step_response for this controller",
+        )
+    return "", stiffer + ", or its force_limit"
+
+
+def _blocking_contacts(sim: Sim, joint: str) -> list[tuple[str, str]]:
+    """Pairs of links touching now (within half a millimetre) of which one moves with
+    ``joint`` and the other does not: a contact that holds the joint back."""
+    moved = sim.moved_by(joint)
+    return [
+        (a, b)
+        for (a, b), depth in sorted(sim.self_contacts().items())
+        if depth >= -0.0005 and ((a in moved) != (b in moved))
+    ]

@@ -17,6 +17,7 @@ import sys
 from multiprocessing.connection import Connection
 from pathlib import Path
 
+from robospec.physics import upstream_findings
 from robospec.physics.isolation import FAULT_LOG, Job
 from robospec.physics.results import RobotReport
 
@@ -47,6 +48,8 @@ def run_job(job: Job, results: Connection) -> RobotReport:
         item = compile_spec(job.path, job.display)
         report = check_compiled(item, job.options, progress, phase)
     report.messages = output.messages()
+    if item.context is not None:
+        report.findings.extend(upstream_findings.findings(item.context, report.messages))
     report.diagnostics = report.diagnostics[len(item.diagnostics) :]  # the parent has those
     return report
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
 from robospec.pipeline import CompiledSpec, compile_spec
 from robospec.tune.report import render_json, render_text
 from robospec.tune.results import ControllerTuning, TuneReport
@@ -76,6 +76,7 @@ def tune_report(
     report.diagnostics.extend(d for d in found.diagnostics if d not in item.diagnostics)
     report.messages = found.messages
     report.diagnostics.extend(_not_met(item, c) for c in found.controllers if c.status == "failed")
+    report.diagnostics.extend(_over_rating(item, found.controllers))
     if write:
         from robospec.tune.write import write_gains
 
@@ -136,8 +137,10 @@ def _not_met(item: CompiledSpec, tuning: ControllerTuning) -> Diagnostic:
     kinds = {why.split(":", 1)[0] for _, why in tuning.reasons}
     hint = {
         "joint limit": "step a keyframe further from the limit, or lower checks.step_response.step",
-        "force limit": "allow a larger force_limit (checks.tune.keep_force_limit: false)",
-        "coupling between joints": "tune the coupled joints' controllers one at a time, or "
+        "force limit": "allow a larger force_limit (checks.tune.keep_force_limit: false) where "
+        "the motor can give it; at its rating, accept a slower joint (relax checks.tune) or "
+        "lighten what it moves",
+        "coupling between joints": "stiffen the joints that push it (their damping too), or "
         "relax checks.tune for this controller",
     }
     return error(
@@ -148,6 +151,38 @@ def _not_met(item: CompiledSpec, tuning: ControllerTuning) -> Diagnostic:
         "; ".join(hint[k] for k in sorted(kinds) if k in hint)
         or "relax checks.tune for this controller, or look at the plot (--plot DIR)",
     )
+
+
+def _over_rating(item: CompiledSpec, tunings: Sequence[ControllerTuning]) -> list[Diagnostic]:
+    """RS623 per joint whose tuned gains would need more force than the description rates its
+    motor for: at the joint's rating in the description (the force limit stays at it)."""
+    assert item.context is not None
+    from robospec.description.ratings import joint_ratings
+
+    description = item.context.description
+    ratings = joint_ratings(description)
+    found = []
+    for tuning in tunings:
+        for joint, demand, cap in tuning.over_rating:
+            rating = ratings.get(joint)
+            where = (
+                Location(description.path, rating.line, 1)
+                if rating is not None
+                else item.context.key(("controllers", tuning.controller))
+            )
+            what = rating.what if rating is not None else "its rating"
+            found.append(
+                warning(
+                    where,
+                    "RS623",
+                    f"joint '{joint}' (controller '{tuning.controller}'): the gains that meet "
+                    f"the targets ask for {demand:.3g}, more than {what} of {cap:g}; tune "
+                    f"kept force_limit at {cap:g}",
+                    "the motor cannot give more: accept a slower joint (relax checks.tune for "
+                    "this controller), or check the rating",
+                )
+            )
+    return found
 
 
 def _plots(folder: Path, report: TuneReport) -> list[str]:

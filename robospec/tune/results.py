@@ -66,6 +66,9 @@ class ControllerTuning:
     before_trace: StepTrace | None = None
     after_trace: StepTrace | None = None
     reasons: tuple[tuple[str, str], ...] = ()  # (joint, why it cannot meet the targets)
+    # (joint, the force its drive asked for, its rating): joints whose gains need more force
+    # than the description rates their motor for (the force limit stays at the rating)
+    over_rating: tuple[tuple[str, float, float], ...] = ()
     simulations: int = 0
     seconds: float = 0.0
 

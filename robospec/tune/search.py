@@ -7,19 +7,25 @@ floating robot held by its root), with the candidate's gains set on the live rob
 
 1. The controller's own gains first: when every joint meets the targets they stay.
 2. Joints that meet the targets keep their gains. The others start critically damped, from
-   their effective inertia ``I`` (``Sim.inertia``: the mass-matrix diagonal plus armature at
-   the keyframe), never softer than they were: natural frequency
+   their effective inertia ``I`` (the mass-matrix diagonal plus armature at the keyframe; for
+   joints coupled to others of the controller — an off-diagonal entry of the mass matrix at
+   least :data:`COUPLED` of the geometric mean of the two diagonal ones, so that stepping one
+   pushes the other — the row's sum of magnitudes, the inertia it meets when they all move
+   at once: coupled joints are tuned together), never softer than they were: natural frequency
    ``w = OMEGA_PER_SETTLING / max_settling_time``, ``stiffness = max(stiffness, I w²)``,
    ``damping = 2 zeta sqrt(stiffness I)`` with ``zeta`` at least 1 (velocity drives:
    ``damping = max(damping, I w)``).
 3. Bounded rounds, each joint on its own measurement (all joints step together, as in check):
    overshoot or ringing raises its damping ratio; steady-state error (gravity, friction, the
    other joints pushing) or a slow response raises its stiffness; a drive that saturates
-   raises its force_limit (unless ``keep_force_limit``). Gains are rounded to 3 significant
-   digits before they are measured, so what is measured is what ``--write`` writes.
+   raises its force_limit (unless ``keep_force_limit``), never past the joint's rating in the
+   description (``force_caps``): a joint that needs more is reported
+   (:attr:`ControllerTuning.over_rating`). Gains are rounded to 3 significant digits before
+   they are measured, so what is measured is what ``--write`` writes.
 4. A joint that still misses is explained: its step target lies past a joint limit, its
-   drive saturates at a kept force_limit, it meets the targets when stepped alone (coupling
-   between the joints), or its stiffness bound was reached.
+   drive saturates at a kept force_limit or at its rating, it meets the targets when stepped
+   alone (coupling between the joints: the joints that push it are named), or its stiffness
+   bound was reached.
 """
 
 from __future__ import annotations
@@ -43,6 +49,8 @@ ZETA_STEP = 1.5
 MAX_OMEGA_PER_SIM_FREQ = 1.0  # the stiffest joint: w up to sim_freq (rad/s), i.e. w dt <= 1
 FORCE_MARGIN = 1.5  # a raised force_limit: this much above the largest torque asked for
 UNLIMITED = 1e9  # a force_limit at or above this is no limit (ManiSkill's default is 1e10)
+# |M_ij| / sqrt(M_ii M_jj) at or above this: stepping joint j pushes joint i
+COUPLED = 0.2
 
 
 def significant(value: float, digits: int = 3) -> float:
@@ -103,7 +111,10 @@ class Search:
         settings: StepSettings,
         targets: Targets,
         on_simulation: Callable[[int], None] | None = None,
+        force_caps: np.ndarray | None = None,
     ) -> None:
+        """``force_caps``: the most force each joint's motor is rated for (inf: unrated), in
+        the group's joint order; the search never raises a force limit past it."""
         self.sim = sim
         self.group_name = group_name
         self.controller = controller
@@ -111,7 +122,10 @@ class Search:
         self.settings = settings
         self.targets = targets
         self.on_simulation = on_simulation
+        self.force_caps = force_caps
         self.simulations = 0
+        self.over_rating: dict[int, float] = {}  # joint index -> the force it asked for
+        self.coupled: dict[int, list[int]] = {}  # joint index -> the joints that push it
 
     def measure(self, gains: Gains, stepped: np.ndarray | None = None) -> StepTrace:
         self.simulations += 1
@@ -153,6 +167,11 @@ class Search:
         result.after, result.after_trace = gains, trace
         result.after_timings = timings(trace)
         missed = self.missed(trace)
+        caps = self._caps(len(gains.force_limit))
+        result.over_rating = tuple(
+            (trace.joints[j], demand, float(caps[j]))
+            for j, demand in sorted(self.over_rating.items())
+        )
         if any(missed):
             result.status = "failed"
             result.reasons = self._explain(gains, trace, missed)
@@ -164,9 +183,31 @@ class Search:
 
     # -- the search ------------------------------------------------------------------------
 
+    def _caps(self, n: int) -> np.ndarray:
+        if self.force_caps is None:
+            return np.full(n, np.inf)
+        return np.asarray(self.force_caps, dtype=np.float64)
+
+    def _inertia(self) -> np.ndarray:
+        """Each joint's inertia to tune for: the mass-matrix diagonal, or for a joint coupled
+        to others the row's sum of magnitudes (:data:`COUPLED`)."""
+        mass = self.sim.mass_matrix(self.group_name)
+        diagonal = np.maximum(np.diag(mass), 1e-9)
+        scale = np.sqrt(np.outer(diagonal, diagonal))
+        coupling = np.abs(mass) / scale
+        np.fill_diagonal(coupling, 0.0)
+        inertia = diagonal.copy()
+        for i in range(len(diagonal)):
+            partners = [int(j) for j in np.nonzero(coupling[i] >= COUPLED)[0]]
+            if partners:
+                self.coupled[i] = partners
+                inertia[i] = float(np.abs(mass[i]).sum())
+        return inertia
+
     def _search(self, before: Gains, before_trace: StepTrace) -> tuple[Gains, StepTrace]:
         self.sim.start(self.keyframe)
-        inertia = np.maximum(self.sim.inertia(self.group_name), 1e-9)
+        inertia = self._inertia()
+        caps = self._caps(len(before.stiffness))
         velocity = before_trace.kind == "velocity"
         omega = OMEGA_PER_SETTLING / self.targets.max_settling_time
         omega_max = MAX_OMEGA_PER_SIM_FREQ * self.sim.sim_freq
@@ -176,7 +217,15 @@ class Search:
         # joints that meet the targets keep their gains; the others start critically damped,
         # never softer than they were
         touched = np.array([bool(m) for m in self.missed(before_trace)])
-        stiffness = np.maximum(original_k, inertia * omega**2)
+        # a rated joint's stiffness stays where a step asks no more than its rating (past it the
+        # drive saturates: stiffer only means a drive that brakes too late and overshoots)
+        step = np.where(
+            self.sim.prismatic[list(self.sim.group(self.group_name).joint_indices)],
+            self.settings.prismatic_step,
+            self.settings.step,
+        )
+        rated_k = np.maximum(caps / step, original_k)
+        stiffness = np.minimum(np.maximum(original_k, inertia * omega**2), rated_k)
         with np.errstate(divide="ignore", invalid="ignore"):
             zeta = np.nan_to_num(original_d / (2.0 * np.sqrt(original_k * inertia)), nan=1.0)
         zeta = np.clip(zeta, 1.0, MAX_ZETA)
@@ -209,8 +258,15 @@ class Search:
                     touched[j] = True
                     stiffness[j], damping_v[j] = original_k[j], original_d[j]
                     continue
+                at_cap = False
                 if demand[j] >= force_limit[j] * 0.999 and not self.targets.keep_force_limit:
-                    force_limit[j] = significant(FORCE_MARGIN * demand[j])
+                    wanted = significant(FORCE_MARGIN * demand[j])
+                    if wanted > caps[j]:
+                        # a rated motor gives no more: never a silent raise past its rating
+                        self.over_rating[j] = max(self.over_rating.get(j, 0.0), float(demand[j]))
+                        wanted = max(float(caps[j]), force_limit[j])
+                        at_cap = force_limit[j] >= caps[j] * 0.999
+                    force_limit[j] = wanted
                 response = trace.responses[j]
                 ringing = (
                     "overshoot" in miss
@@ -221,8 +277,9 @@ class Search:
                     damping_v[j] = min(damping_v[j] * STIFFNESS_STEP, inertia[j] * omega_max)
                 elif ringing and zeta[j] < MAX_ZETA:
                     zeta[j] = min(zeta[j] * ZETA_STEP, MAX_ZETA)
-                elif miss & {"steady", "settling"}:
-                    cap = max(inertia[j] * omega_max**2, original_k[j])
+                elif miss & {"steady", "settling"} and not at_cap:
+                    # (a drive held at its rating gets no faster with more stiffness)
+                    cap = min(max(inertia[j] * omega_max**2, original_k[j]), rated_k[j])
                     stiffness[j] = min(stiffness[j] * STIFFNESS_STEP, cap)
                     if "settling" in miss and zeta[j] > 1.0 and not ringing:
                         zeta[j] = max(zeta[j] / ZETA_STEP, 1.0)
@@ -260,14 +317,21 @@ class Search:
                     f"[{lower[k]:.4g}, {upper[k]:.4g}] ({what})"
                 )
             elif demand[k] >= gains.force_limit[k] * 0.999 and gains.force_limit[k] < UNLIMITED:
+                rated = (
+                    ", its rating in the description"
+                    if gains.force_limit[k] >= self._caps(len(joints))[k] * 0.999
+                    else ""
+                )
                 why = (
                     f"force limit: the drive asks for {demand[k]:.3g} and is held at "
-                    f"force_limit {gains.force_limit[k]:.3g} ({what})"
+                    f"force_limit {gains.force_limit[k]:.3g}{rated} ({what})"
                 )
             elif len(joints) > 1 and not self._alone_misses(gains, k):
+                pushers = [trace.joints[j] for j in self.coupled.get(k, [])]
+                by = f" (pushed by {', '.join(repr(p) for p in pushers)})" if pushers else ""
                 why = (
                     "coupling between joints: stepped alone it meets the targets, stepped "
-                    f"with the others it does not ({what})"
+                    f"with the others it does not{by} ({what})"
                 )
             else:
                 why = (

@@ -7,6 +7,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+import numpy as np
+
+from robospec.description.ratings import joint_ratings
 from robospec.diagnostics import SpecError
 from robospec.physics import crash_diagnostics
 from robospec.physics.batch import precheck
@@ -88,6 +91,13 @@ def _tune_mode(
             continue
         run.phase(f"tuning controller {controller} in mode {mode}")
         step = run.settings.step_response.for_controller(controller)
+        ratings = joint_ratings(run.context.description)
+        caps = np.array(
+            [
+                ratings[name].value if name in ratings else np.inf
+                for name in (sim.joint_names[j] for j in group.joint_indices)
+            ]
+        )
         search = Search(
             sim,
             group.name,
@@ -95,6 +105,7 @@ def _tune_mode(
             run.keyframes[0],
             step,
             targets_for(run.settings, controller),
+            force_caps=caps,
         )
         try:
             result = search.run()

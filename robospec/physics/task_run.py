@@ -1,0 +1,291 @@
+"""RS524, RS525, RS526, RS527, RS528: ``robospec check --task``, the robot in a ManiSkill task,
+reset and stepped as users run it (RS524: ``--task`` names no task ManiSkill registers).
+
+For each task asked for (``--task PickCube-v1``, several allowed; ``--task tabletop`` for a
+folder of them): ``gym.make(TASK, robot_uids=UID, obs_mode="state", sim_backend="physx_cpu",
+render_backend="none")``, ``reset(seed=0)``, then :data:`STEPS` random actions. What goes wrong
+is a located diagnostic:
+
+- RS528: the task calls an agent member the spec does not define (the scan of ManiSkill's source
+  says which, :mod:`robospec.maniskill.tasks`; a run that fails on one says so too), at the task
+  in the spec's ``tasks:`` or at its ``uid``, with the section that defines it;
+- RS525: the task cannot run with this robot: it needs several robots, or assets ManiSkill has
+  not downloaded (at the ``--task`` argument);
+- RS526: the task's objects lie beyond the robot's reach from where the task loads it;
+- RS527: the task crashed inside ManiSkill or SAPIEN, or its state went NaN.
+
+A task asked for by its folder that needs several robots or a download is skipped, not failed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from robospec.diagnostics import Location, error
+from robospec.physics.check_run import CheckRun
+from robospec.physics.crash import from_exception
+from robospec.physics.findings import Finding, Status, metrics
+
+NAME = "task"
+STEPS = 50
+SEVERAL_ROBOTS = "agents"
+
+
+@dataclass(frozen=True)
+class TaskRequest:
+    """One task to run: its id, where the command line asked for it, and whether by name
+    (False: as part of a folder, ``--task tabletop``)."""
+
+    id: str
+    at: Location
+    explicit: bool = True
+
+
+def check(run: CheckRun, tasks: tuple[TaskRequest, ...]) -> list[Finding]:
+    from robospec.maniskill.tasks import installed_tasks
+
+    scan = installed_tasks()
+    return [_task(run, request, scan) for request in tasks]
+
+
+def _where(run: CheckRun, task: str) -> Location:
+    """The spec's ``tasks:`` entry naming ``task`` (or its folder), else its uid."""
+    spec = run.context.spec
+    for index, name in enumerate(spec.tasks):
+        if name == task:
+            return run.at(("tasks", index))
+    return run.at(("tasks",) if spec.tasks else ("uid",))
+
+
+def _task(run: CheckRun, request: TaskRequest, scan: Any) -> Finding:
+    from robospec.checks.member_names import defined_members
+    from robospec.checks.task_members import mend
+
+    task = request.id
+    needed = scan.needed(task) if scan is not None and task in scan.tasks else ()
+    if SEVERAL_ROBOTS in needed:
+        return _cannot(run, request, "it needs several robots at once (robot_uids a tuple)")
+    missing_assets = _missing_assets(task)
+    if missing_assets:
+        ids = " ".join(missing_assets)
+        return _cannot(
+            run,
+            request,
+            f"it needs assets ManiSkill has not downloaded ({ids})",
+            f"download them (python -m mani_skill.utils.download_asset {ids}), then run it again",
+        )
+    run.phase(f"running task {task}")
+    if run.context.spec.extends is None:
+        defined = {name for name, _ in defined_members(run.context)}
+        missing = [m for m in needed if m not in defined]
+        if missing:
+            diagnostics = tuple(
+                error(
+                    _where(run, task),
+                    "RS528",
+                    f"{task} calls agent.{member}: {mend(member)}",
+                    f"without it {task} fails at reset with ManiSkill's NotImplementedError or "
+                    "AttributeError (robospec check did not run it)",
+                )
+                for member in missing
+            )
+            summary = "missing " + ", ".join(f"agent.{m}" for m in missing)
+            return Finding(NAME, None, task, Status.FAIL, summary, {}, diagnostics)
+    return _run(run, request)
+
+
+def _cannot(run: CheckRun, request: TaskRequest, why: str, hint: str | None = None) -> Finding:
+    if not request.explicit:
+        return Finding(NAME, None, request.id, Status.SKIP, f"not run: {why}")
+    diagnostic = error(
+        request.at,
+        "RS525",
+        f"--task {request.id}: {why}",
+        hint or "run the robot in a task for one robot (--task tabletop runs those of the folder)",
+    )
+    return Finding(NAME, None, request.id, Status.FAIL, f"cannot run: {why}", {}, (diagnostic,))
+
+
+def _missing_assets(task: str) -> list[str]:
+    from mani_skill.utils.assets.data import is_data_source_downloaded
+    from mani_skill.utils.registration import REGISTERED_ENVS
+
+    spec = REGISTERED_ENVS.get(task)
+    if spec is None:
+        return []
+    missing = []
+    for asset in spec.asset_download_ids or []:
+        try:
+            present = is_data_source_downloaded(asset)
+        except Exception:  # an asset id this ManiSkill does not know: let the task say
+            present = True
+        if not present:
+            missing.append(asset)
+    return missing
+
+
+def _run(run: CheckRun, request: TaskRequest) -> Finding:
+    import gymnasium as gym
+    import torch
+
+    from robospec.maniskill.headless import headless_loading
+
+    task = request.id
+    env = None
+    stage = "gym.make"
+    try:
+        with headless_loading():
+            env = gym.make(
+                task,
+                robot_uids=run.uid,
+                obs_mode="state",
+                sim_backend="physx_cpu",
+                render_backend="none",
+            )
+            stage = "reset"
+            env.reset(seed=0)
+        reach = _reach(run, env, request)
+        if reach is not None:
+            return reach
+        stage = "step"
+        space = env.action_space
+        space.seed(0)
+        agent = env.unwrapped.agent
+        for step in range(STEPS):
+            env.step(torch.as_tensor(np.asarray(space.sample()), dtype=torch.float32))
+            qpos = agent.robot.get_qpos().cpu().numpy()
+            if not np.isfinite(qpos).all():
+                diagnostic = error(
+                    _where(run, task),
+                    "RS527",
+                    f"{task}: random actions made the robot's state NaN at step {step + 1}",
+                    "run robospec check without --task: its random_actions findings name the cause",
+                )
+                return Finding(
+                    NAME, None, task, Status.FAIL, f"NaN at step {step + 1}", {}, (diagnostic,)
+                )
+        summary = f"reset and {STEPS} random steps: state finite"
+        return Finding(NAME, None, task, Status.PASS, summary, metrics(steps=STEPS))
+    except Exception as exc:  # upstream's crash becomes a diagnostic
+        return _crashed(run, task, stage, exc)
+    finally:
+        if env is not None:
+            env.close()
+
+
+def _crashed(run: CheckRun, task: str, stage: str, exc: Exception) -> Finding:
+    """A task that raised: a member it calls that the agent lacks is RS330 with its mend;
+    anything else RS527 at ManiSkill's frame."""
+    from robospec.checks.task_members import mend
+
+    member = _missing_member(exc)
+    crash = from_exception(exc)
+    if member is not None:
+        diagnostic = error(
+            _where(run, task),
+            "RS528",
+            f"{task} calls agent.{member}: {mend(member)} (at {stage} it raised "
+            f"{type(exc).__name__})",
+            f"{crash.frame}" if crash.frame else None,
+        )
+    else:
+        diagnostic = error(
+            _where(run, task),
+            "RS527",
+            f"{task} crashed at {stage} with this robot: {crash.what}"
+            + (f" ({crash.frame})" if crash.frame else ""),
+            "the frame named is where ManiSkill or SAPIEN raised",
+        )
+    return Finding(NAME, None, task, Status.FAIL, f"crashed at {stage}", {}, (diagnostic,))
+
+
+def _missing_member(exc: BaseException) -> str | None:
+    """The agent member a task called that the agent does not have: ``AttributeError``'s
+    name, or the ``BaseAgent`` method that raised ``NotImplementedError``."""
+    if isinstance(exc, AttributeError):
+        name = getattr(exc, "name", None)
+        obj = getattr(exc, "obj", None)
+        if name and obj is not None and type(obj).__name__ not in ("Actor", "Link", "Pose"):
+            from mani_skill.agents.base_agent import BaseAgent
+
+            if isinstance(obj, BaseAgent):
+                return str(name)
+        return None
+    if isinstance(exc, NotImplementedError):
+        tb = exc.__traceback__
+        last = None
+        while tb is not None:
+            if tb.tb_frame.f_code.co_filename.endswith("base_agent.py"):
+                last = tb.tb_frame.f_code.co_name
+            tb = tb.tb_next
+        return last
+    return None
+
+
+def _reach(run: CheckRun, env: Any, request: TaskRequest) -> Finding | None:
+    """RS526 when every object of the task lies beyond the robot's reach from its root: the
+    sum of its links' offsets along the longest chain (as the task placed it)."""
+    base = env.unwrapped
+    robot = base.agent.robot
+    root = robot.pose.p[0].cpu().numpy()
+    reach = _chain_reach(robot)
+    objects = []
+    for name, actor in base.scene.actors.items():
+        body = actor._objs[0] if actor._objs else None
+        kinematic = getattr(actor, "px_body_type", "dynamic") != "dynamic"
+        if body is None or kinematic or name == "ground":
+            continue
+        p = actor.pose.p[0].cpu().numpy()
+        objects.append((name, float(np.linalg.norm(p - root))))
+    if not objects or reach is None or not math.isfinite(reach):
+        return None
+    nearest = min(objects, key=lambda item: item[1])
+    if nearest[1] <= reach:
+        return None
+    diagnostic = error(
+        request.at,
+        "RS526",
+        f"--task {request.id}: its nearest object, '{nearest[0]}', lies {nearest[1]:.2f} m from "
+        f"the robot's root where the task places it, beyond its reach ({reach:.2f} m: its "
+        "links end to end)",
+        "this task cannot be done by this robot as mounted there; run it in a task made for "
+        "its size",
+    )
+    summary = f"'{nearest[0]}' {nearest[1]:.2f} m away, reach {reach:.2f} m"
+    return Finding(NAME, None, request.id, Status.FAIL, summary, {}, (diagnostic,))
+
+
+def _chain_reach(robot: Any) -> float | None:
+    """The length of the robot's longest chain of links: from the root, each link's distance
+    from its parent link (joint frames and link origins), summed; plus the farthest point of
+    the last link's collision shapes."""
+    lengths: dict[str, float] = {}
+    links = {link.name: link for link in robot.links}
+    pose = {name: link.pose.p[0].cpu().numpy() for name, link in links.items()}
+
+    def length(name: str) -> float:
+        if name in lengths:
+            return lengths[name]
+        link = links[name]
+        parent = link.joint.parent_link if link.joint is not None else None
+        if parent is None:
+            lengths[name] = 0.0
+        else:
+            step = float(np.linalg.norm(pose[name] - pose[parent.name]))
+            lengths[name] = length(parent.name) + step
+        return lengths[name]
+
+    best = 0.0
+    for name, link in links.items():
+        extent = 0.0
+        body = link._objs[0]
+        if body.collision_shapes:
+            low, high = body.compute_global_aabb_tight()
+            corners = np.array([low, high], dtype=np.float64)
+            extent = float(np.max(np.linalg.norm(corners - pose[name], axis=1)))
+        best = max(best, length(name) + extent)
+    return best
