@@ -37,6 +37,7 @@ from robospec.authoring.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGain
 from robospec.authoring.joint_gains import joint_gains
 from robospec.authoring.rest_pose import RestPose
 from robospec.authoring.scaffold_controllers import controllers_and_modes, unbalanced
+from robospec.authoring.task_members import task_members
 from robospec.description.facts import Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
@@ -175,6 +176,13 @@ def scaffold(
     notes[("controllers",)] = _gains_note(analysis, refined)
     data["control_modes"] = modes
     notes[("control_modes",)] = "the first is the default"
+    members = task_members(analysis, rest.qpos)
+    if members:
+        data.update(members)
+        notes[(next(iter(members)),)] = (
+            "what ManiSkill's tasks call (PickCube-v1: tcp_pose, is_grasping, is_static): "
+            "guessed from the gripper, check them"
+        )
     return SpecDoc(data, _header(analysis, rest), notes)
 
 

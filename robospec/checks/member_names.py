@@ -57,7 +57,9 @@ def defined_members(context: CheckContext) -> Iterator[tuple[str, KeyPath]]:
     for name in spec.named_links:
         yield name, ("named_links", name)
     if spec.tcp is not None:
-        for name in ("tcp", "tcp_pos", "tcp_pose"):
+        # a midpoint tcp without a link binds no self.tcp
+        linked = isinstance(spec.tcp, str) or getattr(spec.tcp, "link", None) is not None
+        for name in ("tcp", "tcp_pos", "tcp_pose") if linked else ("tcp_pos", "tcp_pose"):
             yield name, ("tcp",)
     for name in spec.grasping:
         yield name, ("grasping", name)

@@ -28,6 +28,7 @@ Failing (RS330: PickCube-v1 calls agent.is_grasping: add `grasping:`)::
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import Any
 
 from robospec.checks.context import CheckContext
 from robospec.checks.member_names import defined_members
@@ -52,8 +53,11 @@ SECTIONS: dict[str, tuple[str, str]] = {
 SEVERAL_ROBOTS = "agents"
 
 
-def mend(member: str) -> str:
-    """How a spec defines ``member``."""
+def mend(member: str, spec: Any = None) -> str:
+    """How a spec defines ``member`` (``spec``: the spec, when what it has matters)."""
+    tcp = getattr(spec, "tcp", None)
+    if member == "tcp" and tcp is not None and getattr(tcp, "link", 1) is None:
+        return "give `tcp:` a link too (`tcp: {link: ..., midpoint: [...], orientation: ...}`)"
     found = SECTIONS.get(member)
     if found is not None:
         return f"add {found[1]}"
@@ -101,7 +105,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             yield error(
                 at,
                 "RS330",
-                f"{who} call{'s' if len(tasks) == 1 else ''} agent.{member}: {mend(member)}",
+                f"{who} call{'s' if len(tasks) == 1 else ''} agent.{member}: {mend(member, spec)}",
                 "without it the task fails at reset with ManiSkill's NotImplementedError or "
                 "AttributeError",
             )

@@ -62,6 +62,11 @@ MEANINGS: tuple[tuple[re.Pattern[str], str], ...] = (
         "a NumPy 2 deprecation met inside torch: harmless",
     ),
     (
+        re.compile(r"is not in the task's list of supported robots"),
+        "the task places the robots it lists by their uid; another robot is loaded where the "
+        "task loads any robot, at its default pose: it runs, its poses are not tuned for it",
+    ),
+    (
         re.compile(r"failed to find a rendering device"),
         "SAPIEN found no GPU to render with; robots still load without visuals for physics",
     ),

@@ -87,7 +87,7 @@ def _task(run: CheckRun, request: TaskRequest, scan: Any) -> Finding:
                 error(
                     _where(run, task),
                     "RS528",
-                    f"{task} calls agent.{member}: {mend(member)}",
+                    f"{task} calls agent.{member}: {mend(member, run.context.spec)}",
                     f"without it {task} fails at reset with ManiSkill's NotImplementedError or "
                     "AttributeError (robospec check did not run it)",
                 )
@@ -188,7 +188,7 @@ def _crashed(run: CheckRun, task: str, stage: str, exc: Exception) -> Finding:
         diagnostic = error(
             _where(run, task),
             "RS528",
-            f"{task} calls agent.{member}: {mend(member)} (at {stage} it raised "
+            f"{task} calls agent.{member}: {mend(member, run.context.spec)} (at {stage} it raised "
             f"{type(exc).__name__})",
             f"{crash.frame}" if crash.frame else None,
         )

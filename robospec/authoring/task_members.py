@@ -1,0 +1,193 @@
+"""What ManiSkill's tasks call on an agent, for the grippers and hands ``robospec new``
+recognises: ``tcp``, ``grasping`` (``is_grasping``) and ``is_static`` over the arm, so that a
+scaffolded arm with a gripper runs ``PickCube-v1`` as written.
+
+* **Fingers.** In a gripper or hand group (or a mimic group), two joints that hang from the same
+  link are two fingers; of several such pairs, the two whose fingers lie farthest apart (a
+  three-finger hand: the most opposed). A gripper of one moving jaw closes it against the link
+  it hangs from (SO-101's fixed jaw). A hand of finger chains (``finger1``, ``finger2``...) uses
+  the tips of its two chains that lie farthest apart.
+* **Opening.** Each finger opens away from the other: the direction from the other finger's
+  centre of mass to its own at the rest pose, in its own frame, to the nearest axis.
+* **tcp.** A link welded near the fingers' parent named like a tool centre point (``tcp``,
+  ``grasp``, ``ee_gripper``, ``tool0``, ``eef``, ``end_effector``); else the midpoint of the
+  two fingers, oriented as their parent link, which ``self.tcp`` is bound to.
+* **is_static** over the arm groups.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from robospec.authoring.analysis import RobotAnalysis
+from robospec.authoring.frames import Transform, Vector
+
+_TCP_NAME = re.compile(r"(tcp|grasp|ee_gripper|tool0|end_?effector|eef)", re.IGNORECASE)
+GRIPPING_KINDS = ("gripper", "mimic")
+ARM_KINDS = ("arm",)
+AXES = ("+x", "-x", "+y", "-y", "+z", "-z")
+
+
+@dataclass(frozen=True)
+class Fingers:
+    links: tuple[str, str]
+    parent: str  # the link both hang from (the palm, the hand)
+    openings: tuple[str, str]  # each finger's opening axis, in its own frame
+
+
+def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str, Any]:
+    """The spec sections (``tcp``, ``grasping``, ``is_static``) for the robot, those it can
+    tell; empty when it recognises no gripper."""
+    model = analysis.kinematics
+    if model is None:
+        return {}
+    poses = model.link_poses(qpos)
+    fingers = _fingers(analysis, poses)
+    out: dict[str, Any] = {}
+    if fingers is None:
+        return out
+    tcp = _tcp_link(analysis, fingers.parent)
+    # a midpoint tcp still binds self.tcp to a link (PushCube-v1 reads agent.tcp.pose): the
+    # fingers' parent
+    out["tcp"] = (
+        tcp
+        if tcp is not None
+        else {
+            "link": fingers.parent,
+            "midpoint": list(fingers.links),
+            "orientation": fingers.parent,
+        }
+    )
+    out["grasping"] = {
+        "is_grasping": {
+            "fingers": [
+                {"link": link, "opening": opening}
+                for link, opening in zip(fingers.links, fingers.openings, strict=True)
+            ]
+        }
+    }
+    arms = [name for name, kind in analysis.groups.kinds.items() if kind in ARM_KINDS]
+    if arms:
+        out["is_static"] = {"joints": arms[0] if len(arms) == 1 else arms}
+    return out
+
+
+def _fingers(analysis: RobotAnalysis, poses: Mapping[str, Transform]) -> Fingers | None:
+    model = analysis.kinematics
+    assert model is not None
+    joints = {j.name: j for j in model.joints}
+    gripping = [
+        [joints[n] for n in analysis.groups.groups[name] if n in joints]
+        for name, kind in analysis.groups.kinds.items()
+        if kind in GRIPPING_KINDS or name.startswith(("gripper", "hand"))
+    ]
+    pairs = []
+    for group in gripping:
+        for i, a in enumerate(group):
+            for b in group[i + 1 :]:
+                if a.parent == b.parent and a.child != b.child:
+                    pairs.append((a.child, b.child, a.parent))
+    if not pairs:
+        for group in gripping:
+            if len(group) == 1:  # one jaw closing against the link it hangs from
+                pairs.append((group[0].child, group[0].parent, group[0].parent))
+    if not pairs:
+        tips = _finger_tips(analysis, poses)
+        if tips is not None:
+            pairs.append(tips)
+    if not pairs:
+        return None
+    a, b, parent = max(pairs, key=lambda pair: _distance(analysis, poses, pair[0], pair[1]))
+    return Fingers(
+        (a, b), parent, (_opening(analysis, poses, a, b), _opening(analysis, poses, b, a))
+    )
+
+
+def _finger_tips(
+    analysis: RobotAnalysis, poses: Mapping[str, Transform]
+) -> tuple[str, str, str] | None:
+    """A hand of finger chains: the tips of the two chains farthest apart, and the link the
+    chains hang from (its palm)."""
+    model = analysis.kinematics
+    assert model is not None
+    chains = [
+        analysis.groups.groups[name]
+        for name, kind in analysis.groups.kinds.items()
+        if name.startswith("finger") and kind not in ARM_KINDS
+    ]
+    if len(chains) < 2:
+        return None
+    joints = {j.name: j for j in model.joints}
+    children: dict[str, list[str]] = {}
+    for joint in model.joints:
+        children.setdefault(joint.parent, []).append(joint.child)
+    tips = []
+    for chain in chains:
+        last = joints.get(chain[-1])
+        first = joints.get(chain[0])
+        if last is None or first is None:
+            continue
+        tip = last.child
+        while len(children.get(tip, [])) == 1:  # a fixed fingertip link below it
+            tip = children[tip][0]
+        tips.append((tip, first.parent))
+    if len(tips) < 2:
+        return None
+    best = max(
+        ((a, b) for i, a in enumerate(tips) for b in tips[i + 1 :]),
+        key=lambda pair: _distance(analysis, poses, pair[0][0], pair[1][0]),
+    )
+    return best[0][0], best[1][0], best[0][1]
+
+
+def _centre(analysis: RobotAnalysis, poses: Mapping[str, Transform], link: str) -> Vector:
+    """A link's centre of mass at rest (its frame's origin when it has no inertial)."""
+    pose = poses.get(link, Transform())
+    found = analysis.inertials.get(link)
+    return pose.point(found.com) if found is not None else pose.translation
+
+
+def _distance(analysis: RobotAnalysis, poses: Mapping[str, Transform], a: str, b: str) -> float:
+    pa, pb = _centre(analysis, poses, a), _centre(analysis, poses, b)
+    return math.dist(pa, pb)
+
+
+def _opening(analysis: RobotAnalysis, poses: Mapping[str, Transform], link: str, other: str) -> str:
+    """The axis of ``link``'s frame nearest the direction from ``other`` to ``link``."""
+    away = [
+        x - y
+        for x, y in zip(
+            _centre(analysis, poses, link), _centre(analysis, poses, other), strict=True
+        )
+    ]
+    frame = poses.get(link, Transform()).inverse()
+    local = frame.direction(tuple(away))  # type: ignore[arg-type]
+    index = max(range(3), key=lambda i: abs(local[i]))
+    return AXES[2 * index + (0 if local[index] >= 0 else 1)]
+
+
+def _tcp_link(analysis: RobotAnalysis, parent: str) -> str | None:
+    """A link welded to ``parent`` or to the two links above it (fixed joints only), or one of
+    those, named like a tool centre point."""
+    model = analysis.kinematics
+    assert model is not None
+    below: dict[str, list[str]] = {}
+    above: dict[str, str] = {}
+    for joint in model.joints:
+        above[joint.child] = joint.parent
+        if joint.type == "fixed":
+            below.setdefault(joint.parent, []).append(joint.child)
+    top = parent
+    for _ in range(2):
+        top = above.get(top, top)
+    queue, found = [top], []
+    while queue:
+        link = queue.pop(0)
+        if _TCP_NAME.search(link):
+            found.append(link)
+        queue.extend(below.get(link, []))
+    return found[0] if found else None
