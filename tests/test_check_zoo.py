@@ -36,7 +36,27 @@ _G1 = (
     "stiffness 50 with damping 1 is underdamped: joints overshoot a small step by ~75% and fly "
     "past their limits under random actions"
 )
+_ALLEGRO = (
+    "no keyframe (upstream's put joint_12.0 outside its limits): Empty-v1 loads the hand at the "
+    "origin, its fingers 10 cm into the ground, and PhysX throws them to thousands of radians "
+    "within the first steps (RS521 names the links)"
+)
 KNOWN_BROKEN_UPSTREAM: dict[str, tuple[frozenset[str], str]] = {
+    **{
+        f"rs_{hand}": (frozenset({"RS501", "RS503", "RS504", "RS521"}), _ALLEGRO)
+        for hand in ("allegro_hand_left", "allegro_hand_right", "allegro_hand_right_touch")
+    },
+    "rs_trifingerpro": (
+        frozenset({"RS501", "RS521"}),
+        "no keyframe: at the origin of Empty-v1 its fingertips reach 4 cm into the ground (it is "
+        "built to hang above its table), and the ground bends a finger 0.4 rad off its hold",
+    ),
+    "rs_unitree_g1_simplified_upper_body_right_arm": (
+        frozenset({"RS503", "RS521"}),
+        "no keyframe (upstream's has 24 values for 25 joints): loaded at the origin its torso "
+        "reaches 2.6 cm into the ground, and random targets then push a finger 1.1 rad past "
+        "its limit",
+    ),
     "rs_fetch": (
         frozenset({"RS502"}),
         "pd_joint_pos_vel normalizes actions over the infinite limits of the continuous arm "
