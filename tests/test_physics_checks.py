@@ -571,11 +571,10 @@ def test_self_contact_passes_once_the_pair_is_in_never_collide(
     from robospec.pipeline import compile_spec
 
     compiled = compile_spec(variant_paths["folded_never_collide"])
-    if not compiled.ok or getattr(compiled.robot, "never_collide", None) is None:
-        pytest.skip(
-            "never_collide is not applied to the compiled robot yet: "
-            + "; ".join(d.message for d in compiled.diagnostics if d.is_error)
-        )
+    # the variant must compile with its never_collide rule applied: a spec that lost it would
+    # pass this test for the wrong reason (no rule, no contact check), so it fails instead
+    assert compiled.ok, [d.format_text() for d in compiled.diagnostics if d.is_error]
+    assert compiled.robot is not None and compiled.robot.never_collide
     finding = one(variants["folded_never_collide"], "self_contact", subject="folded")
     assert finding.status is Status.PASS, finding.summary
 

@@ -108,6 +108,88 @@ def test_yaml_one_value_becomes_a_flow_list_per_joint_and_an_override_is_a_new_k
 def test_a_long_flow_list_wraps_with_its_lines_aligned_after_the_bracket() -> None:
     text = flow_list([123.0] * 30, 10)
     lines = text.splitlines()
-    assert len(lines) > 1 and all(10 + len(lines[0]) <= 100 for _ in lines)
+    assert len(lines) > 1 and 10 + len(lines[0]) <= 100
+    assert all(len(line) <= 100 for line in lines[1:])
     assert all(line.startswith(" " * 11) for line in lines[1:])
     assert text.replace("\n", " ").split() == ["[123,", *["123,"] * 28, "123]"]
+
+
+BLOCK_SPEC = """\
+controllers:
+  base:
+    type: pd_joint_pos
+    joints: arm
+    stiffness: 10
+    damping: 1
+  child:
+    extends: base
+    use_delta: true
+  after: {type: passive, joints: arm}
+"""
+
+
+def test_a_new_key_goes_after_the_last_key_of_a_block_mapping() -> None:
+    # the child inherits its gains; tuned apart from its base, it gets its own stiffness: a new
+    # key, written as the block mapping's last entry, at its indentation
+    tunings = [
+        _tuned("base", (100.0,) * 3, (20.0,) * 3),
+        _tuned("child", (7.0,) * 3, (20.0,) * 3),
+    ]
+    edited = edit_yaml(BLOCK_SPEC, tunings, None)
+    lines = edited.splitlines()
+    child = lines.index("  child:")
+    assert lines[child + 1 : child + 4] == [
+        "    extends: base",
+        "    use_delta: true",
+        "    stiffness: 7",
+    ]
+    assert lines[child + 4] == "  after: {type: passive, joints: arm}"
+    assert "    stiffness: 100" in lines and "    damping: 20" in lines
+
+
+def test_every_line_of_a_wrapped_flow_list_fits_the_line_length() -> None:
+    for indent in (4, 10, 30):
+        text = flow_list([123.456] * 40, indent)
+        lines = text.splitlines()
+        assert len(lines) > 1
+        # the first line follows the key at column `indent`; the others carry their indentation
+        assert indent + len(lines[0]) <= 100
+        assert all(len(line) <= 100 for line in lines[1:]), lines
+
+
+def test_write_refuses_an_edit_that_does_not_give_the_tuned_gains(
+    tmp_path: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from conftest import PANDA_SPEC
+
+    from robospec.pipeline import compile_spec
+    from robospec.tune import write
+    from robospec.tune.results import Gains
+
+    spec = tmp_path / "panda.yaml"  # type: ignore[operator]
+    assets = _assets()
+    spec.write_text(PANDA_SPEC.read_text().replace("{maniskill_assets}", str(assets)))
+    item = compile_spec(spec)
+    assert item.ok and item.robot is not None
+    joints = tuple(f"panda_joint{i}" for i in range(1, 8))
+    before = Gains((1e3,) * 7, (1e2,) * 7, (100.0,) * 7)
+    after = Gains((2e3,) * 7, (1e2,) * 7, (100.0,) * 7)
+    tuning = ControllerTuning(
+        "arm_pos", "m", "arm", "position", joints, "tuned", None, before, after
+    )
+    original = spec.read_text()
+    # an editor that writes nothing (or the wrong place) must not pass for a written spec
+    monkeypatch.setattr("robospec.tune.yaml_write.edit_yaml", lambda text, *args: text + "\n")
+    written, diagnostics = write.write_gains(item, [tuning])
+    assert not written and [d.code for d in diagnostics] == ["RS622"]
+    assert "would get stiffness" in diagnostics[0].message
+    assert spec.read_text() == original  # nothing was written
+
+
+def _assets():  # type: ignore[no-untyped-def]
+    from robospec.resolve.paths import maniskill_assets_dir
+
+    found = maniskill_assets_dir()
+    if found is None:
+        pytest.fail("ManiSkill's assets are not installed", pytrace=False)
+    return found

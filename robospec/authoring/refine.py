@@ -244,6 +244,8 @@ def _random_speeds(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each joint's top speed, and how far past its limits it went, under check's random
     actions from ``keyframe``."""
+    from robospec.physics.random_actions import limit_excess
+
     rng = np.random.default_rng(settings.seed)
     low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
     high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
@@ -259,6 +261,5 @@ def _random_speeds(
             broken = np.full(len(sim.joint_names), np.inf)
             return broken, broken
         top = np.maximum(top, np.abs(qvel).max(axis=0))
-        over = np.maximum(qpos - upper, lower - qpos).max(axis=0)
-        excess = np.maximum(excess, np.where(np.isfinite(over), over, 0.0))
+        excess = np.maximum(excess, limit_excess(qpos, lower, upper))
     return top, excess

@@ -66,8 +66,7 @@ def _run_mode(run: CheckRun, sim: Sim, start: ResolvedKeyframe | None) -> Findin
             nan_step = step + 1
             nan_joints = [name for name, b in zip(sim.joint_names, bad, strict=True) if b]
             break
-        excess = np.maximum(qpos - upper, lower - qpos).max(axis=0)
-        excess = np.where(np.isfinite(excess), excess, 0.0)
+        excess = limit_excess(qpos, lower, upper)
         worse = excess > past_limit
         if watch_ground and (worse & (excess > 0)).any():
             touching = {link for link, _, _ in sim.ground_contacts()}
@@ -113,6 +112,14 @@ def _run_mode(run: CheckRun, sim: Sim, start: ResolvedKeyframe | None) -> Findin
     if diagnostics and nan_step is None:
         summary = "; ".join(d.message.split(": ", 1)[-1] for d in diagnostics)
     return Finding(NAME, sim.mode, origin, status, summary, values, diagnostics)
+
+
+def limit_excess(qpos: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """How far each joint is past its limits, shape ``(J,)`` from ``qpos`` ``(num_envs, J)``:
+    above its upper limit or below its lower one, the worst environment; 0 inside (and for an
+    unbounded side)."""
+    excess = np.maximum(qpos - upper, lower - qpos).max(axis=0)
+    return np.maximum(np.where(np.isfinite(excess), excess, 0.0), 0.0)
 
 
 def _problems(

@@ -176,9 +176,7 @@ def step_trace(
     for _ in range(round(SETTLE_TIME * sim.sim_freq)):
         sim.sim_step(pin)
     size = np.where(sim.prismatic[joints], settings.prismatic_step, settings.step)
-    lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
-    direction = np.where(upper - start[joints] >= start[joints] - lower, 1.0, -1.0)
-    signed = direction * size
+    signed = step_direction(start[joints], sim.limits[joints, 0], sim.limits[joints, 1]) * size
     if stepped is not None:
         signed = np.where(stepped, signed, 0.0)
     if group.kind == "position":
@@ -224,6 +222,12 @@ def step_trace(
         velocity=velocity,
         responses=tuple(responses),
     )
+
+
+def step_direction(start: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """+1 or -1 per joint: a step goes away from the nearer limit (towards the farther one),
+    so that a joint resting near a limit is stepped where it has room to move."""
+    return np.where(upper - start >= start - lower, 1.0, -1.0)
 
 
 def _finding(

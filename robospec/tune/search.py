@@ -217,15 +217,7 @@ class Search:
         # joints that meet the targets keep their gains; the others start critically damped,
         # never softer than they were
         touched = np.array([bool(m) for m in self.missed(before_trace)])
-        # a rated joint's stiffness stays where a step asks no more than its rating (past it the
-        # drive saturates: stiffer only means a drive that brakes too late and overshoots)
-        step = np.where(
-            self.sim.prismatic[list(self.sim.group(self.group_name).joint_indices)],
-            self.settings.prismatic_step,
-            self.settings.step,
-        )
-        rated_k = np.maximum(caps / step, original_k)
-        stiffness = np.minimum(np.maximum(original_k, inertia * omega**2), rated_k)
+        stiffness = np.maximum(original_k, inertia * omega**2)
         with np.errstate(divide="ignore", invalid="ignore"):
             zeta = np.nan_to_num(original_d / (2.0 * np.sqrt(original_k * inertia)), nan=1.0)
         zeta = np.clip(zeta, 1.0, MAX_ZETA)
@@ -279,7 +271,7 @@ class Search:
                     zeta[j] = min(zeta[j] * ZETA_STEP, MAX_ZETA)
                 elif miss & {"steady", "settling"} and not at_cap:
                     # (a drive held at its rating gets no faster with more stiffness)
-                    cap = min(max(inertia[j] * omega_max**2, original_k[j]), rated_k[j])
+                    cap = max(inertia[j] * omega_max**2, original_k[j])
                     stiffness[j] = min(stiffness[j] * STIFFNESS_STEP, cap)
                     if "settling" in miss and zeta[j] > 1.0 and not ringing:
                         zeta[j] = max(zeta[j] / ZETA_STEP, 1.0)
