@@ -99,3 +99,16 @@ def test_quick_run_runs_every_part_and_writes_every_section(tmp_path: Path) -> N
     assert _headings(doc) == list(run.SECTION_TITLES)
     assert "`rs_panda` / `panda` | pd_joint_delta_pos |" in doc
     assert "| 100 |" in doc and "ValueError" in doc and "error[RS201]" in doc
+
+
+@pytest.mark.slow
+def test_the_scaffold_benchmark_times_new_per_robot_with_and_without_the_refinement() -> None:
+    import scaffold
+
+    # a tiny configuration: one arm, --no-sim only (the refinement loads ManiSkill: the full run)
+    section = scaffold.measure(1, only=["pb_kuka_iiwa"], refine=False)
+    assert section.title == scaffold.TITLE
+    row = next(line for line in section.body.splitlines() if line.startswith("| pb_kuka_iiwa |"))
+    cells = [cell.strip() for cell in row.strip("|").split("|")]
+    assert cells[1] == "arm" and float(cells[2]) > 0 and cells[3] == "—"
+    assert "Median, `--no-sim`:" in section.body

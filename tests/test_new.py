@@ -114,9 +114,21 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
         **{f"panda_joint{i}": 87 for i in range(1, 5)},
         **{f"panda_joint{i}": 12 for i in range(5, 8)},
     }
+    from robospec.authoring.analysis import analyse
+    from robospec.authoring.description_file import read_description_file
+    from robospec.authoring.joint_gains import loads
+
+    source, _ = read_description_file(ASSETS / "robots/panda/panda_v2.urdf")
+    assert source is not None
+    rest = dict.fromkeys(absolute["stiffness"], 0.0) | {"panda_joint4": -1.5708}
+    inertia = {name: load.inertia for name, load in loads(analyse(source), rest, False).items()}
     for joint, stiffness in absolute["stiffness"].items():
-        inertia = stiffness / 20.0**2
-        assert absolute["damping"][joint] == pytest.approx(2 * (stiffness * inertia) ** 0.5, 0.01)
+        # 20 rad/s about its inertia, softened where a 0.1 rad step would ask more than the
+        # rating (RS609), and critically damped either way
+        expected = inertia[joint] * 20.0**2
+        assert stiffness == pytest.approx(min(expected, absolute["force_limit"][joint] / 0.1), 0.01)
+        critical = 2 * (stiffness * inertia[joint]) ** 0.5
+        assert absolute["damping"][joint] == pytest.approx(critical, 0.01)
     # the shoulder carries the whole arm, the last joint only the hand
     assert absolute["stiffness"]["panda_joint2"] > 100 * absolute["stiffness"]["panda_joint7"]
 

@@ -178,7 +178,7 @@ def _hold(
     )
     if mimic:
         problems.append(mimic)
-    if standing is not None:
+    if standing is not None and standing.touches:
         problems.append(
             f"it can stand there: its centre of mass is {standing.inside * 100:.3g} cm inside "
             f"the support polygon of its contacts ({', '.join(standing.links)})"
@@ -211,30 +211,34 @@ def _standing(
         contacts=len(base.links),
         com_inside=float(base.inside) if np.isfinite(base.inside) else None,
     )
-    if not base.touches:
-        return Finding(
-            NAME, sim.mode, subject, Status.SKIP, "touches no ground: nothing to stand on", values
-        )
-    if base.stands:
+    if base.stands or (not base.touches and sim.gravity_off()):
+        # (with gravity off nothing pulls it anywhere: held in mid-air it must stay there)
         return _hold(run, sim, keyframe, by_action, pinned=False, standing=base)
     outside = -base.inside
-    why = (
-        f"its centre of mass lies {outside * 100:.3g} cm outside the support polygon of its "
-        f"contacts with the ground ({', '.join(base.links)})"
-        if np.isfinite(outside) and len(base.polygon) >= 3
-        else f"it touches the ground only at {', '.join(base.links)}: a point or a line, no "
-        "polygon to balance over"
-    )
+    if not base.touches:
+        why = "it touches no ground: the keyframe holds it in mid-air, and gravity pulls it down"
+    elif np.isfinite(outside) and len(base.polygon) >= 3:
+        why = (
+            f"its centre of mass lies {outside * 100:.3g} cm outside the support polygon of its "
+            f"contacts with the ground ({', '.join(base.links)})"
+        )
+    else:
+        why = (
+            f"it touches the ground only at {', '.join(base.links)}: a point or a line, no "
+            "polygon to balance over"
+        )
     diagnostic = warning(
         run.at(run.keyframe_path(keyframe)),
         "RS523",
         f"keyframe '{label}': the floating robot cannot stand there on any drives: {why}; "
         "it falls without a balance controller",
         "nothing to fix for a robot that balances actively (a humanoid): its drives were held "
-        "on a test stand; for one meant to stand still, change the keyframe so its centre of "
-        "mass is over its feet",
+        "on a test stand; for one meant to stand still, change the keyframe so that it stands "
+        "on the ground with its centre of mass over its feet",
     )
-    summary = "cannot stand: centre of mass outside its support"
+    summary = "cannot stand: " + (
+        "no ground under it" if not base.touches else "centre of mass outside its support"
+    )
     return Finding(NAME, sim.mode, subject, Status.INFO, summary, values, (diagnostic,))
 
 
