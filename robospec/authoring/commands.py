@@ -105,48 +105,41 @@ def scaffold_text(
     gains computed there are measured and changed where they miss (:mod:`.refine`), each in a
     child process; without, both stay as computed from the description."""
     from robospec.authoring.joint_gains import joint_gains, rating_warnings, with_refined
-    from robospec.authoring.rest_pose import (
-        PROBE_UID,
-        RestPose,
-        probe_rest_pose,
-        refine_gains,
-    )
+    from robospec.authoring.rest_pose import PROBE_UID, Refinement, RestPose, probe_rest_pose
     from robospec.authoring.scaffold import scaffold
     from robospec.authoring.scaffold_controllers import unbalanced
     from robospec.importer.yamlout import to_yaml
 
     start = analysis.start_qpos()
+    found = None
     if simulate:
         draft = scaffold(analysis, out, RestPose(start), PROBE_UID, absolute_paths=True)
-        rest = probe_rest_pose(
+        refinement = Refinement(str(analysis.source.path.resolve()), str(out), schema)
+        rest, found = probe_rest_pose(
             to_yaml(draft, schema),
             analysis.description,
             start,
             analysis.groups.mimic,
             analysis.body.floating,
+            refinement,
         )
     else:
         rest = RestPose(start, unchecked_because="robospec new --no-sim")
     gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
     refined = False
     problems: list[Diagnostic] = []
-    if simulate and rest.checked:
-        draft = scaffold(analysis, out, rest, PROBE_UID, absolute_paths=True, gains=gains)
-        joints = list(analysis.description.active_joint_names)
-        found = refine_gains(to_yaml(draft, schema), rest, analysis.body.floating, joints)
-        if isinstance(found, str):
-            problems.append(
-                warning(
-                    Location(str(analysis.source.path)),
-                    NOT_LOADED,
-                    f"the gains were not measured in ManiSkill: {found}",
-                    "they are written as computed from the description; robospec check "
-                    "measures them",
-                )
+    if isinstance(found, str):
+        problems.append(
+            warning(
+                Location(str(analysis.source.path)),
+                NOT_LOADED,
+                f"the gains were not measured in ManiSkill: {found}",
+                "they are written as computed from the description; robospec check measures them",
             )
-        else:
-            gains = with_refined(gains, found.gains, found.over_rating)
-            refined = bool(found.changed)
+        )
+    elif found is not None:
+        gains = with_refined(gains, found.gains, found.over_rating)
+        refined = bool(found.changed)
     text = to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
     return text, [
         *rating_warnings(analysis, gains),

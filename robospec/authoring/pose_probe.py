@@ -51,10 +51,9 @@ class Request:
     # a step of one towards the other (robospec check's step response) goes nowhere
     clearance: float = 0.002
     budget: int = 400  # poses tried at most
-    # refine only: the spec is the scaffold, rest pose found; measure its gains at ``start``
-    # (the root ``height`` up) and change them where they miss
-    refine: bool = False
-    height: float | None = None
+    # then scaffold the robot at the rest pose found and measure its gains there
+    # (robospec.authoring.refine): (the description file, the spec's path, the schema reference)
+    refinement: tuple[str, str, str] | None = None
 
 
 Contacts = dict[tuple[str, str], float]
@@ -193,24 +192,6 @@ class Probe:
                 return trial, touching
         return None
 
-    def refine(self, qpos: list[float], height: float | None) -> Any:
-        """The draft's gains measured at the rest pose and changed where they miss
-        (:mod:`robospec.authoring.refine`)."""
-        from pathlib import Path
-
-        from robospec.authoring.refine import refine
-        from robospec.description.ratings import joint_ratings
-        from robospec.pipeline import compile_spec
-        from robospec.resolve.resolved import ResolvedKeyframe
-
-        item = compile_spec(Path(self.request.spec))
-        assert item.context is not None
-        ratings = {k: r.value for k, r in joint_ratings(item.context.description).items()}
-        keyframe = ResolvedKeyframe(
-            "rest", (0.0, 0.0, height or 0.0), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None
-        )
-        return refine(self.sim, item.context.spec.checks, ratings, keyframe)
-
     def mount_height(self, qpos: list[float]) -> float | None:
         """For a fixed robot whose moving links reach below the ground at ``qpos`` (its root at
         the origin, where ManiSkill's scenes put it), the height to mount it at so they clear
@@ -247,19 +228,11 @@ class Probe:
 def run(request: Request) -> dict[str, Any]:
     probe = Probe(request)
     try:
-        if request.refine:
-            found = probe.refine(request.start, request.height)
-            return {
-                "gains": found.gains,
-                "over_rating": found.over_rating,
-                "refined": found.changed,
-                "simulations": found.simulations,
-            }
         qpos, contacts = probe.search()
         height = probe.standing_height(qpos) if request.floating else probe.mount_height(qpos)
     finally:
         probe.sim.close()
-    return {
+    answer: dict[str, Any] = {
         "qpos": qpos,
         # in contact as robospec check counts it (the search kept a clearance besides)
         "touching": [
@@ -270,6 +243,71 @@ def run(request: Request) -> dict[str, Any]:
         "always": sorted(probe.always or ()),
         "root_height": height,
     }
+    if request.refinement is not None:
+        try:
+            found = refine_scaffold(request, answer)
+        except Exception as exc:  # the scaffold's gains could not be measured: the parent says
+            answer["refine_error"] = f"{type(exc).__name__}: {exc}"
+        else:
+            answer.update(
+                gains=found.gains,
+                over_rating=found.over_rating,
+                refined=found.changed,
+                simulations=found.simulations,
+            )
+    return answer
+
+
+def refine_scaffold(request: Request, answer: dict[str, Any]) -> Any:
+    """Scaffold the robot at the rest pose found (as the parent will: the same functions on
+    the same answer), register it, and measure and refine its gains
+    (:mod:`robospec.authoring.refine`)."""
+    import tempfile
+    from pathlib import Path
+
+    from robospec.authoring.analysis import analyse
+    from robospec.authoring.description_file import read_description_file
+    from robospec.authoring.joint_gains import joint_gains
+    from robospec.authoring.refine import refine
+    from robospec.authoring.rest_pose import REFINE_UID, rest_from_answer
+    from robospec.authoring.scaffold import scaffold
+    from robospec.authoring.scaffold_controllers import unbalanced
+    from robospec.description.ratings import joint_ratings
+    from robospec.importer.yamlout import to_yaml
+    from robospec.output.register import register
+    from robospec.physics.sim import Sim
+    from robospec.pipeline import compile_spec
+    from robospec.resolve.resolved import ResolvedKeyframe
+
+    assert request.refinement is not None
+    description, out, schema = request.refinement
+    source, _ = read_description_file(Path(description))
+    if source is None:
+        raise ValueError(f"cannot read {description} again")
+    analysis = analyse(source)
+    rest = rest_from_answer(answer, analysis.description)
+    gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
+    draft = scaffold(analysis, Path(out), rest, REFINE_UID, absolute_paths=True, gains=gains)
+    with tempfile.TemporaryDirectory(prefix="robospec-new-refine-") as folder:
+        spec = Path(folder) / "refine.yaml"
+        spec.write_text(to_yaml(draft, schema), encoding="utf-8")
+        item = compile_spec(spec)
+        if not item.ok or item.context is None:
+            raise ValueError("the scaffold does not compile")
+        register(spec)
+        ratings = {k: r.value for k, r in joint_ratings(item.context.description).items()}
+        keyframe = ResolvedKeyframe(
+            "rest",
+            (0.0, 0.0, rest.root_height or 0.0),
+            (1.0, 0.0, 0.0, 0.0),
+            tuple(rest.qpos[name] for name in request.joints),
+            None,
+        )
+        sim = Sim(REFINE_UID, request.mode)
+        try:
+            return refine(sim, item.context.spec.checks, ratings, keyframe)
+        finally:
+            sim.close()
 
 
 def main() -> int:
@@ -277,6 +315,8 @@ def main() -> int:
     raw["limits"] = [tuple(pair) for pair in raw["limits"]]
     raw["mimic"] = [tuple(item) for item in raw.get("mimic", [])]
     raw["parents"] = {k: tuple(v) for k, v in raw.get("parents", {}).items()}
+    if raw.get("refinement") is not None:
+        raw["refinement"] = tuple(raw["refinement"])
     try:
         answer = run(Request(**raw))
     except Exception as exc:  # the robot could not be loaded: the parent says so and goes on

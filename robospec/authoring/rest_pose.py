@@ -23,6 +23,7 @@ from robospec.authoring.tree import KinematicTree
 from robospec.description import RobotDescription
 
 PROBE_UID = "robospec_new_probe"
+REFINE_UID = "robospec_new_refine"  # the scaffold at its rest pose, whose gains are measured
 PROBE_MODE = "pd_joint_pos"
 PROBE_TIMEOUT = 300.0  # s; loading a big robot on a slow CPU takes tens of seconds
 MIN_DEPTH = 0.001  # m: robospec check's default (checks.self_contact.min_depth)
@@ -50,18 +51,42 @@ def maniskill_installed() -> bool:
     return all(importlib.util.find_spec(name) is not None for name in ("mani_skill", "sapien"))
 
 
+@dataclass(frozen=True)
+class RefinedGains:
+    """The scaffold's gains as measured in ManiSkill (:mod:`.refine`)."""
+
+    gains: dict[str, tuple[float, float, float]]  # joint -> stiffness, damping, force_limit
+    over_rating: dict[str, tuple[float, float]]  # joint -> (force asked for, its rating)
+    changed: tuple[str, ...]  # the controllers (groups) whose gains changed, "hold" too
+    simulations: int
+
+
+@dataclass(frozen=True)
+class Refinement:
+    """What the child needs to scaffold the robot again at the rest pose it found and measure
+    the scaffold's gains there (:mod:`.refine`): one child process does both, so ManiSkill is
+    imported once."""
+
+    description: str  # the description file (absolute)
+    out: str  # the spec's path (for the scaffold's relative references)
+    schema: str  # the schema reference the scaffold names
+
+
 def probe_rest_pose(
     draft: str,
     description: RobotDescription,
     start: dict[str, float],
     mimic: list[MimicLink],
     floating: bool,
-) -> RestPose:
+    refinement: Refinement | None = None,
+) -> tuple[RestPose, RefinedGains | str | None]:
     """Search from ``start`` in ManiSkill; ``draft`` is the text of a valid spec of the robot
-    whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode."""
+    whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode. With
+    ``refinement``, the scaffold at the pose found is then measured too: its refined gains
+    (a string when they could not be measured; None without ``refinement``)."""
     unchecked = RestPose(dict(start))
     if not maniskill_installed():
-        return _unchecked(unchecked, "ManiSkill is not installed")
+        return _unchecked(unchecked, "ManiSkill is not installed"), None
     joints = list(description.active_joint_names)
     index = {name: i for i, name in enumerate(joints)}
     tree = KinematicTree(description)
@@ -80,13 +105,33 @@ def probe_rest_pose(
         "floating": floating,
         "min_depth": MIN_DEPTH,
     }
+    if refinement is not None:
+        request["refinement"] = [refinement.description, refinement.out, refinement.schema]
     with tempfile.TemporaryDirectory(prefix="robospec-new-") as folder:
         spec = Path(folder) / "probe.yaml"
         spec.write_text(draft, encoding="utf-8")
         request["spec"] = str(spec)
         answer, problem = _run_child(request)
     if answer is None:
-        return _unchecked(unchecked, problem)
+        return _unchecked(unchecked, problem), None
+    rest = rest_from_answer(answer, description)
+    if refinement is None:
+        return rest, None
+    if "refine_error" in answer:
+        return rest, str(answer["refine_error"])
+    return rest, RefinedGains(
+        gains={k: (float(v[0]), float(v[1]), float(v[2])) for k, v in answer["gains"].items()},
+        over_rating={k: (float(v[0]), float(v[1])) for k, v in answer["over_rating"].items()},
+        changed=tuple(answer["refined"]),
+        simulations=int(answer["simulations"]),
+    )
+
+
+def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> RestPose:
+    """The rest pose the search found (the child's answer): the parent's and the child's alike
+    (the child scaffolds the robot at it to measure its gains)."""
+    joints = list(description.active_joint_names)
+    tree = KinematicTree(description)
     qpos = {name: _tidy(value) for name, value in zip(joints, answer["qpos"], strict=True)}
     height = answer.get("root_height")
     touching = tuple((a, b, float(d)) for a, b, d in answer["touching"])
@@ -103,48 +148,6 @@ def probe_rest_pose(
         touching=touching,
         overlapping=overlapping,
         tried=int(answer["tried"]),
-    )
-
-
-@dataclass(frozen=True)
-class RefinedGains:
-    """The scaffold's gains as measured in ManiSkill (:mod:`.refine`)."""
-
-    gains: dict[str, tuple[float, float, float]]  # joint -> stiffness, damping, force_limit
-    over_rating: dict[str, tuple[float, float]]  # joint -> (force asked for, its rating)
-    changed: tuple[str, ...]  # the controllers (groups) whose gains changed, "hold" too
-    simulations: int
-
-
-def refine_gains(
-    spec: str, rest: RestPose, floating: bool, joints: list[str]
-) -> RefinedGains | str:
-    """Measure the gains of ``spec`` (the scaffold, uid :data:`PROBE_UID`, its rest keyframe
-    ``rest``) in ManiSkill and change them where they miss; a string says why it could not."""
-    if not maniskill_installed():
-        return "ManiSkill is not installed"
-    request: dict[str, Any] = {
-        "uid": PROBE_UID,
-        "mode": PROBE_MODE,
-        "joints": joints,
-        "start": [rest.qpos[name] for name in joints],
-        "limits": [],
-        "floating": floating,
-        "refine": True,
-        "height": rest.root_height,
-    }
-    with tempfile.TemporaryDirectory(prefix="robospec-new-") as folder:
-        path = Path(folder) / "probe.yaml"
-        path.write_text(spec, encoding="utf-8")
-        request["spec"] = str(path)
-        answer, problem = _run_child(request)
-    if answer is None:
-        return problem
-    return RefinedGains(
-        gains={k: (float(v[0]), float(v[1]), float(v[2])) for k, v in answer["gains"].items()},
-        over_rating={k: (float(v[0]), float(v[1])) for k, v in answer["over_rating"].items()},
-        changed=tuple(answer["refined"]),
-        simulations=int(answer["simulations"]),
     )
 
 
