@@ -97,3 +97,32 @@ def test_a_controller_that_never_settles_is_said_to_never_settle_not_to_overshoo
     assert "never settled within 10% of a velocity step in 1 s" in diagnostic.message
     assert "overshot" not in diagnostic.message.split("(")[0]
     assert "its overshoot, 20%, is within max_overshoot 50%" in diagnostic.message
+
+
+def test_an_error_sapien_reports_is_a_finding_at_the_element_naming_its_file() -> None:
+    from conftest import PANDA_SPEC
+
+    from robospec.maniskill.upstream_output import UpstreamMessage
+    from robospec.physics.upstream_findings import findings
+    from robospec.pipeline import compile_spec
+
+    item = compile_spec(PANDA_SPEC)
+    assert item.context is not None
+    mesh = next(m for m in item.context.description.mesh_files if m.role == "collision")
+    said = [
+        UpstreamMessage("SAPIEN", "warning", "a warning is no finding", 1, None, None),
+        UpstreamMessage(
+            "SAPIEN", "error", "failed to build convex hull of <path>", 2, mesh.path, None
+        ),
+        UpstreamMessage("mani_skill", "critical", "something broke", 1, None, None),
+    ]
+    hull, other = findings(item.context, said)
+    (diagnostic,) = hull.diagnostics
+    assert diagnostic.code == "RS522" and diagnostic.is_error and hull.failed
+    # located at the <collision> naming the file, in the description
+    assert diagnostic.location.file == item.context.description.path
+    assert diagnostic.location.line == mesh.line
+    assert "SAPIEN reported an error" in diagnostic.message and "(2 times)" in diagnostic.message
+    assert mesh.path is not None and mesh.path in diagnostic.message
+    # one it cannot trace: at the spec's description
+    assert other.diagnostics[0].location == item.context.key(("description",))

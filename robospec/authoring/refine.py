@@ -13,8 +13,10 @@
    ratio), a few rounds at most.
 3. Random actions from the rest keyframe, as check sends them (its seed and steps): joints that
    run faster than half check's ``max_joint_speed``, or past their limits by more than half
-   its ``joint_limit_tolerance``, get more damping, a few rounds at most. Random joint targets
-   jump across a joint's whole range; damping is what keeps that from flinging it.
+   its ``joint_limit_tolerance``, get more damping (up to a damping ratio of 2), a few rounds at
+   most. Random joint targets jump across a joint's whole range; damping is what keeps that
+   from flinging it. The controllers of the joints damped are then searched again from there,
+   so that none is left too slow for check's step.
 
 The answer is each joint's stiffness, damping and force limit, and the joints whose gains need
 more force than their rating (the scaffold keeps the rating and says so: RS609).
@@ -56,13 +58,41 @@ def refine(sim: Sim, checks: Any, ratings: dict[str, float], keyframe: ResolvedK
     """Refine the gains of ``sim``'s mode (the draft's pd_joint_pos) at ``keyframe``.
     ``checks``: the draft's ``checks`` section (its defaults); ``ratings``: joint -> the most
     force its motor is rated for."""
-    from robospec.tune.search import Search, significant
 
     found = Refined()
+    _search(sim, checks, keyframe, ratings, found)
+    if not sim.fixed_root:
+        _hold(sim, checks, keyframe, found, ratings)
+    damped = _random(sim, checks, keyframe, found)
+    if damped:
+        # the damping random actions asked for may leave a joint too slow for check's step:
+        # search those controllers again from where they are now (stiffer, as damped)
+        _search(sim, checks, keyframe, ratings, found, only=damped)
+    return found
+
+
+def _search(
+    sim: Sim,
+    checks: Any,
+    keyframe: ResolvedKeyframe,
+    ratings: dict[str, float],
+    found: Refined,
+    only: set[str] | None = None,
+) -> None:
+    """tune's search on each position or velocity controller of ``sim``'s mode (``only``: the
+    groups holding these joints, started from their gains in ``found``)."""
+    from robospec.tune.results import Gains
+    from robospec.tune.search import Search, significant
+
     for group in sim.groups():
         if group.kind not in ("position", "velocity") or not group.joint_indices:
             continue
         names = [sim.joint_names[j] for j in group.joint_indices]
+        if only is not None and not only & set(names):
+            continue
+        initial = None
+        if only is not None and all(name in found.gains for name in names):
+            initial = Gains(*(tuple(found.gains[name][i] for name in names) for i in range(3)))
         caps = np.array([ratings.get(name, np.inf) for name in names])
         search = Search(
             sim,
@@ -72,13 +102,14 @@ def refine(sim: Sim, checks: Any, ratings: dict[str, float], keyframe: ResolvedK
             checks.step_response.for_controller(group.name),
             targets(checks, group.name),
             force_caps=caps,
+            initial=initial,
         )
         result = search.run()
         found.simulations += search.simulations
         after = result.after
         if after is None:
             continue
-        if result.changed:
+        if result.changed and group.name not in found.changed:
             found.changed.append(group.name)
         for k, name in enumerate(names):
             found.gains[name] = (
@@ -90,10 +121,6 @@ def refine(sim: Sim, checks: Any, ratings: dict[str, float], keyframe: ResolvedK
         for joint, asked, rating in result.over_rating:
             if joint in missing:  # held at its rating, it misses the targets: say so
                 found.over_rating[joint] = (asked, rating)
-    if not sim.fixed_root:
-        _hold(sim, checks, keyframe, found, ratings)
-    _random(sim, checks, keyframe, found)
-    return found
 
 
 def targets(checks: Any, controller: str) -> Any:
@@ -199,11 +226,13 @@ def _drift(
     return drift
 
 
-def _random(sim: Sim, checks: Any, keyframe: ResolvedKeyframe, found: Refined) -> None:
-    """Damp the joints that random actions fling (see the module's doc, 3)."""
+def _random(sim: Sim, checks: Any, keyframe: ResolvedKeyframe, found: Refined) -> set[str]:
+    """Damp the joints that random actions fling (see the module's doc, 3); the joints it
+    damped."""
     from robospec.tune.search import significant
 
     settings = checks.random_actions
+    damped: set[str] = set()
     inertia: dict[str, float] = {}
     sim.start(keyframe)
     for group in sim.groups():
@@ -221,7 +250,7 @@ def _random(sim: Sim, checks: Any, keyframe: ResolvedKeyframe, found: Refined) -
             if name in found.gains and not (speed <= limit and over <= past)
         ]
         if not fast:
-            return
+            return damped
         raised = False
         for name in fast:
             k, d, f = found.gains[name]
@@ -229,11 +258,13 @@ def _random(sim: Sim, checks: Any, keyframe: ResolvedKeyframe, found: Refined) -
             new = significant(min(d * DAMPING_RAISE, max(ceiling, d)))
             if new > d:
                 found.gains[name] = (k, new, f)
+                damped.add(name)
                 raised = True
         if not raised:
-            return
+            return damped
         if "random actions" not in found.changed:
             found.changed.append("random actions")
+    return damped
 
 
 def _random_speeds(

@@ -112,9 +112,11 @@ class Search:
         targets: Targets,
         on_simulation: Callable[[int], None] | None = None,
         force_caps: np.ndarray | None = None,
+        initial: Gains | None = None,
     ) -> None:
         """``force_caps``: the most force each joint's motor is rated for (inf: unrated), in
-        the group's joint order; the search never raises a force limit past it."""
+        the group's joint order; the search never raises a force limit past it. ``initial``:
+        the gains to start from (default: the controller's own)."""
         self.sim = sim
         self.group_name = group_name
         self.controller = controller
@@ -123,6 +125,7 @@ class Search:
         self.targets = targets
         self.on_simulation = on_simulation
         self.force_caps = force_caps
+        self.initial = initial
         self.simulations = 0
         self.over_rating: dict[int, float] = {}  # joint index -> the force it asked for
         self.coupled: dict[int, list[int]] = {}  # joint index -> the joints that push it
@@ -141,7 +144,7 @@ class Search:
 
     def run(self) -> ControllerTuning:
         started = time.perf_counter()
-        before = controller_gains(self.sim, self.group_name)
+        before = self.initial or controller_gains(self.sim, self.group_name)
         before_trace = self.measure(before)
         kind = before_trace.kind
         result = ControllerTuning(
