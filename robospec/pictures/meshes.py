@@ -141,9 +141,7 @@ def _material_colour(material: Any) -> tuple[float, float, float, float] | None:
     factor = getattr(material, "baseColorFactor", None)
     if factor is None:
         factor = getattr(material, "diffuse", None)
-    colour = (
-        np.asarray(factor, dtype=np.float64)[:4] / 255.0 if factor is not None else np.ones(4)
-    )
+    colour = np.asarray(factor, dtype=np.float64)[:4] / 255.0 if factor is not None else np.ones(4)
     if colour.shape != (4,):
         colour = np.ones(4)
     image = getattr(material, "baseColorTexture", None) or getattr(material, "image", None)
@@ -163,14 +161,10 @@ def _split_by_colour(
 ) -> list[MeshPart]:
     # quantized so that near colours count as one; the rarest join their nearest main colour
     quantized = np.round(colours * 15.0)
-    unique, inverse, counts = np.unique(
-        quantized, axis=0, return_inverse=True, return_counts=True
-    )
+    unique, inverse, counts = np.unique(quantized, axis=0, return_inverse=True, return_counts=True)
     inverse = inverse.reshape(-1)
     main = np.argsort(-counts)[:MAX_COLOURS]
-    nearest = np.argmin(
-        ((unique[:, None, :] - unique[None, main, :]) ** 2).sum(axis=2), axis=1
-    )
+    nearest = np.argmin(((unique[:, None, :] - unique[None, main, :]) ** 2).sum(axis=2), axis=1)
     group = nearest[inverse]
     parts = []
     for index in range(len(main)):
@@ -181,9 +175,7 @@ def _split_by_colour(
     return parts
 
 
-def _part(
-    vertices: np.ndarray, faces: np.ndarray, rgba: tuple[float, ...] | None
-) -> MeshPart:
+def _part(vertices: np.ndarray, faces: np.ndarray, rgba: tuple[float, ...] | None) -> MeshPart:
     """Only the vertices ``faces`` use, renumbered; simplified past :data:`MAX_FACES`."""
     # vertices at one position are one (files split them along seams of normals or UVs)
     points, renumbered = np.unique(
@@ -199,9 +191,7 @@ def _part(
     if len(triangles) > MAX_FACES:
         import fast_simplification
 
-        points, triangles = fast_simplification.simplify(
-            points, triangles, target_count=MAX_FACES
-        )
+        points, triangles = fast_simplification.simplify(points, triangles, target_count=MAX_FACES)
     return MeshPart(
         np.asarray(points, dtype=np.float32),
         np.asarray(triangles, dtype=np.int32),

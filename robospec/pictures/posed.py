@@ -59,6 +59,7 @@ class PosedRobot:
     """The robot at one keyframe: every link's world pose (4x4), and every shape's."""
 
     keyframe: str
+    root: np.ndarray  # the root link's world pose, 4x4
     links: Mapping[str, np.ndarray]
     shapes: tuple[Shape, ...]
     poses: tuple[np.ndarray, ...]  # shapes[i]'s world pose
@@ -190,7 +191,12 @@ class UrdfShapes:
             for layer in layers:
                 for element in link.iterfind(layer):
                     shape = self._shape(
-                        link.get("name", ""), layer, element, colours, mesh_path, loaded,
+                        link.get("name", ""),
+                        layer,
+                        element,
+                        colours,
+                        mesh_path,
+                        loaded,
                         description_path,
                     )
                     if shape is not None:
@@ -206,7 +212,7 @@ class UrdfShapes:
                 continue
             shapes.append(shape)
             poses.append(link @ _matrix(origin))
-        return PosedRobot(keyframe.name, links, tuple(shapes), tuple(poses))
+        return PosedRobot(keyframe.name, keyframe.root, links, tuple(shapes), tuple(poses))
 
     def _shape(
         self,
@@ -226,7 +232,9 @@ class UrdfShapes:
         rgba = _visual_colour(element, colours) if layer == "visual" else None
         if kind == "box":
             size = finite_numbers(kind_element.get("size"), 3)
-            return Shape(link, layer, "box", tuple(s / 2 for s in size), rgba=rgba) if size else None
+            return (
+                Shape(link, layer, "box", tuple(s / 2 for s in size), rgba=rgba) if size else None
+            )
         if kind == "sphere":
             radius = finite_numbers(kind_element.get("radius"), 1)
             return Shape(link, layer, "sphere", radius, rgba=rgba) if radius else None
@@ -334,9 +342,7 @@ MANISKILL_VISUAL_GROUPS = (0, 2)
 class MjcfShapes:
     """An MJCF robot's geoms, placed by MuJoCo at each keyframe."""
 
-    def __init__(
-        self, path: str, description: RobotDescription, layers: tuple[Layer, ...]
-    ) -> None:
+    def __init__(self, path: str, description: RobotDescription, layers: tuple[Layer, ...]) -> None:
         import mujoco
 
         self.problems: list[Diagnostic] = []
@@ -363,7 +369,7 @@ class MjcfShapes:
 
         model = self.model
         if model is None:
-            return PosedRobot(keyframe.name, {}, (), ())
+            return PosedRobot(keyframe.name, keyframe.root, {}, (), ())
         data = self.data
         data.qpos[:] = model.qpos0
         for joint in range(model.njnt):
@@ -400,7 +406,7 @@ class MjcfShapes:
             for shape in self._shapes(geom, name):
                 shapes.append(shape)
                 poses.append(correction @ pose)
-        return PosedRobot(keyframe.name, links, tuple(shapes), tuple(poses))
+        return PosedRobot(keyframe.name, keyframe.root, links, tuple(shapes), tuple(poses))
 
     def _shapes(self, geom: int, link: str) -> list[Shape]:
         import mujoco
@@ -500,8 +506,5 @@ def posed_robots(
             if ref.generated_text is not None
             else ref.absolute.read_bytes()
         )
-        source = UrdfShapes(
-            text, description.path, urdf_mesh_paths(robot, description), layers
-        )
+        source = UrdfShapes(text, description.path, urdf_mesh_paths(robot, description), layers)
     return [source.posed(k) for k in keyframes], list(source.problems)
-

@@ -57,14 +57,18 @@ def table_stage(root: np.ndarray, tcp: np.ndarray | None, height: float | None) 
     origin = np.array([root[0, 3], root[1, 3], 0.0])
     centre = origin + heading * (TABLE_NEAR + TABLE_DEPTH / 2)
     thickness = (top - ground) / 2
-    table = Box(_pose(rotation, [centre[0], centre[1], ground + thickness]),
-                (TABLE_DEPTH / 2, TABLE_WIDTH / 2, thickness))
+    table = Box(
+        _pose(rotation, [centre[0], centre[1], ground + thickness]),
+        (TABLE_DEPTH / 2, TABLE_WIDTH / 2, thickness),
+    )
     spot = origin + heading * (TABLE_NEAR + CUBE_AHEAD)
     if tcp is not None:
         along = float((tcp - origin) @ heading) - TABLE_NEAR
         across = float((tcp - origin) @ side)
-        if 0.05 < along < TABLE_DEPTH - 0.05 and abs(across) < TABLE_WIDTH / 2 - 0.05 and (
-            tcp[2] > top
+        if (
+            0.05 < along < TABLE_DEPTH - 0.05
+            and abs(across) < TABLE_WIDTH / 2 - 0.05
+            and (tcp[2] > top)
         ):
             spot = np.array([tcp[0], tcp[1], 0.0])
     cube = Box(_pose(rotation, [spot[0], spot[1], top + CUBE_HALF]), (CUBE_HALF,) * 3)

@@ -81,7 +81,7 @@ def camera_view(camera: ResolvedCamera, mount: np.ndarray, name: str) -> View:
 
 
 # name -> (azimuth about z from +x, elevation), in degrees: the robot faces +x
-STANDARD_VIEWS = {"front": (0.0, 12.0), "side": (90.0, 12.0), "three_quarter": (40.0, 28.0)}
+STANDARD_VIEWS = {"three_quarter": (40.0, 28.0), "front": (0.0, 12.0), "side": (90.0, 12.0)}
 VIEW_WIDTH, VIEW_HEIGHT = 320, 240
 VIEW_FOVY = math.radians(40.0)
 FRAME_MARGIN = 1.08  # the box fills this much less than the frame
