@@ -221,7 +221,7 @@ def _pictures(
     from robospec.cli.uid_option import COMMAND_LINE
     from robospec.pictures.album import AlbumOptions, CameraSettings, make_album
     from robospec.pictures.camera_checks import Limits
-    from robospec.pictures.renderer import RenderUnavailable
+    from robospec.pictures.gl import RenderUnavailable
 
     robot, description, context = compiled.robot, compiled.description, compiled.context
     assert robot is not None and description is not None and context is not None

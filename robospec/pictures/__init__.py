@@ -7,6 +7,7 @@ judged from a segmentation render of the same views (:mod:`.camera_checks`).
 
 The stages, data flowing one way:
 
+- :mod:`.gl` — MuJoCo, imported to draw offscreen (EGL unless ``MUJOCO_GL`` says otherwise);
 - :mod:`.meshes` — a mesh file as coloured triangle sets (trimesh reads .dae/.glb/.obj/.stl/
   .ply; MuJoCo reads STL and OBJ only), kept in robospec's cache folder;
 - :mod:`.posed` — the robot's shapes placed in the world at a keyframe (the URDF's visuals and

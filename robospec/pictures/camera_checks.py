@@ -125,19 +125,19 @@ def judge(
         if not view.sees(point):
             u, v, depth = view.project(point)
             where = (
-                "behind the camera"
+                "it is behind the camera"
                 if depth <= 0
-                else f"past far ({depth:.2f} m)"
+                else f"it is past far ({depth:.2f} m away)"
                 if depth > view.far
-                else f"nearer than near ({depth:.3f} m)"
+                else f"it is nearer than near ({depth:.3f} m away)"
                 if depth < view.near
-                else f"outside the picture, at pixel ({u:.0f}, {v:.0f})"
+                else f"it lands at pixel ({u:.0f}, {v:.0f}), outside the "
+                f"{view.width}x{view.height} picture"
             )
             findings.append(
                 Finding(
                     LOOKS_AWAY,
-                    f"moves with the tcp '{name}' but looks away from it: the tcp is {where} "
-                    f"of the {view.width}x{view.height} picture: {picture}",
+                    f"moves with the tcp '{name}' but looks away from it ({where}): {picture}",
                     "turn the camera toward the tcp (pose.q: the camera looks along its x "
                     "axis, z up); checks.camera_views.tcp_in_view: false if it is meant",
                 )

@@ -30,6 +30,7 @@ from robospec.description.facts import RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.pictures.gl import import_mujoco
 from robospec.pictures.meshes import MeshError, MeshPart, load_mesh
 from robospec.resolve.resolved import ResolvedRobot
 from robospec.resolve.root_pose import root_body_pose
@@ -276,7 +277,7 @@ class UrdfShapes:
                 warning(
                     Location(description_path, line, 1),
                     MESH_UNREADABLE,
-                    f"{layer} mesh '{uri}' of link '{link}' {exc}",
+                    f"{layer} mesh '{uri}' of link '{link}' cannot be drawn: {exc}",
                     "the pictures are drawn without it",
                 )
             )
@@ -343,8 +344,7 @@ class MjcfShapes:
     """An MJCF robot's geoms, placed by MuJoCo at each keyframe."""
 
     def __init__(self, path: str, description: RobotDescription, layers: tuple[Layer, ...]) -> None:
-        import mujoco
-
+        mujoco = import_mujoco()
         self.problems: list[Diagnostic] = []
         self.description = description
         self.layers = layers
@@ -365,8 +365,7 @@ class MjcfShapes:
         self.root = _articulated_root(self.model)
 
     def posed(self, keyframe: KeyframePose) -> PosedRobot:
-        import mujoco
-
+        mujoco = import_mujoco()
         model = self.model
         if model is None:
             return PosedRobot(keyframe.name, keyframe.root, {}, (), ())
@@ -374,10 +373,10 @@ class MjcfShapes:
         data.qpos[:] = model.qpos0
         for joint in range(model.njnt):
             name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
-            kind = model.jnt_type[joint]
+            kind = int(model.jnt_type[joint])
             if name in keyframe.qpos and kind in (
-                mujoco.mjtJoint.mjJNT_HINGE,
-                mujoco.mjtJoint.mjJNT_SLIDE,
+                int(mujoco.mjtJoint.mjJNT_HINGE),
+                int(mujoco.mjtJoint.mjJNT_SLIDE),
             ):
                 # ManiSkill's zero is the joint's reference (MuJoCo's qpos0)
                 address = model.jnt_qposadr[joint]
@@ -409,17 +408,16 @@ class MjcfShapes:
         return PosedRobot(keyframe.name, keyframe.root, links, tuple(shapes), tuple(poses))
 
     def _shapes(self, geom: int, link: str) -> list[Shape]:
-        import mujoco
-
+        mujoco = import_mujoco()
         model = self.model
         assert model is not None
         kind = {
-            mujoco.mjtGeom.mjGEOM_BOX: "box",
-            mujoco.mjtGeom.mjGEOM_SPHERE: "sphere",
-            mujoco.mjtGeom.mjGEOM_CYLINDER: "cylinder",
-            mujoco.mjtGeom.mjGEOM_CAPSULE: "capsule",
-            mujoco.mjtGeom.mjGEOM_MESH: "mesh",
-        }.get(model.geom_type[geom])
+            int(mujoco.mjtGeom.mjGEOM_BOX): "box",
+            int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
+            int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder",
+            int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule",
+            int(mujoco.mjtGeom.mjGEOM_MESH): "mesh",
+        }.get(int(model.geom_type[geom]))
         if kind is None:
             return []  # planes and ellipsoids ManiSkill skips; hfields and sdfs it cannot load
         size = tuple(float(s) for s in model.geom_size[geom])

@@ -18,13 +18,13 @@ A segmentation picture gives each pixel what it shows: a robot shape's index, or
 from __future__ import annotations
 
 import colorsys
-import importlib.util
 import os
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from robospec.pictures.gl import RenderUnavailable, import_mujoco
 from robospec.pictures.posed import DEFAULT_RGBA, PosedRobot, Shape
 from robospec.pictures.stage import Box, Stage
 from robospec.pictures.views import View
@@ -35,35 +35,6 @@ GROUND_RGBA = (0.82, 0.84, 0.86, 1.0)
 TABLE_RGBA = (0.62, 0.47, 0.33, 1.0)
 CUBE_RGBA = (0.85, 0.12, 0.12, 1.0)
 MIN_VERTICES = 4  # MuJoCo cannot make a mesh of fewer
-
-
-class RenderUnavailable(Exception):
-    """No picture can be drawn here: ``code`` (RS660, RS661), the message, a hint."""
-
-    def __init__(self, code: str, message: str, hint: str) -> None:
-        super().__init__(message)
-        self.code = code
-        self.message = message
-        self.hint = hint
-
-
-def import_mujoco() -> Any:
-    """MuJoCo, set to draw offscreen through EGL unless ``MUJOCO_GL`` says otherwise."""
-    os.environ.setdefault("MUJOCO_GL", "egl")
-    try:
-        import mujoco
-
-        # the meshes' reader, imported only to read a mesh not in the cache (it costs seconds);
-        # missing, it is said now rather than half-way
-        if importlib.util.find_spec("trimesh") is None:
-            raise ImportError("No module named 'trimesh'")
-    except ImportError as exc:
-        raise RenderUnavailable(
-            "RS660",
-            f"pictures need the render extra: {exc}",
-            "pip install 'robospec[render]' (mujoco, trimesh, pycollada)",
-        ) from exc
-    return mujoco
 
 
 @dataclass(frozen=True)
