@@ -65,6 +65,8 @@ class Album:
 class AlbumOptions:
     collisions: bool = False
     views: tuple[str, ...] = tuple(STANDARD_VIEWS)
+    cameras: bool = True  # each camera's views (and their findings)
+    first_keyframe_only: bool = False
     width: int = VIEW_WIDTH
     height: int = VIEW_HEIGHT
 
@@ -93,16 +95,19 @@ def make_album(
     """Every picture, and the diagnostics (the camera findings name each picture as
     ``shown_folder/<path>``). Raises :class:`~robospec.pictures.renderer.RenderUnavailable`
     when nothing can be drawn here."""
-    keyframes = keyframe_poses(robot)
+    keyframes = keyframe_poses(robot)[: 1 if options.first_keyframe_only else None]
     layers = ("visual", "collision") if options.collisions else ("visual",)
     posed, problems = posed_robots(robot, description, keyframes, layers)  # type: ignore[arg-type]
     diagnostics: list[Diagnostic] = list(problems)
-    sizes = [(options.width, options.height)] + [(c.width, c.height) for c in robot.cameras]
+    cameras_drawn = robot.cameras if options.cameras else ()
+    sizes = [(options.width, options.height)] + [(c.width, c.height) for c in cameras_drawn]
     renderer = Renderer(posed[0], max(w for w, _ in sizes), max(h for _, h in sizes))
     pictures: list[Picture] = []
     try:
         for keyframe, robot_at in zip(keyframes, posed, strict=True):
             pictures += _robot_views(renderer, robot_at, keyframe, robot, options)
+            if not options.cameras:
+                continue
             for picture, found in _camera_views(
                 renderer, robot_at, robot, description, cameras, shown_folder
             ):
