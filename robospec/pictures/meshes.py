@@ -25,10 +25,10 @@ import numpy as np
 
 from robospec.files import cache_root
 
-CACHE_VERSION = b"robospec-mesh-3"
+CACHE_VERSION = b"robospec-mesh-4"
 # a part with more triangles is simplified to about this many (fast-simplification's quadric
 # decimation): a picture of 320x240 pixels shows no more, and drawing on the CPU pays for each
-MAX_FACES = 20_000
+MAX_FACES = 5_000
 MAX_COLOURS = 6  # a mesh coloured per face keeps this many colours (the rest join the nearest)
 _MTLLIB = re.compile(rb"^\s*mtllib\s+(.+?)\s*$", re.MULTILINE)
 
