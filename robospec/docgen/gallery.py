@@ -22,7 +22,7 @@ from pathlib import Path
 
 from robospec.pipeline import CompiledSpec, compile_spec
 
-RENDER_VERSION = "1"
+RENDER_VERSION = "2"
 GALLERY_VIEW = "three_quarter"
 ZOO_FOLDER = Path("images") / "zoo"
 INPUTS_FILE = "inputs.json"
