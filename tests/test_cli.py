@@ -5,10 +5,11 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from conftest import MISSPELLED_JOINT_SPEC as MISSPELLED
-from conftest import ROOT, run_robospec
+from conftest import ROOT, invoke_robospec, run_robospec
 
 
 def test_validate_of_the_shipped_specs_exits_zero() -> None:
@@ -92,3 +93,26 @@ def test_schema_command_prints_the_committed_schema() -> None:
     assert result.returncode == 0
     committed = (ROOT / "schemas/robospec.schema.json").read_text(encoding="utf-8")
     assert result.stdout == committed, "run: robospec schema -o schemas/robospec.schema.json"
+
+
+def test_schema_with_out_says_what_it_wrote(tmp_path: Path) -> None:
+    out = tmp_path / "robospec.schema.json"
+    result = invoke_robospec("schema", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    assert out.is_file()
+    assert result.stdout == f"wrote {out}\n"
+
+
+def test_every_writing_command_says_what_it_wrote(tmp_path: Path) -> None:
+    """build, new and doc name the files they wrote (schema: above; import, optimize, tune and
+    check --plot in their own tests, which simulate)."""
+    panda = str(ROOT / "specs" / "maniskill" / "panda.yaml")
+    urdf = str(ROOT / "tests" / "data" / "tree.urdf")
+    for args, written in [
+        (("build", panda, "-o", str(tmp_path / "pkg")), "wrote"),
+        (("new", urdf, "-o", str(tmp_path / "arm.yaml"), "--no-sim"), f"wrote {tmp_path}"),
+        (("doc", panda, "-o", str(tmp_path / "card.md")), f"wrote {tmp_path / 'card.md'}"),
+    ]:
+        result = invoke_robospec(*args)
+        assert result.exit_code == 0, result.output
+        assert written in result.stdout, args

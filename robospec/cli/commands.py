@@ -14,13 +14,15 @@ from typing import Annotated
 
 import typer
 
+from robospec.cli.help_style import App
 from robospec.diagnostics import Diagnostic, has_errors
 from robospec.reporting import Format as DiagnosticFormat
 from robospec.reporting import render
 from robospec.reporting.color import ColorChoice as Color
 from robospec.reporting.color import use_color
 
-app = typer.Typer(
+# Help is written for reflow: robospec/cli/help_style.py says how (App holds every command to it).
+app = App(
     name="robospec",
     help="Compile declarative robot specs (YAML/TOML) into registered ManiSkill agents.",
     no_args_is_help=True,
@@ -186,6 +188,7 @@ def schema(
         sys.stdout.write(text)
     else:
         out.write_text(text, encoding="utf-8")
+        typer.echo(f"wrote {out}")
 
 
 @app.command("import")
@@ -215,6 +218,8 @@ def import_(
     if text is not None and out is None:
         sys.stdout.write(text)
     _report(diagnostics, 1, format, color, err=True)
+    if text is not None and out is not None:
+        typer.echo(f"wrote {out}")
     raise typer.Exit(1 if has_errors(diagnostics) else 0)
 
 
