@@ -191,7 +191,7 @@ def schema(
         typer.echo(f"wrote {out}")
 
 
-@app.command("import")
+@app.command("import", needs=("maniskill",))
 def import_(
     target: Annotated[
         str, typer.Argument(metavar="MODULE:CLASS", help="a ManiSkill agent class to import")
@@ -223,7 +223,7 @@ def import_(
     raise typer.Exit(1 if has_errors(diagnostics) else 0)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def check(
     paths: PathsArg,
     steps: Annotated[
@@ -264,7 +264,7 @@ def check(
     raise typer.Exit(code)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def demo(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot to show")],
     control_mode: Annotated[
@@ -379,7 +379,7 @@ def new(
     _finish(diagnostics, written is None, format, color, done)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def optimize(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot to optimize")],
     out: Annotated[
@@ -438,7 +438,7 @@ def optimize(
     raise typer.Exit(1 if report is None or has_errors(diagnostics) else 0)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def tune(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot to tune")],
     uid: Annotated[
@@ -511,7 +511,7 @@ def doc(
     _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
 
 
-@app.command()
+@app.command(needs=("lsp",))
 def lsp() -> None:
     """Run the robospec Language Server on stdin/stdout, for editors.
 
@@ -522,15 +522,8 @@ def lsp() -> None:
 
     Example: robospec lsp   (started by the editor, not by hand)
     """
-    try:
-        from robospec.lsp.server import main
-    except ImportError as exc:
-        typer.echo(
-            f"robospec lsp needs pygls and lsprotocol ({exc.name or exc} is missing): "
-            "pip install 'robospec[lsp]'",
-            err=True,
-        )
-        raise typer.Exit(2) from None
+    from robospec.lsp.server import main
+
     main()
 
 

@@ -12,15 +12,22 @@ command or flag is held to it too):
 - A boolean option is a flag (``--force``): the help shows no type for it, and it takes no
   value. Name it after what it turns on.
 - A command that writes files says what it wrote (``wrote PATH``), on stdout.
+- A command that needs an extra says so: ``@app.command(needs=("maniskill",))``. It then
+  stops at once, exit 2, naming the extra, where that extra is not installed (and so does any
+  command that meets a missing module of a known extra: robospec/cli/extras.py).
 """
 
 from __future__ import annotations
 
+import functools
 import inspect
-from typing import Any
+from collections.abc import Callable
+from typing import Any, NoReturn
 
 import typer
 from typer.core import TyperCommand, TyperGroup, TyperOption
+
+from robospec.cli.extras import extra_of, missing_module, needs_extra_message
 
 EXAMPLE = "Example:"
 
@@ -79,5 +86,39 @@ class App(typer.Typer):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(cls=ReflowGroup, **kwargs)
 
-    def command(self, *args: Any, cls: type[TyperCommand] | None = None, **kwargs: Any) -> Any:
-        return super().command(*args, cls=cls or ReflowCommand, **kwargs)
+    def command(
+        self,
+        name: str | None = None,
+        *,
+        needs: tuple[str, ...] = (),
+        cls: type[TyperCommand] | None = None,
+        **kwargs: Any,
+    ) -> Any:
+        register = super().command(name, cls=cls or ReflowCommand, **kwargs)
+
+        def decorator(function: Callable[..., Any]) -> Any:
+            command = name or function.__name__.replace("_", "-")
+
+            @functools.wraps(function)
+            def run(*args: Any, **kwargs: Any) -> Any:
+                for extra in needs:
+                    missing = missing_module(extra)
+                    if missing is not None:
+                        _stop(command, extra, missing)
+                try:
+                    return function(*args, **kwargs)
+                except ModuleNotFoundError as exc:
+                    extra = extra_of(exc.name)
+                    if extra is None:
+                        raise
+                    _stop(command, extra, exc.name or extra)
+
+            register(run)
+            return function
+
+        return decorator
+
+
+def _stop(command: str, extra: str, module: str) -> NoReturn:
+    typer.echo(needs_extra_message(command, extra, module), err=True)
+    raise typer.Exit(2)
