@@ -57,6 +57,38 @@ def test_generated_pages_equal_the_generator_output() -> None:
     assert stale_pages(DOCS, pages) == [], REGENERATE
 
 
+def _python_refs_of_failing_examples() -> set[str]:
+    """The top-level modules the code examples name in ``extends`` or a hook."""
+    named = set()
+    for spec in (EXAMPLES / "codes").rglob("*.*ml"):
+        for found in re.findall(
+            r"""["']([A-Za-z_][\w.]*):\w+["']""", spec.read_text("utf-8", errors="replace")
+        ):
+            named.add(found.split(".")[0])
+    return named
+
+
+@pytest.mark.slow
+def test_generated_pages_do_not_depend_on_what_else_is_importable(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A reader who follows the tutorial in the clone leaves a `my_robots` package there; a page
+    made from an example that names a module which happens not to exist would change with it.
+    Every top-level module the examples name that cannot be imported here is made importable
+    (empty), and the pages must stay as they are."""
+    import importlib.util
+
+    absent = {m for m in _python_refs_of_failing_examples() if importlib.util.find_spec(m) is None}
+    for module in absent | {"my_robots"}:
+        (tmp_path / module).mkdir()
+        (tmp_path / module / "__init__.py").write_text("", encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert stale_pages(DOCS, generated_pages(DOCS)) == [], (
+        "a page depends on a module not being importable: name a module inside an installed "
+        f"package instead ({sorted(absent)})"
+    )
+
+
 def test_the_diagnostics_table_links_a_page_for_every_code() -> None:
     table = (DOCS / "diagnostics.md").read_text(encoding="utf-8")
     for code in CODES:
@@ -265,10 +297,47 @@ def _is_sapien_noise(line: str) -> bool:
     return "vulkan" in line.lower() or line.strip().startswith("warn(")
 
 
+TUTORIAL_FOLDER = "tutorial folder"
+
+
 def _workdir(tmp_path: Path) -> Path:
-    """A folder holding docs/examples as the commands name them, for commands that write."""
-    shutil.copytree(EXAMPLES, tmp_path / "docs" / "examples")
-    return tmp_path
+    """The folder the tutorial has its reader make (its `<!-- tutorial folder -->` block, run
+    from the clone, with ``tmp_path`` as the home folder): the commands run there."""
+    (setup,) = [
+        body for body, marker in fenced_blocks("tutorial.md", "sh") if marker == TUTORIAL_FOLDER
+    ]
+    home = tmp_path / "home"
+    home.mkdir()
+    subprocess.run(
+        ["bash", "-euc", setup], cwd=ROOT, env={**os.environ, "HOME": str(home)}, check=True
+    )
+    (folder,) = home.iterdir()
+    return folder
+
+
+def test_the_tutorial_runs_in_a_folder_of_its_own_and_leaves_the_clone_as_it_was(
+    tmp_path: Path,
+) -> None:
+    before = _untracked(ROOT)
+    cwd = _workdir(tmp_path)
+    assert (cwd / "docs" / "examples" / "tutorial" / "my_panda.yaml").is_file()
+    assert (cwd / "schemas" / "robospec.schema.json").is_file()
+    # the tutorial's commands that write: build, schema, doc
+    for command, _ in _console_commands("tutorial.md"):
+        if " -o " in command and not command.startswith(SIMULATES):
+            _run_console(command, cwd)
+    assert (cwd / "my_robots" / "__init__.py").is_file()
+    assert _untracked(ROOT) == before
+
+
+def _untracked(root: Path) -> str:
+    result = subprocess.run(
+        ["git", "status", "--porcelain", "--untracked-files=all"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+    )
+    return result.stdout if result.returncode == 0 else ""
 
 
 SIMULATES = "robospec check"  # runs SAPIEN: seconds, and the maniskill extra
