@@ -70,6 +70,7 @@ _CODES = [
     Code("RS103", "missing required field"),
     Code("RS104", "unsupported spec version"),
     Code("RS105", "invalid identifier"),
+    Code("RS106", "number outside its physical range"),
     # -- references into the description and the spec
     Code("RS201", "unknown joint"),
     Code("RS202", "unknown link"),
