@@ -116,3 +116,23 @@ def test_every_writing_command_says_what_it_wrote(tmp_path: Path) -> None:
         result = invoke_robospec(*args)
         assert result.exit_code == 0, result.output
         assert written in result.stdout, args
+
+
+def test_a_warning_is_silenced_by_the_spec_or_on_the_command_line(tmp_path: Path) -> None:
+    """RS307 (the ground's collision bits) is meant on a mobile base: fetch.yaml silences it;
+    without that line it warns, and --silence RS307 silences it for one run. Errors stay."""
+    fetch = ROOT / "specs" / "maniskill" / "fetch.yaml"
+    assert "warning[RS307]" not in run_robospec("validate", str(fetch)).stdout
+    loud = tmp_path / "fetch.yaml"
+    text = fetch.read_text(encoding="utf-8")
+    kept = "\n".join(line for line in text.splitlines() if not line.startswith("silence:"))
+    loud.write_text(kept.replace("{maniskill_assets}", "{maniskill_assets}") + "\n")
+    assert run_robospec("validate", str(loud)).stdout.count("warning[RS307]") == 2
+    quiet = run_robospec("validate", str(loud), "--silence", "RS307", "--silence", "RS319")
+    assert quiet.returncode == 0 and "warning[" not in quiet.stdout, quiet.stdout
+    assert "0 warning(s)" in quiet.stdout
+    unknown = run_robospec("validate", str(loud), "--silence", "RS999")
+    assert unknown.returncode == 2 and "RS999 is not a robospec code" in unknown.stderr
+    # an error is reported whatever --silence says
+    misspelled = run_robospec("validate", str(MISSPELLED), "--silence", "RS201")
+    assert misspelled.returncode == 1 and "error[RS201]" in misspelled.stdout

@@ -52,6 +52,14 @@ DiagnosticFormatOpt = Annotated[
         help="text (with source excerpts), json, github (workflow annotations) or sarif 2.1.0",
     ),
 ]
+SilenceOpt = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--silence",
+        metavar="CODE",
+        help="do not report this warning code (repeatable; a spec's own list is `silence:`)",
+    ),
+]
 ColorOpt = Annotated[
     Color,
     typer.Option(
@@ -73,6 +81,16 @@ def _report(
     colored = use_color(color.value, sys.stderr if err else sys.stdout, os.environ)
     # click strips ANSI codes from non-terminals unless told the colour is wanted
     typer.echo(render(diagnostics, files, fmt.value, color=colored), err=err, color=colored)
+
+
+def _silenced_codes(silence: list[str] | None) -> frozenset[str]:
+    """``--silence`` codes, each one robospec has (else a usage error)."""
+    from robospec.diagnostics.codes import CODES
+
+    for code in silence or ():
+        if code not in CODES:
+            raise typer.BadParameter(f"{code} is not a robospec code", param_hint="--silence")
+    return frozenset(silence or ())
 
 
 def _finish(
@@ -99,6 +117,7 @@ def validate(
     paths: PathsArg,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
+    silence: SilenceOpt = None,
 ) -> None:
     """Check specs against their robot descriptions.
 
@@ -108,7 +127,8 @@ def validate(
     from robospec.cli.fast_validate import ValidateArgs, run
 
     # the same run as the plain form that skips typer (robospec.cli.fast_validate)
-    raise typer.Exit(run(ValidateArgs(list(paths), format.value, color.value)))
+    codes = _silenced_codes(silence)
+    raise typer.Exit(run(ValidateArgs(list(paths), format.value, color.value, codes)))
 
 
 @app.command()
@@ -120,6 +140,7 @@ def build(
     ] = False,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
+    silence: SilenceOpt = None,
 ) -> None:
     """Write an importable package with one generated agent module per spec.
 
@@ -128,7 +149,7 @@ def build(
     from robospec.output.package import build_package
     from robospec.pipeline import compile_all
 
-    compiled, diagnostics = compile_all(paths)
+    compiled, diagnostics = compile_all(paths, silence=_silenced_codes(silence))
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     if has_errors(diagnostics) or not compiled:
