@@ -72,7 +72,7 @@ def compile_spec(
 def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
     """Drop the warnings whose codes the spec's ``silence`` list or the command line's
     ``--silence`` name; errors stay, whatever the list says. A listed code robospec does not
-    have is an error (RS340)."""
+    have is an error (RS107)."""
     from robospec.diagnostics.codes import CODES
 
     codes = set(silence)
@@ -88,7 +88,7 @@ def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
                 problems.append(
                     error(
                         result.loaded.source.value(("silence", index)),
-                        "RS340",
+                        "RS107",
                         f"{code} is not a robospec diagnostic code",
                         "docs/diagnostics.md lists them",
                     )

@@ -71,6 +71,7 @@ _CODES = [
     Code("RS104", "unsupported spec version"),
     Code("RS105", "invalid identifier"),
     Code("RS106", "number outside its physical range"),
+    Code("RS107", "silence names no robospec code"),
     # -- references into the description and the spec
     Code("RS201", "unknown joint"),
     Code("RS202", "unknown link"),
@@ -109,7 +110,6 @@ _CODES = [
     Code("RS323", "no collision-group bit free for never_collide"),
     Code("RS324", "link rule on an MJCF robot"),
     Code("RS325", "end-effector controller without a URDF for its IK"),
-    Code("RS340", "silence names no robospec code"),
     # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
     Code("RS400", "import target is not module:Class"),
     Code("RS401", "import target module cannot be imported"),

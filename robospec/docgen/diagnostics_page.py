@@ -44,7 +44,7 @@ def diagnostics_markdown() -> str:
         "",
         "or, for one run, give it on the command line: `robospec validate specs/ --silence",
         "RS307` (also `build`; repeat the option for more codes). Errors are",
-        "reported whatever the list says, and a code robospec does not have is an error (RS340).",
+        "reported whatever the list says, and a code robospec does not have is an error (RS107).",
         "",
         "## The codes",
         "",

@@ -554,8 +554,8 @@ class Spec(StrictModel):
     silence: list[Annotated[str, Field(pattern=r"^RS[0-9]{3}$")]] = Field(
         default_factory=list,
         description="Warning codes not to report for this spec, where the warned-of thing is "
-        "meant (e.g. RS307 for a mobile base over the ground); an error cannot be silenced.",
-        examples=[["RS307"]],
+        "meant (the ground's collision bits on a mobile base, say); an error cannot be silenced.",
+        examples=[["RS084"]],
     )
 
     _description_or_base = model_validator(mode="after")(rules.description_or_base)
