@@ -223,7 +223,9 @@ def test_user_pages_hold_no_developer_notes() -> None:
         if section != "Development" and page not in GENERATED_BY_THE_CORPUS
     ]
     pages += [f"codes/{p.name}" for p in (DOCS / "codes").glob("*.md")]
-    notes = re.compile(r"tests/test_|tests/corpus|scripts/test|\.ci/|docs/examples/codes/expected")
+    notes = re.compile(
+        r"tests/test_|tests/corpus|scripts/test|\.ci/|docs/examples/codes/expected|robospec\.docgen"
+    )
     for page in pages:
         found = notes.search((DOCS / page).read_text(encoding="utf-8"))
         assert found is None, f"{page} has a developer note ({found.group()})"
