@@ -442,6 +442,7 @@ def _workdir(tmp_path: Path) -> Path:
     return folder
 
 
+@pytest.mark.slow
 def test_the_tutorial_runs_in_a_folder_of_its_own_and_leaves_the_clone_as_it_was(
     tmp_path: Path,
 ) -> None:
