@@ -26,6 +26,10 @@ _CODES = [
     Code("RS005", "unsupported spec file type"),
     Code("RS006", "spec too large, too deep or too many aliases"),
     Code("RS010", "invalid arithmetic expression"),
+    Code("RS011", "YAML indentation that lines up with nothing"),
+    Code("RS012", "tab in YAML indentation"),
+    Code("RS013", "TOML text value without quotes"),
+    Code("RS014", "': ' inside a plain YAML value"),
     # -- reading the robot description
     Code("RS050", "robot description file not found"),
     Code("RS051", "robot description is not well-formed XML"),
@@ -66,6 +70,8 @@ _CODES = [
     Code("RS103", "missing required field"),
     Code("RS104", "unsupported spec version"),
     Code("RS105", "invalid identifier"),
+    Code("RS106", "number outside its physical range"),
+    Code("RS107", "silence names no robospec code"),
     # -- references into the description and the spec
     Code("RS201", "unknown joint"),
     Code("RS202", "unknown link"),
