@@ -29,7 +29,7 @@ INPUTS_FILE = "inputs.json"
 ZOO_PAGE = "zoo.md"
 ZOO_SPECS = Path("specs") / "maniskill"
 WRITE_COMMAND = ".venv/bin/python -m robospec.docgen.gallery --write docs"
-START = "<!-- gallery: written by python -m robospec.docgen.gallery --write docs -->"
+START = "<!-- gallery: generated (docs/development.md says how) -->"
 END = "<!-- end of gallery -->"
 COLUMNS = 3
 
