@@ -1,16 +1,20 @@
 """MuJoCo, imported to draw offscreen: the one place that chooses its OpenGL.
 
-MuJoCo picks its OpenGL platform when it is first imported (``MUJOCO_GL``): robospec asks for
-EGL, which Mesa provides on a machine without a GPU (llvmpipe draws on the CPU), unless the
-user set ``MUJOCO_GL`` themselves. Every module of the pictures imports MuJoCo through
-:func:`import_mujoco`, so the first import is always this one.
+robospec asks for EGL, which Mesa provides on a machine without a GPU (llvmpipe draws on the
+CPU), unless the user set ``MUJOCO_GL`` themselves. MuJoCo picks ``mujoco.GLContext`` when it
+is first imported, and something else may have imported it first (ManiSkill does, without
+``MUJOCO_GL``, which leaves GLFW's, needing a display): so the context is taken from the chosen
+platform's own module (:func:`gl_context`), whoever imported MuJoCo.
 """
 
 from __future__ import annotations
 
+import importlib
 import importlib.util
 import os
 from typing import Any
+
+PLATFORMS = ("egl", "osmesa", "glfw")  # MUJOCO_GL's values, each mujoco.<value>.GLContext
 
 
 class RenderUnavailable(Exception):
@@ -40,3 +44,16 @@ def import_mujoco() -> Any:
             "pip install 'robospec[render]' (mujoco, trimesh, pycollada, fast-simplification)",
         ) from exc
     return mujoco
+
+
+def gl_context(width: int, height: int) -> Any:
+    """An offscreen OpenGL context of the platform ``MUJOCO_GL`` names (default EGL), made
+    current. Raises what the platform raises when it cannot make one."""
+    mujoco = import_mujoco()
+    platform = os.environ.get("MUJOCO_GL", "egl").lower()
+    if platform in PLATFORMS:
+        context = importlib.import_module(f"mujoco.{platform}").GLContext(width, height)
+    else:
+        context = mujoco.GLContext(width, height)
+    context.make_current()
+    return context

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from robospec.pictures.gl import RenderUnavailable, import_mujoco
+from robospec.pictures.gl import RenderUnavailable, gl_context, import_mujoco
 from robospec.pictures.posed import DEFAULT_RGBA, PosedRobot, Shape
 from robospec.pictures.stage import Box, Stage
 from robospec.pictures.views import View
@@ -203,8 +203,7 @@ class Renderer:
     def _open(self, width: int, height: int) -> None:
         mujoco = self._mujoco
         try:
-            self._context = mujoco.GLContext(width, height)
-            self._context.make_current()
+            self._context = gl_context(width, height)
             self._mjr = mujoco.MjrContext(self.model, mujoco.mjtFontScale.mjFONTSCALE_100)
         except Exception as exc:  # PyOpenGL, EGL and MuJoCo each raise their own
             raise RenderUnavailable(
