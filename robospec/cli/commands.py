@@ -516,19 +516,33 @@ def doc(
             "--plots", help="link the step-response plots check/tune --plot wrote under DIR"
         ),
     ] = None,
+    images: Annotated[
+        bool,
+        typer.Option(
+            "--images",
+            help="draw the robot and each camera's view at each keyframe (PNG, beside the "
+            "card in OUT-STEM_images/; needs the render extra, no GPU) and check the cameras",
+        ),
+    ] = False,
+    collisions: Annotated[
+        bool,
+        typer.Option("--collisions", help="with --images, also draw the collision shapes"),
+    ] = False,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
 ) -> None:
     """Write a Markdown robot card of a spec.
 
     The card shows the kinematic tree (a Mermaid diagram), the action layout of every control
-    mode, the keyframes and the cameras. Nothing is written for a spec with errors.
+    mode, the keyframes and the cameras; with --images, pictures of the robot and of what its
+    cameras see, and warnings for a camera that is covered, sees nothing or looks away from
+    its tcp. Nothing is written for a spec with errors.
 
-    Example: robospec doc specs/maniskill/panda.yaml -o panda.md
+    Example: robospec doc specs/maniskill/panda.yaml -o panda.md --images
     """
     from robospec.authoring.commands import run_doc
 
-    diagnostics = run_doc(spec, out, plots)
+    diagnostics = run_doc(spec, out, plots, images, collisions)
     _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
 
 

@@ -17,6 +17,8 @@ EXTRA_MODULES: dict[str, tuple[str, ...]] = {
     "lsp": ("pygls", "lsprotocol"),
     "optimize": ("coacd",),
     "reference": ("mujoco", "scipy"),
+    # doc --images (robospec/pictures): without it, doc --images reports RS660
+    "render": ("mujoco", "trimesh", "collada", "fast_simplification", "PIL"),
 }
 
 

@@ -147,6 +147,12 @@ _CODES = [
     Code("RS518", "floating robot hovers under gravity compensation"),
     Code("RS519", "the root ManiSkill loads is not the one the spec says"),
     Code("RS520", "two ManiSkill distributions installed over each other"),
+    # -- what the cameras see in the pictures of robospec doc --images (RS560-RS579)
+    Code("RS560", "camera covered by its own mount"),
+    Code("RS561", "camera covered by the robot"),
+    Code("RS562", "camera sees nothing within far"),
+    Code("RS563", "wrist camera looks away from its tcp"),
+    Code("RS564", "SAPIEN's camera image and the CPU preview disagree"),
     # -- writing files, authoring commands: robospec build, inspect, new, doc (RS600-RS619)
     Code("RS600", "file is not a robot description robospec reads"),
     Code("RS601", "spec file already exists"),
@@ -173,6 +179,12 @@ _CODES = [
     Code("RS648", "simulated robot cannot match the reference"),
     Code("RS649", "reference does not determine stiffness and damping each"),
     Code("RS650", "reference fit crashed"),
+    # -- robospec doc --images: drawing the pictures (RS660-RS669)
+    Code("RS660", "the render extra is not installed"),
+    Code("RS661", "no OpenGL to draw the pictures with"),
+    Code("RS662", "mesh cannot be read for the pictures"),
+    Code("RS663", "MuJoCo cannot load the MJCF for the pictures"),
+    Code("RS664", "the pictures' scene cannot be built"),
     # -- internal
     Code("RS900", "internal error"),
 ]

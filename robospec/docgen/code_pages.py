@@ -89,6 +89,8 @@ def code_page(entry: Code, examples: CodeExamples, docstring: str | None) -> str
 
 
 def _why_not_run(code: str) -> str:
+    if code.startswith(("RS56", "RS57", "RS66")):
+        return "`robospec doc --images` draws pictures with MuJoCo's renderer (seconds per robot)."
     if code.startswith(("RS62", "RS63")):
         return "`robospec tune` runs SAPIEN physics (seconds per controller)."
     if code.startswith("RS6"):
