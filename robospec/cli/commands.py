@@ -509,7 +509,12 @@ def tune(
 @app.command()
 def doc(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot")],
-    out: Annotated[Path, typer.Option("--out", "-o", help="the Markdown card to write")],
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out", "-o", help="the Markdown card to write (default: SPEC-STEM.md in this folder)"
+        ),
+    ] = None,
     plots: Annotated[
         Path | None,
         typer.Option(
@@ -538,10 +543,12 @@ def doc(
     cameras see, and warnings for a camera that is covered, sees nothing or looks away from
     its tcp. Nothing is written for a spec with errors.
 
-    Example: robospec doc specs/maniskill/panda.yaml -o panda.md --images
+    Example: robospec doc specs/maniskill/panda.yaml --images   (writes panda.md and panda_images/)
     """
     from robospec.authoring.commands import run_doc
 
+    # a card named after its spec, where the user stands: `robospec doc SPEC --images` alone works
+    out = out if out is not None else Path(f"{spec.stem}.md")
     diagnostics = run_doc(spec, out, plots, images, collisions)
     _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
 
