@@ -193,3 +193,11 @@ def _assets():  # type: ignore[no-untyped-def]
     if found is None:
         pytest.fail("ManiSkill's assets are not installed", pytrace=False)
     return found
+
+
+def test_a_list_that_fits_a_line_of_its_own_is_never_broken_where_it_starts_far_right() -> None:
+    """`damping: [150,` / `100, ...]` reads as two values: a list that can be read whole on
+    one line stays whole, even past the column where a long list would wrap."""
+    seven = [150.0, 100.0, 120.5, 80.25, 60.125, 40.0, 20.0]
+    assert flow_list(seven, 85, 6) == "[150, 100, 120, 80.2, 60.1, 40, 20]"
+    assert flow_list(seven, 85) == "[150, 100, 120, 80.2, 60.1, 40, 20]"
