@@ -167,6 +167,14 @@ _CODES = [
     Code("RS648", "simulated robot cannot match the reference"),
     Code("RS649", "reference does not determine stiffness and damping each"),
     Code("RS650", "reference fit crashed"),
+    # -- robospec optimize --profile fast (RS670-RS689)
+    Code("RS670", "unknown optimize profile"),
+    Code("RS671", "--max-error out of range"),
+    Code("RS672", "--contact-offset out of range"),
+    Code("RS673", "a link the spec names would be merged away"),
+    Code("RS674", "collision meshes fit no primitive within the bound"),
+    Code("RS675", "unknown robot category"),
+    Code("RS676", "an option that applies only to another profile or shapes method"),
     # -- internal
     Code("RS900", "internal error"),
 ]
