@@ -548,7 +548,7 @@ def _named_links_merged_away(compiled: Any, condensed: Any) -> list[Diagnostic]:
         seen.add(name)
         problems.append(
             error(
-                compiled.context.at_value(path),
+                compiled.context.value(path),
                 "RS673",
                 f"link '{name}' would be merged away by robospec optimize, and the spec names it",
                 f"keep it with --keep {name}",
