@@ -131,7 +131,7 @@ def test_the_category_follows_the_root_unless_given() -> None:
 
 def test_the_offset_is_half_the_nearest_gap_within_its_bounds() -> None:
     assert profile_offset(None) == LARGEST_OFFSET  # no pair that never touches comes near
-    assert profile_offset(0.002) == pytest.approx(0.001)
+    assert profile_offset(0.0014) == pytest.approx(0.0007)
     assert profile_offset(1.0) == LARGEST_OFFSET
     assert profile_offset(0.0) == SMALLEST_OFFSET
 

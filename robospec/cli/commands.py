@@ -430,7 +430,7 @@ def optimize(
         typer.Option(
             "--contact-offset",
             help="the robot's shapes' contact offset, in m (fast; default: measured, at "
-            "most 0.002)",
+            "most 0.001)",
         ),
     ] = None,
     category: Annotated[
