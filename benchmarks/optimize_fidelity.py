@@ -29,7 +29,7 @@ path: ``scripts/setup`` installs it into ``.venv/numpy1`` (``pip install --targe
 and the report says why.
 
     python benchmarks/optimize_fidelity.py --divergence --steps N ORIGINAL OPTIMIZED FAST ...
-    python benchmarks/optimize_fidelity.py --motion-planning TASK --seeds N SPEC
+    python benchmarks/optimize_fidelity.py --motion-planning TASK[,TASK...] --seeds N SPEC
 
 are the workers; each prints JSON.
 """
@@ -231,8 +231,10 @@ def _check_part(variants: dict[str, dict[str, Path]]) -> list[str]:
         "| robot | controller | as written | optimized | fast |",
         "| --- | --- | --- | --- | --- |",
     ]
+    # one `robospec check` for every spec: its worker imports ManiSkill once for them all
+    every = _step_responses([paths[v] for paths in variants.values() for v in VARIANTS])
     for name, paths in variants.items():
-        figures = {variant: _step_responses(paths[variant]) for variant in VARIANTS}
+        figures = {variant: every.get(str(paths[variant]), {}) for variant in VARIANTS}
         for controller in figures["original"]:
             cells = [_figures(figures[v].get(controller)) for v in VARIANTS]
             lines.append(f"| `{name}` | `{controller}` | " + " | ".join(cells) + " |")
@@ -246,9 +248,12 @@ def _check_part(variants: dict[str, dict[str, Path]]) -> list[str]:
     return lines
 
 
-def _step_responses(spec: Path) -> dict[str, dict[str, float]]:
+def _step_responses(specs: list[Path]) -> dict[str, dict[str, dict[str, float]]]:
+    """Each spec's step responses (by the spec's path as given): controller -> figures."""
+    if not specs:
+        return {}
     done = subprocess.run(
-        [PYTHON, "-m", "robospec", "check", str(spec), "-f", "json"],
+        [PYTHON, "-m", "robospec", "check", *map(str, specs), "-f", "json"],
         capture_output=True,
         text=True,
         cwd=ROOT,
@@ -258,14 +263,15 @@ def _step_responses(spec: Path) -> dict[str, dict[str, float]]:
         report = json.loads(done.stdout)
     except json.JSONDecodeError:
         return {}
-    out: dict[str, dict[str, float]] = {}
+    out: dict[str, dict[str, dict[str, float]]] = {}
     for robot in report.get("robots", []):
+        figures = out.setdefault(str(robot.get("spec")), {})
         for finding in robot.get("findings", []):
             if finding.get("check") == "step_response" and finding.get("metrics"):
                 # "arm (arm_pos)": the controller; a controller in several modes is one row
                 subject = str(finding.get("subject"))
                 controller = subject.partition("(")[2].rstrip(")") or subject
-                out.setdefault(controller, {k: finding["metrics"].get(k) for k in _FIGURES})
+                figures.setdefault(controller, {k: finding["metrics"].get(k) for k in _FIGURES})
     return out
 
 
@@ -315,13 +321,14 @@ def _success_part(
     if specs is None:
         return lines, False
     met = True
+    planned = {}
+    for variant in VARIANTS:  # a process each: each registers its Panda as `panda`
+        found = _plan(tasks, seeds, specs[variant], overlay, notes)
+        if found is None:
+            return lines, False
+        planned[variant] = found
     for task in tasks:
-        outcomes: dict[str, list[bool]] = {}
-        for variant in VARIANTS:
-            found = _plan(task, seeds, specs[variant], overlay, notes)
-            if found is None:
-                return lines, False
-            outcomes[variant] = found
+        outcomes = {variant: planned[variant][task] for variant in VARIANTS}
         rates = {v: 100.0 * sum(o) / len(o) for v, o in outcomes.items()}
         same = [
             sum(a == b for a, b in zip(outcomes[v], outcomes["original"], strict=True))
@@ -334,7 +341,8 @@ def _success_part(
         )
     lines += [
         "",
-        "ManiSkill's motion-planning solutions for the Panda (PickCube, StackCube), seeds 0 "
+        "ManiSkill's motion-planning solutions for the Panda "
+        f"({', '.join(t.removesuffix('-v1') for t in tasks)}), seeds 0 "
         f"to {seeds - 1}, the Panda registered as `panda` in each variant in turn (physx_cpu, "
         "`pd_joint_pos`, the sim config its spec recommends). Target: each variant within "
         f"{SUCCESS_POINTS:g} points of the robot as written, on each task: "
@@ -369,22 +377,26 @@ def _panda_variants(work: Path, samples: int, notes: list[str]) -> dict[str, Pat
     return specs
 
 
-def _plan(task: str, seeds: int, spec: Path, overlay: str, notes: list[str]) -> list[bool] | None:
+def _plan(
+    tasks: tuple[str, ...], seeds: int, spec: Path, overlay: str, notes: list[str]
+) -> dict[str, list[bool]] | None:
+    """Each task's outcome per seed, with ``spec``'s Panda."""
     env = child_env()
     if overlay:
         env["PYTHONPATH"] = os.pathsep.join(
             [overlay, *filter(None, [env.get("PYTHONPATH", "")]), str(ROOT)]
         )
-    args = [PYTHON, str(Path(__file__)), "--motion-planning", task, "--seeds", str(seeds)]
-    result = run([*args, str(spec)], env)
+    args = [PYTHON, str(Path(__file__)), "--motion-planning", ",".join(tasks)]
+    result = run([*args, "--seeds", str(seeds), str(spec)], env)
     rows = [json.loads(line) for line in result.output.splitlines() if line.startswith("{")]
-    if result.returncode != 0 or not rows:
-        notes.append(f"- task success ({task}, {spec.parent.name}): {_tail(result.output)}")
+    found = {row["task"]: [bool(s) for s in row["success"]] for row in rows}
+    if result.returncode != 0 or set(found) != set(tasks):
+        notes.append(f"- task success ({spec.parent.name}): {_tail(result.output)}")
         return None
-    return [bool(s) for s in rows[-1]["success"]]
+    return found
 
 
-def _motion_planning_worker(task: str, seeds: int, spec: Path) -> None:
+def _motion_planning_worker(tasks: list[str], seeds: int, spec: Path) -> None:
     import gymnasium as gym
     import mani_skill.envs  # noqa: F401
     from mani_skill.examples.motionplanning.panda.solutions import solvePickCube, solveStackCube
@@ -394,24 +406,25 @@ def _motion_planning_worker(task: str, seeds: int, spec: Path) -> None:
 
     solutions = {"PickCube-v1": solvePickCube, "StackCube-v1": solveStackCube}
     (uid,) = robospec.register(str(spec), cache_dir=tempfile.mkdtemp())
-    with headless_loading():
-        env = gym.make(
-            task,
-            robot_uids=uid,
-            obs_mode="none",
-            control_mode="pd_joint_pos",
-            render_mode=None,
-            sim_backend="physx_cpu",
-            render_backend="none",
-            sim_config=robospec.sim_config_for(uid),
-        )
-    success = []
-    for seed in range(seeds):
-        result = solutions[task](env, seed=seed, debug=False, vis=False)
-        # -1: the planner found no plan, which is the robot's failure too
-        success.append(bool(result != -1 and result[-1]["success"].item()))
-    env.close()
-    print(json.dumps({"task": task, "spec": str(spec), "success": success}), flush=True)
+    for task in tasks:
+        with headless_loading():
+            env = gym.make(
+                task,
+                robot_uids=uid,
+                obs_mode="none",
+                control_mode="pd_joint_pos",
+                render_mode=None,
+                sim_backend="physx_cpu",
+                render_backend="none",
+                sim_config=robospec.sim_config_for(uid),
+            )
+        success = []
+        for seed in range(seeds):
+            result = solutions[task](env, seed=seed, debug=False, vis=False)
+            # -1: the planner found no plan, which is the robot's failure too
+            success.append(bool(result != -1 and result[-1]["success"].item()))
+        env.close()
+        print(json.dumps({"task": task, "spec": str(spec), "success": success}), flush=True)
 
 
 # -- helpers -----------------------------------------------------------------------------------
@@ -431,7 +444,7 @@ def _tail(output: str) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--divergence", action="store_true")
-    parser.add_argument("--motion-planning", metavar="TASK")
+    parser.add_argument("--motion-planning", metavar="TASKS")
     parser.add_argument("--steps", type=int, default=100)
     parser.add_argument("--seeds", type=int, default=50)
     parser.add_argument("specs", nargs="*", type=Path)
@@ -442,7 +455,7 @@ def main() -> None:
         _divergence_worker(groups, args.steps)
     elif args.motion_planning:
         (spec,) = args.specs
-        _motion_planning_worker(args.motion_planning, args.seeds, spec)
+        _motion_planning_worker(args.motion_planning.split(","), args.seeds, spec)
     else:
         print(measure(args.seeds, args.steps).markdown())
 

@@ -154,10 +154,17 @@ def test_step_response_figures_are_one_row_per_controller(monkeypatch: pytest.Mo
         },
     }
     again = {**finding, "mode": "pd_joint_delta_pos"}  # the same controller in another mode
-    report = {"robots": [{"findings": [finding, again]}]}
+    report = {
+        "robots": [
+            {"spec": "a.yaml", "findings": [finding, again]},
+            {"spec": "b.yaml", "findings": []},
+        ]
+    }
     done = subprocess.CompletedProcess([], 0, stdout=json.dumps(report), stderr="")
     monkeypatch.setattr(optimize_fidelity.subprocess, "run", lambda *a, **k: done)
-    figures = optimize_fidelity._step_responses(Path("spec.yaml"))
+    every = optimize_fidelity._step_responses([Path("a.yaml"), Path("b.yaml")])
+    assert every["b.yaml"] == {}
+    figures = every["a.yaml"]
     assert list(figures) == ["arm_pos"]
     assert optimize_fidelity._figures(figures["arm_pos"]) == "0.23 s, 7.7%, 0.24 s, 0.00029"
     assert optimize_fidelity._figures(None) == "—"
