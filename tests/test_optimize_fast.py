@@ -199,6 +199,7 @@ def test_a_spec_section_already_there_keeps_its_other_keys(tmp_path: Path) -> No
 # -- the Panda, optimized with the fast profile ------------------------------------------------
 
 
+# the profile run end to end samples contacts in SAPIEN: its tests are marked maniskill
 @pytest.fixture(scope="module")
 def fast_panda(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Path, object]]:
     out = tmp_path_factory.mktemp("fast") / "panda_fast.yaml"
@@ -208,6 +209,7 @@ def fast_panda(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[Path,
     yield out, report
 
 
+@pytest.mark.maniskill  # SAPIEN samples the collision matrix and counts contacts
 def test_the_fast_spec_declares_its_profile_and_what_it_changes(
     fast_panda: tuple[Path, object],
 ) -> None:
@@ -228,6 +230,7 @@ def test_the_fast_spec_declares_its_profile_and_what_it_changes(
     assert all(compiled.description.link(name) is not None for name in named)
 
 
+@pytest.mark.maniskill  # SAPIEN samples the collision matrix and counts contacts
 def test_the_report_measures_the_contacts_the_offset_saves(
     fast_panda: tuple[Path, object],
 ) -> None:
@@ -244,6 +247,7 @@ def test_the_report_measures_the_contacts_the_offset_saves(
     assert "profile fast" in text and "pairs of its links making contacts" in text
 
 
+@pytest.mark.maniskill  # SAPIEN samples the collision matrix and counts contacts
 def test_meshes_no_primitive_fits_are_listed_with_their_nearest_fit(
     fast_panda: tuple[Path, object],
 ) -> None:
@@ -298,6 +302,7 @@ control_modes:
     return spec
 
 
+@pytest.mark.maniskill  # SAPIEN samples the collision matrix and counts contacts
 def test_a_box_shaped_link_becomes_a_box_and_a_rounded_one_keeps_its_mesh(
     tmp_path: Path,
 ) -> None:
@@ -398,6 +403,7 @@ def test_the_fast_panda_registers_takes_its_sim_config_and_steps(
         env.close()
 
 
+@pytest.mark.maniskill  # SAPIEN samples the collision matrix and counts contacts
 def test_the_cli_prints_the_profile_and_exits_0(tmp_path: Path) -> None:
     out = tmp_path / "cli.yaml"
     result = invoke_robospec(
