@@ -20,6 +20,8 @@
    (benchmarks/optimize_gpu.py; skipped with a message elsewhere).
 8. How soon `robospec lsp` publishes fresh diagnostics after an edit of the Panda spec
    (benchmarks/lsp_latency.py).
+9. Time to draw a robot card's pictures (`robospec doc --images`) for the Panda and the G1
+   on the CPU (benchmarks/pictures.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
 """
@@ -39,6 +41,7 @@ import lsp_latency
 import optimize_fidelity
 import optimize_gpu
 import optimize_throughput
+import pictures
 import registration
 import scaling
 import step_throughput
@@ -55,6 +58,7 @@ SECTION_TITLES = (
     optimize_fidelity.TITLE,
     optimize_gpu.TITLE,
     lsp_latency.TITLE,
+    pictures.TITLE,
 )
 
 
@@ -67,6 +71,7 @@ PARTS = (
     "optimize_fidelity",
     "optimize_gpu",
     "lsp_latency",
+    "pictures",
 )
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
@@ -94,6 +99,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
                 envs=(16,), steps=5, samples=20, robots=("panda",)
             ),
             "lsp_latency": lambda: lsp_latency.measure(4),
+            "pictures": lambda: pictures.measure(1, only=["panda"]),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
@@ -104,6 +110,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "optimize_fidelity": lambda: optimize_fidelity.measure(seeds=50, steps=100),
         "optimize_gpu": lambda: optimize_gpu.measure(),
         "lsp_latency": lambda: lsp_latency.measure(40),
+        "pictures": lambda: pictures.measure(repeat),
     }
 
 
