@@ -22,8 +22,8 @@
    (benchmarks/lsp_latency.py).
 9. Time to draw a robot card's pictures (`robospec doc --images`) for the Panda and the G1
    on the CPU (benchmarks/pictures.py).
-8. `robospec new`'s time per corpus robot, with and without the simulated refinement of its
-   gains (benchmarks/scaffold.py).
+10. `robospec new`'s time per corpus robot, with and without the simulated refinement of its
+    gains (benchmarks/scaffold.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
 """
