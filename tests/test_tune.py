@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -71,6 +72,48 @@ def test_a_target_the_kept_force_limit_forbids_is_rs620_naming_the_force_limit(
     assert "error[RS620] controller 'arm_pos'" in result.output
     assert "force limit" in result.output
     assert "wrote the new gains" not in result.output
+
+
+def test_gains_past_a_joints_rating_are_rs623_naming_the_rating_where_the_description_gives_it(
+    tmp_path: Path,
+) -> None:
+    # the upper arm's motor rated 5 N m: the targets need far more; the other joints' ratings
+    # (40, 20) let tune raise their force limits from 5 and meet the targets
+    spec = _copy(tmp_path, FAST)
+    spec.write_text(
+        spec.read_text(encoding="utf-8").replace("force_limit = 50", "force_limit = 5", 1)
+    )
+    xacro = tmp_path / "robots" / "twolink" / "twolink.urdf.xacro"
+    rated = '<limit lower="-1.8" upper="1.8" effort="40"'
+    xacro.write_text(xacro.read_text().replace(rated, rated.replace('"40"', '"5"')))
+    result = invoke_robospec("tune", str(spec), "--controller", "arm_pos")
+    assert result.exit_code == 1, result.output
+    warnings = re.findall(
+        r"^(.*):(\d+):1: warning\[RS623\] joint '(\w+)' \(controller 'arm_pos'\): its tuned "
+        r"gains ask for ([\d.]+) in the step, more than its <limit effort> of ([\d.]+); tune "
+        r"kept force_limit at ([\d.]+)$",
+        result.output,
+        re.M,
+    )
+    assert "twolink_joint2" in [w[2] for w in warnings], result.output
+    for file, line, joint, asked, rating, kept in warnings:
+        # at the joint in the xacro's expansion (whose lines validate names), never a claim
+        # that contradicts its numbers
+        assert file == f"{xacro} (expanded)"
+        assert f'name="{joint}"' in _expanded(spec).splitlines()[int(line) - 1]
+        assert float(asked) > float(rating) == float(kept)
+    assert "'twolink_joint2': force limit: the drive asks for" in result.output
+    assert "its rating in the description" in result.output
+
+
+def _expanded(spec: Path) -> str:
+    from robospec.pipeline import compile_spec
+
+    compiled = compile_spec(spec)
+    assert compiled.robot is not None
+    text = compiled.robot.description.generated_text
+    assert text is not None
+    return text
 
 
 def test_check_plot_writes_each_controllers_step(tmp_path: Path) -> None:

@@ -11,6 +11,8 @@ from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Spec
 from robospec.resolve.resolved import Bindings, ResolvedRobot
 
+EXPANDED = " (expanded)"  # how diagnostics name a xacro's expansion (resolve.description_files)
+
 
 @dataclass(frozen=True)
 class CheckContext:
@@ -27,6 +29,14 @@ class CheckContext:
 
     def key(self, path: KeyPath) -> Location:
         return self.locate_key(path)
+
+    def described_at(self, line: int) -> Location:
+        """Line ``line`` of the robot description, named as validate names it: a xacro's lines
+        are those of its expansion (``FILE (expanded)``), not of the file the spec names."""
+        shown = self.description_file
+        if self.spec.description is not None and self.spec.description.kind == "xacro":
+            shown += EXPANDED
+        return Location(shown, line, 1)
 
     def joints_at(self, path: KeyPath) -> tuple[str, ...] | None:
         """The joints the selection written at ``path`` bound to; None when it did not bind."""

@@ -166,7 +166,7 @@ def _over_rating(item: CompiledSpec, tunings: Sequence[ControllerTuning]) -> lis
         for joint, demand, cap in tuning.over_rating:
             rating = ratings.get(joint)
             where = (
-                Location(description.path, rating.line, 1)
+                item.context.described_at(rating.line)
                 if rating is not None
                 else item.context.key(("controllers", tuning.controller))
             )
@@ -175,9 +175,9 @@ def _over_rating(item: CompiledSpec, tunings: Sequence[ControllerTuning]) -> lis
                 warning(
                     where,
                     "RS623",
-                    f"joint '{joint}' (controller '{tuning.controller}'): the gains that meet "
-                    f"the targets ask for {demand:.3g}, more than {what} of {cap:g}; tune "
-                    f"kept force_limit at {cap:g}",
+                    f"joint '{joint}' (controller '{tuning.controller}'): its tuned gains ask "
+                    f"for {demand:.3g} in the step, more than {what} of {cap:g}; tune kept "
+                    f"force_limit at {cap:g}",
                     "the motor cannot give more: accept a slower joint (relax checks.tune for "
                     "this controller), or check the rating",
                 )
