@@ -119,8 +119,9 @@ def test_an_error_sapien_reports_is_a_finding_at_the_element_naming_its_file() -
     hull, other = findings(item.context, said)
     (diagnostic,) = hull.diagnostics
     assert diagnostic.code == "RS522" and diagnostic.is_error and hull.failed
-    # located at the <collision> naming the file, in the description
-    assert diagnostic.location.file == item.context.description.path
+    # located at the <collision> naming the file, in the description, named as validate names
+    # the description ({maniskill_assets}/... here)
+    assert diagnostic.location.file == item.context.description_file
     assert diagnostic.location.line == mesh.line
     assert "SAPIEN reported an error" in diagnostic.message and "(2 times)" in diagnostic.message
     assert mesh.path is not None and mesh.path in diagnostic.message
