@@ -10,6 +10,7 @@ Positions are LSP's: 0-based lines and columns.
 from __future__ import annotations
 
 import asyncio
+import shutil
 import subprocess
 import sys
 from collections.abc import AsyncIterator, Callable, Sequence
@@ -17,7 +18,7 @@ from pathlib import Path
 
 import pytest
 import pytest_asyncio
-from conftest import PANDA_SPEC, ROOT
+from conftest import CODE_EXAMPLES, PANDA_SPEC, ROOT
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 from pytest_lsp.client import make_test_lsp_client
@@ -244,6 +245,19 @@ async def test_a_problem_in_the_urdf_is_published_for_the_urdf(
         '    <parent link="uper"/><child link="lower"/><axis xyz="0 0 1"/>'
     )
     assert "unknown parent link 'uper'" in found[0].message
+
+
+async def test_a_mend_is_published_as_information_at_the_element_it_changed(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    folder = tmp_path / "robot"
+    shutil.copytree(CODE_EXAMPLES / "RS706", folder)
+    open_doc(client, folder / "fail.yaml")
+    urdf = (folder / "skewed.urdf").resolve().as_uri()
+    found = await diagnostics_until(client, urdf, lambda ds: bool(ds))
+    assert codes(found) == ["RS706"]
+    assert found[0].severity == types.DiagnosticSeverity.Information
+    assert found[0].range.start.line == 6  # the <inertia> element, line 7
 
 
 async def test_a_urdf_edited_on_disk_updates_diagnostics_and_completions(

@@ -58,6 +58,6 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             f"controller drives it in mode(s) {', '.join(unguarded_modes(context, joint))}: "
             "SAPIEN turns URDF <mimic> into a PhysX mimic joint, which alone is unstable on the "
             "CPU (NaN within a few steps)",
-            "drive the pair with a pd_joint_pos_mimic controller in every mode, or remove the "
-            "<mimic> tag",
+            "drive the pair with a pd_joint_pos_mimic controller in every mode, and leave "
+            "PhysX out of it with `description: {mend: {mimic: controller}}` (docs/mends.md)",
         )

@@ -66,7 +66,7 @@ def check_mesh_files(
     found_all = Findings()
     files: list[MeshFile] = []
     unknown_packages: dict[str, list[_Named]] = {}
-    for named in _file_references(root):
+    for named in file_references(root):
         found, problem = _locate(named.uri, base_dir, finder)
         if problem is not None:
             unknown_packages.setdefault(problem, []).append(named)
@@ -101,7 +101,7 @@ def check_mesh_files(
     return tuple(files), found_all.result()
 
 
-def _file_references(root: etree._Element) -> Iterator[_Named]:
+def file_references(root: etree._Element) -> Iterator[_Named]:
     """The ``filename``s SAPIEN's loader reads: link meshes, and material textures (those of
     a link's visuals and the top-level ones its visuals name)."""
     for link in root.iterfind("link"):

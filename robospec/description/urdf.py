@@ -359,7 +359,9 @@ def _read_joint(
                 at(path, element),
                 INVALID_STRUCTURE,
                 f"joint '{name}' has unknown type '{joint_type}'",
-                did_you_mean(joint_type, sorted(URDF_JOINT_TYPES)),
+                "a ball joint: `mend: {spherical: hinges}` writes it as three continuous joints"
+                if joint_type in ("spherical", "ball")
+                else did_you_mean(joint_type, sorted(URDF_JOINT_TYPES)),
             )
         )
         return None

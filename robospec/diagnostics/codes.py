@@ -3,7 +3,8 @@
 Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
 into the robot description, RS3xx semantic checks, RS4xx `robospec import`, RS5xx physics
 checks (`robospec check`), RS6xx writing files and the authoring commands (`robospec build`,
-`inspect`, `new`, `doc`), RS9xx internal errors.
+`inspect`, `new`, `doc`), RS7xx mends robospec applies to a copy of the description, RS9xx
+internal errors.
 """
 
 from __future__ import annotations
@@ -167,6 +168,22 @@ _CODES = [
     Code("RS648", "simulated robot cannot match the reference"),
     Code("RS649", "reference does not determine stiffness and damping each"),
     Code("RS650", "reference fit crashed"),
+    # -- mends: what robospec changed in a derived copy of the description (RS700-RS729)
+    Code("RS700", "mended: XML text no parser accepts"),
+    Code("RS701", "mended: undeclared namespace prefixes"),
+    Code("RS702", "mended: unexpanded substitutions written as their defaults"),
+    Code("RS703", "mended: mesh URIs resolved to the files robospec found"),
+    Code("RS704", "mended: empty textures removed"),
+    Code("RS705", "mended: transmissions SAPIEN cannot read removed"),
+    Code("RS706", "mended: inertias SAPIEN rejects"),
+    Code("RS707", "mended: masses raised to the bound"),
+    Code("RS708", "mended: integers written as decimals"),
+    Code("RS709", "mended: joint limits without lower or upper"),
+    Code("RS710", "mended: URDF mimic tags removed"),
+    Code("RS711", "mended: spherical joints written as three continuous joints"),
+    Code("RS725", "mend changes nothing"),
+    Code("RS726", "mend for another kind of description"),
+    Code("RS727", "mend cannot mend an element as asked"),
     # -- internal
     Code("RS900", "internal error"),
 ]

@@ -37,6 +37,7 @@ from robospec.model.members import (
     PythonRef,
     Tcp,
 )
+from robospec.model.mends import Mends
 from robospec.model.names import NAME_PATTERN, UID_PATTERN
 from robospec.model.refs import (
     ControllerName,
@@ -108,6 +109,13 @@ class Description(StrictModel, rules.DescriptionBehaviour):
         description="ManiSkill asset download ids (`register_agent(asset_download_ids=...)`); "
         "a spec whose description is not downloaded yet is checked without it.",
         examples=[["unitree_g1"]],
+    )
+    mend: Mends | None = Field(
+        default=None,
+        description="Mends robospec applies to a derived copy of the description (the file "
+        "itself is never written), by class: what the loaders would stop at or read wrongly, "
+        "each change reported where it was made. `robospec new` writes the ones a robot needs.",
+        examples=[{"inertia": "diagonal", "transmissions": "drop"}],
     )
 
     _exactly_one = model_validator(mode="after")(rules.one_description)

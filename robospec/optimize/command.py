@@ -365,7 +365,7 @@ def _links_to_keep(compiled: Any, urdf: Any, options: OptimizeOptions) -> set[st
 
 def _srdf_of(ref: Any) -> str | None:
     """The SRDF SAPIEN reads beside the spec's URDF (never beside a xacro expansion)."""
-    if ref.generated_text is not None:
+    if not ref.has_srdf_beside:
         return None
     from robospec.description.srdf import srdf_path
 

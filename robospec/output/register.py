@@ -180,15 +180,18 @@ def _store(item: CompiledSpec, file: Path, entry: Path) -> None:
     entry.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".tmp-", dir=entry.parent))
     try:
-        for name, text in files.items():
-            (staging / name).write_text(text, encoding="utf-8")
+        for name, content in files.items():
+            if isinstance(content, bytes):
+                (staging / name).write_bytes(content)
+            else:
+                (staging / name).write_text(content, encoding="utf-8")
         deps = [str(file.resolve()), *_dependencies(item.robot)]
         manifest = {
             "uid": item.robot.uid,
             "class_name": item.robot.class_name,
             "override": item.robot.override,
             "module_file": f"{module}.py",
-            "module_sha256": _sha256(files[f"{module}.py"].encode()),
+            "module_sha256": _sha256(str(files[f"{module}.py"]).encode()),
             "deps": [[path, _file_hash(path)] for path in deps],
         }
         (staging / "manifest.json").write_text(json.dumps(manifest, indent=1))
@@ -253,7 +256,7 @@ def _dependencies(robot: object) -> list[str]:
     deps: list[str] = []
     for ref in refs:
         deps.append(str(ref.absolute))
-        if ref.generated_text is not None:
+        if ref.generated_text is not None and not ref.has_srdf_beside:
             # a xacro file may include its neighbours: any change there recompiles
             folder = ref.absolute.parent
             deps.extend(
@@ -261,7 +264,7 @@ def _dependencies(robot: object) -> list[str]:
                 for p in sorted(folder.rglob("*"))
                 if p.is_file() and p.suffix in (".xacro", ".urdf")
             )
-    if robot.description_kind == "urdf" and robot.description.generated_text is None:
+    if robot.description_kind == "urdf" and robot.description.has_srdf_beside:
         from robospec.description.srdf import srdf_path
 
         srdf = srdf_path(str(robot.description.absolute))

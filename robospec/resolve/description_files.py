@@ -11,9 +11,12 @@ from __future__ import annotations
 import dataclasses
 import os
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from robospec.description.facts import RobotDescription
+
+if TYPE_CHECKING:
+    from robospec.derive import Derived
 from robospec.diagnostics import Diagnostic, Location
 from robospec.load.source_map import KeyPath
 from robospec.resolve.context import ResolveContext
@@ -106,6 +109,7 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         context.assumed = True
         context.loaded_description = assumed_description(context.spec, shown)
         return ref
+    mends = desc.mend.model_dump(exclude_none=True) if desc.mend is not None else {}
     if desc.kind == "xacro":
         from robospec.description.xacro import expand_xacro
 
@@ -114,20 +118,93 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
         if text is None:
             return None
-        description, diags = load_description(
-            str(ref.absolute), "urdf", text=text, packages=packages
-        )
-        diags = _relocate(_unless_shipped(diags, ref), str(ref.absolute), shown + " (expanded)")
-        context.diagnostics.extend(diags)
-        # the expansion is written beside the generated module: every path moves with it
-        mesh_paths = _carried_mesh_paths(description, always=True)
-        ref = dataclasses.replace(ref, generated_text=text, mesh_paths=mesh_paths)
-    else:
-        description, diags = load_description(str(ref.absolute), desc.kind, packages=packages)
-        context.diagnostics.extend(_relocate(_unless_shipped(diags, ref), str(ref.absolute), shown))
-        ref = dataclasses.replace(ref, mesh_paths=_carried_mesh_paths(description, always=False))
+        shown += " (expanded)"
+        ref = dataclasses.replace(ref, generated_text=text, has_srdf_beside=False)
+    kind: Literal["urdf", "mjcf"] = "mjcf" if desc.kind == "mjcf" else "urdf"
+    derived = None
+    if mends:
+        found = _derive(context, ref, kind, shown, packages, mends)
+        if found is None:
+            return None
+        ref, derived = found
+    description, diags = load_description(
+        str(ref.absolute),
+        kind,
+        text=ref.generated_text,
+        packages=packages,
+        beside_file=ref.has_srdf_beside,
+    )
+    if derived is not None:
+        diags = derived.unexplained(diags)
+    context.diagnostics.extend(_relocate(_unless_shipped(diags, ref), str(ref.absolute), shown))
+    # an expansion or a derived copy is written elsewhere: every path it names moves with it
+    always = ref.generated_text is not None
+    ref = dataclasses.replace(ref, mesh_paths=_carried_mesh_paths(description, always=always))
     context.loaded_description = description
     return ref if description is not None else None
+
+
+def _derive(
+    context: ResolveContext,
+    ref: FileRef,
+    kind: Literal["urdf", "mjcf"],
+    shown: str,
+    packages: dict[str, str],
+    mends: dict[str, Any],
+) -> tuple[FileRef, Derived] | None:
+    """The spec's mends applied to a copy of the description (robospec.derive): the notes of
+    what changed, in the description; what the spec asked that does not fit, at its entry."""
+    from robospec.derive import NOT_FOR_KIND, STALE, Source, derive, mend_class
+    from robospec.diagnostics.suggest import did_you_mean
+
+    if ref.generated_text is not None:
+        data = ref.generated_text.encode("utf-8")
+    else:
+        from robospec.description.urdf import read_file_bytes
+
+        try:
+            data = read_file_bytes(str(ref.absolute))
+        except OSError as exc:
+            context.err(
+                ("description", context.spec.description.kind),  # type: ignore[union-attr]
+                "RS050",
+                f"cannot read robot description '{shown}': {exc.strerror or exc}",
+            )
+            return None
+    derived = derive(Source(str(ref.absolute), shown, kind, data, packages), mends)
+    context.diagnostics.extend(derived.notes)
+    context.diagnostics.extend(derived.refusals)
+    for outcome in derived.outcomes:
+        where: KeyPath = ("description", "mend", outcome.name)
+        policy = _policy_text(mends[outcome.name])
+        if outcome.status == "stale":
+            context.warn(
+                where,
+                STALE,
+                f"mend '{outcome.name}: {policy}' changes nothing in '{shown}'",
+                "remove it (robospec new writes only the mends a robot needs)",
+            )
+        elif outcome.status == "not_for_kind":
+            mend = mend_class(outcome.name)
+            kinds = " and ".join(sorted(mend.KINDS)).upper() if mend is not None else "other"
+            from robospec.derive import MENDS
+
+            fitting = [m.NAME for m in MENDS if kind in m.KINDS]
+            context.err(
+                where,
+                NOT_FOR_KIND,
+                f"mend '{outcome.name}' is for {kinds} descriptions, and '{shown}' is "
+                f"{kind.upper()}",
+                did_you_mean(outcome.name, fitting)
+                or f"{kind.upper()} mends: {', '.join(fitting)}",
+            )
+    return dataclasses.replace(ref, generated_text=derived.text, derived=True), derived
+
+
+def _policy_text(policy: Any) -> str:
+    if isinstance(policy, list):
+        return "[" + ", ".join(f"{p:g}" if isinstance(p, float) else str(p) for p in policy) + "]"
+    return str(policy)
 
 
 def package_folders(context: ResolveContext) -> dict[str, str]:

@@ -48,6 +48,12 @@ class FileRef:
     # xacro expansion (written elsewhere), and for a URDF whose package:// (or file://) URIs
     # SAPIEN's loader would resolve differently or not at all. Empty: loaded as it is.
     mesh_paths: tuple[tuple[str, str], ...] = ()
+    # a description robospec derived (robospec.derive: mended): a built package carries it
+    # with copies of every file it names, so that it loads where the original is absent
+    derived: bool = False
+    # whether SAPIEN reads an SRDF beside this file (a URDF file, mended or not; never a
+    # xacro expansion, which SAPIEN never sees as a file)
+    has_srdf_beside: bool = True
 
     @property
     def carried(self) -> bool:
