@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -14,9 +15,11 @@ from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
 from robospec.load.source_map import LoadedSpec
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
 from robospec.maniskill.installed import registered_uids
-from robospec.model.validate import build_spec
+from robospec.model.frozen import Spec
+from robospec.model.validate import SpecModelResult, build_spec
 from robospec.resolve import resolve
 from robospec.resolve.description_files import shown_path
+from robospec.resolve.parts import PartInput, filled_joints
 from robospec.resolve.resolved import ResolvedRobot
 
 
@@ -42,14 +45,16 @@ def compile_spec(
     *,
     overrides: Overrides = False,
     text: bytes | None = None,
+    mounting: tuple[Path, ...] = (),
 ) -> CompiledSpec:
     """``overrides``: uids this compilation may take over from ManiSkill (True: any), as
     ``register(..., override=...)`` allows, on top of a spec's own ``override: true``.
     ``text``: the spec's contents as an editor holds them, unsaved (the file's are read when
-    None); relative paths in it are still relative to ``path``."""
+    None); relative paths in it are still relative to ``path``. ``mounting``: the specs being
+    compiled that mount this one as a part (outermost first), to find a ring of parts."""
     result = CompiledSpec(path, display or str(path))
     try:
-        _compile_into(result, overrides, text)
+        _compile_into(result, overrides, text, mounting)
     except Exception as exc:  # a bug of ours must still be a located diagnostic
         result.robot = None
         result.diagnostics.append(
@@ -66,7 +71,9 @@ def compile_spec(
     return result
 
 
-def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None) -> None:
+def _compile_into(
+    result: CompiledSpec, overrides: Overrides, text: bytes | None, mounting: tuple[Path, ...]
+) -> None:
     fmt = SPEC_SUFFIXES.get(result.path.suffix.lower())
     if text is not None and fmt is not None:
         loaded, diagnostics = parse_spec_bytes(text, result.display, fmt)
@@ -92,7 +99,8 @@ def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None
                 "ManiSkill's agent on purpose",
             )
         )
-    resolution = resolve(loaded, model, result.path)
+    parts = _compile_parts(result, spec, model, loaded, mounting)
+    resolution = resolve(loaded, model, result.path, parts)
     result.diagnostics.extend(resolution.diagnostics)
     result.description = resolution.loaded_description
     robot = resolution.robot
@@ -106,6 +114,11 @@ def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None
         bindings=resolution.bindings,
         locate_value=resolution.at_value,
         locate_key=resolution.at_key,
+        description_origins=resolution.composed.origins if resolution.composed else None,
+        filled_by_parts=filled_joints(resolution),
+        part_passive_joints=frozenset(
+            resolution.part_plan.passive_joints if resolution.part_plan else ()
+        ),
     )
     result.diagnostics.extend(run_checks(BINDING_CHECKS, context))
     if not has_errors(result.diagnostics):
@@ -113,6 +126,86 @@ def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None
         result.context = context
     if not has_errors(result.diagnostics):
         result.robot = robot
+
+
+def _compile_parts(
+    result: CompiledSpec,
+    spec: Spec,
+    model: SpecModelResult,
+    loaded: LoadedSpec,
+    mounting: tuple[Path, ...],
+) -> dict[str, PartInput]:
+    """Each part given as a spec, compiled on its own (its problems reported where they are
+    written); a spec that mounts, directly or through its parts, the spec mounting it is
+    RS733 at the entry that closes the ring."""
+    parts: dict[str, PartInput] = {}
+    here = _identity(result.path)
+    for name, part in spec.parts.items():
+        if part.spec is None:
+            continue
+        where = loaded.source.value(model.origin(("parts", name, "spec")))
+        path = result.path.parent / part.spec
+        display = os.path.normpath(str(Path(result.display).parent / part.spec))
+        chain = (*mounting, here)
+        if _identity(path) in chain:
+            ring = [p.name for p in chain[chain.index(_identity(path)) :]] + [path.name]
+            result.diagnostics.append(
+                error(
+                    where,
+                    "RS733",
+                    f"part '{name}' mounts a spec that mounts this one: {' -> '.join(ring)}",
+                    "a spec cannot be a part of itself",
+                )
+            )
+            parts[name] = PartInput(name, None, None, display, display, cycle=True)
+            continue
+        if not path.is_file():
+            result.diagnostics.append(error(where, "RS050", f"file not found: '{part.spec}'"))
+            parts[name] = PartInput(name, None, None, display, display, cycle=True)
+            continue
+        compiled = compile_spec(path, display, mounting=chain)
+        result.diagnostics.extend(d for d in compiled.diagnostics if d.is_error)
+        parts[name] = part_input(name, compiled)
+    return parts
+
+
+def part_input(name: str, compiled: CompiledSpec) -> PartInput:
+    """What mounting and merging read of a part's own compilation."""
+    context = compiled.context
+    if compiled.robot is None or context is None or compiled.description is None:
+        return PartInput(name, None, None, compiled.display, compiled.display, failed=True)
+    spec = context.spec
+    carried_not = [
+        what
+        for what, given in (
+            ("hooks", bool(spec.hooks.after_init or spec.hooks.after_loading_articulation)),
+            ("hooked methods", bool(spec.hooks.methods)),
+            ("extended class (extends)", spec.extends is not None),
+            (
+                "is_static, is_standing and is_fallen",
+                bool(spec.is_static or spec.is_standing or spec.is_fallen),
+            ),
+        )
+        if given
+    ]
+    return PartInput(
+        name=name,
+        robot=compiled.robot,
+        description=compiled.description,
+        shown=context.description_file,
+        spec_shown=compiled.display,
+        locate=lambda path, key: context.key(path) if key else context.value(path),
+        fix_root_link=compiled.robot.fix_root_link,
+        passive_joints=context.passive_joints_bound,
+        carried_not=tuple(carried_not),
+    )
+
+
+def _identity(path: Path) -> Path:
+    try:
+        return Path(os.path.realpath(path))
+    except (OSError, ValueError):
+        return path
 
 
 def compile_all(

@@ -14,7 +14,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.description.facts import Joint
-from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.diagnostics import Diagnostic, warning
 
 
 def unguarded_modes(context: CheckContext, joint: Joint) -> list[str]:
@@ -52,7 +52,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
     for joint in physx_mimic_joints(context):
         assert joint.mimic is not None
         yield warning(
-            Location(context.description_file, joint.line, 1),
+            context.at_description(joint.line),
             "RS309",
             f"joint '{joint.name}' mimics '{joint.mimic.joint}' and no pd_joint_pos_mimic "
             f"controller drives it in mode(s) {', '.join(unguarded_modes(context, joint))}: "

@@ -109,6 +109,8 @@ def carried_urdf(ref: FileRef, module_dir: Path, copies: dict[str, str] | None =
             moved = copied if copied is not None else os.path.relpath(found[filename], module_dir)
             element.set("filename", Path(moved).as_posix())
     how = ", mended" if ref.derived else ""
+    if ref.parts:
+        how = f", with {', '.join(ref.parts)} mounted"
     root.addprevious(etree.Comment(f" {GENERATED_MARKER} from {ref.relative}{how}: do not edit "))
     text = etree.tostring(root.getroottree(), encoding="unicode", xml_declaration=False)
     return text if text.endswith("\n") else text + "\n"

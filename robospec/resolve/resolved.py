@@ -51,6 +51,8 @@ class FileRef:
     # a description robospec derived (robospec.derive: mended): a built package carries it
     # with copies of every file it names, so that it loads where the original is absent
     derived: bool = False
+    # a description composed with parts mounted (robospec.compose): the parts' names
+    parts: tuple[str, ...] = ()
     # whether SAPIEN reads an SRDF beside this file (a URDF file, mended or not; never a
     # xacro expansion, which SAPIEN never sees as a file)
     has_srdf_beside: bool = True
@@ -236,6 +238,25 @@ class ResolvedHooks:
 
 
 @dataclass(frozen=True)
+class ResolvedPart:
+    """A robot mounted on this one (``parts:``), as the combined description has it."""
+
+    name: str
+    source: str  # its spec file, or its description file, as the spec wrote it
+    kind: Literal["spec", "description"]
+    at: str  # the link it is fixed to
+    joint: str  # the fixed joint that mounts it
+    root: str  # its root link
+    p: tuple[float, float, float]
+    q: tuple[float, float, float, float]
+    links: tuple[str, ...]
+    joints: tuple[str, ...]
+    # (link | joint | material, name in the part's file, name here) for every prefixed name
+    renamed: tuple[tuple[str, str, str], ...] = ()
+    description: str = ""  # the part's description file, as diagnostics name it
+
+
+@dataclass(frozen=True)
 class ResolvedRobot:
     uid: str
     class_name: str
@@ -272,3 +293,5 @@ class ResolvedRobot:
     drives: tuple[ResolvedDrive, ...] = ()
     hooks: ResolvedHooks = ResolvedHooks()
     never_collide: ResolvedNeverCollide | None = None
+    # the robots mounted on this one (their links and joints are in the description)
+    parts: tuple[ResolvedPart, ...] = ()
