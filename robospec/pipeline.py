@@ -19,7 +19,8 @@ from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult, build_spec
 from robospec.resolve import resolve
 from robospec.resolve.description_files import shown_path
-from robospec.resolve.parts import PartInput, filled_joints
+from robospec.resolve.part_types import PartInput
+from robospec.resolve.parts import filled_joints
 from robospec.resolve.resolved import ResolvedRobot
 
 

@@ -11,7 +11,7 @@ from typing import Any
 
 from lxml import etree
 
-from robospec.compose import (
+from robospec.compose.model import (
     CLASH,
     NOT_A_FIXED_TREE,
     NOTHING_TO_FOLD,
@@ -22,8 +22,8 @@ from robospec.compose import (
     Origins,
     PartSource,
     Problem,
-    mount_order,
 )
+from robospec.compose.order import mount_order
 from robospec.compose.rotations import chain, from_rpy, number, quaternion_to_rpy
 from robospec.compose.xml import (
     Provenance,
@@ -58,13 +58,12 @@ def compose_urdf(base: BaseSource, parts: Sequence[PartSource]) -> Composed:
     mounted: list[Mounted] = []
     base_folder = os.path.dirname(base.path)
     for part in ordered:
-        result = _mount(root, trees[part.name], part, mounted, base_folder, provenance)
-        if isinstance(result, Mounted):
+        result, found = _mount(root, trees[part.name], part, mounted, base_folder, provenance)
+        problems.extend(found)
+        if result is not None:
             mounted.append(result)
             if result.renamed:
                 problems.append(_prefixed_note(part, result))
-        else:
-            problems.extend(result)
     if any(p.severity == "error" for p in problems):
         return Composed("urdf", None, Origins(()), tuple(mounted), tuple(problems))
     first_line = root.sourceline if isinstance(root.sourceline, int) else 1
@@ -83,7 +82,8 @@ def _mount(
     mounted: list[Mounted],
     base_folder: str,
     provenance: Provenance,
-) -> Mounted | list[Problem]:
+) -> tuple[Mounted | None, list[Problem]]:
+    """Mount ``part`` (its tree) on ``root``: the part as mounted, or None, and the problems."""
     links, joints = _names(tree, "link"), _names(tree, "joint")
     children = {c.get("link") for j in tree.findall("joint") for c in j.findall("child")} - {None}
     roots = [name for name in links if name not in children]
@@ -93,7 +93,7 @@ def _mount(
             if not roots
             else (f"{len(roots)} root links ({', '.join(roots[:4])})")
         )
-        return [
+        return None, [
             Problem(
                 ("parts", part.name, part.key),
                 NOT_A_FIXED_TREE,
@@ -159,7 +159,7 @@ def _mount(
             )
         )
     if any(p.severity == "error" for p in problems):
-        return problems
+        return None, problems
     _rename(tree, link_names, joint_names, materials)
     _move_files(tree, part, base_folder)
     provenance.remember((e for e in tree.iter(etree.Element) if e is not tree), part.shown)
@@ -200,7 +200,7 @@ def _mount(
         joints=tuple(joint_names.get(n, n) for n in joints),
         renamed=renamed,
         folded=tuple(folded),
-    )
+    ), problems
 
 
 def _renames(

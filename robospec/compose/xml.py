@@ -10,7 +10,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from robospec.compose import Origins
+from robospec.compose.model import Origins
 
 
 def parse(data: bytes) -> etree._Element | None:

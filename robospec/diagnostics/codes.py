@@ -3,8 +3,8 @@
 Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
 into the robot description, RS3xx semantic checks, RS4xx `robospec import`, RS5xx physics
 checks (`robospec check`), RS6xx writing files and the authoring commands (`robospec build`,
-`inspect`, `new`, `doc`), RS7xx mends robospec applies to a copy of the description, RS9xx
-internal errors.
+`inspect`, `new`, `doc`), RS7xx descriptions robospec derives (mends applied to a copy, parts
+composed into one), RS9xx internal errors.
 """
 
 from __future__ import annotations
@@ -184,6 +184,19 @@ _CODES = [
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),
+    # -- parts: robots mounted on the spec's robot, composed into one description (RS730-RS759)
+    Code("RS730", "part mounted on a link no one has"),
+    Code("RS731", "part that is not one tree fixed at its root"),
+    Code("RS732", "name clash a prefix cannot fix"),
+    Code("RS733", "parts mounted on each other in a ring"),
+    Code("RS734", "part inside the robot at rest"),
+    Code("RS735", "part of another description format"),
+    Code("RS736", "part names prefixed"),
+    Code("RS737", "part whose spec has errors"),
+    Code("RS738", "what a part's spec declares that does not come along"),
+    Code("RS739", "part mode the part does not have"),
+    Code("RS740", "parts on a robot without its own description"),
+    Code("RS741", "fold_frames with no empty frame to fold"),
     # -- internal
     Code("RS900", "internal error"),
 ]

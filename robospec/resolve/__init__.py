@@ -24,7 +24,7 @@ from robospec.resolve.description_files import load_inherited_description, load_
 from robospec.resolve.keyframes import resolve_keyframe
 from robospec.resolve.modes import resolve_modes
 from robospec.resolve.never_collide import resolve_never_collide
-from robospec.resolve.parts import PartInput
+from robospec.resolve.part_types import PartInput
 from robospec.resolve.resolved import ResolvedCollisionRule, ResolvedRobot
 from robospec.resolve.selection import group_joints, select_joints, select_links
 from robospec.resolve.urdf_config import resolve_urdf_config
@@ -50,7 +50,9 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
     if spec.extends is not None and base_ref is None:
         return None
     if spec.description is not None:
-        description_ref = load_spec_description(context)
+        description_ref = load_spec_description(
+            context, parts.compose_parts if spec.parts else None
+        )
         description_kind = "mjcf" if spec.description.kind == "mjcf" else "urdf"
     else:
         parts.warn_unsupported(context)

@@ -8,7 +8,6 @@ checks stage (:mod:`robospec.checks`) judges afterwards.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -18,15 +17,11 @@ from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult
+from robospec.resolve.part_types import Locator, PartInput, Plan
 from robospec.resolve.resolved import Bindings, FileRef, ResolvedRobot
 
 if TYPE_CHECKING:
-    from robospec.compose import Composed
-    from robospec.resolve.parts import PartInput, Plan
-
-# where a key of the robot's spec was written in another file (a part's spec): the part's
-# locator (key or value position) and the path there
-Locator = Callable[[KeyPath, bool], Location]
+    from robospec.compose.model import Composed
 
 
 @dataclass

@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from robospec.description.facts import RobotDescription
 
 if TYPE_CHECKING:
-    from robospec.compose import Composed
+    from robospec.compose.model import Composed
     from robospec.derive import Derived
 from robospec.diagnostics import Diagnostic, Location
 from robospec.load.source_map import KeyPath
@@ -86,27 +87,29 @@ def shown_path(context: ResolveContext, ref: FileRef) -> str:
     return ref.placeholder_text or str(Path(context.loaded.path).parent / ref.relative)
 
 
-def load_spec_description(context: ResolveContext) -> FileRef | None:
-    """Load the description the spec's ``description:`` names (into the context), with the
-    parts the spec mounts on it (robospec.compose) when it has ``parts:``."""
+def load_spec_description(context: ResolveContext, mount: Mount | None = None) -> FileRef | None:
+    """Load the description the spec's ``description:`` names (into the context). ``mount``:
+    what writes the combined description of it and the spec's parts (robospec.resolve.parts),
+    given the ref of the prepared description, its kind and shown name; it returns the ref of
+    the combined text (and sets ``context.composed``), or None when the parts cannot be
+    mounted."""
     desc = context.spec.description
     assert desc is not None
     prepared = _prepare(context, desc, ("description",))
     if prepared is None or isinstance(prepared, FileRef):
         return prepared  # could not be read, or not downloaded (names are assumed)
     ref, kind, shown, packages, derived = prepared
-    composed = None
-    if context.spec.parts:
-        from robospec.resolve.parts import compose_parts
-
-        found = compose_parts(context, ref, kind, shown)
-        if found is None:
+    if mount is not None:
+        mounted = mount(context, ref, kind, shown)
+        if mounted is None:
             return None
-        ref, composed = found
-        context.composed = composed
-    description, ref = _load(context, ref, kind, shown, packages, derived, composed)
+        ref = mounted
+    description, ref = _load(context, ref, kind, shown, packages, derived, context.composed)
     context.loaded_description = description
     return ref if description is not None else None
+
+
+Mount = Callable[[ResolveContext, FileRef, str, str], "FileRef | None"]
 
 
 def load_part_description(
@@ -202,9 +205,9 @@ def _load(
         diags = derived.unexplained(diags)
     diags = _unless_shipped(diags, ref)
     if composed is not None:
-        from robospec.resolve.parts import relocate_composed
+        from robospec.compose.model import relocate
 
-        context.diagnostics.extend(relocate_composed(diags, str(ref.absolute), composed))
+        context.diagnostics.extend(relocate(diags, str(ref.absolute), composed))
     else:
         context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
     # an expansion or a derived copy is written elsewhere: every path it names moves with it

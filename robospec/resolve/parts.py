@@ -27,23 +27,18 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from robospec.description.facts import RobotDescription
-from robospec.diagnostics import Diagnostic, Location, error, note, warning
+from robospec.diagnostics import error, note, warning
 from robospec.load.source_map import KeyPath
-from robospec.resolve.context import Locator, ResolveContext
+from robospec.resolve.context import ResolveContext
+from robospec.resolve.part_types import PartInput, Plan
 from robospec.resolve.resolved import (
     FileRef,
-    ResolvedCamera,
-    ResolvedCollisionRule,
     ResolvedController,
-    ResolvedDrive,
     ResolvedFinger,
-    ResolvedGrasping,
     ResolvedKeyframe,
-    ResolvedLinkState,
     ResolvedMode,
     ResolvedPart,
     ResolvedRobot,
@@ -51,7 +46,7 @@ from robospec.resolve.resolved import (
 )
 
 if TYPE_CHECKING:
-    from robospec.compose import Composed, Mounted, PartSource
+    from robospec.compose import Mounted, PartSource, Problem
 
 # the codes of this module (robospec/diagnostics/codes.py)
 PART_HAS_ERRORS = "RS737"
@@ -60,38 +55,19 @@ UNKNOWN_PART_MODE = "RS739"
 NO_DESCRIPTION = "RS740"
 
 
-@dataclass(frozen=True)
-class PartInput:
-    """One part as its own compilation left it (or, for a bare description, as it loaded)."""
-
-    name: str
-    robot: ResolvedRobot | None  # None: a bare description, or a spec with errors
-    description: RobotDescription | None
-    shown: str  # its description, as diagnostics name it
-    spec_shown: str | None = None  # its spec file, as diagnostics name it (None: bare)
-    locate: Locator | None = None  # where its spec wrote a key path (key or value)
-    fix_root_link: bool = True
-    passive_joints: tuple[str, ...] = ()
-    carried_not: tuple[str, ...] = ()  # what it declares that does not come along (hooks, ...)
-    ref: FileRef | None = None  # a bare description's file (a spec's is its robot's)
-    failed: bool = False  # its spec has errors (they are reported where they are written)
-    cycle: bool = False  # its spec mounts, directly or not, the spec that mounts it
-
-
 # -- composing -------------------------------------------------------------------------------
 
 
-def compose_parts(
-    context: ResolveContext, ref: FileRef, kind: str, shown: str
-) -> tuple[FileRef, Composed] | None:
+def compose_parts(context: ResolveContext, ref: FileRef, kind: str, shown: str) -> FileRef | None:
     """The robot's description (``ref``) with every part mounted, as the ref of the combined
-    text; None (and the reasons, located) when a part cannot be mounted."""
+    text (and ``context.composed``); None (and the reasons, located) when a part cannot be
+    mounted."""
     from robospec.compose import BaseSource, compose
 
     sources = []
     ready = True
     for name, part in context.spec.parts.items():
-        source = _part_source(context, name, part)
+        source = _part_source(context, name, part, kind)
         if source is None:
             ready = False
         else:
@@ -101,10 +77,7 @@ def compose_parts(
         return None
     composed = compose(BaseSource(kind, data, str(ref.absolute), shown), sources)  # type: ignore[arg-type]
     for problem in composed.problems:
-        where = problem.path
-        located = context.at_key(where) if len(where) == 2 else context.at_value(where)
-        make = {"note": note, "warning": warning}.get(problem.severity, error)
-        context.diagnostics.append(make(located, problem.code, problem.message, problem.hint))
+        _report(context, problem)
     if composed.text is None:
         return None
     if ref.has_srdf_beside:  # its pairs come along as never_collide entries (see make_plan)
@@ -117,7 +90,15 @@ def compose_parts(
         has_srdf_beside=False,
         parts=tuple(f"part '{m.name}'" for m in composed.parts),
     )
-    return combined, composed
+    context.composed = composed
+    return combined
+
+
+def _report(context: ResolveContext, problem: Problem) -> None:
+    where = problem.path
+    located = context.at_key(where) if len(where) == 2 else context.at_value(where)
+    make = {"note": note, "warning": warning}.get(problem.severity, error)
+    context.diagnostics.append(make(located, problem.code, problem.message, problem.hint))
 
 
 def _text(ref: FileRef) -> bytes | None:
@@ -131,8 +112,10 @@ def _text(ref: FileRef) -> bytes | None:
         return None  # the description's own load says why
 
 
-def _part_source(context: ResolveContext, name: str, part: Any) -> PartSource | None:
-    from robospec.compose import NOT_A_FIXED_TREE, PartSource
+def _part_source(
+    context: ResolveContext, name: str, part: Any, base_kind: str
+) -> PartSource | None:
+    from robospec.compose import NOT_A_FIXED_TREE, PartSource, mixed_formats
     from robospec.resolve.description_files import load_part_description
     from robospec.resolve.poses import position_and_quaternion
 
@@ -152,6 +135,9 @@ def _part_source(context: ResolveContext, name: str, part: Any) -> PartSource | 
         ref = given.robot.description
         description = given.description
         kind = given.robot.description_kind
+        if kind != base_kind:
+            _report(context, mixed_formats(base_kind, name, kind, "spec"))  # type: ignore[arg-type]
+            return None
         if not given.fix_root_link or description.floating_root:
             context.err(
                 (*where, "spec"),
@@ -163,6 +149,10 @@ def _part_source(context: ResolveContext, name: str, part: Any) -> PartSource | 
             return None
         key = "spec"
     else:
+        kind = "mjcf" if part.description.kind == "mjcf" else "urdf"
+        if kind != base_kind:  # said before the part is read: its problems would not matter
+            _report(context, mixed_formats(base_kind, name, kind, "description"))  # type: ignore[arg-type]
+            return None
         loaded = load_part_description(context, part.description, (*where, "description"))
         if loaded is None:
             return None
@@ -205,46 +195,7 @@ def _part_source(context: ResolveContext, name: str, part: Any) -> PartSource | 
     )
 
 
-def relocate_composed(
-    diagnostics: list[Diagnostic], absolute: str, composed: Composed
-) -> list[Diagnostic]:
-    """Diagnostics of the combined text, each at the element's line in the file it came from."""
-    out = []
-    for d in diagnostics:
-        if d.location.file == absolute:
-            found = composed.origins.locate(d.location.line)
-            if found is not None:
-                d = dataclasses.replace(d, location=Location(found[0], found[1], d.location.column))
-        out.append(d)
-    return out
-
-
 # -- the plan: every merged name, decided once -------------------------------------------------
-
-
-@dataclass
-class Plan:
-    """What comes along from the parts' specs, under its name in the robot."""
-
-    controllers: list[ResolvedController] = field(default_factory=list)
-    # part -> the (key, controller) entries its default mode adds to each of the robot's modes
-    modes: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
-    # part -> the active joints it brings (named as in the combined description)
-    joints: dict[str, frozenset[str]] = field(default_factory=dict)
-    named_links: list[tuple[str, str | tuple[str, ...]]] = field(default_factory=list)
-    grasping: list[ResolvedGrasping] = field(default_factory=list)
-    link_states: list[ResolvedLinkState] = field(default_factory=list)
-    proprioception: list[str] = field(default_factory=list)
-    cameras: list[ResolvedCamera] = field(default_factory=list)
-    drives: list[ResolvedDrive] = field(default_factory=list)
-    disable_gravity: list[str] = field(default_factory=list)
-    collision_rules: list[ResolvedCollisionRule] = field(default_factory=list)
-    never_collide: list[tuple[str, ...]] = field(default_factory=list)
-    materials: dict[str, dict[str, Any]] = field(default_factory=dict)
-    link_rules: dict[str, dict[str, Any]] = field(default_factory=dict)
-    tcp: ResolvedTcp | None = None
-    passive_joints: list[str] = field(default_factory=list)
-    parts: list[ResolvedPart] = field(default_factory=list)
 
 
 class _Names:
@@ -709,5 +660,4 @@ __all__ = [
     "keyframe_values",
     "make_plan",
     "merge",
-    "relocate_composed",
 ]
