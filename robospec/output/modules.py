@@ -40,7 +40,14 @@ def robot_files(
     files: dict[str, str | bytes] = {}
     description_file = None
     ref = robot.description
-    if ref.carried:
+    if ref.carried and robot.description_kind == "mjcf":
+        from robospec.output.carried_mjcf import carried_mjcf
+
+        description_file = f"{module}.xml"
+        text, copied = carried_mjcf(ref, module_dir, module, self_contained and ref.derived)
+        files[description_file] = text
+        files.update(copied)
+    elif ref.carried:
         description_file = f"{module}.urdf"
         copies = _copies(ref, module) if self_contained and ref.derived else {}
         files[description_file] = carried_urdf(ref, module_dir, copies)
