@@ -195,6 +195,7 @@ def part_input(name: str, compiled: CompiledSpec) -> PartInput:
         description=compiled.description,
         shown=context.description_file,
         spec_shown=compiled.display,
+        spec_path=str(_identity(compiled.path)),
         locate=lambda path, key: context.key(path) if key else context.value(path),
         fix_root_link=compiled.robot.fix_root_link,
         passive_joints=context.passive_joints_bound,

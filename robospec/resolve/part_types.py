@@ -37,6 +37,7 @@ class PartInput:
     description: RobotDescription | None
     shown: str  # its description, as diagnostics name it
     spec_shown: str | None = None  # its spec file, as diagnostics name it (None: bare)
+    spec_path: str | None = None  # its spec file, absolute
     locate: Locator | None = None  # where its spec wrote a key path (key or value)
     fix_root_link: bool = True
     passive_joints: tuple[str, ...] = ()

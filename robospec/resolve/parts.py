@@ -26,7 +26,7 @@ reported on, the report points into the part's spec (``ResolveContext.origins``)
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 from robospec.description.facts import RobotDescription
@@ -89,9 +89,22 @@ def compose_parts(context: ResolveContext, ref: FileRef, kind: str, shown: str) 
         derived=True,
         has_srdf_beside=False,
         parts=tuple(f"part '{m.name}'" for m in composed.parts),
+        sources=tuple(dict.fromkeys(_sources(context))),
     )
     context.composed = composed
     return combined
+
+
+def _sources(context: ResolveContext) -> Iterator[str]:
+    """The files the combined description is written from, besides the robot's own: what
+    ``register`` must see unchanged to trust its cache."""
+    for given in context.parts.values():
+        if given.spec_path is not None:
+            yield given.spec_path
+        ref = given.robot.description if given.robot is not None else given.ref
+        if ref is not None:
+            yield str(ref.absolute)
+            yield from ref.sources
 
 
 def _report(context: ResolveContext, problem: Problem) -> None:

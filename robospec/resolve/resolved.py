@@ -51,8 +51,10 @@ class FileRef:
     # a description robospec derived (robospec.derive: mended): a built package carries it
     # with copies of every file it names, so that it loads where the original is absent
     derived: bool = False
-    # a description composed with parts mounted (robospec.compose): the parts' names
+    # a description composed with parts mounted (robospec.compose): the parts' names, and
+    # the files it was written from besides this one (the parts' specs and descriptions)
     parts: tuple[str, ...] = ()
+    sources: tuple[str, ...] = ()
     # whether SAPIEN reads an SRDF beside this file (a URDF file, mended or not; never a
     # xacro expansion, which SAPIEN never sees as a file)
     has_srdf_beside: bool = True
