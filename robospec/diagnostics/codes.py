@@ -197,6 +197,7 @@ _CODES = [
     Code("RS739", "part mode the part does not have"),
     Code("RS740", "parts on a robot without its own description"),
     Code("RS741", "fold_frames with no empty frame to fold"),
+    Code("RS742", "--attach names no part or link robospec can mount"),
     # -- internal
     Code("RS900", "internal error"),
 ]
