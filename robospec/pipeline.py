@@ -6,22 +6,26 @@ import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
 from robospec.load.discovery import discover
 from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
-from robospec.load.source_map import LoadedSpec
+from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
 from robospec.maniskill.installed import registered_uids
 from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult, build_spec
 from robospec.resolve import resolve
 from robospec.resolve.description_files import shown_path
-from robospec.resolve.part_types import PartInput
+from robospec.resolve.part_types import Locator, PartInput
 from robospec.resolve.parts import filled_joints
 from robospec.resolve.resolved import ResolvedRobot
+
+if TYPE_CHECKING:
+    from robospec.compose.model import Composed
 
 
 @dataclass
@@ -34,6 +38,15 @@ class CompiledSpec:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     # the resolved robot with its spec and locators, as the checks saw it (physics checks too)
     context: CheckContext | None = None
+    # with parts: the combined description (where its lines came from), and what came along
+    # from the parts' specs: key path here -> where the part's spec wrote it
+    composed: Composed | None = None
+    part_origins: dict[KeyPath, tuple[Locator, KeyPath]] = field(default_factory=dict)
+
+    def part_location(self, path: KeyPath) -> Location | None:
+        """Where a part's spec wrote what ``path`` names here (its key), if it came from one."""
+        found = self.part_origins.get(path)
+        return found[0](found[1], True) if found is not None else None
 
     @property
     def ok(self) -> bool:
@@ -103,6 +116,8 @@ def _compile_into(
     parts = _compile_parts(result, spec, model, loaded, mounting)
     resolution = resolve(loaded, model, result.path, parts)
     result.diagnostics.extend(resolution.diagnostics)
+    result.composed = resolution.composed
+    result.part_origins = resolution.origins
     result.description = resolution.loaded_description
     robot = resolution.robot
     if robot is None or resolution.loaded_description is None:

@@ -121,7 +121,8 @@ def test_the_parts_controller_joins_every_mode_and_its_keyframe_merges_by_joint(
     assert list(robot.urdf_config["link"]) == ["index_L2", "middle_L2", "ring_L2", "pinky_L2"]
     assert dict(robot.named_links)["finger_tip_links"][0] == "thumb_tip"
     (part,) = robot.parts
-    assert (part.name, part.at, part.joint, part.root) == ("hand", "link7", "joint_eef", "base")
+    assert (part.name, part.at, part.joint, part.root) == ("hand", "link_eef", "joint_eef", "base")
+    assert part.folded == ("link_eef", "base_link", "base_joint")
 
 
 def test_the_hands_description_problems_point_into_the_hands_file() -> None:

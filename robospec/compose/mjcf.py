@@ -94,7 +94,7 @@ def compose_mjcf(base: BaseSource, parts: Sequence[PartSource]) -> Composed:
     if root is None or root.tag != "mujoco":
         return Composed("mjcf", None, Origins(()))  # the base's own parse says what is wrong
     provenance = Provenance()
-    provenance.remember(root.iter(etree.Element), base.shown)
+    provenance.remember(root.iter(etree.Element), base.shown, path=base.path)
     base_folder = os.path.dirname(base.path)
     trees: dict[str, etree._Element] = {}
     problems: list[Problem] = []
@@ -102,6 +102,7 @@ def compose_mjcf(base: BaseSource, parts: Sequence[PartSource]) -> Composed:
         tree = parse(part.text)
         if tree is None or tree.tag != "mujoco":
             continue  # reported by the part's own compilation
+        provenance.remember(tree.iter(etree.Element), part.shown, path=part.path)
         _read_includes(tree, part, provenance)
         trees[part.name] = tree
     names = _names(root, base_folder)
@@ -163,7 +164,7 @@ def _read_includes(tree: etree._Element, part: PartSource, provenance: Provenanc
             continue  # the part's own parse reported it
         shown = os.path.join(os.path.dirname(part.shown), file)
         children = [c for c in included if isinstance(c.tag, str) and c.tag != "include"]
-        provenance.remember((e for c in children for e in c.iter(etree.Element)), shown)
+        provenance.remember((e for c in children for e in c.iter(etree.Element)), shown, path=full)
         for offset, child in enumerate(children):
             parent.insert(index + offset, child)
 

@@ -55,6 +55,7 @@ class PartSource:
     files: Mapping[str, str] = field(default_factory=dict)
     # where the spec's parts entry is: the origin of the elements composing adds (file, line)
     entry: tuple[str, int] = ("", 1)
+    entry_path: str | None = None  # the spec file, absolute
     key: Literal["spec", "description"] = "spec"  # which of the two the entry gives
     joint_given: bool = False  # the spec names the mounting joint (else it is `<part>_mount`)
     fold_frames: bool = False  # leave out the empty frames at the seam (see Part.fold_frames)
@@ -98,6 +99,11 @@ class Origins:
     first line of each element, in line order."""
 
     entries: tuple[tuple[int, str, int], ...]
+    # each file an element came from: (as diagnostics show it, its absolute path)
+    files: tuple[tuple[str, str], ...] = ()
+
+    def path_of(self, shown: str) -> str | None:
+        return next((path for name, path in self.files if name == shown), None)
 
     def locate(self, line: int) -> tuple[str, int] | None:
         """The file and line that ``line`` of the combined text shows, or None before the

@@ -42,7 +42,7 @@ def compose_urdf(base: BaseSource, parts: Sequence[PartSource]) -> Composed:
     if root is None or root.tag != "robot":
         return Composed("urdf", None, Origins(()))  # the base's own parse says what is wrong
     provenance = Provenance()
-    provenance.remember(root.iter(etree.Element), base.shown)
+    provenance.remember(root.iter(etree.Element), base.shown, path=base.path)
     trees: dict[str, etree._Element] = {}
     problems: list[Problem] = []
     for part in parts:
@@ -162,7 +162,9 @@ def _mount(
         return None, problems
     _rename(tree, link_names, joint_names, materials)
     _move_files(tree, part, base_folder)
-    provenance.remember((e for e in tree.iter(etree.Element) if e is not tree), part.shown)
+    provenance.remember(
+        (e for e in tree.iter(etree.Element) if e is not tree), part.shown, path=part.path
+    )
     child = link_names.get(root_name, root_name)
     rpy = part.rpy if part.rpy is not None and not folded else quaternion_to_rpy(pose[1])
     origin = (pose[0], rpy)
@@ -171,7 +173,7 @@ def _mount(
         _hold(holder[1], mount_joint, child, origin)
     else:
         joint = _mount_joint(mount_joint, at, child, origin)
-        provenance.remember(joint.iter(etree.Element), *part.entry)
+        provenance.remember(joint.iter(etree.Element), *part.entry, path=part.entry_path)
     header = etree.Comment(
         comment_text(f"part '{part.name}' ({part.shown}), mounted on '{at}' by robospec")
     )

@@ -32,11 +32,19 @@ class Provenance:
     def __init__(self) -> None:
         self._kept: list[etree._Element] = []
         self._origin: dict[int, tuple[str, int]] = {}
+        self.files: dict[str, str] = {}  # shown -> absolute
 
     def remember(
-        self, elements: Iterable[etree._Element], file: str, line: int | None = None
+        self,
+        elements: Iterable[etree._Element],
+        file: str,
+        line: int | None = None,
+        path: str | None = None,
     ) -> None:
-        """``elements`` come from ``file``: each at its own source line, or all at ``line``."""
+        """``elements`` come from ``file`` (as shown; ``path``: where it is): each at its own
+        source line, or all at ``line``."""
+        if path is not None:
+            self.files.setdefault(file, path)
         for element in elements:
             self._kept.append(element)
             there = line if line is not None else element.sourceline
@@ -58,7 +66,7 @@ def written(root: etree._Element, provenance: Provenance, first_line: int) -> tu
             if source is not None and isinstance(element.sourceline, int):
                 entries.append((element.sourceline, source[0], source[1]))
     entries.sort()
-    return text, Origins(tuple(entries))
+    return text, Origins(tuple(entries), tuple(provenance.files.items()))
 
 
 def relative_file(found: str, base_folder: str) -> str:

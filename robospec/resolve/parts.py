@@ -202,6 +202,7 @@ def _part_source(
         prefix=part.name_prefix(name),
         files={m.uri: m.path for m in description.mesh_files if m.path is not None},
         entry=(entry.file, entry.line),
+        entry_path=str(context.spec_file.resolve()),
         key=key,  # type: ignore[arg-type]
         joint_given=part.joint is not None,
         fold_frames=part.fold_frames,
@@ -496,7 +497,7 @@ def _resolved_part(name: str, part: Any, mounted: Mounted, given: PartInput) -> 
         name=name,
         source=part.spec if part.spec is not None else part.description.path,
         kind="spec" if part.spec is not None else "description",
-        at=mounted.at,
+        at=part.at,
         joint=mounted.joint,
         root=mounted.root,
         p=p,
@@ -505,6 +506,7 @@ def _resolved_part(name: str, part: Any, mounted: Mounted, given: PartInput) -> 
         joints=mounted.joints,
         renamed=mounted.renamed,
         description=given.shown,
+        folded=mounted.folded,
     )
 
 

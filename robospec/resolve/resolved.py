@@ -246,8 +246,8 @@ class ResolvedPart:
     name: str
     source: str  # its spec file, or its description file, as the spec wrote it
     kind: Literal["spec", "description"]
-    at: str  # the link it is fixed to
-    joint: str  # the fixed joint that mounts it
+    at: str  # the link the spec mounts it on (before fold_frames)
+    joint: str  # the fixed joint that mounts it ("" for an MJCF body, welded to its parent)
     root: str  # its root link
     p: tuple[float, float, float]
     q: tuple[float, float, float, float]
@@ -256,6 +256,7 @@ class ResolvedPart:
     # (link | joint | material, name in the part's file, name here) for every prefixed name
     renamed: tuple[tuple[str, str, str], ...] = ()
     description: str = ""  # the part's description file, as diagnostics name it
+    folded: tuple[str, ...] = ()  # empty frames fold_frames left out (links and joints)
 
 
 @dataclass(frozen=True)
