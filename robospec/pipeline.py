@@ -179,9 +179,8 @@ def _compile_parts(
             result.diagnostics.append(error(where, "RS050", f"file not found: '{part.spec}'"))
             parts[name] = PartInput(name, None, None, display, display, cycle=True)
             continue
-        compiled = compile_spec(path, display, mounting=chain)
-        result.diagnostics.extend(d for d in compiled.diagnostics if d.is_error)
-        parts[name] = part_input(name, compiled)
+        # its own problems are its file's: validating it reports them; here, RS737 names them
+        parts[name] = part_input(name, compile_spec(path, display, mounting=chain))
     return parts
 
 
@@ -189,7 +188,12 @@ def part_input(name: str, compiled: CompiledSpec) -> PartInput:
     """What mounting and merging read of a part's own compilation."""
     context = compiled.context
     if compiled.robot is None or context is None or compiled.description is None:
-        return PartInput(name, None, None, compiled.display, compiled.display, failed=True)
+        errors = tuple(
+            d.format_text().split("\n", 1)[0] for d in compiled.diagnostics if d.is_error
+        )
+        return PartInput(
+            name, None, None, compiled.display, compiled.display, failed=True, errors=errors
+        )
     spec = context.spec
     carried_not = [
         what

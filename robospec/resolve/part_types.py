@@ -43,7 +43,8 @@ class PartInput:
     passive_joints: tuple[str, ...] = ()
     carried_not: tuple[str, ...] = ()  # what it declares that does not come along (hooks, ...)
     ref: FileRef | None = None  # a bare description's file (a spec's is its robot's)
-    failed: bool = False  # its spec has errors (they are reported where they are written)
+    failed: bool = False  # its spec has errors
+    errors: tuple[str, ...] = ()  # them, each as a line of text
     cycle: bool = False  # its spec mounts, directly or not, the spec that mounts it
 
 

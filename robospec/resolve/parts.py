@@ -138,10 +138,12 @@ def _part_source(
         if given is None or given.cycle:
             return None  # the pipeline reported the ring of specs
         if given.failed or given.robot is None or given.description is None:
+            first = given.errors[0] if given.errors else "it did not compile"
+            more = f" (and {len(given.errors) - 1} more)" if len(given.errors) > 1 else ""
             context.err(
                 (*where, "spec"),
                 PART_HAS_ERRORS,
-                f"part '{name}' cannot be mounted: its spec {given.spec_shown} has errors",
+                f"part '{name}' cannot be mounted: its spec has errors: {first}{more}",
                 f"robospec validate {given.spec_shown}",
             )
             return None
