@@ -359,3 +359,81 @@ def test_a_clash_no_prefix_fixes_is_an_error_at_the_part(tmp_path: Path, example
     codes = [(d.code, d.location.line) for d in result.diagnostics if d.is_error]
     assert codes == [("RS732", 5)], [d.format_text() for d in result.diagnostics]
     assert result.robot is None
+
+
+# -- authoring: inspect, doc, new --attach ---------------------------------------------------------
+
+
+def test_inspect_names_the_arms_flange_frame_and_the_hands_root() -> None:
+    import json
+
+    from conftest import invoke_robospec
+
+    robots = _assets() / "robots"
+    arm = invoke_robospec("inspect", str(robots / "xarm7" / "xarm7.urdf"), "--format", "json")
+    frames = json.loads(arm.stdout)["mounting_frames"]
+    assert [(f["at"], f["role"]) for f in frames] == [
+        ("link_eef", "flange"),
+        ("link7", "flange"),
+        ("link_base", "root"),
+    ]
+    assert "named as a tool flange" in frames[0]["why"]
+    hand = invoke_robospec("inspect", str(robots / "ability_hand" / "ability_hand_right.urdf"))
+    assert "mounted by base_link: the root link" in hand.stdout
+    assert "fold_frames leaves it out" in hand.stdout  # an empty frame over 'base'
+
+
+def test_inspect_gives_an_mjcf_sites_pose_as_the_mounting_pose(tmp_path: Path) -> None:
+    from corpus import BY_KEY, locate
+
+    from robospec.authoring.description_file import read_description_file
+    from robospec.authoring.mounting import mounting_frames
+
+    source, _ = read_description_file(locate(BY_KEY["dmc_jaco_arm"]))
+    assert source is not None
+    first = mounting_frames(source)[0]
+    assert first.at == "b_6" and "site 'wristsite'" in first.why
+    assert first.pose_yaml() == {"q": [0, 0.707106781, 0.707106781, 0]}
+
+
+def test_the_card_shows_the_parts() -> None:
+    from robospec.authoring.card import robot_card
+
+    result = _compiled(COMPOSED)
+    card = robot_card(result.robot, result.description, "xarm7_ability.yaml")
+    section = card.split("## Parts", 1)[1].split("\n## ", 1)[0]
+    assert "| `hand` | spec `ability_hand_right.yaml` | `link_eef` |" in section
+    assert "`joint_eef`" in section and "`link_eef`, `base_link`, `base_joint`" in section
+
+
+def test_new_attach_mounts_a_spec_at_the_arms_flange_without_simulating(tmp_path: Path) -> None:
+    from conftest import invoke_robospec
+
+    for name in ("arm.urdf", "gripper.urdf", "gripper.yaml"):
+        (tmp_path / name).write_text((CODE_EXAMPLES / "RS730" / name).read_text())
+    out = tmp_path / "arm.yaml"
+    result = invoke_robospec(
+        "new", str(tmp_path / "arm.urdf"), "-o", str(out), "--no-sim", "--attach",
+        str(tmp_path / "gripper.yaml"),
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    text = out.read_text()
+    assert "parts: # robots mounted on this one" in text
+    assert "  gripper: {spec: gripper.yaml, at: tool0}\n" in text  # the first mounting frame
+    assert "never_collide" not in text  # the seam is sampled in ManiSkill only
+    compiled = _compiled(out)
+    assert [p.name for p in compiled.robot.parts] == ["gripper"]
+
+
+def test_new_attach_says_which_link_it_cannot_mount_on(tmp_path: Path) -> None:
+    from conftest import invoke_robospec
+
+    for name in ("arm.urdf", "gripper.urdf", "gripper.yaml"):
+        (tmp_path / name).write_text((CODE_EXAMPLES / "RS730" / name).read_text())
+    out = tmp_path / "arm.yaml"
+    attach = f"{tmp_path / 'gripper.yaml'}@tool1"
+    result = invoke_robospec(
+        "new", str(tmp_path / "arm.urdf"), "-o", str(out), "--no-sim", "--attach", attach
+    )
+    assert result.exit_code == 1
+    assert "error[RS742]" in result.output and "did you mean 'tool0'?" in result.output

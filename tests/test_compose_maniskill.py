@@ -337,3 +337,27 @@ def test_check_says_where_a_part_sits_inside_the_robot(tmp_path: Path) -> None:
     assert "part 'gripper' is inside the robot at keyframe 'rest'" in diagnostic.message
     assert "'upper_arm'" in diagnostic.message
     assert not any(d.code == "RS508" for f in report.findings for d in f.diagnostics)
+
+
+# -- robospec new --attach -------------------------------------------------------------------------
+
+
+def test_new_attach_scaffolds_the_hand_and_declares_the_seam(tmp_path: Path) -> None:
+    from conftest import invoke_robospec
+
+    from robospec.pipeline import compile_spec
+
+    robots = maniskill_assets_dir()
+    assert robots is not None
+    arm = robots / "robots" / "xarm7" / "xarm7.urdf"
+    hand = robots / "robots" / "ability_hand" / "ability_hand_right.urdf"
+    out = tmp_path / "xarm7_hand.yaml"
+    result = invoke_robospec("new", str(arm), "-o", str(out), "--attach", f"{hand}@link_eef")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "ability_hand_right.yaml").is_file()  # the hand's scaffold
+    text = out.read_text()
+    assert "  ability_hand_right: {spec: ability_hand_right.yaml, at: link_eef}\n" in text
+    # the hand's base and link7 touch in every pose (two empty frames apart, not adjacent)
+    assert text.rstrip().endswith("never_collide:\n  - [base, link7]")
+    compiled = compile_spec(out)
+    assert compiled.robot is not None and compiled.robot.never_collide is not None
