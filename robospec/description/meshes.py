@@ -31,8 +31,9 @@ from robospec.description.packages import (
     PackageFinder,
     sapien_mesh_path,
 )
+from robospec.description.source_columns import element_at
 from robospec.description.urdf_values import Findings
-from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics import Diagnostic, error, warning
 
 MESH_NOT_FOUND = "RS056"
 MESH_UNREADABLE = "RS057"
@@ -159,7 +160,7 @@ _LOST: dict[Role, str] = {
 
 
 def _report(path: str, named: _Named, code: str, message: str, hint: str | None) -> Diagnostic:
-    where = Location(path, named.element.sourceline or 1, 1)
+    where = element_at(path, named.element)
     report = error if named.role == "collision" else warning
     return report(where, code, message, hint)
 
