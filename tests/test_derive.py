@@ -194,7 +194,7 @@ def test_an_unknown_mend_class_or_policy_is_a_located_error_with_did_you_mean(
     assert (
         "RS102",
         4,
-        "did you mean 'diagonal'? (expected one of 'diagonal', 'bound' or 'balance')",
+        "did you mean 'diagonal'? (expected one of 'diagonal', 'bound', 'balance' or 'shapes')",
     ) in found
     assert ("RS101", 4, "did you mean 'transmissions'?") in found
 

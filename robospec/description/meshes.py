@@ -67,7 +67,7 @@ def check_mesh_files(
     files: list[MeshFile] = []
     unknown_packages: dict[str, list[_Named]] = {}
     for named in file_references(root):
-        found, problem = _locate(named.uri, base_dir, finder)
+        found, problem = locate(named.uri, base_dir, finder)
         if problem is not None:
             unknown_packages.setdefault(problem, []).append(named)
         elif found is None:
@@ -120,7 +120,7 @@ def file_references(root: etree._Element) -> Iterator[_Named]:
             yield _Named(texture, texture.get("filename", ""), "texture", owner)
 
 
-def _locate(uri: str, base_dir: str, finder: PackageFinder) -> tuple[str | None, str | None]:
+def locate(uri: str, base_dir: str, finder: PackageFinder) -> tuple[str | None, str | None]:
     """(the file, None), (None, None) when it is not there, or (None, package name) when the
     package itself is not found."""
     if uri.startswith(PACKAGE_SCHEME):

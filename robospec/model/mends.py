@@ -14,7 +14,7 @@ from pydantic import Field
 
 from robospec.model.common import Number, StrictModel
 
-InertiaPolicy = Literal["diagonal", "bound", "balance"]
+InertiaPolicy = Literal["diagonal", "bound", "balance", "shapes"]
 LimitRange = Annotated[list[Number], Field(min_length=2, max_length=2)]
 
 
@@ -65,9 +65,13 @@ class Mends(StrictModel):
         default=None,
         description="How to mend inertias SAPIEN rejects or no rigid body has, tried in order "
         "on each: `diagonal` sets the products of inertia to 0 (when the diagonal alone is "
-        "valid); `bound` raises each principal moment to at least that of a 1 cm sphere of "
-        "the link's mass (MuJoCo's boundinertia), keeping the axes; `balance` sets principal "
-        "moments that break the triangle inequality to their mean (MuJoCo's balanceinertia).",
+        "valid); `bound` raises each principal moment to at least m·(2 mm)², a radius of "
+        "gyration below any real link's (MuJoCo's boundinertia), keeping the axes; `balance` "
+        "sets principal moments that break the triangle inequality to their mean (MuJoCo's "
+        "balanceinertia); "
+        "`shapes` writes the inertia of a solid box around the link's collision shapes, at "
+        "its mass, where the file's is rejected, far too small or missing (MuJoCo's "
+        "inertiafromgeom).",
         examples=["diagonal", ["diagonal", "bound"]],
     )
     mass: Literal["bound"] | None = Field(
