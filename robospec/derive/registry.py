@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from typing import cast
 
+import robospec.derive.geoms as geoms
+import robospec.derive.includes as includes
 import robospec.derive.inertia as inertia
 import robospec.derive.integers as integers
 import robospec.derive.limits as limits
@@ -25,6 +27,8 @@ MENDS: tuple[MendClass, ...] = cast(
     (
         xml_repair,
         namespaces,
+        includes,
+        geoms,
         substitutions,
         packages,
         textures,

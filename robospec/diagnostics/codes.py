@@ -61,6 +61,7 @@ _CODES = [
     Code("RS083", "MJCF wrapper body's pose dropped"),
     Code("RS084", "MJCF joint attribute not loaded"),
     Code("RS085", "MJCF mesh the loader cannot resolve"),
+    Code("RS086", "MJCF angles in degrees by default"),
     # -- schema
     Code("RS101", "unknown key"),
     Code("RS102", "invalid value"),
@@ -181,6 +182,8 @@ _CODES = [
     Code("RS709", "mended: joint limits without lower or upper"),
     Code("RS710", "mended: URDF mimic tags removed"),
     Code("RS711", "mended: spherical joints written as three continuous joints"),
+    Code("RS712", "mended: MJCF includes written in place"),
+    Code("RS713", "mended: MJCF geoms ManiSkill cannot load removed"),
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),

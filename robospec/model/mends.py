@@ -119,23 +119,3 @@ class Mends(StrictModel):
         "sdf); ManiSkill's scenes bring their own ground.",
         examples=["drop"],
     )
-    meshes: Literal["explicit"] | None = Field(
-        default=None,
-        description="MJCF. `explicit`: give every `<mesh>` asset the name and scale MuJoCo "
-        "gives it (ManiSkill's loader ignores a scale set in `<default>` and names an unnamed "
-        "mesh by its file), and a unique name to repeated ones.",
-        examples=["explicit"],
-    )
-    contacts: Literal["collide"] | None = Field(
-        default=None,
-        description="MJCF. `collide`: give collision geoms that MuJoCo collides only through "
-        '`<contact><pair>`s (`contype="0"`) a contype, so ManiSkill\'s loader keeps their '
-        "collision shapes.",
-        examples=["collide"],
-    )
-    bodies: Literal["merge"] | None = Field(
-        default=None,
-        description="MJCF. `merge`: merge bodies without joints into their parents until the "
-        "model has no more than the 32 bodies ManiSkill's loader can keep apart.",
-        examples=["merge"],
-    )

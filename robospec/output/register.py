@@ -256,6 +256,9 @@ def _dependencies(robot: object) -> list[str]:
     deps: list[str] = []
     for ref in refs:
         deps.append(str(ref.absolute))
+        if ref.derived and ref.absolute.suffix.lower() == ".xml":
+            # a derived MJCF holds its includes written in place: a change there recompiles
+            deps.extend(str(p) for p in sorted(ref.absolute.parent.glob("*.xml")) if p.is_file())
         if ref.generated_text is not None and not ref.has_srdf_beside:
             # a xacro file may include its neighbours: any change there recompiles
             folder = ref.absolute.parent

@@ -135,7 +135,7 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         beside_file=ref.has_srdf_beside,
     )
     if derived is not None:
-        diags = derived.unexplained(diags)
+        diags = derived.located(diags, str(ref.absolute))
     context.diagnostics.extend(_relocate(_unless_shipped(diags, ref), str(ref.absolute), shown))
     # an expansion or a derived copy is written elsewhere: every path it names moves with it
     always = ref.generated_text is not None
