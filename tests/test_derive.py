@@ -36,6 +36,7 @@ BROKEN: dict[str, tuple[str, typing.Any]] = {
     "limits": ("RS709/unlimited.urdf", "continuous"),
     "mimic": ("RS710/gripper.urdf", "controller"),
     "spherical": ("RS711/ball.urdf", "hinges"),
+    "mirrors": ("RS714/mirrored.urdf", "copies"),
 }
 MJCF_BROKEN: dict[str, tuple[str, typing.Any]] = {
     "includes": ("RS712/mounted.xml", "inline"),
@@ -272,3 +273,37 @@ def test_a_derived_mjcf_is_carried_with_its_files_named_from_where_it_is_carried
     assert root.find("include") is None
     assert root.find("asset/mesh").get("file") == "copied/part.stl"  # type: ignore[union-attr]
     assert root.find("compiler").get("meshdir") is None  # type: ignore[union-attr]
+
+
+def test_a_mirrored_copy_is_the_mesh_mirrored_with_its_faces_turned_outwards() -> None:
+    from robospec.description.mesh_data import read_mesh
+
+    source = CODE_EXAMPLES / "RS714" / "mirrored.urdf"
+    derived = derive(_source(source), {"mirrors": "copies"})
+    mesh = etree.fromstring(derived.text.encode()).find("link/collision/geometry/mesh")
+    assert mesh is not None and mesh.get("scale") == "1 1 1"
+    copy, original = (
+        read_mesh(mesh.get("filename", "")),
+        read_mesh(str(CODE_EXAMPLES / "RS714" / "meshes" / "upper_arm.stl")),
+    )
+    assert copy is not None and original is not None
+    assert len(copy.triangles) == len(original.triangles)
+
+    def normal(data: typing.Any, triangle: tuple[int, int, int]) -> list[float]:
+        a, b, c = (data.vertices[i] for i in triangle)
+        u = [b[k] - a[k] for k in range(3)]
+        v = [c[k] - a[k] for k in range(3)]
+        return [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+
+    for before, after in zip(original.triangles, copy.triangles, strict=True):
+        # the copy's triangle is the original's mirrored in y, its normal mirrored too
+        assert {tuple(round(x, 6) for x in copy.vertices[i]) for i in after} == {
+            (
+                round(original.vertices[i][0], 6),
+                round(-original.vertices[i][1], 6),
+                round(original.vertices[i][2], 6),
+            )
+            for i in before
+        }
+        n0, n1 = normal(original, before), normal(copy, after)
+        assert n1 == pytest.approx([n0[0], -n0[1], n0[2]], abs=1e-9)

@@ -47,6 +47,8 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
     "limits": (CODE_EXAMPLES / "RS709/unlimited.urdf", "continuous", ARM, {}),
     "mimic": (GRIPPER, "controller", GRIPPER, {}),
     "spherical": (CODE_EXAMPLES / "RS711/ball.urdf", "hinges", ARM, {}),
+    # the inertial is the file's: only the collision shape is mirrored
+    "mirrors": (CODE_EXAMPLES / "RS714/mirrored.urdf", "copies", ARM, {}),
     # MJCF: ManiSkill loads the model the mend leaves as it loads the sound one
     "includes": (
         CODE_EXAMPLES / "RS712/mounted.xml",

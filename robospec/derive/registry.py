@@ -13,6 +13,7 @@ import robospec.derive.integers as integers
 import robospec.derive.limits as limits
 import robospec.derive.mass as mass
 import robospec.derive.mimic as mimic
+import robospec.derive.mirrors as mirrors
 import robospec.derive.namespaces as namespaces
 import robospec.derive.packages as packages
 import robospec.derive.spherical as spherical
@@ -31,6 +32,7 @@ MENDS: tuple[MendClass, ...] = cast(
         geoms,
         substitutions,
         packages,
+        mirrors,
         textures,
         transmissions,
         mass,

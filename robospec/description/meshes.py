@@ -37,6 +37,7 @@ from robospec.diagnostics import Diagnostic, Location, error, warning
 MESH_NOT_FOUND = "RS056"
 MESH_UNREADABLE = "RS057"
 PACKAGE_NOT_FOUND = "RS058"
+MIRRORED = "RS087"
 
 Role = Literal["collision", "visual", "texture"]
 
@@ -67,6 +68,20 @@ def check_mesh_files(
     files: list[MeshFile] = []
     unknown_packages: dict[str, list[_Named]] = {}
     for named in file_references(root):
+        if named.role == "collision" and _mirrored(named.element):
+            found_all.add(
+                error(
+                    Location(path, named.element.sourceline or 1, 1),
+                    MIRRORED,
+                    f"collision mesh '{named.uri}' of {named.owner} is mirrored "
+                    f'(scale="{named.element.get("scale")}"): PhysX cannot build a mirrored '
+                    "convex mesh, and SAPIEN's process dies in native code at its first "
+                    "contact with another",
+                    "`description: {mend: {mirrors: copies}}` names a mirrored copy of the file "
+                    "instead (docs/mends.md)",
+                ),
+                fold_as="more mirrored collision meshes",
+            )
         found, problem = locate(named.uri, base_dir, finder)
         if problem is not None:
             unknown_packages.setdefault(problem, []).append(named)
@@ -201,3 +216,11 @@ def _unknown_package(path: str, package: str, uses: list[_Named]) -> Diagnostic:
         f"(no package.xml names it, and no folder '{package}' holds these files, from the "
         "description's folder up)",
     )
+
+
+def _mirrored(mesh: etree._Element) -> bool:
+    """Whether a mesh's scale has a negative factor (it is drawn mirrored)."""
+    try:
+        return any(float(v) < 0 for v in (mesh.get("scale") or "").split())
+    except ValueError:
+        return False  # not numbers: the loader rules say so

@@ -62,6 +62,7 @@ _CODES = [
     Code("RS084", "MJCF joint attribute not loaded"),
     Code("RS085", "MJCF mesh the loader cannot resolve"),
     Code("RS086", "MJCF angles in degrees by default"),
+    Code("RS087", "collision mesh mirrored by a negative scale"),
     # -- schema
     Code("RS101", "unknown key"),
     Code("RS102", "invalid value"),
@@ -184,6 +185,7 @@ _CODES = [
     Code("RS711", "mended: spherical joints written as three continuous joints"),
     Code("RS712", "mended: MJCF includes written in place"),
     Code("RS713", "mended: MJCF geoms ManiSkill cannot load removed"),
+    Code("RS714", "mended: mirrored collision meshes written as mirrored copies"),
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),

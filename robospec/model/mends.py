@@ -49,6 +49,13 @@ class Mends(StrictModel):
         "where its URI names no package (`package:///...`) or SAPIEN would find another file.",
         examples=["resolve"],
     )
+    mirrors: Literal["copies"] | None = Field(
+        default=None,
+        description='`copies`: collision meshes mirrored by a negative scale (`scale="1 -1 '
+        '1"`), which PhysX cannot build and crashes on at the first contact, are named by a '
+        "mirrored copy of the file (written in robospec's cache) with a positive scale.",
+        examples=["copies"],
+    )
     textures: Literal["drop"] | None = Field(
         default=None,
         description="`drop`: remove `<texture/>` elements without a filename, at which SAPIEN's "

@@ -256,6 +256,11 @@ def _dependencies(robot: object) -> list[str]:
     deps: list[str] = []
     for ref in refs:
         deps.append(str(ref.absolute))
+        if ref.derived:
+            # files robospec wrote for the derived copy (mirrored meshes) live in the cache:
+            # one gone makes the entry stale, and compiling again writes it back
+            derived = cache_root() / "derived"
+            deps.extend(p for _uri, p in ref.mesh_paths if Path(p).is_relative_to(derived))
         if ref.derived and ref.absolute.suffix.lower() == ".xml":
             # a derived MJCF holds its includes written in place: a change there recompiles
             deps.extend(str(p) for p in sorted(ref.absolute.parent.glob("*.xml")) if p.is_file())
