@@ -31,7 +31,6 @@ from lxml import etree
 
 from robospec.derive.document import Document
 from robospec.derive.mend import CANNOT_MEND
-from robospec.derive.shapes import Box, box_inertia, collision_box
 from robospec.description.inertia import (
     from_axes,
     impossible,
@@ -39,6 +38,7 @@ from robospec.description.inertia import (
     principal_moments,
     rejected,
 )
+from robospec.description.shapes import Box, box_inertia, collision_box
 
 NAME = "inertia"
 KINDS = frozenset({"urdf"})
@@ -67,7 +67,11 @@ def apply(document: Document, policy: str | list[str]) -> None:
         if _acceptable(values, mass, policies):
             continue
         moments = principal_moments(*values)
-        box = collision_box(document, link) if "shapes" in policies else None
+        box = (
+            collision_box(link, document.source.path, document.source.packages)
+            if "shapes" in policies
+            else None
+        )
         for name in policies:
             mended = _shapes(mass, box) if name == "shapes" else _POLICIES[name](values, mass)
             if mended is not None and _acceptable(mended, mass, policies):

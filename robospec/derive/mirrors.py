@@ -44,7 +44,7 @@ def apply(document: Document, policy: str) -> None:
             uri = mesh.get("filename", "")
             path = _find(uri, base_dir, finder)
             data = read_mesh(path) if path is not None else None
-            if path is None or data is None or not data.triangles:
+            if path is None or data is None or len(data.triangles) == 0:
                 document.refuse(
                     mesh,
                     CANNOT_MEND,
@@ -77,16 +77,18 @@ def mirrored_copy(path: str, data: MeshData, signs: tuple[float, ...]) -> str:
     folder = cache_root() / DERIVED_FOLDER
     target = folder / f"{stem}.mirrored.{key}.stl"
     if not target.is_file():
+        import numpy as np
+
         folder.mkdir(parents=True, exist_ok=True)
-        flip = signs[0] * signs[1] * signs[2] < 0  # an odd mirror turns every face inside out
-        records = [struct.pack("<80sI", b"robospec: mirrored copy", len(data.triangles))]
-        for a, b, c in data.triangles:
-            if flip:
-                b, c = c, b
-            corners = [tuple(data.vertices[i][k] * signs[k] for k in range(3)) for i in (a, b, c)]
-            records.append(struct.pack("<12fH", 0.0, 0.0, 0.0, *(x for v in corners for x in v), 0))
+        corners = data.vertices[data.triangles] * np.asarray(signs)  # (M, 3, 3)
+        if signs[0] * signs[1] * signs[2] < 0:  # an odd mirror turns every face inside out
+            corners = corners[:, [0, 2, 1], :]
+        record = np.dtype([("normal", "<f4", 3), ("corners", "<f4", 9), ("attribute", "<u2")])
+        records = np.zeros(len(corners), dtype=record)
+        records["corners"] = corners.reshape(-1, 9)
+        header = struct.pack("<80sI", b"robospec: mirrored copy", len(records))
         staging = target.with_name(target.name + f".{os.getpid()}.tmp")
-        staging.write_bytes(b"".join(records))
+        staging.write_bytes(header + records.tobytes())
         os.replace(staging, target)  # whole or absent: a reader never sees a part
     return str(target)
 

@@ -5,17 +5,18 @@ every ``<geometry>``, scene transforms left out) for what it judges from the geo
 whether PhysX can build a collision shape from it (no NaN or infinite vertex, not empty, not
 flat), how large a link's shapes are (an inertia from them), and to write a mirrored copy
 (:mod:`robospec.derive.mirrors`). Other formats give None: nothing is judged. Reads are cached
-by path, modification time and size.
+by path, modification time and size. numpy is imported only when a mesh is read: a binary STL
+of 300 000 triangles is read in milliseconds, where Python's own loops take seconds.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import re
 import struct
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 Vertex = tuple[float, float, float]
 
@@ -23,24 +24,31 @@ Vertex = tuple[float, float, float]
 MAX_BYTES = 64 << 20
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MeshData:
-    vertices: tuple[Vertex, ...]
-    # triangles as vertex indices (STL and OBJ; empty for COLLADA, which is read for bounds)
-    triangles: tuple[tuple[int, int, int], ...] = ()
+    vertices: Any  # numpy array (N, 3) of float64
+    # triangles as vertex indices, numpy (M, 3) (STL and OBJ; none for COLLADA, read for bounds)
+    triangles: Any
 
     @property
     def finite(self) -> bool:
-        return all(math.isfinite(c) for v in self.vertices for c in v)
+        import numpy as np
+
+        return bool(np.isfinite(self.vertices).all())
 
     def bounds(self) -> tuple[Vertex, Vertex] | None:
         """The axis-aligned box of the finite vertices; None when there are none."""
-        finite = [v for v in self.vertices if all(math.isfinite(c) for c in v)]
-        if not finite:
+        import numpy as np
+
+        finite = self.vertices[np.isfinite(self.vertices).all(axis=1)]
+        if len(finite) == 0:
             return None
-        low = tuple(min(v[i] for v in finite) for i in range(3))
-        high = tuple(max(v[i] for v in finite) for i in range(3))
-        return low, high  # type: ignore[return-value]
+        low, high = finite.min(axis=0), finite.max(axis=0)
+        return (float(low[0]), float(low[1]), float(low[2])), (
+            float(high[0]),
+            float(high[1]),
+            float(high[2]),
+        )
 
     def flat_axis(self, tolerance: float = 1e-9) -> int | None:
         """The axis along which the vertices all but coincide (a flat mesh, of which PhysX
@@ -88,6 +96,14 @@ def _read(path: str, mtime: int, size: int) -> MeshData | None:
     return None
 
 
+def _mesh(vertices: list[Vertex] | Any, triangles: list[tuple[int, int, int]] | Any) -> MeshData:
+    import numpy as np
+
+    v = np.asarray(vertices, dtype=np.float64).reshape(-1, 3)
+    t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    return MeshData(v, t)
+
+
 def _stl(data: bytes) -> MeshData:
     if len(data) >= 84:
         (count,) = struct.unpack_from("<I", data, 80)
@@ -100,24 +116,21 @@ def _stl(data: bytes) -> MeshData:
 
 
 def _binary_stl(data: bytes, count: int) -> MeshData:
-    vertices: list[Vertex] = []
-    triangles: list[tuple[int, int, int]] = []
-    unpack = struct.Struct("<12f").unpack_from
-    for i in range(count):
-        values = unpack(data, 84 + 50 * i)
-        base = len(vertices)
-        vertices.extend((values[3:6], values[6:9], values[9:12]))  # type: ignore[arg-type]
-        triangles.append((base, base + 1, base + 2))
-    return MeshData(tuple(vertices), tuple(triangles))
+    import numpy as np
+
+    record = np.dtype([("normal", "<f4", 3), ("corners", "<f4", 9), ("attribute", "<u2")])
+    triangles = np.frombuffer(data, dtype=record, count=count, offset=84)
+    vertices = triangles["corners"].reshape(-1, 3).astype(np.float64)
+    return _mesh(vertices, np.arange(len(vertices)).reshape(-1, 3))
 
 
 _VERTEX = re.compile(rb"vertex\s+(\S+)\s+(\S+)\s+(\S+)")
 
 
 def _ascii_stl(data: bytes) -> MeshData:
-    vertices = tuple((float(x), float(y), float(z)) for x, y, z in _VERTEX.findall(data))
-    triangles = tuple((i, i + 1, i + 2) for i in range(0, len(vertices) - 2, 3))
-    return MeshData(vertices, triangles)
+    vertices = [(float(x), float(y), float(z)) for x, y, z in _VERTEX.findall(data)]
+    count = len(vertices) // 3
+    return _mesh(vertices[: 3 * count], [(i, i + 1, i + 2) for i in range(0, 3 * count, 3)])
 
 
 def _obj(data: bytes) -> MeshData:
@@ -134,7 +147,7 @@ def _obj(data: bytes) -> MeshData:
             indices = [i - 1 if i > 0 else len(vertices) + i for i in indices]
             for k in range(1, len(indices) - 1):  # a polygon as a fan of triangles
                 triangles.append((indices[0], indices[k], indices[k + 1]))
-    return MeshData(tuple(vertices), tuple(triangles))
+    return _mesh(vertices, triangles)
 
 
 def _dae(data: bytes) -> MeshData:
@@ -142,7 +155,7 @@ def _dae(data: bytes) -> MeshData:
 
     parser = etree.XMLParser(resolve_entities=False, no_network=True, huge_tree=True)
     root = etree.fromstring(data, parser)
-    vertices: list[Vertex] = []
+    vertices: list[float] = []
     for source in root.iter("{*}source"):
         # the positions of a mesh: the source its <vertices> element names
         identifier = source.get("id", "")
@@ -152,8 +165,6 @@ def _dae(data: bytes) -> MeshData:
         array = source.find("{*}float_array")
         if array is None or not array.text:
             continue
-        values = [float(v) for v in array.text.split()]
-        vertices.extend(
-            (values[i], values[i + 1], values[i + 2]) for i in range(0, len(values) - 2, 3)
-        )
-    return MeshData(tuple(vertices))
+        values = array.text.split()
+        vertices.extend(float(v) for v in values[: len(values) // 3 * 3])
+    return _mesh(vertices, [])

@@ -35,6 +35,7 @@ from robospec.description.facts import (
 )
 from robospec.description.inertia import check_inertials
 from robospec.description.meshes import check_mesh_files
+from robospec.description.sanity import check_sanity
 from robospec.description.urdf_loader_rules import check_loader_rules
 from robospec.description.urdf_values import read_floats
 from robospec.diagnostics import Diagnostic, Location, error, warning
@@ -215,6 +216,7 @@ def parse_urdf(
     if look_for_files:
         mesh_files, mesh_diagnostics = check_mesh_files(root, path, packages)
         diagnostics.extend(mesh_diagnostics)
+        diagnostics.extend(check_sanity(root, path, mesh_files, packages))
         if description is not None:
             description = dataclasses.replace(description, mesh_files=mesh_files)
     return description, diagnostics

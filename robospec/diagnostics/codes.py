@@ -63,6 +63,12 @@ _CODES = [
     Code("RS085", "MJCF mesh the loader cannot resolve"),
     Code("RS086", "MJCF angles in degrees by default"),
     Code("RS087", "collision mesh mirrored by a negative scale"),
+    Code("RS088", "description lengths look like millimetres"),
+    Code("RS089", "inertia far too large or small for the link's shapes"),
+    Code("RS090", "mass under a gram beside heavy links"),
+    Code("RS091", "joint without an effort or velocity limit"),
+    Code("RS092", "xacro element left in a plain URDF"),
+    Code("RS093", "collision mesh PhysX can build no shape from"),
     # -- schema
     Code("RS101", "unknown key"),
     Code("RS102", "invalid value"),

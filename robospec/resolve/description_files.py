@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from robospec.description.facts import RobotDescription
+from robospec.description.sanity import SANITY_CODES
 
 if TYPE_CHECKING:
     from robospec.derive import Derived
@@ -304,7 +305,7 @@ def load_inherited_description(
 # SAPIEN ignores, an impossible inertia): not said of the descriptions ManiSkill ships, which a
 # spec cannot change and ManiSkill's own agents load as they are (Fetch's fingers, the Allegro
 # hand). Errors are said of every description.
-_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"})
+_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
 
 
 def _unless_shipped(diagnostics: list[Diagnostic], ref: FileRef) -> list[Diagnostic]:

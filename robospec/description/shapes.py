@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 
 from lxml import etree
 
-from robospec.derive.document import Document
 from robospec.description.mesh_data import read_mesh
 from robospec.description.meshes import locate
 from robospec.description.packages import PackageFinder, find_up
@@ -21,11 +20,13 @@ from robospec.description.packages import PackageFinder, find_up
 Box = tuple[tuple[float, float, float], tuple[float, float, float]]
 
 
-def collision_box(document: Document, link: etree._Element) -> Box | None:
-    """The axis-aligned box, in the link's frame, around every collision shape of ``link``;
-    None when it has none robospec can measure."""
-    base_dir = os.path.dirname(os.path.abspath(document.source.path))
-    finder = PackageFinder(base_dir, document.source.packages)
+def collision_box(
+    link: etree._Element, path: str, packages: Mapping[str, str] | None = None
+) -> Box | None:
+    """The axis-aligned box, in the link's frame, around every collision shape of ``link``
+    (of the URDF at ``path``); None when it has none robospec can measure."""
+    base_dir = os.path.dirname(os.path.abspath(path))
+    finder = PackageFinder(base_dir, packages)
     corners: list[tuple[float, float, float]] = []
     for collision in link.iterfind("collision"):
         local = _local_box(collision, base_dir, finder)
