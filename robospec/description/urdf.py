@@ -211,6 +211,7 @@ def parse_urdf(
     if root is None:
         return None, diagnostics
     description = _kinematic_tree(root, path, diagnostics)
+    diagnostics[:] = _fold_joint_types(diagnostics)
     diagnostics.extend(check_loader_rules(root, path))
     diagnostics.extend(check_inertials(root, path))
     if look_for_files:
@@ -636,3 +637,21 @@ def _articulation(
         root_link=chosen,
         floating_root=chosen != base,
     )
+
+
+_UNKNOWN_TYPE = re.compile(r"^joint '.*' has unknown type '(?P<type>[^']*)'$")
+
+
+def _fold_joint_types(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """Joints of one unknown type (pybullet's humanoid has eight spherical ones) are one
+    diagnostic, at the first, naming the lines of the others."""
+    from robospec.description.urdf_values import Findings
+
+    found = Findings()
+    for d in diagnostics:
+        match = _UNKNOWN_TYPE.match(d.message)
+        if match is None:
+            found.add(d)
+        else:
+            found.add(d, fold_as=f"more joints of type '{match['type']}'")
+    return sorted(found.result(), key=lambda d: (d.location.line, d.code))
