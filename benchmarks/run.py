@@ -16,6 +16,8 @@
    as written (benchmarks/optimize_throughput.py).
 6. How soon `robospec lsp` publishes fresh diagnostics after an edit of the Panda spec
    (benchmarks/lsp_latency.py).
+7. Time to draw a robot card's pictures (`robospec doc --images`) for the Panda and the G1
+   on the CPU (benchmarks/pictures.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
 """
@@ -33,6 +35,7 @@ from pathlib import Path
 import first_error
 import lsp_latency
 import optimize_throughput
+import pictures
 import registration
 import scaling
 import step_throughput
@@ -47,6 +50,7 @@ SECTION_TITLES = (
     scaling.TITLE,
     optimize_throughput.TITLE,
     lsp_latency.TITLE,
+    pictures.TITLE,
 )
 
 
@@ -57,6 +61,7 @@ PARTS = (
     "scaling",
     "optimize_throughput",
     "lsp_latency",
+    "pictures",
 )
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
@@ -73,6 +78,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
                 steps=10, rounds=1, only=["panda"], corpus=False, samples=20, every_spec=False
             ),
             "lsp_latency": lambda: lsp_latency.measure(4),
+            "pictures": lambda: pictures.measure(1, only=["panda"]),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
@@ -81,6 +87,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "scaling": lambda: scaling.measure([100, 1_000, 10_000], repeat),
         "optimize_throughput": lambda: optimize_throughput.measure(steps=200, rounds=5),
         "lsp_latency": lambda: lsp_latency.measure(40),
+        "pictures": lambda: pictures.measure(repeat),
     }
 
 

@@ -21,15 +21,19 @@ def cache_root() -> Path:
     return Path(base) / "robospec"
 
 
-def write_atomically(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file renamed over it."""
+def write_atomically(path: Path, text: str | bytes, mode: int | None = None) -> None:
+    """Write ``text`` (or bytes) to ``path`` through a temporary file renamed over it, with
+    permissions ``mode`` when given (else the temporary file's: private)."""
     import tempfile  # only writers pay for it: reading a warm cache does not
 
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, staging = tempfile.mkstemp(prefix=".robospec-", suffix=".tmp", dir=path.parent)
     try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
+        data = text.encode("utf-8") if isinstance(text, str) else text
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        if mode is not None:
+            os.chmod(staging, mode)
         os.replace(staging, path)
     except BaseException:
         Path(staging).unlink(missing_ok=True)

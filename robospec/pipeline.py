@@ -8,7 +8,7 @@ from pathlib import Path
 
 from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
 from robospec.description.facts import RobotDescription
-from robospec.diagnostics import Diagnostic, Location, error, has_errors, sort_key
+from robospec.diagnostics import Diagnostic, Location, Severity, error, has_errors, sort_key
 from robospec.load.discovery import discover
 from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
 from robospec.load.source_map import LoadedSpec
@@ -42,11 +42,13 @@ def compile_spec(
     *,
     overrides: Overrides = False,
     text: bytes | None = None,
+    silence: frozenset[str] = frozenset(),
 ) -> CompiledSpec:
     """``overrides``: uids this compilation may take over from ManiSkill (True: any), as
     ``register(..., override=...)`` allows, on top of a spec's own ``override: true``.
     ``text``: the spec's contents as an editor holds them, unsaved (the file's are read when
-    None); relative paths in it are still relative to ``path``."""
+    None); relative paths in it are still relative to ``path``. ``silence``: warning codes
+    not to report (the command line's ``--silence``), with those the spec lists."""
     result = CompiledSpec(path, display or str(path))
     try:
         _compile_into(result, overrides, text)
@@ -60,10 +62,42 @@ def compile_spec(
                 "please report this with the spec that caused it",
             )
         )
+    _silence(result, silence)
     # a controller's mistake is met again in every controller that extends it, at the one place
     # it was written: the same diagnostic, said once
     result.diagnostics = sorted(dict.fromkeys(result.diagnostics), key=sort_key)
     return result
+
+
+def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
+    """Drop the warnings whose codes the spec's ``silence`` list or the command line's
+    ``--silence`` name; errors stay, whatever the list says. A listed code robospec does not
+    have is an error (RS107)."""
+    from robospec.diagnostics.codes import CODES
+
+    codes = set(silence)
+    listed = result.loaded.data.get("silence") if result.loaded is not None else None
+    problems: list[Diagnostic] = []
+    if isinstance(listed, list) and result.loaded is not None:
+        for index, code in enumerate(listed):
+            if not isinstance(code, str):
+                continue  # the schema reports it
+            if code in CODES:
+                codes.add(code)
+            elif code.startswith("RS"):
+                problems.append(
+                    error(
+                        result.loaded.source.value(("silence", index)),
+                        "RS107",
+                        f"{code} is not a robospec diagnostic code",
+                        "docs/diagnostics.md lists them",
+                    )
+                )
+    result.diagnostics = [
+        d for d in result.diagnostics if d.severity is Severity.ERROR or d.code not in codes
+    ] + problems
+    if problems:
+        result.robot = None
 
 
 def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None) -> None:
@@ -116,11 +150,11 @@ def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None
 
 
 def compile_all(
-    paths: Sequence[Path], *, overrides: Overrides = False
+    paths: Sequence[Path], *, overrides: Overrides = False, silence: frozenset[str] = frozenset()
 ) -> tuple[list[CompiledSpec], list[Diagnostic]]:
     """Compile every spec found, then check uids across them."""
     files, diagnostics = discover(paths)
-    compiled = [compile_spec(p, overrides=overrides) for p in files]
+    compiled = [compile_spec(p, overrides=overrides, silence=silence) for p in files]
     diagnostics.extend(_duplicate_uids(compiled))
     return compiled, diagnostics
 

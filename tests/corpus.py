@@ -22,6 +22,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 ROBOTS_PAGE = ROOT / "docs" / "robots.md"
+# each robot's picture, drawn by --write from the spec `robospec new` wrote (docs/robots.md)
+PICTURES = ROOT / "docs" / "images" / "robots"
 WRITE_COMMAND = ".venv/bin/python tests/corpus.py --write"
 INSTALL_CORPUS = "the corpus extra is not installed: run scripts/setup (pip install -e '.[corpus]')"
 
@@ -218,6 +220,33 @@ def locate(robot: Robot) -> Path:
     return path
 
 
+def picture_path(key: str) -> Path:
+    return PICTURES / f"{key}.png"
+
+
+def draw_pictures(journeys: list, work: Path) -> None:
+    """Each robot whose scaffold validates, drawn at its rest keyframe as ``robospec doc
+    --images`` draws it (robospec.docgen.gallery); a robot that does not loses its picture."""
+    from corpus_journey import PASSED
+
+    from robospec.docgen.gallery import gallery_picture
+    from robospec.pictures.gl import RenderUnavailable
+    from robospec.pipeline import compile_spec
+
+    PICTURES.mkdir(parents=True, exist_ok=True)
+    for journey in journeys:
+        key = journey.robot.key
+        picture_path(key).unlink(missing_ok=True)
+        if journey.step("validate").outcome != PASSED:
+            continue
+        try:
+            png = gallery_picture(compile_spec(work / key / f"{key}.yaml"))
+        except RenderUnavailable as problem:
+            print(f"{key}: no picture: {problem.message}", file=sys.stderr)
+            continue
+        picture_path(key).write_bytes(png)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the journey on the corpus; ``--write`` writes docs/robots.md from the results,
     ``--only KEY...`` runs those robots and prints their rows (for working on one robot)."""
@@ -234,6 +263,8 @@ def main(argv: list[str] | None = None) -> int:
         # register() compiles into robospec's cache: a folder of this run's, never ~/.cache
         os.environ.setdefault("ROBOSPEC_CACHE_DIR", str(Path(work) / "cache"))
         journeys = run_corpus(robots, Path(work), workers=args.workers, progress=sys.stderr)
+        if args.write:
+            draw_pictures(journeys, Path(work))
     if args.write:
         if args.only:
             parser.error("--write runs every robot: leave out --only")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from corpus import CATEGORIES, FORMATS, WRITE_COMMAND, distribution_version
+from corpus import CATEGORIES, FORMATS, WRITE_COMMAND, distribution_version, picture_path
 from corpus_journey import (
     BUILD_PACKAGE,
     CRASHED,
@@ -21,6 +21,7 @@ from corpus_journey import (
 )
 
 from robospec.diagnostics.codes import CODES
+from robospec.docgen.gallery import gallery_markdown
 
 CELL = {PASSED: "ok", FAILED: "fails", CRASHED: "**CRASH**", NOT_RUN: "—"}
 
@@ -56,9 +57,9 @@ This page is written from the journeys' results: `{WRITE_COMMAND}` runs them aga
 
 
 def render_page(journeys: list[Journey]) -> str:
-    parts = [HEADER, _summary(journeys), _table(journeys), _files(journeys)]
+    parts = [HEADER, _summary(journeys), _table(journeys), _pictures(journeys), _files(journeys)]
     parts.append(_robot_by_robot(journeys))
-    return "\n".join(parts)
+    return "\n".join(part for part in parts if part)
 
 
 def render_rows(journeys: list[Journey]) -> str:
@@ -117,6 +118,21 @@ def _unique(codes: Iterable[str]) -> list[str]:
 
 def _code_link(code: str) -> str:
     return f"[{code}](codes/{code}.md)" if code in CODES else code
+
+
+def _pictures(journeys: list[Journey]) -> str:
+    """The robots whose scaffold validates, at their rest keyframe (``robospec doc --images``),
+    as ``--write`` drew them."""
+    drawn = [j.robot for j in journeys if picture_path(j.robot.key).is_file()]
+    if not drawn:
+        return ""
+    entries = [(robot.key, f"images/robots/{robot.key}.png") for robot in drawn]
+    return (
+        "## Pictures\n\n"
+        "Each robot whose scaffold validates, at the rest keyframe `robospec new` chose, as "
+        "`robospec doc --images` draws it on a machine without a GPU.\n\n"
+        + gallery_markdown(entries)
+    )
 
 
 def _files(journeys: list[Journey]) -> str:

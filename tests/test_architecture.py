@@ -109,14 +109,17 @@ UID_TAKEN = "RS306"
 NAMES_CODES_ONLY = {"robospec.diagnostics.codes", "robospec.docgen.code_examples"}
 
 
-def _codes_in(path: Path) -> set[str]:
+# a check module may also report a code of the spec's own values that needs the resolved
+# robot to read them (RS106, a number outside its physical range)
+CHECK_CODE = re.compile(r"^RS(?:3\d\d|106)$")
+
+
+def _codes_in(path: Path, code: re.Pattern[str] = SEMANTIC_CODE) -> set[str]:
     tree = ast.parse(path.read_text(encoding="utf-8"))
     return {
         node.value
         for node in ast.walk(tree)
-        if isinstance(node, ast.Constant)
-        and isinstance(node.value, str)
-        and SEMANTIC_CODE.match(node.value)
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and code.match(node.value)
     }
 
 
@@ -144,7 +147,7 @@ def test_each_check_module_is_one_rule_with_its_code_and_examples_and_runs_once(
     for module in modules:
         doc = module.__doc__ or ""
         head = doc.split("\n\n", 1)[0]
-        reported = _codes_in(Path(module.__file__ or ""))
+        reported = _codes_in(Path(module.__file__ or ""), CHECK_CODE)
         assert reported, module.__name__
         assert all(code in head for code in reported), (module.__name__, reported, head)
         assert "Passing" in doc and "Failing" in doc, module.__name__

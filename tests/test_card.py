@@ -171,6 +171,15 @@ def test_doc_command_writes_the_card_linking_to_the_spec(tmp_path: Path) -> None
     assert (out.parent / link).resolve() == PANDA_SPEC.resolve()
 
 
+def test_doc_without_out_writes_the_card_named_after_the_spec_where_it_is_run(
+    tmp_path: Path,
+) -> None:
+    result = run_robospec("doc", str(PANDA_SPEC), cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "wrote panda.md" in result.stdout + result.stderr
+    assert (tmp_path / "panda.md").read_text() == card(PANDA_SPEC, tmp_path / "again.md")
+
+
 # -- the static layout equals ManiSkill's live controllers -----------------------------------
 
 

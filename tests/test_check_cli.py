@@ -15,7 +15,14 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from conftest import INSTALL_MANISKILL, PANDA_SPEC, invoke_robospec, run_robospec
+from conftest import (
+    INSTALL_MANISKILL,
+    MISSPELLED_JOINT_SPEC,
+    PANDA_SPEC,
+    ROOT,
+    invoke_robospec,
+    run_robospec,
+)
 
 pytestmark = [
     pytest.mark.maniskill,
@@ -205,3 +212,17 @@ def test_demo_unknown_mode_is_rs513_naming_the_modes() -> None:
     assert "control mode 'pd_no_such_mode' is not one of: pd_joint_delta_pos, pd_joint_pos" in (
         result.output
     )
+
+
+def test_check_on_an_invalid_spec_shows_the_diagnostic_as_validate_does() -> None:
+    """No `?` for the robot that did not compile, and the source line with its caret."""
+    result = run_robospec("check", str(MISSPELLED_JOINT_SPEC.relative_to(ROOT)))
+    assert result.returncode == 1
+    lines = result.stdout.splitlines()
+    assert lines[0] == "docs/examples/codes/RS201/fail.yaml: not compiled: ERROR"
+    at = lines.index(
+        "docs/examples/codes/RS201/fail.yaml:6:51: error[RS201] unknown joint 'panda_joint77'"
+    )
+    assert lines[at + 1].startswith("  6 |   arm: [panda_joint1,")
+    assert lines[at + 2].endswith("^" * len("panda_joint77"))
+    assert "hint: did you mean 'panda_joint7'?" in lines[at + 3]

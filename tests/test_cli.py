@@ -5,10 +5,11 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from conftest import MISSPELLED_JOINT_SPEC as MISSPELLED
-from conftest import ROOT, run_robospec
+from conftest import ROOT, invoke_robospec, run_robospec
 
 
 def test_validate_of_the_shipped_specs_exits_zero() -> None:
@@ -92,3 +93,46 @@ def test_schema_command_prints_the_committed_schema() -> None:
     assert result.returncode == 0
     committed = (ROOT / "schemas/robospec.schema.json").read_text(encoding="utf-8")
     assert result.stdout == committed, "run: robospec schema -o schemas/robospec.schema.json"
+
+
+def test_schema_with_out_says_what_it_wrote(tmp_path: Path) -> None:
+    out = tmp_path / "robospec.schema.json"
+    result = invoke_robospec("schema", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    assert out.is_file()
+    assert result.stdout == f"wrote {out}\n"
+
+
+def test_every_writing_command_says_what_it_wrote(tmp_path: Path) -> None:
+    """build, new and doc name the files they wrote (schema: above; import, optimize, tune and
+    check --plot in their own tests, which simulate)."""
+    panda = str(ROOT / "specs" / "maniskill" / "panda.yaml")
+    urdf = str(ROOT / "tests" / "data" / "tree.urdf")
+    for args, written in [
+        (("build", panda, "-o", str(tmp_path / "pkg")), "wrote"),
+        (("new", urdf, "-o", str(tmp_path / "arm.yaml"), "--no-sim"), f"wrote {tmp_path}"),
+        (("doc", panda, "-o", str(tmp_path / "card.md")), f"wrote {tmp_path / 'card.md'}"),
+    ]:
+        result = invoke_robospec(*args)
+        assert result.exit_code == 0, result.output
+        assert written in result.stdout, args
+
+
+def test_a_warning_is_silenced_by_the_spec_or_on_the_command_line(tmp_path: Path) -> None:
+    """RS307 (the ground's collision bits) is meant on a mobile base: fetch.yaml silences it;
+    without that line it warns, and --silence RS307 silences it for one run. Errors stay."""
+    fetch = ROOT / "specs" / "maniskill" / "fetch.yaml"
+    assert "warning[RS307]" not in run_robospec("validate", str(fetch)).stdout
+    loud = tmp_path / "fetch.yaml"
+    text = fetch.read_text(encoding="utf-8")
+    kept = "\n".join(line for line in text.splitlines() if not line.startswith("silence:"))
+    loud.write_text(kept.replace("{maniskill_assets}", "{maniskill_assets}") + "\n")
+    assert run_robospec("validate", str(loud)).stdout.count("warning[RS307]") == 2
+    quiet = run_robospec("validate", str(loud), "--silence", "RS307", "--silence", "RS319")
+    assert quiet.returncode == 0 and "warning[" not in quiet.stdout, quiet.stdout
+    assert "0 warning(s)" in quiet.stdout
+    unknown = run_robospec("validate", str(loud), "--silence", "RS999")
+    assert unknown.returncode == 2 and "RS999 is not a robospec code" in unknown.stderr
+    # an error is reported whatever --silence says
+    misspelled = run_robospec("validate", str(MISSPELLED), "--silence", "RS201")
+    assert misspelled.returncode == 1 and "error[RS201]" in misspelled.stdout

@@ -3,6 +3,7 @@ that ``robospec --show-completion`` prints really completes commands and option 
 
 from __future__ import annotations
 
+import itertools
 import os
 import shlex
 import shutil
@@ -13,8 +14,11 @@ from pathlib import Path
 import pytest
 import typer.main
 from conftest import ROOT, fast_first, run_robospec
+from typer.testing import CliRunner
 
 from robospec.cli import app
+from robospec.cli.help_style import EXAMPLE
+from robospec.docgen.cli_page import HELP_ENV
 
 COMMANDS = sorted(typer.main.get_command(app).commands)  # type: ignore[attr-defined]
 
@@ -31,6 +35,55 @@ def test_every_command_help_shows_an_example_of_itself(name: str) -> None:
     result = run_robospec(name, "--help", env={**os.environ, "COLUMNS": "200"})
     assert result.returncode == 0, result.stderr
     assert f"Example: robospec {name}" in result.stdout
+
+
+def _help(args: list[str], width: int) -> str:
+    env = {**HELP_ENV, "COLUMNS": str(width)}
+    result = CliRunner().invoke(app, [*args, "--help"], env=env, prog_name="robospec")
+    assert result.exit_code == 0, result.output
+    return result.output
+
+
+def _description(help_text: str) -> list[list[str]]:
+    """The paragraphs of the text between ``Usage:`` and the first panel, as lines."""
+    lines = help_text.splitlines()
+    start = next(i for i, line in enumerate(lines) if "Usage:" in line) + 1
+    end = next(i for i, line in enumerate(lines) if line.lstrip().startswith("╭"))
+    paragraphs: list[list[str]] = [[]]
+    for line in lines[start:end]:
+        if line.strip():
+            paragraphs[-1].append(line.strip())
+        elif paragraphs[-1]:
+            paragraphs.append([])
+    return [paragraph for paragraph in paragraphs if paragraph]
+
+
+@pytest.mark.parametrize("name", ["", *COMMANDS])
+@pytest.mark.parametrize("width", [60, 100])
+def test_every_command_help_is_written_for_reflow(name: str, width: int) -> None:
+    """Each paragraph is wrapped by the terminal, at its width, not where the source broke its
+    lines: a line ends early only before an ``Example:`` line (robospec/cli/help_style.py)."""
+    paragraphs = _description(_help([name] if name else [], width))
+    assert paragraphs
+    for paragraph in paragraphs:
+        for line, following in itertools.pairwise(paragraph):
+            if following.startswith(EXAMPLE):
+                continue
+            # rich leaves a column each side; the next word would have fitted on this line
+            fits = len(line) + 1 + len(following.split()[0]) <= width - 2
+            assert not fits, f"robospec {name} --help wraps early:\n{line}\n{following}"
+
+
+@pytest.mark.parametrize("name", ["", *COMMANDS])
+def test_every_boolean_option_reads_as_a_flag(name: str) -> None:
+    """``--force``, not ``--force <bool>``: a flag takes no value, so its help shows none."""
+    text = _help([name] if name else [], 100)
+    assert "<bool>" not in text
+    command = typer.main.get_command(app)
+    if name:
+        command = command.commands[name]  # type: ignore[attr-defined]
+    for param in command.params:
+        assert "\n" not in (getattr(param, "help", None) or ""), param.name
 
 
 def _bash_complete(*words: str) -> list[str]:

@@ -57,6 +57,38 @@ def test_generated_pages_equal_the_generator_output() -> None:
     assert stale_pages(DOCS, pages) == [], REGENERATE
 
 
+def _python_refs_of_failing_examples() -> set[str]:
+    """The top-level modules the code examples name in ``extends`` or a hook."""
+    named = set()
+    for spec in (EXAMPLES / "codes").rglob("*.*ml"):
+        for found in re.findall(
+            r"""["']([A-Za-z_][\w.]*):\w+["']""", spec.read_text("utf-8", errors="replace")
+        ):
+            named.add(found.split(".")[0])
+    return named
+
+
+@pytest.mark.slow
+def test_generated_pages_do_not_depend_on_what_else_is_importable(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A reader who follows the tutorial in the clone leaves a `my_robots` package there; a page
+    made from an example that names a module which happens not to exist would change with it.
+    Every top-level module the examples name that cannot be imported here is made importable
+    (empty), and the pages must stay as they are."""
+    import importlib.util
+
+    absent = {m for m in _python_refs_of_failing_examples() if importlib.util.find_spec(m) is None}
+    for module in absent | {"my_robots"}:
+        (tmp_path / module).mkdir()
+        (tmp_path / module / "__init__.py").write_text("", encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert stale_pages(DOCS, generated_pages(DOCS)) == [], (
+        "a page depends on a module not being importable: name a module inside an installed "
+        f"package instead ({sorted(absent)})"
+    )
+
+
 def test_the_diagnostics_table_links_a_page_for_every_code() -> None:
     table = (DOCS / "diagnostics.md").read_text(encoding="utf-8")
     for code in CODES:
@@ -157,15 +189,142 @@ def _mkdocs(config: Path, site: Path) -> subprocess.CompletedProcess[str]:
         capture_output=True,
         text=True,
         timeout=120,
+        # Material's banner about its successor is not a warning about these docs
+        env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
     )
 
 
-@pytest.mark.slow
-def test_the_site_builds_in_strict_mode(tmp_path: Path) -> None:
-    result = _mkdocs(ROOT / "mkdocs.yml", tmp_path / "site")
+def _nav_pages(node: object, section: str = "") -> list[tuple[str, str]]:
+    """(top-level nav section, page) for every page of mkdocs.yml's nav."""
+    if isinstance(node, str):
+        return [(section, node)]
+    if isinstance(node, list):
+        return [page for item in node for page in _nav_pages(item, section)]
+    if isinstance(node, dict):
+        return [
+            page
+            for title, child in node.items()
+            for page in _nav_pages(child, section or str(title))
+        ]
+    return []
+
+
+# written by tests/corpus.py --write from the corpus journeys (its words say how it is made)
+GENERATED_BY_THE_CORPUS = {"robots.md"}
+
+
+def test_user_pages_hold_no_developer_notes() -> None:
+    """Which test proves what, and how to run it, is for the Development pages: a user page
+    (and every diagnostic code's page) names no test file, no CI script, no repository tool."""
+    config = _mkdocs_config()
+    pages = [
+        page
+        for section, page in _nav_pages(config["nav"])
+        if section != "Development" and page not in GENERATED_BY_THE_CORPUS
+    ]
+    pages += [f"codes/{p.name}" for p in (DOCS / "codes").glob("*.md")]
+    notes = re.compile(
+        r"tests/test_|tests/corpus|scripts/test|\.ci/|docs/examples/codes/expected|robospec\.docgen"
+    )
+    for page in pages:
+        found = notes.search((DOCS / page).read_text(encoding="utf-8"))
+        assert found is None, f"{page} has a developer note ({found.group()})"
+
+
+def _mkdocs_config() -> dict[str, object]:
+    from ruamel.yaml import YAML
+
+    loaded = YAML(typ="safe", pure=True).load((ROOT / "mkdocs.yml").read_text("utf-8"))
+    assert isinstance(loaded, dict)
+    return loaded
+
+
+def test_the_site_uses_material_offline_with_copy_buttons_and_dark_mode() -> None:
+    theme = _mkdocs_config()["theme"]
+    assert isinstance(theme, dict)
+    assert theme["name"] == "material"
+    assert theme["font"] is False  # Google's web fonts would be fetched from the network
+    assert "content.code.copy" in theme["features"]
+    assert {p["scheme"] for p in theme["palette"]} == {"default", "slate"}
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The site as `mkdocs build --strict` writes it."""
+    folder = tmp_path_factory.mktemp("site") / "site"
+    result = _mkdocs(ROOT / "mkdocs.yml", folder)
     assert result.returncode == 0, result.stderr
-    assert (tmp_path / "site" / "tutorial" / "index.html").is_file()
-    assert (tmp_path / "site" / "codes" / "RS201" / "index.html").is_file()
+    return folder
+
+
+@pytest.mark.slow
+def test_the_site_builds_in_strict_mode_and_loads_nothing_from_the_network(site: Path) -> None:
+    assert (site / "tutorial" / "index.html").is_file()
+    assert (site / "codes" / "RS201" / "index.html").is_file()
+    outside = re.compile(r"<(?:script|link|img)\b[^>]*\b(?:src|href)=\"(?:https?:)?//", re.I)
+    for page in site.rglob("*.html"):
+        found = outside.search(page.read_text(encoding="utf-8"))
+        assert found is None, f"{page.relative_to(site)} loads {found.group()}"
+    # code is highlighted when the site is built (Pygments), not by a script from a CDN
+    assert '<span class="nt">robospec</span>' in (site / "tutorial" / "index.html").read_text()
+
+
+# Material's default primary colour (indigo): its header bar, painted only when its styles load
+MATERIAL_HEADER = (0x40, 0x51, 0xB5)
+SCREENSHOTS = ["index.html", "tutorial/index.html", "codes/RS011/index.html"]
+
+
+def _chromium() -> str:
+    found = shutil.which("chromium") or shutil.which("chromium-browser")
+    assert found, "Chromium is needed for the docs screenshots: scripts/setup installs it"
+    return found
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", SCREENSHOTS)
+def test_a_screenshot_of_the_page_shows_materials_theme(
+    site: Path, page: str, tmp_path: Path
+) -> None:
+    """Headless Chromium renders the built page (from files, as offline): Material's header
+    colour fills the top of the picture, and the page's text is dark on light, not the
+    browser's unstyled default (a missing stylesheet shows black on white with no header)."""
+    from PIL import Image
+
+    shot = tmp_path / "page.png"
+    subprocess.run(
+        [
+            _chromium(),
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            f"--user-data-dir={tmp_path / 'profile'}",
+            "--hide-scrollbars",
+            "--force-prefers-reduced-motion",
+            "--window-size=1280,900",
+            f"--screenshot={shot}",
+            (site / page).as_uri(),
+        ],
+        capture_output=True,
+        timeout=120,
+        check=True,
+    )
+    image = Image.open(shot).convert("RGB")
+    assert image.size == (1280, 900)
+    header = [image.getpixel((x, 10)) for x in range(300, 1100, 50)]
+    assert all(_near(pixel, MATERIAL_HEADER) for pixel in header), header
+    body = image.crop((300, 100, 980, 890)).getcolors(1280 * 900)
+    assert body is not None
+    colours = sorted(body, reverse=True)
+    assert _near(colours[0][1], (255, 255, 255)), colours[:3]  # the page, light
+    assert len(colours) > 20  # text, highlighted code: more than a blank page
+
+
+def _near(pixel: tuple[int, ...], colour: tuple[int, int, int], within: int = 12) -> bool:
+    return all(abs(a - b) <= within for a, b in zip(pixel, colour, strict=False))
 
 
 def _site_copy(tmp_path: Path) -> Path:
@@ -265,10 +424,48 @@ def _is_sapien_noise(line: str) -> bool:
     return "vulkan" in line.lower() or line.strip().startswith("warn(")
 
 
+TUTORIAL_FOLDER = "tutorial folder"
+
+
 def _workdir(tmp_path: Path) -> Path:
-    """A folder holding docs/examples as the commands name them, for commands that write."""
-    shutil.copytree(EXAMPLES, tmp_path / "docs" / "examples")
-    return tmp_path
+    """The folder the tutorial has its reader make (its `<!-- tutorial folder -->` block, run
+    from the clone, with ``tmp_path`` as the home folder): the commands run there."""
+    (setup,) = [
+        body for body, marker in fenced_blocks("tutorial.md", "sh") if marker == TUTORIAL_FOLDER
+    ]
+    home = tmp_path / "home"
+    home.mkdir()
+    subprocess.run(
+        ["bash", "-euc", setup], cwd=ROOT, env={**os.environ, "HOME": str(home)}, check=True
+    )
+    (folder,) = home.iterdir()
+    return folder
+
+
+@pytest.mark.slow
+def test_the_tutorial_runs_in_a_folder_of_its_own_and_leaves_the_clone_as_it_was(
+    tmp_path: Path,
+) -> None:
+    before = _untracked(ROOT)
+    cwd = _workdir(tmp_path)
+    assert (cwd / "docs" / "examples" / "tutorial" / "my_panda.yaml").is_file()
+    assert (cwd / "schemas" / "robospec.schema.json").is_file()
+    # the tutorial's commands that write: build, schema, doc
+    for command, _ in _console_commands("tutorial.md"):
+        if " -o " in command and not command.startswith(SIMULATES):
+            _run_console(command, cwd)
+    assert (cwd / "my_robots" / "__init__.py").is_file()
+    assert _untracked(ROOT) == before
+
+
+def _untracked(root: Path) -> str:
+    result = subprocess.run(
+        ["git", "status", "--porcelain", "--untracked-files=all"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+    )
+    return result.stdout if result.returncode == 0 else ""
 
 
 SIMULATES = "robospec check"  # runs SAPIEN: seconds, and the maniskill extra

@@ -106,9 +106,10 @@ def test_text_excerpt_comes_from_the_robot_description_when_the_urdf_is_wrong(
     )
     result = run_robospec("validate", "spec.yaml", cwd=tmp_path, env=plain_env())
     lines = result.stdout.splitlines()
-    assert lines[0].startswith("robot.urdf:7:1: error[RS052]"), result.stdout
+    # the caret under the element, not in the indentation before it
+    assert lines[0].startswith("robot.urdf:7:5: error[RS052]"), result.stdout
     assert lines[1] == '  7 |     <axis xyz="0 1"/> <!-- expect RS052 -->'
-    assert lines[2] == "    | ^"
+    assert lines[2] == "    |     " + "^" * len('<axis xyz="0 1"/>')
 
 
 def test_text_has_no_excerpt_when_the_file_cannot_be_read() -> None:

@@ -209,8 +209,8 @@ def test_the_comparison_sees_many_valid_and_invalid_specs_and_every_kind_of_erro
         "python_keyword",
     }
     assert expected <= seen, sorted(expected - seen)
-    # and the files that never reach the model are few: syntax errors only
-    assert sum(_loaded(p) is None for p in FILES) <= 10
+    # and the files that never reach the model are few: the syntax errors' examples only
+    assert sum(_loaded(p) is None for p in FILES) <= 16
 
 
 # -- the freezer ---------------------------------------------------------------------------

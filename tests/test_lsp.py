@@ -282,6 +282,24 @@ async def test_a_urdf_edited_on_disk_updates_diagnostics_and_completions(
     assert any("'elbow'" in d.message for d in found)
 
 
+async def test_saving_the_urdf_republishes_the_diagnostics_of_the_specs_that_read_it(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    """An editor that saves the URDF it has open sends didSave (no file watcher involved):
+    the specs that read it are compiled again and their diagnostics published."""
+    spec, urdf = tiny_robot(tmp_path)
+    uri = open_doc(client, spec)
+    assert await diagnostics_until(client, uri, lambda ds: True) == []
+    urdf.write_text(TWO_JOINT_URDF.replace('"elbow"', '"knee"'))  # as the editor saves it
+    client.text_document_did_save(
+        types.DidSaveTextDocumentParams(
+            text_document=types.TextDocumentIdentifier(uri=urdf.resolve().as_uri())
+        )
+    )
+    found = await diagnostics_until(client, uri, lambda ds: "RS201" in codes(ds))
+    assert any("'elbow'" in d.message for d in found)
+
+
 # -- completion --------------------------------------------------------------------------------
 
 
@@ -355,6 +373,21 @@ async def test_completion_in_a_toml_spec_offers_its_robots_joints(
     assert {"shoulder", "elbow"} <= await labels(client, uri, position_of(text, '"sh"', 3))
 
 
+async def test_completion_of_a_half_typed_bare_toml_value_offers_the_robots_links(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    """`tcp = up|`: no quotes typed yet (TOML needs them, so the line does not parse): the
+    link names still come, each to be written as a string."""
+    spec = tmp_path / "tiny.toml"
+    tiny_robot(tmp_path)
+    text = 'robospec = 1\nuid = "rs_tiny"\ntcp = up\n[description]\nurdf = "tiny.urdf"\n'
+    spec.write_text(text)
+    uri = open_doc(client, spec)
+    found = await labels(client, uri, position_of(text, "tcp = up", len("tcp = up")))
+    assert "upper" in found
+    assert "shoulder" not in found  # a joint is no tcp
+
+
 # -- hover -------------------------------------------------------------------------------------
 
 
@@ -420,6 +453,43 @@ async def test_definition_jumps_from_a_joint_into_the_urdf(
         .strip()
         .startswith('<joint name="elbow"')
     )
+
+
+TINY_XACRO = """<?xml version="1.0"?>
+<robot name="tiny" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="reach" value="1.5"/>
+  <link name="base"/>
+  <link name="upper"/>
+  <link name="lower"/>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="upper"/><axis xyz="0 1 0"/>
+    <limit lower="-${reach}" upper="${reach}" effort="10" velocity="2"/>
+  </joint>
+
+  <!-- the elbow, three lines below its comment -->
+
+    <joint name="elbow" type="revolute">
+    <parent link="upper"/><child link="lower"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="10" velocity="2"/>
+  </joint>
+</robot>
+"""
+
+
+async def test_definition_jumps_from_a_joint_into_the_xacro_on_its_exact_line(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    """The expansion's lines are not the xacro's: the jump lands on the xacro's own line of
+    the joint, at its start tag."""
+    xacro = tmp_path / "tiny.urdf.xacro"
+    xacro.write_text(TINY_XACRO)
+    spec = tmp_path / "tiny.yaml"
+    text = TINY_SPEC.replace("urdf: tiny.urdf", "xacro: tiny.urdf.xacro")
+    spec.write_text(text)
+    uri = open_doc(client, spec)
+    target = await definition(client, uri, position_of(text, "elbow]", 2))
+    assert target.uri == xacro.resolve().as_uri()
+    assert target.range.start == position_of(TINY_XACRO, '<joint name="elbow"')
 
 
 async def test_definition_jumps_from_extends_to_the_base_and_from_a_group_to_it(

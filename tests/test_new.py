@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from conftest import TWOLINK_XACRO, run_robospec
+from conftest import TWOLINK_XACRO, invoke_robospec, run_robospec
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
@@ -411,3 +411,15 @@ def test_gripper_words_must_start_a_name_part(tmp_path: Path) -> None:
     data = scaffold(urdf, out)
     validate(out)
     assert data["groups"] == {"arm": ["shoulder", "steering"], "gripper": ["l_gripper_joint"]}
+
+
+def test_new_reads_a_description_given_as_a_spec_names_it(tmp_path: Path) -> None:
+    """`{maniskill_assets}/...` is how specs name ManiSkill's files: new and inspect take it
+    too, and the spec keeps that form."""
+    out = tmp_path / "panda.yaml"
+    given = "{maniskill_assets}/robots/panda/panda_v2.urdf"
+    result = invoke_robospec("new", given, "-o", str(out), "--no-sim")
+    assert result.exit_code == 0, result.output
+    assert f"urdf: '{given}'" in out.read_text(encoding="utf-8")
+    shown = invoke_robospec("inspect", given)
+    assert shown.exit_code == 0 and "panda_joint1" in shown.stdout

@@ -111,3 +111,11 @@ def test_a_long_flow_list_wraps_with_its_lines_aligned_after_the_bracket() -> No
     assert len(lines) > 1 and all(10 + len(lines[0]) <= 100 for _ in lines)
     assert all(line.startswith(" " * 11) for line in lines[1:])
     assert text.replace("\n", " ").split() == ["[123,", *["123,"] * 28, "123]"]
+
+
+def test_a_list_that_fits_a_line_of_its_own_is_never_broken_where_it_starts_far_right() -> None:
+    """`damping: [150,` / `100, ...]` reads as two values: a list that can be read whole on
+    one line stays whole, even past the column where a long list would wrap."""
+    seven = [150.0, 100.0, 120.5, 80.25, 60.125, 40.0, 20.0]
+    assert flow_list(seven, 85, 6) == "[150, 100, 120, 80.2, 60.1, 40, 20]"
+    assert flow_list(seven, 85) == "[150, 100, 120, 80.2, 60.1, 40, 20]"

@@ -51,6 +51,14 @@ def test_messages_that_differ_only_in_a_path_count_as_one_with_the_first_path_as
     assert missing.describe().startswith("SAPIEN error (2x): File not found: <path> (e.g. ")
 
 
+def test_words_with_a_slash_are_not_taken_for_paths() -> None:
+    log = UpstreamLog()
+    log.feed("ValueError: I/O operation on closed file.\nFile not found: /robots/arm.STL\n")
+    closed, missing = log.messages()
+    assert (closed.text, closed.example) == ("ValueError: I/O operation on closed file.", None)
+    assert (missing.text, missing.example) == ("File not found: <path>", "/robots/arm.STL")
+
+
 def test_captured_output_takes_file_descriptor_writes_and_warnings_off_the_terminal(
     capfd: pytest.CaptureFixture[str],
 ) -> None:
@@ -74,3 +82,37 @@ def test_captured_output_takes_file_descriptor_writes_and_warnings_off_the_termi
     # after the block, output goes where it went before
     print("after")
     assert capfd.readouterr().out == "after\n"
+
+
+def test_a_logger_made_inside_a_captured_block_still_speaks_in_the_next_one(
+    capfd: pytest.CaptureFixture[str],
+) -> None:
+    """ManiSkill makes its logger's StreamHandler when mani_skill is first imported, which the
+    demo does inside a captured block: the handler takes that block's sys.stderr. After the
+    block that stream is closed; a later message must still be gathered, not end in Python's
+    "--- Logging error ---" traceback."""
+    import logging
+
+    logger = logging.getLogger("robospec-test-upstream")
+    logger.propagate = False
+    try:
+        with captured_output():
+            handler = logging.StreamHandler()  # as mani_skill.utils.logging_utils does
+            handler.setFormatter(
+                logging.Formatter("%(asctime)s - %(name)s - %(levelname)s - %(message)s")
+            )
+            logger.addHandler(handler)
+        with captured_output() as output:
+            logger.warning("rs_panda is not in the task's list of supported robots")
+        shown = capfd.readouterr()
+        assert "Logging error" not in shown.err + shown.out
+        said = [(m.source, m.level, m.text) for m in output.messages()]
+        assert said == [
+            (
+                "robospec-test-upstream",
+                "warning",
+                "rs_panda is not in the task's list of supported robots",
+            )
+        ]
+    finally:
+        logger.handlers.clear()

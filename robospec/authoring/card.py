@@ -3,6 +3,8 @@
 Sections: the robot (uid, class, description file), the kinematic tree as a Mermaid
 ``graph TD`` (links as nodes, joints as labelled edges, active joints drawn thick), the active
 joints, the action layout of each control mode (:mod:`.layout`), the keyframes and the cameras.
+With pictures (``doc --images``, :mod:`robospec.pictures`) the card leads with the robot, shows
+it from each view at each keyframe, and each camera's view below the cameras' table.
 No path of the machine appears (files are shown as the spec names them) and numbers are
 formatted the same way every time, so the card is byte-identical for the same spec.
 """
@@ -12,6 +14,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 from robospec.authoring.layout import ActionRow, mode_layout
 from robospec.authoring.tree import KinematicTree
@@ -61,22 +64,38 @@ def description_text(ref: FileRef) -> str:
     return ref.placeholder_text or ref.relative + " (relative to the spec)"
 
 
+@dataclass(frozen=True)
+class CardPicture:
+    """A picture of ``doc --images``: what it shows, and its path from the card's folder."""
+
+    kind: str  # "robot", "collision" (the same view, collision shapes), "camera", "table"
+    keyframe: str
+    name: str  # the view's name, or the camera's uid
+    link: str
+
+
 def robot_card(
     robot: ResolvedRobot,
     description: RobotDescription,
     spec_link: str,
     plots: Sequence[tuple[str, str]] = (),
+    pictures: Sequence[CardPicture] = (),
 ) -> str:
     """The card; ``spec_link`` is the spec's path relative to the card's folder, ``plots``
     each controller's step-response picture (``check --plot``, ``tune --plot``) as
-    ``(controller, path relative to the card's folder)``."""
+    ``(controller, path relative to the card's folder)``, ``pictures`` those of
+    ``doc --images``."""
     lines = [f"# {robot.uid}", ""]
+    lead = next((p for p in pictures if p.kind == "robot"), None)
+    if lead is not None:  # as model cards do: first, what the robot looks like
+        lines += [f"![{robot.uid} at keyframe {lead.keyframe}](<{lead.link}>)", ""]
     lines += _summary(robot, description, spec_link)
+    lines += _pictures(pictures)
     lines += _tree(description)
     lines += _joints(description)
     lines += _actions(robot, description)
     lines += _keyframes(robot, description)
-    lines += _cameras(robot)
+    lines += _cameras(robot, pictures)
     lines += _plots(plots)
     while lines and lines[-1] == "":
         lines.pop()
@@ -217,7 +236,48 @@ def _vector(values: tuple[float, ...]) -> str:
     return "[" + ", ".join(number(v) for v in values) + "]"
 
 
-def _cameras(robot: ResolvedRobot) -> list[str]:
+def _pictures(pictures: Sequence[CardPicture]) -> list[str]:
+    robot = [p for p in pictures if p.kind in ("robot", "collision")]
+    if not robot:
+        return []
+    lines = [
+        "## Pictures",
+        "",
+        "The robot at each keyframe (`robospec doc --images`; drawn by MuJoCo from the "
+        "description, as ManiSkill loads it).",
+        "",
+    ]
+    for keyframe in dict.fromkeys(p.keyframe for p in robot):
+        lines += [f"### {code(keyframe)}", ""]
+        for kind in ("robot", "collision"):
+            row = [p for p in robot if p.keyframe == keyframe and p.kind == kind]
+            if row:
+                what = "" if kind == "robot" else " (collision shapes)"
+                lines.append(" ".join(f"![{keyframe}: {p.name}{what}](<{p.link}>)" for p in row))
+                lines.append("")
+    return lines
+
+
+def _camera_pictures(pictures: Sequence[CardPicture], uid: str) -> list[str]:
+    views = [p for p in pictures if p.kind in ("camera", "table") and p.name == uid]
+    if not views:
+        return []
+    lines = [
+        f"### {code(uid)}",
+        "",
+        "| keyframe | the robot alone | at a table, with a cube |",
+        "| --- | --- | --- |",
+    ]
+    for keyframe in dict.fromkeys(p.keyframe for p in views):
+        cells = []
+        for kind in ("camera", "table"):
+            found = [p for p in views if p.keyframe == keyframe and p.kind == kind]
+            cells.append(f"![{uid} at {keyframe}](<{found[0].link}>)" if found else "—")
+        lines.append(f"| {code(keyframe)} | " + " | ".join(cells) + " |")
+    return [*lines, ""]
+
+
+def _cameras(robot: ResolvedRobot, pictures: Sequence[CardPicture] = ()) -> list[str]:
     lines = ["## Cameras", ""]
     if not robot.cameras:
         return [*lines, "None.", ""]
@@ -232,4 +292,13 @@ def _cameras(robot: ResolvedRobot) -> list[str]:
             f"{_vector(camera.q)} | {camera.width}×{camera.height} | {fov} | "
             f"{number(camera.near)} | {number(camera.far)} |"
         )
-    return [*lines, ""]
+    lines.append("")
+    if any(p.kind in ("camera", "table") for p in pictures):
+        lines += [
+            "What each camera sees from its mount at each keyframe, with its own size, field "
+            "of view, near and far.",
+            "",
+        ]
+        for camera in robot.cameras:
+            lines += _camera_pictures(pictures, camera.uid)
+    return lines

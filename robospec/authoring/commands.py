@@ -12,7 +12,9 @@ from robospec.diagnostics import Diagnostic, Location, error, has_errors, warnin
 
 if TYPE_CHECKING:
     from robospec.authoring.analysis import RobotAnalysis
+    from robospec.authoring.card import CardPicture
     from robospec.authoring.rest_pose import RestPose
+    from robospec.pipeline import CompiledSpec
 
 REST_TOUCHES = "RS605"
 NOT_LOADED = "RS606"
@@ -195,7 +197,15 @@ def _uid_problem(uid: str, at: Location) -> Diagnostic | None:
     return None
 
 
-def run_doc(spec: Path, out: Path, plots: Path | None = None) -> list[Diagnostic]:
+def run_doc(
+    spec: Path,
+    out: Path,
+    plots: Path | None = None,
+    images: bool = False,
+    collisions: bool = False,
+) -> list[Diagnostic]:
+    """Write the card ``out``; with ``images`` also its pictures, in ``<out's stem>_images/``
+    beside it (with ``collisions``, the collision shapes too), and the cameras' findings."""
     from robospec.authoring.card import robot_card
     from robospec.pipeline import compile_spec
 
@@ -203,6 +213,12 @@ def run_doc(spec: Path, out: Path, plots: Path | None = None) -> list[Diagnostic
     diagnostics = list(compiled.diagnostics)
     if has_errors(diagnostics) or compiled.robot is None or compiled.description is None:
         return diagnostics
+    pictures: list[CardPicture] = []
+    if images:
+        pictures, more = _pictures(compiled, out, collisions)
+        diagnostics += more
+        if has_errors(more):
+            return diagnostics
     # the spec as seen from the card, so the card links to it wherever both are
     spec_link = Path(os.path.relpath(spec.resolve(), out.resolve().parent)).as_posix()
     links = []
@@ -212,15 +228,65 @@ def run_doc(spec: Path, out: Path, plots: Path | None = None) -> list[Diagnostic
             if picture.is_file():
                 relative = os.path.relpath(picture.resolve(), out.resolve().parent)
                 links.append((controller.name, Path(relative).as_posix()))
-    text = robot_card(compiled.robot, compiled.description, spec_link, links)
+    text = robot_card(compiled.robot, compiled.description, spec_link, links, pictures)
     return diagnostics + write_text(out, text)
 
 
-def write_text(path: Path, text: str) -> list[Diagnostic]:
+def images_folder(out: Path) -> Path:
+    """Where ``doc --images`` puts the pictures of the card ``out``."""
+    return out.parent / f"{out.stem}_images"
+
+
+def _pictures(
+    compiled: CompiledSpec, out: Path, collisions: bool
+) -> tuple[list[CardPicture], list[Diagnostic]]:
+    """Draw and write the card's pictures; the diagnostics say what the cameras see, or why
+    nothing could be drawn (then nothing is written)."""
+    from robospec.authoring.card import CardPicture
+    from robospec.cli.uid_option import COMMAND_LINE
+    from robospec.pictures.album import AlbumOptions, CameraSettings, make_album
+    from robospec.pictures.camera_checks import Limits
+    from robospec.pictures.gl import RenderUnavailable
+
+    robot, description, context = compiled.robot, compiled.description, compiled.context
+    assert robot is not None and description is not None and context is not None
+    settings = context.spec.checks.camera_views
+    cameras = CameraSettings(
+        Limits(
+            settings.max_mount_fraction,
+            settings.max_robot_fraction,
+            settings.min_seen_fraction,
+            settings.tcp_in_view,
+        ),
+        settings.table_height,
+        {camera.uid: context.key(("cameras", camera.uid)) for camera in robot.cameras},
+    )
+    folder = images_folder(out)
+    try:
+        album = make_album(
+            robot, description, cameras, folder.as_posix(), AlbumOptions(collisions=collisions)
+        )
+    except RenderUnavailable as exc:
+        return [], [error(Location(COMMAND_LINE), exc.code, exc.message, exc.hint)]
+    diagnostics = list(album.diagnostics)
+    for picture in album.pictures:
+        diagnostics += write_bytes(folder / picture.path, picture.png)
+    relative = Path(os.path.relpath(folder.resolve(), out.resolve().parent)).as_posix()
+    pictures = [
+        CardPicture(p.kind, p.keyframe, p.name, f"{relative}/{p.path}") for p in album.pictures
+    ]
+    return pictures, diagnostics
+
+
+def write_bytes(path: Path, data: bytes) -> list[Diagnostic]:
+    return write_text(path, data, mode=0o644)
+
+
+def write_text(path: Path, text: str | bytes, mode: int | None = None) -> list[Diagnostic]:
     from robospec.files import write_atomically
 
     try:
-        write_atomically(path, text)
+        write_atomically(path, text, mode)
     except OSError as exc:
         return [
             error(

@@ -52,6 +52,9 @@ def read_description_file(
     ``keep_errors`` keeps a description whose kinematic tree is intact although robospec found
     errors in it (a bad mimic target; what ManiSkill's loader would make of an MJCF: a mesh 1000
     times too large, a frame turned): ``inspect`` shows such a robot and its errors both."""
+    path, problem = _placeholders_expanded(path)
+    if problem is not None:
+        return None, [problem]
     kind = file_kind(path)
     if kind is None:
         return None, [
@@ -110,6 +113,36 @@ def _mended(
     diagnostics.extend(derived.notes)
     diagnostics.extend(derived.refusals)
     return mends, derived
+
+
+def _placeholders_expanded(path: Path) -> tuple[Path, Diagnostic | None]:
+    """``path`` with ``{maniskill_assets}`` or ``{maniskill_data}`` replaced by the folder it
+    names, as a spec's description path is read (so ``robospec new
+    "{maniskill_assets}/robots/panda/panda_v2.urdf"`` works as the spec would)."""
+    from robospec.resolve.paths import (
+        ASSETS_PLACEHOLDER,
+        maniskill_assets_dir,
+        maniskill_data_dir,
+        split_assets,
+        split_data,
+    )
+
+    text = str(path)
+    inside = split_assets(text)
+    if inside is not None:
+        assets = maniskill_assets_dir()
+        if assets is None:
+            return path, error(
+                Location(text),
+                "RS050",
+                f"{ASSETS_PLACEHOLDER} is ManiSkill's asset folder, and ManiSkill is not installed",
+                "pip install 'robospec[maniskill]', or give the file's own path",
+            )
+        return assets / inside, None
+    inside = split_data(text)
+    if inside is not None:
+        return maniskill_data_dir() / inside, None
+    return path, None
 
 
 def _robot_name(text: str | bytes) -> str | None:

@@ -97,8 +97,7 @@ def probe_rest_pose(
     overlapping = tuple(
         (a, b)
         for a, b, _ in touching
-        if (a, b) in always
-        and (_joints_apart(tree, a, b) <= NEIGHBOURS or tried >= THOROUGH)
+        if (a, b) in always and (_joints_apart(tree, a, b) <= NEIGHBOURS or tried >= THOROUGH)
     )
     return RestPose(
         qpos=qpos,

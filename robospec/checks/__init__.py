@@ -39,6 +39,7 @@ from robospec.checks import (
     never_collide_entries,
     never_collide_no_free_bit,
     never_collide_self,
+    physical_ranges,
     unbounded_normalization,
 )
 from robospec.checks.context import CheckContext
@@ -69,6 +70,7 @@ ROBOT_CHECKS: tuple[Check, ...] = (
     mimic_joints.check,  # RS309
     collision_bits.check,  # RS307
     controller_gains.check,  # RS318
+    physical_ranges.check,  # RS106
     unbounded_normalization.check,  # RS319
     never_collide_bits.check,  # RS321
     never_collide_self.check,  # RS322

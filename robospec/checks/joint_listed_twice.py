@@ -21,7 +21,18 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
     for name in context.spec.controllers:
         path = ("controllers", name, "joints")
         seen: set[str] = set()
+        twice: list[str] = []
         for joint in context.joints_at(path) or ():
-            if joint in seen:
-                yield error(context.value(path), "RS310", f"joint '{joint}' is listed twice")
+            if joint in seen and joint not in twice:
+                twice.append(joint)
             seen.add(joint)
+        if twice:
+            # one mistake (a group and a joint of it, say), one diagnostic naming every joint
+            named = ", ".join(f"'{j}'" for j in twice)
+            yield error(
+                context.value(path),
+                "RS310",
+                f"joint{'s' if len(twice) > 1 else ''} {named} "
+                f"{'are' if len(twice) > 1 else 'is'} listed twice",
+                "list each joint once: a group already holds its joints",
+            )

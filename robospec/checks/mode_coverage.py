@@ -35,16 +35,24 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             controller = controllers.get(name)
             if controller is None:
                 continue  # unknown controller: reported by resolve
+            # one diagnostic per pair of controllers, naming every joint they share
+            shared: dict[str, list[str]] = {}
             for joint in controller.joint_names:
                 if joint in driven and driven[joint] != name:
-                    where = (*path, group) if group else path
-                    yield error(
-                        context.value(where),
-                        "RS301",
-                        f"joint '{joint}' is driven by both '{driven[joint]}' and "
-                        f"'{name}' in mode '{mode.name}'",
-                    )
+                    shared.setdefault(driven[joint], []).append(joint)
                 driven.setdefault(joint, name)
+            where = (*path, group) if group else path
+            for other, joints in shared.items():
+                named = ", ".join(f"'{j}'" for j in joints)
+                yield error(
+                    context.value(where),
+                    "RS301",
+                    f"joint{'s' if len(joints) > 1 else ''} {named} "
+                    f"{'are' if len(joints) > 1 else 'is'} driven by both '{other}' and "
+                    f"'{name}' in mode '{mode.name}'",
+                    f"a mode drives each joint once: leave {named} out of the joints of "
+                    f"'{name}' or of '{other}' (a group can say {{all_but: ...}})",
+                )
         missing = [
             j for j in context.description.active_joint_names if j not in driven and j not in exempt
         ]

@@ -14,13 +14,15 @@ from typing import Annotated
 
 import typer
 
+from robospec.cli.help_style import App
 from robospec.diagnostics import Diagnostic, has_errors
 from robospec.reporting import Format as DiagnosticFormat
 from robospec.reporting import render
 from robospec.reporting.color import ColorChoice as Color
 from robospec.reporting.color import use_color
 
-app = typer.Typer(
+# Help is written for reflow: robospec/cli/help_style.py says how (App holds every command to it).
+app = App(
     name="robospec",
     help="Compile declarative robot specs (YAML/TOML) into registered ManiSkill agents.",
     no_args_is_help=True,
@@ -50,6 +52,14 @@ DiagnosticFormatOpt = Annotated[
         help="text (with source excerpts), json, github (workflow annotations) or sarif 2.1.0",
     ),
 ]
+SilenceOpt = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--silence",
+        metavar="CODE",
+        help="do not report this warning code (repeatable; a spec's own list is `silence:`)",
+    ),
+]
 ColorOpt = Annotated[
     Color,
     typer.Option(
@@ -71,6 +81,16 @@ def _report(
     colored = use_color(color.value, sys.stderr if err else sys.stdout, os.environ)
     # click strips ANSI codes from non-terminals unless told the colour is wanted
     typer.echo(render(diagnostics, files, fmt.value, color=colored), err=err, color=colored)
+
+
+def _silenced_codes(silence: list[str] | None) -> frozenset[str]:
+    """``--silence`` codes, each one robospec has (else a usage error)."""
+    from robospec.diagnostics.codes import CODES
+
+    for code in silence or ():
+        if code not in CODES:
+            raise typer.BadParameter(f"{code} is not a robospec code", param_hint="--silence")
+    return frozenset(silence or ())
 
 
 def _finish(
@@ -97,6 +117,7 @@ def validate(
     paths: PathsArg,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
+    silence: SilenceOpt = None,
 ) -> None:
     """Check specs against their robot descriptions.
 
@@ -106,7 +127,8 @@ def validate(
     from robospec.cli.fast_validate import ValidateArgs, run
 
     # the same run as the plain form that skips typer (robospec.cli.fast_validate)
-    raise typer.Exit(run(ValidateArgs(list(paths), format.value, color.value)))
+    codes = _silenced_codes(silence)
+    raise typer.Exit(run(ValidateArgs(list(paths), format.value, color.value, codes)))
 
 
 @app.command()
@@ -118,6 +140,7 @@ def build(
     ] = False,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
+    silence: SilenceOpt = None,
 ) -> None:
     """Write an importable package with one generated agent module per spec.
 
@@ -126,7 +149,7 @@ def build(
     from robospec.output.package import build_package
     from robospec.pipeline import compile_all
 
-    compiled, diagnostics = compile_all(paths)
+    compiled, diagnostics = compile_all(paths, silence=_silenced_codes(silence))
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     if has_errors(diagnostics) or not compiled:
@@ -186,9 +209,10 @@ def schema(
         sys.stdout.write(text)
     else:
         out.write_text(text, encoding="utf-8")
+        typer.echo(f"wrote {out}")
 
 
-@app.command("import")
+@app.command("import", needs=("maniskill",))
 def import_(
     target: Annotated[
         str, typer.Argument(metavar="MODULE:CLASS", help="a ManiSkill agent class to import")
@@ -215,10 +239,12 @@ def import_(
     if text is not None and out is None:
         sys.stdout.write(text)
     _report(diagnostics, 1, format, color, err=True)
+    if text is not None and out is not None:
+        typer.echo(f"wrote {out}")
     raise typer.Exit(1 if has_errors(diagnostics) else 0)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def check(
     paths: PathsArg,
     steps: Annotated[
@@ -259,7 +285,7 @@ def check(
     raise typer.Exit(code)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def demo(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot to show")],
     control_mode: Annotated[
@@ -374,7 +400,7 @@ def new(
     _finish(diagnostics, written is None, format, color, done)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def optimize(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot to optimize")],
     out: Annotated[
@@ -433,7 +459,7 @@ def optimize(
     raise typer.Exit(1 if report is None or has_errors(diagnostics) else 0)
 
 
-@app.command()
+@app.command(needs=("maniskill",))
 def tune(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot to tune")],
     uid: Annotated[
@@ -483,30 +509,51 @@ def tune(
 @app.command()
 def doc(
     spec: Annotated[Path, typer.Argument(help="the spec of the robot")],
-    out: Annotated[Path, typer.Option("--out", "-o", help="the Markdown card to write")],
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out", "-o", help="the Markdown card to write (default: SPEC-STEM.md in this folder)"
+        ),
+    ] = None,
     plots: Annotated[
         Path | None,
         typer.Option(
             "--plots", help="link the step-response plots check/tune --plot wrote under DIR"
         ),
     ] = None,
+    images: Annotated[
+        bool,
+        typer.Option(
+            "--images",
+            help="draw the robot and each camera's view at each keyframe (PNG, beside the "
+            "card in OUT-STEM_images/; needs the render extra, no GPU) and check the cameras",
+        ),
+    ] = False,
+    collisions: Annotated[
+        bool,
+        typer.Option("--collisions", help="with --images, also draw the collision shapes"),
+    ] = False,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
 ) -> None:
     """Write a Markdown robot card of a spec.
 
     The card shows the kinematic tree (a Mermaid diagram), the action layout of every control
-    mode, the keyframes and the cameras. Nothing is written for a spec with errors.
+    mode, the keyframes and the cameras; with --images, pictures of the robot and of what its
+    cameras see, and warnings for a camera that is covered, sees nothing or looks away from
+    its tcp. Nothing is written for a spec with errors.
 
-    Example: robospec doc specs/maniskill/panda.yaml -o panda.md
+    Example: robospec doc specs/maniskill/panda.yaml --images   (writes panda.md and panda_images/)
     """
     from robospec.authoring.commands import run_doc
 
-    diagnostics = run_doc(spec, out, plots)
+    # a card named after its spec, where the user stands: `robospec doc SPEC --images` alone works
+    out = out if out is not None else Path(f"{spec.stem}.md")
+    diagnostics = run_doc(spec, out, plots, images, collisions)
     _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
 
 
-@app.command()
+@app.command(needs=("lsp",))
 def lsp() -> None:
     """Run the robospec Language Server on stdin/stdout, for editors.
 
@@ -517,15 +564,8 @@ def lsp() -> None:
 
     Example: robospec lsp   (started by the editor, not by hand)
     """
-    try:
-        from robospec.lsp.server import main
-    except ImportError as exc:
-        typer.echo(
-            f"robospec lsp needs pygls and lsprotocol ({exc.name or exc} is missing): "
-            "pip install 'robospec[lsp]'",
-            err=True,
-        )
-        raise typer.Exit(2) from None
+    from robospec.lsp.server import main
+
     main()
 
 

@@ -32,6 +32,7 @@ class ValidateArgs:
     paths: list[Path]
     format: str = "text"
     color: str = "auto"
+    silence: frozenset[str] = frozenset()
 
 
 def parse(argv: Sequence[str], environ: Mapping[str, str]) -> ValidateArgs | None:
@@ -67,7 +68,7 @@ def run(args: ValidateArgs) -> int:
     from robospec.diagnostics import has_errors
     from robospec.pipeline import compile_all
 
-    compiled, diagnostics = compile_all(args.paths)
+    compiled, diagnostics = compile_all(args.paths, silence=args.silence)
     for item in compiled:
         diagnostics.extend(item.diagnostics)
     colored = use_color(args.color, sys.stdout, os.environ)

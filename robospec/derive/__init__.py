@@ -134,7 +134,7 @@ def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
         for refusal in document.refusals[before_refusals:]:
             explained.update((refusal.location.line, code) for code in mend.FIXES)
         if changes:
-            notes.append(_note(source, mend, list(changes)))
+            notes.append(_note(document, mend, list(changes)))
         status = "applied" if changes else ("refused" if refused else "stale")
         outcomes.append(Outcome(mend.NAME, status, changes))
     if not parsed and any(o.status == "applied" for o in outcomes):
@@ -153,11 +153,11 @@ def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
     )
 
 
-def _note(source: Source, mend: MendClass, changes: list[Change]) -> Diagnostic:
+def _note(document: Document, mend: MendClass, changes: list[Change]) -> Diagnostic:
     first = min(changes, key=lambda c: c.line)
     ordered = [first, *(c for c in changes if c is not first)]
     return note(
-        Location(source.shown, first.line, 1),
+        document.location(first.line, first.tag),
         mend.CODE,
         f"mend '{mend.NAME}': {fold_changes(ordered)}",
     )

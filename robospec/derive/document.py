@@ -39,6 +39,7 @@ class Change:
     subject: str  # "link 'base' <inertia>"
     before: str
     after: str
+    tag: str = ""  # the element's tag: the note's caret goes under its start tag
 
     def text(self) -> str:
         return f"{self.subject}: {self.before} -> {self.after}"
@@ -99,11 +100,22 @@ class Document:
     # -- recording --------------------------------------------------------------------------
 
     def changed(self, at: etree._Element | int, subject: str, before: str, after: str) -> None:
-        self.changes.append(Change(_line(at), subject, before, after))
+        tag = at.tag if isinstance(at, etree._Element) and isinstance(at.tag, str) else ""
+        self.changes.append(Change(_line(at), subject, before, after, tag))
 
     def refuse(self, at: etree._Element | int, code: str, message: str, hint: str) -> None:
         """An element this mend cannot mend as asked: a located error in the description."""
-        self.refusals.append(error(Location(self.source.shown, _line(at), 1), code, message, hint))
+        self.refusals.append(error(self.location(at), code, message, hint))
+
+    def location(self, at: etree._Element | int, tag: str = "") -> Location:
+        """Where ``at`` (an element, or a line) stands in the user's file: its start tag."""
+        from robospec.description.source_columns import tag_column
+
+        line = _line(at)
+        if isinstance(at, etree._Element) and isinstance(at.tag, str):
+            tag = at.tag
+        column = tag_column(self.source.path, line, tag) if tag else 1
+        return Location(self.source.shown, line, column)
 
     # -- editing ----------------------------------------------------------------------------
 

@@ -31,8 +31,9 @@ from robospec.description.packages import (
     PackageFinder,
     sapien_mesh_path,
 )
+from robospec.description.source_columns import element_at
 from robospec.description.urdf_values import Findings
-from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics import Diagnostic, error, warning
 
 MESH_NOT_FOUND = "RS056"
 MESH_UNREADABLE = "RS057"
@@ -71,7 +72,7 @@ def check_mesh_files(
         if named.role == "collision" and _mirrored(named.element):
             found_all.add(
                 error(
-                    Location(path, named.element.sourceline or 1, 1),
+                    element_at(path, named.element),
                     MIRRORED,
                     f"collision mesh '{named.uri}' of {named.owner} is mirrored "
                     f'(scale="{named.element.get("scale")}"): PhysX cannot build a mirrored '
@@ -174,7 +175,7 @@ _LOST: dict[Role, str] = {
 
 
 def _report(path: str, named: _Named, code: str, message: str, hint: str | None) -> Diagnostic:
-    where = Location(path, named.element.sourceline or 1, 1)
+    where = element_at(path, named.element)
     report = error if named.role == "collision" else warning
     return report(where, code, message, hint)
 

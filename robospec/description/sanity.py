@@ -239,4 +239,6 @@ def _mesh_contents(mesh_files: tuple[MeshFile, ...], path: str, found: Findings)
 
 
 def at_line(path: str, line: int) -> Location:
-    return Location(path, max(line, 1), 1)
+    from robospec.description.source_columns import tag_column
+
+    return Location(path, max(line, 1), tag_column(path, max(line, 1), "mesh"))

@@ -36,6 +36,7 @@ from robospec.description.facts import (
 from robospec.description.inertia import check_inertials
 from robospec.description.meshes import check_mesh_files
 from robospec.description.sanity import check_sanity
+from robospec.description.source_columns import element_at
 from robospec.description.urdf_loader_rules import check_loader_rules
 from robospec.description.urdf_values import read_floats
 from robospec.diagnostics import Diagnostic, Location, error, warning
@@ -77,7 +78,9 @@ def line_of(element: etree._Element) -> int:
 
 
 def at(path: str, element: etree._Element | None) -> Location:
-    return Location(path, line_of(element) if element is not None else 1, 1)
+    if element is None:
+        return Location(path, 1, 1)
+    return element_at(path, element)
 
 
 def parse_xml(text: str | bytes, path: str) -> tuple[etree._Element | None, list[Diagnostic]]:

@@ -15,6 +15,7 @@ import re
 
 from lxml import etree
 
+from robospec.description.source_columns import element_at
 from robospec.diagnostics import Diagnostic, Location, error
 
 INVALID_STRUCTURE = "RS052"
@@ -26,8 +27,7 @@ _OPTENV = re.compile(r"^\s*\$\(optenv\s+\S+\s+([^)]*)\)\s*$")
 
 
 def at(path: str, element: etree._Element) -> Location:
-    line = element.sourceline
-    return Location(path, line if isinstance(line, int) and line > 0 else 1, 1)
+    return element_at(path, element)
 
 
 def has_substitution(text: str) -> bool:

@@ -27,6 +27,10 @@ _CODES = [
     Code("RS005", "unsupported spec file type"),
     Code("RS006", "spec too large, too deep or too many aliases"),
     Code("RS010", "invalid arithmetic expression"),
+    Code("RS011", "YAML indentation that lines up with nothing"),
+    Code("RS012", "tab in YAML indentation"),
+    Code("RS013", "TOML text value without quotes"),
+    Code("RS014", "': ' inside a plain YAML value"),
     # -- reading the robot description
     Code("RS050", "robot description file not found"),
     Code("RS051", "robot description is not well-formed XML"),
@@ -75,6 +79,8 @@ _CODES = [
     Code("RS103", "missing required field"),
     Code("RS104", "unsupported spec version"),
     Code("RS105", "invalid identifier"),
+    Code("RS106", "number outside its physical range"),
+    Code("RS107", "silence names no robospec code"),
     # -- references into the description and the spec
     Code("RS201", "unknown joint"),
     Code("RS202", "unknown link"),
@@ -150,6 +156,12 @@ _CODES = [
     Code("RS518", "floating robot hovers under gravity compensation"),
     Code("RS519", "the root ManiSkill loads is not the one the spec says"),
     Code("RS520", "two ManiSkill distributions installed over each other"),
+    # -- what the cameras see in the pictures of robospec doc --images (RS560-RS579)
+    Code("RS560", "camera covered by its own mount"),
+    Code("RS561", "camera covered by the robot"),
+    Code("RS562", "camera sees nothing within far"),
+    Code("RS563", "wrist camera looks away from its tcp"),
+    Code("RS564", "SAPIEN's camera image and the CPU preview disagree"),
     # -- writing files, authoring commands: robospec build, inspect, new, doc (RS600-RS619)
     Code("RS600", "file is not a robot description robospec reads"),
     Code("RS601", "spec file already exists"),
@@ -176,6 +188,12 @@ _CODES = [
     Code("RS648", "simulated robot cannot match the reference"),
     Code("RS649", "reference does not determine stiffness and damping each"),
     Code("RS650", "reference fit crashed"),
+    # -- robospec doc --images: drawing the pictures (RS660-RS669)
+    Code("RS660", "the render extra is not installed"),
+    Code("RS661", "no OpenGL to draw the pictures with"),
+    Code("RS662", "mesh cannot be read for the pictures"),
+    Code("RS663", "MuJoCo cannot load the MJCF for the pictures"),
+    Code("RS664", "the pictures' scene cannot be built"),
     # -- mends: what robospec changed in a derived copy of the description (RS700-RS729)
     Code("RS700", "mended: XML text no parser accepts"),
     Code("RS701", "mended: undeclared namespace prefixes"),

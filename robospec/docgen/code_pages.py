@@ -109,6 +109,8 @@ def _mend_lines(code: str) -> list[str]:
 
 
 def _why_not_run(code: str) -> str:
+    if code.startswith(("RS56", "RS57", "RS66")):
+        return "`robospec doc --images` draws pictures with MuJoCo's renderer (seconds per robot)."
     if code.startswith(("RS62", "RS63")):
         return "`robospec tune` runs SAPIEN physics (seconds per controller)."
     if code.startswith("RS6"):
@@ -118,10 +120,8 @@ def _why_not_run(code: str) -> str:
     if code.startswith("RS4"):
         return "`robospec import` reads a Python agent class, which imports ManiSkill (seconds)."
     if code.startswith("RS5"):
-        return (
-            "`robospec check` runs SAPIEN physics (seconds per robot); "
-            "`tests/test_physics_checks.py` runs a passing and a failing robot for each check."
-        )
+        # (tests/test_physics_checks.py runs a passing and a failing robot for each check)
+        return "`robospec check` runs SAPIEN physics (seconds per robot)."
     return "no spec triggers it on purpose."
 
 
@@ -172,13 +172,9 @@ def _run_sections(examples: CodeExamples) -> list[str]:
         lines += ["## More failing examples", ""]
         for example in examples.more_failing:
             lines += _example(example, examples.support_files, shown)
-    lines += [
-        f"These examples are `docs/examples/codes/{examples.code}/`; the output above is what "
-        "robospec reported for them when this page was generated. `tests/test_docs.py` checks "
-        "that the page is current, and `tests/test_spec_examples.py` that each failing example "
-        "reports what `docs/examples/codes/expected.toml` says, where it says.",
-        "",
-    ]
+    # (for developers, not on the page: the examples are docs/examples/codes/<code>/;
+    # tests/test_docs.py checks that each page is current, and tests/test_spec_examples.py that
+    # each failing example reports what docs/examples/codes/expected.toml says, where it says)
     return lines
 
 

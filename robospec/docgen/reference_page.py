@@ -24,8 +24,9 @@ def reference_markdown() -> str:
     lines = [
         "# Spec field reference",
         "",
-        "Every field of a spec, generated from the models (`python -m robospec.docgen --write",
-        "docs`); `robospec schema` prints the same facts as a JSON Schema. Wherever a type says",
+        # (generated from the models by `python -m robospec.docgen --write docs`)
+        "Every field of a spec, as robospec's models define them; `robospec schema` prints",
+        "the same facts as a JSON Schema. Wherever a type says",
         "*number*, a string of arithmetic over `pi` works too (`-5*pi/8`, `1e3`, `pi/2`).",
         "Unknown keys are errors everywhere (RS101). A *name* is a key you choose:",
         "letters, digits, `_`, `.` and `-`, at most 64 characters. A *joint selection* is a",

@@ -13,6 +13,7 @@ from typing import Any
 from robospec.diagnostics import Diagnostic, Location, error, line_column
 from robospec.load.prescan import prescan
 from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap, WrittenNumber
+from robospec.load.syntax_hints import Explained, explain_toml, explain_yaml
 
 SPEC_SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml"}
 MAX_BYTES = 2 * 1024 * 1024
@@ -131,6 +132,9 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     except DuplicateKeyError as exc:
         return None, [_marked(exc, text, source, "RS003", _duplicate_message(exc))]
     except MarkedYAMLError as exc:
+        explained = _explained_yaml(exc, text)
+        if explained is not None:
+            return None, [_explained(explained, source)]
         message = " ".join(p for p in (exc.context, exc.problem) if p) or "YAML syntax error"
         return None, [_marked(exc, text, source, "RS002", message)]
     except ReaderError as exc:
@@ -297,6 +301,18 @@ def _duplicate_message(exc: Any) -> str:
     return f"duplicate key '{match.group(1)}'" if match else "duplicate key"
 
 
+def _explained_yaml(exc: Any, text: str) -> Explained | None:
+    mark = exc.problem_mark or exc.context_mark
+    if mark is None:
+        return None
+    return explain_yaml(exc.problem or "", text, mark.line + 1, mark.column + 1)
+
+
+def _explained(explained: Explained, source: SourceMap) -> Diagnostic:
+    location = Location(source.file, explained.line, explained.column)
+    return error(location, explained.code, explained.message, explained.hint)
+
+
 def _marked(exc: Any, text: str, source: SourceMap, code: str, message: str) -> Diagnostic:
     mark = exc.problem_mark or exc.context_mark
     if mark is None:
@@ -405,6 +421,9 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         from robospec.load.toml_positions import tomllib_error_location
 
         line, column, message = tomllib_error_location(exc, text)
+        explained = explain_toml(message, text, line, column)
+        if explained is not None:
+            return None, [_explained(explained, source)]
         # "end of document" after a final newline is a line the file does not show
         location = Location(source.file, *_within_text(text, line, column))
         code = "RS003" if "overwrite" in message.lower() else "RS002"

@@ -64,4 +64,8 @@ def _in_xacro(file: Path, name: str) -> Target | None:
     found = re.search(rf"name\s*=\s*[\"']{re.escape(name)}[\"']", text)
     if found is None:
         return Target(file, 1, 1)
-    return Target(file, text.count("\n", 0, found.start()) + 1, 1)
+    # at the element's start tag (`<joint name=...`), where the name's attribute is
+    tag = text.rfind("<", 0, found.start())
+    line_start = text.rfind("\n", 0, found.start()) + 1
+    column = tag - line_start + 1 if tag >= line_start else 1
+    return Target(file, text.count("\n", 0, found.start()) + 1, column)

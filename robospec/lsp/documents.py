@@ -166,6 +166,18 @@ class Workspace:
         self.analyses[path] = analysis
         return analysis
 
+    def describe_from(self, analysis: Analysis, data: Any) -> None:
+        """Give ``analysis`` (of a text that does not parse) the description that ``data``
+        (the same text, repaired where the cursor is) names, if it has none."""
+        if analysis.compiled.description is not None:
+            return
+        description = self._description_alone(analysis.path, data)
+        if description is None:
+            return
+        analysis.compiled.description = description
+        analysis.description_file = Path(description.path)
+        analysis.read[analysis.description_file] = _signature(analysis.description_file)
+
     def _description_alone(self, spec: Path, data: Any) -> RobotDescription | None:
         """The URDF or MJCF a spec names (not a xacro: that needs expanding), parsed alone."""
         from robospec.description import load_description

@@ -288,6 +288,10 @@ def _at(
     lines = analysis.text.split("\n")
     line_text = lines[position.line] if position.line < len(lines) else ""
     cursor = locate(analysis.text, analysis.fmt, position.line, position.character)
+    if cursor is not None and analysis.compiled.loaded is None:
+        # the text does not parse as it stands (`tcp = pan`, a TOML value not quoted yet):
+        # the cursor's repaired text does, and names the description to complete from
+        ls.state.describe_from(analysis, cursor.data)
     return analysis, cursor, line_text
 
 

@@ -22,6 +22,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TextIO
 
 _HIDDEN_BY_DEFAULT = (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning)
 # ``warnings`` output, as :func:`captured_output` writes it: one line per warning
@@ -32,7 +33,8 @@ _SPDLOG = re.compile(r"^\[\d{4}-\d\d-\d\d [\d:.]+\] \[(?P<source>[^\]]+)\] \[(?P
 # ManiSkill's logger: 2026-11-24 07:20:27,678 - mani_skill  - WARNING - text
 _LOGGING = re.compile(r"^\d{4}-\d\d-\d\d [\d:,.]+ - (?P<source>\S+)\s*- (?P<level>\w+) - ")
 # an absolute path, or a relative one with a file extension, in a message
-_PATH = re.compile(r"(?:/[^\s'\"(),]+|\b[\w.-]+(?:/[\w.-]+)+\.\w+)")
+# (an absolute one starts a word: the "/O" of "I/O" is none)
+_PATH = re.compile(r"(?:(?<![\w.])/[^\s'\"(),]+|\b[\w.-]+(?:/[\w.-]+)+\.\w+)")
 
 # (pattern over the message's text, what it means for the robot being loaded)
 MEANINGS: tuple[tuple[re.Pattern[str], str], ...] = (
@@ -175,6 +177,32 @@ def _show_warning(
     sys.stderr.write(f"{_WARNING_PREFIX}{category.__name__}: {text}\n")
 
 
+class _CurrentStderr:
+    """Whatever ``sys.stderr`` is when written to: the stream a logging handler keeps when
+    it was made inside a captured block."""
+
+    def write(self, text: str) -> int:
+        return sys.stderr.write(text)
+
+    def flush(self) -> None:
+        sys.stderr.flush()
+
+
+def _rebind_handlers(stream: TextIO) -> None:
+    """Point every logging handler that took ``stream`` (the block's sys.stderr) at
+    sys.stderr as it will be. A logger whose StreamHandler was made inside the block
+    (ManiSkill makes its own when ``mani_skill`` is first imported) keeps the sys.stderr of
+    that moment; the block closes that stream, and every later message would end in "---
+    Logging error ---" and a traceback instead of being said (and gathered by the next block)."""
+    import logging
+
+    loggers = [logging.getLogger(), *logging.Logger.manager.loggerDict.values()]
+    for logger in loggers:
+        for handler in getattr(logger, "handlers", ()):
+            if isinstance(handler, logging.StreamHandler) and handler.stream is stream:
+                handler.setStream(_CurrentStderr())  # type: ignore[arg-type]
+
+
 @contextmanager
 def captured_output(path: Path | None = None) -> Iterator[CapturedOutput]:
     """Within the block, whatever is written to file descriptors 1 and 2 (SAPIEN's C++ logger,
@@ -209,6 +237,7 @@ def captured_output(path: Path | None = None) -> Iterator[CapturedOutput]:
     finally:
         stream.flush()
         sys.stdout, sys.stderr = streams
+        _rebind_handlers(stream)
         os.dup2(saved[0], 1)
         os.dup2(saved[1], 2)
         stream.close()

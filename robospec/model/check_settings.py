@@ -220,6 +220,42 @@ class SelfContact(StrictModel):
     )
 
 
+class CameraViews(StrictModel):
+    """What each camera sees in the pictures of ``robospec doc --images``: a segmentation
+    picture from the camera's mount at every keyframe, of the robot alone and at a table."""
+
+    max_mount_fraction: Fraction = Field(
+        default=0.5,
+        description="The largest fraction of a camera's picture its own mount link (and the "
+        "links fixed to it) may cover.",
+        examples=[0.7],
+    )
+    max_robot_fraction: Fraction = Field(
+        default=0.9,
+        description="The largest fraction of a camera's picture of the robot alone that the "
+        "robot may cover.",
+        examples=[0.95],
+    )
+    min_seen_fraction: Fraction = Field(
+        default=0.02,
+        description="The smallest fraction of a camera's picture at the table in which "
+        "something (robot, table, cube, ground) lies within the camera's far plane.",
+        examples=[0.1],
+    )
+    tcp_in_view: bool = Field(
+        default=True,
+        description="A camera that moves with the tcp (mounted on the tcp's link or on a "
+        "link fixed to it) must see the tcp.",
+        examples=[False],
+    )
+    table_height: Number | None = Field(
+        default=None,
+        description="The height of the table top in the cameras' table scene, in m; default: "
+        "level with the robot's root link at the keyframe.",
+        examples=[0.75],
+    )
+
+
 class Checks(StrictModel):
     """Thresholds of ``robospec check`` for this robot."""
 
@@ -247,4 +283,9 @@ class Checks(StrictModel):
         default_factory=Tune,
         description="What `robospec tune` aims for with each controller's step response.",
         examples=[{"max_overshoot": 0.1, "max_settling_time": 1.0}],
+    )
+    camera_views: CameraViews = Field(
+        default_factory=CameraViews,
+        description="What each camera must see in the pictures of `robospec doc --images`.",
+        examples=[{"max_robot_fraction": 0.95, "table_height": 0.75}],
     )

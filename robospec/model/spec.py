@@ -559,5 +559,11 @@ class Spec(StrictModel):
         description="Thresholds of `robospec check` for this robot.",
         examples=[{"keyframe_hold": {"pin_root": True}}],
     )
+    silence: list[Annotated[str, Field(pattern=r"^RS[0-9]{3}$")]] = Field(
+        default_factory=list,
+        description="Warning codes not to report for this spec, where the warned-of thing is "
+        "meant (the ground's collision bits on a mobile base, say); an error cannot be silenced.",
+        examples=[["RS084"]],
+    )
 
     _description_or_base = model_validator(mode="after")(rules.description_or_base)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -26,6 +27,7 @@ def run_check(
     if has_errors(problems):
         return 1, _render([], problems, fmt)
     backend = Backend("physx_cuda", num_envs) if gpu else CPU
+    started = time.time()
     progress = ProgressLine()
     try:
         reports, extra = check_paths(
@@ -35,7 +37,19 @@ def run_check(
         progress.close()
     extra = [*problems, *extra]
     failed = has_errors(extra) or any(r.failed for r in reports)
-    return (1 if failed else 0), _render(reports, extra, fmt)
+    text = _render(reports, extra, fmt)
+    if fmt == "text" and plot_dir is not None:
+        # the plots are drawn in the worker processes that simulate; what they wrote is what
+        # this run left under DIR (a command that writes files says which)
+        text += "".join(f"\nwrote {path}" for path in _written_since(plot_dir, started))
+    return (1 if failed else 0), text
+
+
+def _written_since(folder: Path, started: float) -> list[Path]:
+    # a second's grace: some file systems keep modification times in whole seconds
+    return sorted(
+        path for path in folder.rglob("*.png") if path.stat().st_mtime >= int(started) - 1
+    )
 
 
 def _render(reports: Sequence[RobotReport], extra: Sequence[Diagnostic], fmt: str) -> str:

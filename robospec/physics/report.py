@@ -14,6 +14,7 @@ from robospec.physics.action_layout import NAME as ACTION_LAYOUT
 from robospec.physics.batch import RobotReport
 from robospec.physics.findings import Finding, Status
 from robospec.physics.results import LOAD
+from robospec.reporting.text import plain_lines
 
 COLUMNS = ("check", "mode", "subject", "result", "details")
 
@@ -88,7 +89,9 @@ def render_text(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> 
     lines: list[str] = []
     for report in reports:
         status = robot_status(report)
-        lines.append(f"{report.spec}: {report.uid or '?'}: {status.upper()}")
+        # a spec that does not compile has no uid: its diagnostics below say why
+        uid = report.uid or "not compiled"
+        lines.append(f"{report.spec}: {uid}: {status.upper()}")
         table = [f for f in report.findings if f.check != ACTION_LAYOUT]
         if table:
             lines.extend("  " + row for row in _table(table))
@@ -101,7 +104,8 @@ def render_text(reports: Sequence[RobotReport], extra: Sequence[Diagnostic]) -> 
             lines.extend(f"    {m.describe()}" for m in report.messages)
         lines.append("")
     problems = sorted([d for r in reports for d in r.all_diagnostics] + list(extra), key=sort_key)
-    lines.extend(d.format_text() for d in problems)
+    # with the source line and its caret, as validate shows them
+    lines.extend(line for d in problems for line in plain_lines(d))
     counts = summary(reports, extra)
     lines.append(
         f"{counts['robots']} robot(s) checked: {counts['passed']} passed, "

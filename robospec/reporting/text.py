@@ -31,6 +31,11 @@ def render(diagnostics: Sequence[Diagnostic], files: int, *, color: bool = False
     return "\n".join(lines)
 
 
+def plain_lines(d: Diagnostic) -> list[str]:
+    """One diagnostic as text without colour: its line, the excerpt with the caret, the hint."""
+    return format_diagnostic(d, _Style(False))
+
+
 def format_diagnostic(d: Diagnostic, style: _Style) -> list[str]:
     loc = d.location
     severity = {Severity.ERROR: ansi.ERROR, Severity.WARNING: ansi.WARNING}.get(

@@ -112,10 +112,15 @@ def uniform(values: Sequence[float]) -> bool:
 
 
 def flow_list(values: Sequence[float], column: int, indent: int | None = None) -> str:
-    """``[a, b, ...]`` starting at ``column`` (0-based), wrapped before :data:`WIDTH`: the
-    continuation lines aligned after the bracket, or at ``indent`` when the bracket stands
-    so far right that little would fit there."""
+    """``[a, b, ...]`` starting at ``column`` (0-based): on one line when it fits on a line
+    of its own; else wrapped before :data:`WIDTH`, the continuation lines aligned after the
+    bracket, or at ``indent`` when the bracket stands so far right that little would fit."""
     items = [number_text(v) for v in values]
+    whole = "[" + ", ".join(items) + "]"
+    # a list that can be read whole on one line stays whole, even where it starts far right:
+    # broken after its first items (`damping: [150,` / `100, ...]`) it reads as two values
+    if len(whole) <= WIDTH - (indent if indent is not None else 0) or column + len(whole) <= WIDTH:
+        return whole
     hang = column + 1 if indent is None or column + 1 <= WIDTH // 2 else indent
     lines: list[str] = []
     current = "["

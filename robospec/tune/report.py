@@ -67,8 +67,12 @@ def _table(rows: Sequence[tuple[str, ...]]) -> list[str]:
     ]
 
 
+def _count(number: int, noun: str) -> str:
+    return f"{number} {noun}{'' if number == 1 else 's'}"
+
+
 def render_text(report: TuneReport) -> str:
-    lines = [f"{report.spec}: {report.uid or '?'}"]
+    lines = [f"{report.spec}: {report.uid or 'not compiled'}"]
     for tuning in report.controllers:
         head = (
             f"  {tuning.controller} ({tuning.mode}/{tuning.group}): {STATUS_WORDS[tuning.status]}"
@@ -80,8 +84,8 @@ def render_text(report: TuneReport) -> str:
             t = tuning.targets
             head += (
                 f" (overshoot <= {t.max_overshoot:.0%}, settling <= {t.max_settling_time:g} s, "
-                f"error <= {t.max_steady_state_error:.0%}; {tuning.simulations} simulations, "
-                f"{tuning.seconds:.1f} s)"
+                f"error <= {t.max_steady_state_error:.0%}; "
+                f"{_count(tuning.simulations, 'simulation')}, {tuning.seconds:.1f} s)"
             )
         lines.append(head)
         lines.extend("    " + row for row in _table(_rows(tuning)))

@@ -1,0 +1,189 @@
+"""Syntax errors in words a person reads: what the parser tripped on, said as the mistake a
+person makes (a key indented to no level, a tab, a TOML text without quotes), with the fix.
+
+The parsers (ruamel.yaml, tomllib) stop at the first error and name it in their own terms
+("mapping values are not allowed here", "expected <block end>, but found '<block mapping
+start>'", "Invalid value"). Each function here looks at the text around the parser's mark and
+returns a :class:`Explained` when it recognises the mistake, else None (the parser's words are
+kept, under RS002).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+_KEY = re.compile(
+    r"^(?P<indent> *)(?:- +)?(?P<key>[^\s:#'\"{\[][^:#]*?|'[^']*'|\"[^\"]*\")\s*:(?:\s|$)"
+)
+_TOML_WORDS = {"true", "false", "inf", "nan"}
+_BARE = re.compile(r"[A-Za-z_][\w.\-]*")
+# a TOML string, basic or literal: bare words inside one are not values
+_QUOTED = re.compile(r"(\"(?:[^\"\\]|\\.)*\"|'[^']*')")
+# a line that starts with a key (in a sequence item, too): `  - name: ...`
+
+
+@dataclass(frozen=True)
+class Explained:
+    code: str
+    line: int  # 1-based
+    column: int  # 1-based
+    message: str
+    hint: str
+
+
+@dataclass(frozen=True)
+class _Line:
+    number: int  # 1-based
+    indent: int
+    key: str | None
+    opens_block: bool  # `key:` with nothing after it: the lines below may nest under it
+
+
+def _significant(lines: list[str], before: int) -> list[_Line]:
+    """The lines above line ``before`` (1-based) that hold YAML, nearest first."""
+    found = []
+    for number in range(before - 1, 0, -1):
+        text = lines[number - 1]
+        stripped = text.strip()
+        if not stripped or stripped.startswith("#") or stripped in ("---", "..."):
+            continue
+        match = _KEY.match(text)
+        key = match["key"].strip("'\"") if match else None
+        after = text[match.end() :].split(" #", 1)[0].strip() if match else stripped
+        found.append(
+            _Line(number, len(text) - len(text.lstrip(" ")), key, bool(match) and not after)
+        )
+    return found
+
+
+def _levels(above: list[_Line]) -> list[tuple[int, _Line, _Line | None]]:
+    """The indentation levels a new key below ``above[0]`` may take: (indent, a key at that
+    level, the key that level belongs to, or None at the top), innermost first."""
+    levels: list[tuple[int, _Line, _Line | None]] = []
+    current: _Line | None = None
+    for line in above:
+        if current is None or line.indent < current.indent:
+            if current is not None:
+                levels.append((current.indent, current, line))
+            current = line
+            if line.indent == 0:
+                break
+    if current is not None and current.indent == 0:
+        levels.append((0, current, None))
+    return levels
+
+
+def _where(level: tuple[int, _Line, _Line | None]) -> str:
+    indent, sibling, parent = level
+    owner = "a top-level key" if parent is None else f"a key of '{parent.key}'"
+    return f"column {indent + 1} ({owner}, as '{sibling.key}' on line {sibling.number})"
+
+
+def explain_yaml(problem: str, text: str, line: int, column: int) -> Explained | None:
+    """The mistake behind ruamel.yaml's ``problem`` at ``line``:``column`` (1-based)."""
+    lines = text.split("\n")
+    if not 1 <= line <= len(lines):
+        return None
+    here = lines[line - 1]
+    if "'\\t'" in problem:
+        return _tab(lines, line)
+    match = _KEY.match(here)
+    indent = len(here) - len(here.lstrip(" "))
+    above = _significant(lines, line)
+    if "mapping values are not allowed" in problem:
+        if match and column - 1 > match.end("key") and above:
+            # `key: a: b` read as one value: a plain value cannot hold ": "
+            value = here[match.end() :].strip()
+            return Explained(
+                "RS014",
+                line,
+                column,
+                f"the value of '{match['key']}' holds ': ', which YAML reads as a second "
+                "key on the same line",
+                f"write a nested mapping as {match['key']}: {{{value}}}, or quote the value",
+            )
+        return _more_indented(match, indent, above, line)
+    if "expected <block end>" in problem and match and above:
+        deeper = _more_indented(match, indent, above, line)
+        if deeper is not None:
+            return deeper
+        levels = _levels(above)
+        if indent in {level[0] for level in levels}:
+            return None
+        return Explained(
+            "RS011",
+            line,
+            indent + 1,
+            f"'{match['key']}' is indented to column {indent + 1}, which lines up with no key "
+            "above it",
+            "indent it to " + " or ".join(_where(level) for level in levels),
+        )
+    return None
+
+
+def _more_indented(
+    match: re.Match[str] | None, indent: int, above: list[_Line], line: int
+) -> Explained | None:
+    """A key indented below a key that already has a value."""
+    if not (match and above and indent > above[0].indent and not above[0].opens_block):
+        return None
+    previous = above[0]
+    return Explained(
+        "RS011",
+        line,
+        indent + 1,
+        f"'{match['key']}' is indented more than '{previous.key}' on line {previous.number}, "
+        "which already has a value: YAML reads it as part of that value",
+        "indent it to " + " or ".join(_where(level) for level in _levels(above)),
+    )
+
+
+def _tab(lines: list[str], line: int) -> Explained:
+    text = lines[line - 1]
+    column = text.index("\t") + 1 if "\t" in text else 1
+    tabbed = [n for n, t in enumerate(lines, 1) if "\t" in t[: len(t) - len(t.lstrip(" \t"))]]
+    others = [n for n in tabbed if n != line]
+    also = (
+        f" (and line{'s' if len(others) > 1 else ''} {', '.join(map(str, others))})"
+        if others
+        else ""
+    )
+    return Explained(
+        "RS012",
+        line,
+        column,
+        f"a tab indents this line{also}: YAML indents with spaces only",
+        "replace each tab with spaces (editors can insert spaces for the Tab key)",
+    )
+
+
+def explain_toml(message: str, text: str, line: int, column: int) -> Explained | None:
+    """The mistake behind tomllib's ``message`` at ``line``:``column`` (1-based)."""
+    lines = text.split("\n")
+    if "Invalid value" not in message or not 1 <= line <= len(lines):
+        return None
+    here = lines[line - 1]
+    word = _BARE.match(here, column - 1)
+    if word is None or word.group() in _TOML_WORDS:
+        return None
+    bare = word.group()
+    key, equals, value = here.partition("=")
+    if not equals or len(key) >= column:
+        return None
+    # every bare word of the value quoted, outside the strings it already has
+    parts = _QUOTED.split(value)
+    fixed = "".join(
+        part if index % 2 else _BARE.sub(_quote, part) for index, part in enumerate(parts)
+    )
+    return Explained(
+        "RS013",
+        line,
+        column,
+        f"the value of '{key.strip()}' is text without quotes: TOML needs quotes around '{bare}'",
+        f"write {key.strip()} = {fixed.strip()}",
+    )
+
+
+def _quote(word: re.Match[str]) -> str:
+    return word.group() if word.group() in _TOML_WORDS else f'"{word.group()}"'

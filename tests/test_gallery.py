@@ -1,0 +1,85 @@
+"""The zoo's pictures in docs/zoo.md are current: each is drawn from exactly what the spec and
+ManiSkill's assets say now. Current means the hash of the picture's inputs (the description,
+its visual meshes, the first keyframe, the view, robospec's drawing version) is the one recorded
+beside the pictures when they were drawn — robust across machines, whose OpenGL draws slightly
+different pixels; a slow test draws one again and compares it with the checked-in picture,
+tolerantly."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import DOCS, MANISKILL_VERSION, ROOT
+
+from robospec.docgen.gallery import (
+    WRITE_COMMAND,
+    ZOO_FOLDER,
+    ZOO_PAGE,
+    gallery_markdown,
+    gallery_picture,
+    recorded_inputs,
+    render_inputs,
+    with_gallery,
+    zoo_gallery,
+    zoo_specs,
+)
+from robospec.pipeline import compile_spec
+
+SPECS = zoo_specs(ROOT)
+# the pictures are drawn from ManiSkill 3.0.1's assets, which the nightly may change
+ASSETS_PINNED = MANISKILL_VERSION != "nightly"
+
+
+def test_every_zoo_spec_has_a_picture_and_the_page_shows_them_all() -> None:
+    recorded = recorded_inputs(DOCS)
+    assert sorted(recorded) == sorted(spec.stem for spec in SPECS)
+    for name in recorded:
+        assert (DOCS / ZOO_FOLDER / f"{name}.png").is_file(), name
+    page = (DOCS / ZOO_PAGE).read_text(encoding="utf-8")
+    assert with_gallery(page, zoo_gallery(DOCS, sorted(recorded))) == page
+    for name in recorded:
+        assert f"(<images/zoo/{name}.png>)" in page
+
+
+@pytest.mark.skipif(not ASSETS_PINNED, reason="drawn from ManiSkill 3.0.1's assets")
+@pytest.mark.parametrize("spec", SPECS, ids=[spec.stem for spec in SPECS])
+def test_a_zoo_picture_is_drawn_from_what_the_spec_and_its_assets_say_now(spec: Path) -> None:
+    recorded = recorded_inputs(DOCS)
+    assert render_inputs(compile_spec(spec)) == recorded.get(spec.stem), (
+        f"docs/images/zoo/{spec.stem}.png is stale: run {WRITE_COMMAND}"
+    )
+
+
+def test_the_inputs_hash_changes_with_the_keyframe_and_not_with_the_gains(tmp_path: Path) -> None:
+    spec = ROOT / "specs" / "maniskill" / "panda.yaml"
+    text = spec.read_text().replace("../../schemas", str(ROOT / "schemas"))
+    base = render_inputs(compile_spec(spec))
+    stiffer = tmp_path / "stiffer.yaml"
+    stiffer.write_text(text.replace("stiffness: 1e3", "stiffness: 2e3"))
+    assert render_inputs(compile_spec(stiffer)) == base
+    moved = tmp_path / "moved.yaml"
+    moved.write_text(text.replace("qpos: {arm: [0, pi/8,", "qpos: {arm: [0.5, pi/8,"))
+    assert render_inputs(compile_spec(moved)) != base
+
+
+def test_a_gallery_is_a_table_of_pictures_with_their_captions() -> None:
+    text = gallery_markdown([("a", "a.png"), ("b", "b.png")], columns=3)
+    assert text.splitlines()[2] == "| ![a](<a.png>)<br>`a` | ![b](<b.png>)<br>`b` |   |"
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not ASSETS_PINNED, reason="drawn from ManiSkill 3.0.1's assets")
+def test_a_zoo_picture_drawn_again_looks_like_the_checked_in_one() -> None:
+    from io import BytesIO
+
+    from PIL import Image
+
+    spec = ROOT / "specs" / "maniskill" / "panda.yaml"
+    drawn = np.asarray(Image.open(BytesIO(gallery_picture(compile_spec(spec)))).convert("RGB"))
+    checked_in = np.asarray(Image.open(DOCS / ZOO_FOLDER / "panda.png").convert("RGB"))
+    assert drawn.shape == checked_in.shape
+    # the same scene: another OpenGL or palette may move edges by a pixel, not the robot
+    difference = np.abs(drawn.astype(int) - checked_in.astype(int)).mean()
+    assert difference < 12, difference

@@ -1,0 +1,176 @@
+"""Every command on the light core (`pip install -e .`, no extra): it works, or it says which
+extra it needs, naming the command, with exit status 2 or a coded diagnostic: never a
+traceback, never an internal error (RS900).
+
+The light core is simulated faithfully and cheaply: the commands run in a child process whose
+import system refuses every module that the core's own dependencies (pyproject's
+``dependencies``, and theirs) do not bring, as an uninstalled one would be refused
+(tests/lightcore/sitecustomize.py)."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from functools import cache
+from importlib import metadata
+from pathlib import Path
+
+import pytest
+import tomllib
+from conftest import ROOT, fast_first
+from packaging.requirements import Requirement
+
+from robospec.cli.extras import EXTRA_MODULES
+from robospec.docgen.cli_page import command_names
+
+PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
+EXTRAS = set(PYPROJECT["project"]["optional-dependencies"])
+SPEC = "specs/twolink.toml"  # a robot of our own (xacro): no ManiSkill asset needed
+URDF = "tests/data/tree.urdf"
+
+
+def _normalized(name: str) -> str:
+    return re.sub(r"[-_.]+", "-", name).lower()
+
+
+@cache
+def _core_distributions() -> frozenset[str]:
+    """The distributions the core needs: pyproject's dependencies and theirs."""
+    return _closure(tuple(PYPROJECT["project"]["dependencies"]))
+
+
+def _closure(requirements: tuple[str, ...]) -> frozenset[str]:
+    """The distributions ``requirements`` install, with their own requirements."""
+    core: set[str] = set()
+    todo = [Requirement(text) for text in requirements]
+    while todo:
+        requirement = todo.pop()
+        if requirement.marker and not requirement.marker.evaluate({"extra": ""}):
+            continue  # a dependency of one of its extras only
+        name = _normalized(requirement.name)
+        if name in core:
+            continue
+        core.add(name)
+        try:
+            todo += [Requirement(text) for text in metadata.requires(requirement.name) or []]
+        except metadata.PackageNotFoundError:
+            continue
+    return frozenset(core)
+
+
+@cache
+def blocked_modules() -> str:
+    """The top-level modules installed here that the core's dependencies do not bring."""
+    core = _core_distributions()
+    modules = metadata.packages_distributions()
+    blocked = {
+        module
+        for module, distributions in modules.items()
+        if module.isidentifier()
+        and module != "robospec"
+        and not any(_normalized(d) in core for d in distributions)
+    }
+    # the extras' heavy modules must be among them, or this test proves nothing
+    assert {"numpy", "mani_skill", "sapien", "torch", "matplotlib", "pygls"} <= blocked
+    return ",".join(sorted(blocked))
+
+
+def blocked_distributions() -> str:
+    core = _core_distributions()
+    names = {_normalized(d.metadata["Name"]) for d in metadata.distributions()}
+    return ",".join(sorted(names - core - {"robospec"}))
+
+
+def light_env(pythonpath: str) -> dict[str, str]:
+    return {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(ROOT / "tests" / "lightcore"), pythonpath]),
+        "ROBOSPEC_TEST_BLOCKED": blocked_modules(),
+        "ROBOSPEC_TEST_BLOCKED_DISTS": blocked_distributions(),
+    }
+
+
+def run_light(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess[str]:
+    env = light_env(str(ROOT))
+    return subprocess.run(
+        [sys.executable, "-m", "robospec.cli", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=env,
+        stdin=subprocess.DEVNULL,
+    )
+
+
+def _command_lines(out: Path) -> dict[str, list[str]]:
+    return {
+        "validate": ["validate", SPEC],
+        "build": ["build", SPEC, "-o", str(out / "pkg")],
+        "schema": ["schema", "--for", SPEC],
+        "import": ["import", "mani_skill.agents.robots.panda.panda:Panda"],
+        "check": ["check", SPEC, "--steps", "2"],
+        "demo": ["demo", SPEC],
+        "inspect": ["inspect", URDF],
+        "new": ["new", URDF, "-o", str(out / "new.yaml")],
+        "optimize": ["optimize", SPEC, "-o", str(out / "fast.yaml")],
+        "tune": ["tune", SPEC],
+        "doc": ["doc", SPEC, "-o", str(out / "card.md")],
+        "lsp": ["lsp"],
+    }
+
+
+def test_the_blocker_refuses_what_the_core_does_not_install() -> None:
+    code = (
+        "import importlib.util, importlib.metadata as m\n"
+        "assert importlib.util.find_spec('mani_skill') is None\n"
+        "try:\n    m.version('torch')\nexcept m.PackageNotFoundError:\n    print('no torch')\n"
+        "import pydantic, typer, lxml\n"
+        "import numpy\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=light_env(str(ROOT))
+    )
+    assert result.stdout == "no torch\n", result.stderr
+    assert "ModuleNotFoundError: No module named 'numpy'" in result.stderr
+
+
+def test_every_command_is_run_here() -> None:
+    assert set(_command_lines(Path("out"))) == set(command_names())
+
+
+# each case starts a robospec process: the fast loop runs a command that needs an extra and one
+# that does not, the full suite every command
+@pytest.mark.parametrize(
+    "name",
+    fast_first(
+        ["check", "validate", *sorted(set(_command_lines(Path("out"))) - {"check", "validate"})],
+        count=2,
+    ),
+)
+def test_every_command_works_on_the_light_core_or_names_the_extra_it_needs(
+    name: str, tmp_path: Path
+) -> None:
+    result = run_light(*_command_lines(tmp_path)[name])
+    said = result.stdout + result.stderr
+    assert "Traceback" not in said, said
+    assert "RS900" not in said and "internal error" not in said, said
+    assert result.returncode in (0, 1, 2), said
+    if result.returncode == 0:
+        return
+    extras = set(re.findall(r"robospec\[(\w+)\]", said))
+    assert extras and extras <= EXTRAS, said
+    if result.returncode == 1:
+        assert re.search(r"error\[RS\d{3}\]", said), said  # a coded diagnostic
+    else:
+        assert f"robospec {name}: " in said, said  # located at the command
+
+
+@pytest.mark.parametrize("extra", sorted(EXTRA_MODULES))
+def test_the_modules_robospec_says_an_extra_brings_are_brought_by_it(extra: str) -> None:
+    installs = _closure(tuple(PYPROJECT["project"]["optional-dependencies"][extra]))
+    provided = metadata.packages_distributions()
+    for module in EXTRA_MODULES[extra]:
+        assert any(_normalized(d) in installs for d in provided.get(module, ())), module
