@@ -36,26 +36,26 @@ BROKEN: dict[str, tuple[str, typing.Any]] = {
     "limits": ("RS709/unlimited.urdf", "continuous"),
     "mimic": ("RS710/gripper.urdf", "controller"),
     "spherical": ("RS711/ball.urdf", "hinges"),
+    "mirrors": ("RS714/mirrored.urdf", "copies"),
+}
+MJCF_BROKEN: dict[str, tuple[str, typing.Any]] = {
+    "includes": ("RS712/mounted.xml", "inline"),
+    "geoms": ("RS713/terrain.xml", "drop"),
 }
 SOUND = CODE_EXAMPLES / "RS725" / "arm.urdf"
 
 
 def _source(path: Path) -> Source:
-    return Source(str(path), path.name, "urdf", path.read_bytes())
+    kind = "mjcf" if path.suffix == ".xml" else "urdf"
+    return Source(str(path), path.name, kind, path.read_bytes())
 
 
 def test_every_mend_class_is_a_field_of_the_spec_model_and_every_field_a_class() -> None:
-    assert {m.NAME for m in MENDS if "urdf" in m.KINDS} == set(BROKEN)
+    assert {m.NAME for m in MENDS if "urdf" in m.KINDS} == set(BROKEN) | {"xml", "namespaces"}
+    assert {m.NAME for m in MENDS if "mjcf" in m.KINDS} == set(MJCF_BROKEN) | {"xml", "namespaces"}
     model_fields = set(Mends.model_fields)
     assert {m.NAME for m in MENDS} <= model_fields
-    # the MJCF fields are mended by the MJCF classes (milestone 4); none is left without one
-    assert model_fields - {m.NAME for m in MENDS} <= {
-        "includes",
-        "geoms",
-        "meshes",
-        "contacts",
-        "bodies",
-    }
+    assert model_fields == {m.NAME for m in MENDS}
 
 
 def test_each_mend_class_documents_its_note_code_and_the_problems_it_mends() -> None:
@@ -67,9 +67,9 @@ def test_each_mend_class_documents_its_note_code_and_the_problems_it_mends() -> 
         assert mend.WHY and mend.STAGE in ("text", "tree"), mend.NAME
 
 
-@pytest.mark.parametrize("name", list(BROKEN))
+@pytest.mark.parametrize("name", [*BROKEN, *MJCF_BROKEN])
 def test_a_mend_changes_the_broken_description_and_notes_it_at_the_element(name: str) -> None:
-    relative, policy = BROKEN[name]
+    relative, policy = {**BROKEN, **MJCF_BROKEN}[name]
     path = CODE_EXAMPLES / relative
     derived = derive(_source(path), {name: policy})
     assert [o.status for o in derived.outcomes] == ["applied"]
@@ -157,7 +157,7 @@ def test_a_substitution_without_a_default_is_refused_at_its_element(tmp_path: Pa
 
 
 def test_suggest_mends_what_needs_mending_and_nothing_else() -> None:
-    for name, (relative, policy) in BROKEN.items():
+    for name, (relative, policy) in {**BROKEN, **MJCF_BROKEN}.items():
         chosen, derived = suggest_mends(_source(CODE_EXAMPLES / relative))
         if name == "mimic":  # a mimic pair loads: the scaffold's controller drives it
             assert chosen == {}
@@ -194,7 +194,7 @@ def test_an_unknown_mend_class_or_policy_is_a_located_error_with_did_you_mean(
     assert (
         "RS102",
         4,
-        "did you mean 'diagonal'? (expected one of 'diagonal', 'bound' or 'balance')",
+        "did you mean 'diagonal'? (expected one of 'diagonal', 'bound', 'balance' or 'shapes')",
     ) in found
     assert ("RS101", 4, "did you mean 'transmissions'?") in found
 
@@ -243,3 +243,67 @@ def test_inspect_shows_the_robot_the_mends_leave_with_their_notes(tmp_path: Path
     assert result.exit_code == 0, result.output
     assert "shoulder_z" in result.output
     assert "note[RS711]" in result.output
+
+
+def test_an_inlined_include_keeps_its_file_and_line_for_later_diagnostics() -> None:
+    derived = derive(_source(CODE_EXAMPLES / "RS712" / "mounted.xml"), {"includes": "inline"})
+    root = etree.fromstring(derived.text.encode())
+    body = root.find("worldbody/body")
+    assert body is not None and body.get("name") == "upper_arm"
+    assert dict(derived.line_map)[body.sourceline] == ("arm_part.xml", 2)
+
+
+def test_a_derived_mjcf_is_carried_with_its_files_named_from_where_it_is_carried(
+    tmp_path: Path,
+) -> None:
+    from robospec.derive.mjcf_files import carried_text
+
+    model = tmp_path / "model" / "robot.xml"
+    (tmp_path / "model" / "meshes").mkdir(parents=True)
+    (tmp_path / "model" / "meshes" / "part.stl").write_bytes(b"solid x\nendsolid x\n")
+    (tmp_path / "model" / "assets.xml").write_text(
+        '<mujoco><asset><mesh name="part" file="part.stl"/></asset></mujoco>'
+    )
+    model.write_text(
+        '<mujoco><compiler meshdir="meshes" angle="radian"/><include file="assets.xml"/>'
+        "<worldbody/></mujoco>"
+    )
+    text = carried_text(model.read_text(), str(model), lambda path: "copied/" + Path(path).name)
+    root = etree.fromstring(text.encode())
+    assert root.find("include") is None
+    assert root.find("asset/mesh").get("file") == "copied/part.stl"  # type: ignore[union-attr]
+    assert root.find("compiler").get("meshdir") is None  # type: ignore[union-attr]
+
+
+def test_a_mirrored_copy_is_the_mesh_mirrored_with_its_faces_turned_outwards() -> None:
+    from robospec.description.mesh_data import read_mesh
+
+    source = CODE_EXAMPLES / "RS714" / "mirrored.urdf"
+    derived = derive(_source(source), {"mirrors": "copies"})
+    mesh = etree.fromstring(derived.text.encode()).find("link/collision/geometry/mesh")
+    assert mesh is not None and mesh.get("scale") == "1 1 1"
+    copy, original = (
+        read_mesh(mesh.get("filename", "")),
+        read_mesh(str(CODE_EXAMPLES / "RS714" / "meshes" / "upper_arm.stl")),
+    )
+    assert copy is not None and original is not None
+    assert len(copy.triangles) == len(original.triangles)
+
+    def normal(data: typing.Any, triangle: tuple[int, int, int]) -> list[float]:
+        a, b, c = (data.vertices[i] for i in triangle)
+        u = [b[k] - a[k] for k in range(3)]
+        v = [c[k] - a[k] for k in range(3)]
+        return [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+
+    for before, after in zip(original.triangles, copy.triangles, strict=True):
+        # the copy's triangle is the original's mirrored in y, its normal mirrored too
+        assert {tuple(round(x, 6) for x in copy.vertices[i]) for i in after} == {
+            (
+                round(original.vertices[i][0], 6),
+                round(-original.vertices[i][1], 6),
+                round(original.vertices[i][2], 6),
+            )
+            for i in before
+        }
+        n0, n1 = normal(original, before), normal(copy, after)
+        assert n1 == pytest.approx([n0[0], -n0[1], n0[2]], abs=1e-9)

@@ -47,16 +47,27 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
     "limits": (CODE_EXAMPLES / "RS709/unlimited.urdf", "continuous", ARM, {}),
     "mimic": (GRIPPER, "controller", GRIPPER, {}),
     "spherical": (CODE_EXAMPLES / "RS711/ball.urdf", "hinges", ARM, {}),
+    # the inertial is the file's: only the collision shape is mirrored
+    "mirrors": (CODE_EXAMPLES / "RS714/mirrored.urdf", "copies", ARM, {}),
+    # MJCF: ManiSkill loads the model the mend leaves as it loads the sound one
+    "includes": (
+        CODE_EXAMPLES / "RS712/mounted.xml",
+        "inline",
+        CODE_EXAMPLES / "RS712/arm.xml",
+        {},
+    ),
+    "geoms": (CODE_EXAMPLES / "RS713/terrain.xml", "drop", CODE_EXAMPLES / "RS713/arm.xml", {}),
 }
 
 
 def _spec(uid: str, description: Path, mend: dict[str, Any] | None) -> str:
     mended = f", mend: {json.dumps(mend)}" if mend else ""
+    kind = "mjcf" if description.suffix == ".xml" else "urdf"
     return textwrap.dedent(
         f"""\
         robospec: 1
         uid: {uid}
-        description: {{urdf: {json.dumps(str(description))}{mended}}}
+        description: {{{kind}: {json.dumps(str(description))}{mended}}}
         controllers:
           all: {{type: pd_joint_pos, joints: "*", lower: null, upper: null, stiffness: 100,
                  damping: 10, force_limit: 10, normalize_action: false}}

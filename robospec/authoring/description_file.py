@@ -80,7 +80,7 @@ def read_description_file(
     description, more = load_description(
         str(path), description_kind, text, beside_file=kind != "xacro"
     )
-    diagnostics.extend(derived.unexplained(more) if derived is not None else more)
+    diagnostics.extend(derived.located(more, str(path)) if derived is not None else more)
     if description is None or (any(d.is_error for d in diagnostics) and not keep_errors):
         return None, diagnostics
     if text is None:

@@ -315,8 +315,8 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
     if rest.overlapping:
         pairs = ", ".join(f"{a} + {b}" for a, b in rest.overlapping)
         text += (
-            f" These touched in every pose tried, their shapes overlapping where they are "
-            f"joined, and are declared never_collide: {pairs}."
+            f" These touched in every pose tried, their shapes overlapping (where they are "
+            f"joined, or coarse shapes), and are declared never_collide: {pairs}."
         )
     standing = standing_pose(analysis, rest)
     if standing is not None:

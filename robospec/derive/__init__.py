@@ -75,10 +75,38 @@ class Derived:
     # (line, code): problems the description's parse reports that a refusal already explains
     # at that line (the refusal says what it is and why the mend cannot help)
     explained: frozenset[tuple[int, str]] = frozenset()
+    # derived line -> (file, line) it was written on, where elements moved (inlined includes);
+    # empty when every element kept its line
+    line_map: tuple[tuple[int, tuple[str, int]], ...] = ()
 
     def unexplained(self, diagnostics: list[Diagnostic]) -> list[Diagnostic]:
         """``diagnostics`` of the derived text without those a refusal already says."""
         return [d for d in diagnostics if (d.location.line, d.code) not in self.explained]
+
+    def located(self, diagnostics: list[Diagnostic], parsed_as: str) -> list[Diagnostic]:
+        """``diagnostics`` of parsing the derived text (as the file ``parsed_as``), each at the
+        line of the user's file it stands for: unexplained by a refusal, and where elements
+        moved, at the file and line each was written on."""
+        if not self.line_map:
+            return self.unexplained(diagnostics)
+        import bisect
+
+        lines = [line for line, _ in self.line_map]
+        out = []
+        for d in diagnostics:
+            if d.location.file == parsed_as and lines:
+                index = max(bisect.bisect_right(lines, d.location.line) - 1, 0)
+                derived_line, (file, line) = self.line_map[index]
+                shifted = line + max(d.location.line - derived_line, 0)
+                d = Diagnostic(
+                    Location(file, shifted, d.location.column),
+                    d.code,
+                    d.severity,
+                    d.message,
+                    d.hint,
+                )
+            out.append(d)
+        return self.unexplained(out)
 
 
 def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
@@ -106,26 +134,30 @@ def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
         for refusal in document.refusals[before_refusals:]:
             explained.update((refusal.location.line, code) for code in mend.FIXES)
         if changes:
-            notes.append(_note(source, mend, list(changes)))
+            notes.append(_note(document, mend, list(changes)))
         status = "applied" if changes else ("refused" if refused else "stale")
         outcomes.append(Outcome(mend.NAME, status, changes))
     if not parsed and any(o.status == "applied" for o in outcomes):
         document.parse()  # text mends only: written back as the tree, like every derived text
+    text = (
+        document.text() if document.root is not None else document.data.decode("utf-8", "replace")
+    )
     return Derived(
-        document.text() if document.root is not None else document.data.decode("utf-8", "replace"),
+        text,
         source.kind,
         tuple(notes),
         tuple(document.refusals),
         tuple(outcomes),
         frozenset(explained),
+        tuple(sorted(document.line_map.items())),
     )
 
 
-def _note(source: Source, mend: MendClass, changes: list[Change]) -> Diagnostic:
+def _note(document: Document, mend: MendClass, changes: list[Change]) -> Diagnostic:
     first = min(changes, key=lambda c: c.line)
     ordered = [first, *(c for c in changes if c is not first)]
     return note(
-        Location(source.shown, first.line, 1),
+        document.location(first.line, first.tag),
         mend.CODE,
         f"mend '{mend.NAME}': {fold_changes(ordered)}",
     )

@@ -39,6 +39,7 @@ class Change:
     subject: str  # "link 'base' <inertia>"
     before: str
     after: str
+    tag: str = ""  # the element's tag: the note's caret goes under its start tag
 
     def text(self) -> str:
         return f"{self.subject}: {self.before} -> {self.after}"
@@ -53,6 +54,10 @@ class Document:
         self.root: etree._Element | None = None
         self.changes: list[Change] = []
         self.refusals: list[Diagnostic] = []
+        # elements brought in from other files (an inlined <include>): where each was written
+        self.origins: dict[etree._Element, tuple[str, int]] = {}
+        # derived line -> (file, line) where it was written, when elements moved (see text())
+        self.line_map: dict[int, tuple[str, int]] = {}
 
     # -- reading ----------------------------------------------------------------------------
 
@@ -80,6 +85,9 @@ class Document:
         other = Document(self.source)
         other.data = self.data
         other.root = copy.deepcopy(self.root) if self.root is not None else None
+        if self.origins and self.root is not None and other.root is not None:
+            pairs = zip(self.root.iter(), other.root.iter(), strict=True)
+            other.origins = {new: self.origins[old] for old, new in pairs if old in self.origins}
         return other
 
     def would_change(self, apply: Callable[[Document, Any], None], policy: Any) -> bool:
@@ -92,11 +100,22 @@ class Document:
     # -- recording --------------------------------------------------------------------------
 
     def changed(self, at: etree._Element | int, subject: str, before: str, after: str) -> None:
-        self.changes.append(Change(_line(at), subject, before, after))
+        tag = at.tag if isinstance(at, etree._Element) and isinstance(at.tag, str) else ""
+        self.changes.append(Change(_line(at), subject, before, after, tag))
 
     def refuse(self, at: etree._Element | int, code: str, message: str, hint: str) -> None:
         """An element this mend cannot mend as asked: a located error in the description."""
-        self.refusals.append(error(Location(self.source.shown, _line(at), 1), code, message, hint))
+        self.refusals.append(error(self.location(at), code, message, hint))
+
+    def location(self, at: etree._Element | int, tag: str = "") -> Location:
+        """Where ``at`` (an element, or a line) stands in the user's file: its start tag."""
+        from robospec.description.source_columns import tag_column
+
+        line = _line(at)
+        if isinstance(at, etree._Element) and isinstance(at.tag, str):
+            tag = at.tag
+        column = tag_column(self.source.path, line, tag) if tag else 1
+        return Location(self.source.shown, line, column)
 
     # -- editing ----------------------------------------------------------------------------
 
@@ -120,7 +139,23 @@ class Document:
             return self.data.decode("utf-8", "replace")
         body = etree.tostring(self.root, encoding="unicode")
         line = self.root.sourceline if isinstance(self.root.sourceline, int) else 1
-        return "\n" * (max(line, 1) - 1) + body + "\n"
+        text = "\n" * (max(line, 1) - 1) + body + "\n"
+        if self.origins:
+            self.line_map = self._lines_of(text)
+        return text
+
+    def _lines_of(self, text: str) -> dict[int, tuple[str, int]]:
+        """Where each line of ``text`` that starts an element was written, when elements came
+        from other files and the lines no longer match: derived line -> (file, line)."""
+        assert self.root is not None
+        written = etree.fromstring(text.encode("utf-8"))
+        mapping: dict[int, tuple[str, int]] = {}
+        for old, new in zip(self.root.iter(), written.iter(), strict=False):
+            line = new.sourceline
+            if not isinstance(line, int) or line in mapping:
+                continue
+            mapping[line] = self.origins.get(old, (self.source.shown, _line(old)))
+        return mapping
 
 
 def _line(at: etree._Element | int) -> int:

@@ -9,13 +9,18 @@ makes it valid is written:
 
 - ``diagonal``: the products of inertia set to 0, when the diagonal alone is valid (the usual
   fault: products exported with the wrong sign or frame);
-- ``bound``: every principal moment raised to at least that of a solid sphere of the link's
-  mass 1 cm in radius (``0.4 m r²``), the principal axes kept (MuJoCo's ``boundinertia``);
+- ``bound``: every principal moment raised to at least ``m (2 mm)²`` (a radius of gyration of
+  2 mm, below any real link's), the principal axes kept (MuJoCo's ``boundinertia``): for
+  inertias SAPIEN rejects, and for those far too small for their mass (iCub's legs have radii
+  of gyration of 1e-10 m, and explode at the first step);
+- ``shapes``: the inertia of a solid box around the link's collision shapes, at its mass (in
+  the spirit of MuJoCo's ``inertiafromgeom``): for inertias SAPIEN rejects, far too small, or
+  all zero beside a mass (which SAPIEN would ignore, taking the mass from the shapes' volume);
 - ``balance``: principal moments that break the triangle inequality (or are not positive)
   set to their mean, when that is positive (MuJoCo's ``balanceinertia``).
 
-Only the inertias that need mending are touched; SAPIEN ignores an inertial with mass 0 or an
-all-zero inertia, so those are left alone (mend ``mass`` speaks for them).
+Only the inertias that need what the policies do are touched: a massless frame (mass 0) is
+left to SAPIEN, and an all-zero inertia beside a mass only by ``shapes`` and ``bound``.
 """
 
 from __future__ import annotations
@@ -33,16 +38,18 @@ from robospec.description.inertia import (
     principal_moments,
     rejected,
 )
+from robospec.description.shapes import Box, box_inertia, collision_box
 
 NAME = "inertia"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
 CODE = "RS706"
 FIXES = ("RS059", "RS062")
-WHY = "SAPIEN rejects these inertias ('invalid moment of inertia')"
+WHY = "SAPIEN rejects these inertias ('invalid moment of inertia'), or they are far too small"
 
 _ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-_SPHERE_RADIUS = 0.01  # m: the bound is the inertia of a solid sphere this size
+_GYRATION = 0.002  # m: the bound's radius of gyration about each principal axis
+TOO_SMALL_GYRATION = 1e-4  # m: a radius of gyration no link has (new writes the bound)
 _FLOOR = 1e-12  # kg m^2: the bound of a link whose mass says nothing
 
 
@@ -52,19 +59,22 @@ def apply(document: Document, policy: str | list[str]) -> None:
         inertia = link.find("inertial/inertia")
         mass = _mass(link)
         values = _values(inertia)
-        if inertia is None or values is None or mass is None or mass == 0 or not any(values):
-            continue  # unreadable (its own error), or ignored by SAPIEN
-        moments = principal_moments(*values)
-        broken = rejected(*values)
-        if not broken and not ("balance" in policies and impossible(moments)):
+        if inertia is None or values is None or mass is None or mass == 0:
+            continue  # unreadable (its own error), or a massless frame SAPIEN computes
+        sizing = "bound" in policies or "shapes" in policies
+        if not any(values) and not (mass > 0 and sizing):
+            continue  # ignored by SAPIEN, which computes mass and inertia from the shapes
+        if _acceptable(values, mass, policies):
             continue
+        moments = principal_moments(*values)
+        box = (
+            collision_box(link, document.source.path, document.source.packages)
+            if "shapes" in policies
+            else None
+        )
         for name in policies:
-            mended = _POLICIES[name](values, mass)
-            if (
-                mended is not None
-                and not rejected(*mended)
-                and not (name == "balance" and impossible(principal_moments(*mended)))
-            ):
+            mended = _shapes(mass, box) if name == "shapes" else _POLICIES[name](values, mass)
+            if mended is not None and _acceptable(mended, mass, policies):
                 _write(inertia, mended)
                 document.changed(
                     inertia,
@@ -74,7 +84,7 @@ def apply(document: Document, policy: str | list[str]) -> None:
                 )
                 break
         else:
-            if broken:  # a triangle-only fault left as it is loads anyway: RS062 says so
+            if rejected(*values):  # one that loads anyway is left as it is: RS062 says so
                 document.refuse(
                     inertia,
                     CANNOT_MEND,
@@ -84,18 +94,67 @@ def apply(document: Document, policy: str | list[str]) -> None:
                 )
 
 
+def _acceptable(values: tuple[float, ...], mass: float, policies: list[str]) -> bool:
+    """Whether an inertia needs none of the policies asked: SAPIEN takes it, and it is not
+    below the bound or impossible where those are asked for."""
+    sizing = "bound" in policies or "shapes" in policies
+    if not any(values):
+        return not sizing  # SAPIEN ignores it: these give the file's mass an inertia
+    if rejected(*values):
+        return False
+    moments = principal_moments(*values)
+    if "bound" in policies and moments[0] < _floor(mass, moments) * (1 - 1e-6):
+        return False
+    if "shapes" in policies and moments[0] < mass * TOO_SMALL_GYRATION**2:
+        return False
+    return not ("balance" in policies and impossible(moments))
+
+
+def _floor(mass: float, moments: tuple[float, float, float]) -> float:
+    """The bound: a radius of gyration of ``_GYRATION`` about every axis (and above rounding
+    noise of the largest moment)."""
+    return max(abs(mass) * _GYRATION**2, _FLOOR, 1e-12 * max(abs(m) for m in moments))
+
+
 def suggest(document: Document) -> list[str] | str | None:
-    """``diagonal`` where it mends every rejected inertia, ``bound`` where it alone does, else
-    both in that order."""
-    for policy in ("diagonal", "bound"):
-        if document.would_change(apply, policy):
-            return policy
-    both = ["diagonal", "bound"]
-    return both if document.would_change(apply, both) else None
+    """``diagonal`` where it mends every inertia that needs mending; else the policies of
+    ``diagonal``, ``shapes``, ``bound`` (in that order) that mend something."""
+    tiny = _far_too_small(document)
+    if not tiny and document.would_change(apply, "diagonal"):
+        return "diagonal"
+    if not tiny and not _any_rejected(document):
+        return None
+    everything = ["diagonal", "shapes", "bound"]
+    trial = document.trial()
+    apply(trial, everything)
+    if not trial.changes or trial.refusals:
+        return None
+    used = [p for p in everything if any(c.after.endswith(f"({p})") for c in trial.changes)]
+    return used[0] if len(used) == 1 else used
+
+
+def _any_rejected(document: Document) -> bool:
+    for link in document.tree.iterfind("link"):
+        values, mass = _values(link.find("inertial/inertia")), _mass(link)
+        if values is not None and mass and any(values) and rejected(*values):
+            return True
+    return False
+
+
+def _far_too_small(document: Document) -> bool:
+    """Whether a used inertia is so small for its link's mass that PhysX cannot solve it (a
+    radius of gyration under 0.1 mm: iCub's legs have 1e-10 m, and explode at once)."""
+    for link in document.tree.iterfind("link"):
+        values, mass = _values(link.find("inertial/inertia")), _mass(link)
+        if values is None or mass is None or mass <= 0 or not any(values) or rejected(*values):
+            continue
+        if principal_moments(*values)[0] < mass * TOO_SMALL_GYRATION**2:
+            return True
+    return False
 
 
 def _advice(policies: list[str]) -> str:
-    missing = [p for p in ("diagonal", "bound") if p not in policies]
+    missing = [p for p in ("diagonal", "shapes", "bound") if p not in policies]
     if missing:
         return (
             f"add '{missing[-1]}' (inertia: [{', '.join([*policies, missing[-1]])}]), or "
@@ -113,9 +172,7 @@ def _diagonal(values: tuple[float, ...], mass: float) -> tuple[float, ...] | Non
 
 def _bound(values: tuple[float, ...], mass: float) -> tuple[float, ...] | None:
     moments, axes = principal_axes(*values)
-    floor = max(0.4 * abs(mass) * _SPHERE_RADIUS**2, _FLOOR)
-    # rounding must not undo the bound: the smallest moment is kept above rounding noise
-    floor = max(floor, 1e-12 * max(abs(m) for m in moments))
+    floor = _floor(mass, moments)
     bounded = (max(moments[0], floor), max(moments[1], floor), max(moments[2], floor))
     return from_axes(bounded, axes)
 
@@ -126,6 +183,12 @@ def _balance(values: tuple[float, ...], mass: float) -> tuple[float, ...] | None
     if mean <= 0:
         return None
     return from_axes((mean, mean, mean), axes)
+
+
+def _shapes(mass: float, box: Box | None) -> tuple[float, ...] | None:
+    if box is None or min(box[1][i] - box[0][i] for i in range(3)) <= 0:
+        return None
+    return box_inertia(mass, box)
 
 
 _POLICIES = {"diagonal": _diagonal, "bound": _bound, "balance": _balance}

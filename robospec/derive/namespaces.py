@@ -24,7 +24,7 @@ _KNOWN = {
     "xacro": "http://www.ros.org/wiki/xacro",
     "gazebo": "http://gazebosim.org/schema",
 }
-_UNDEFINED = re.compile(r"Namespace prefix (\S+) (?:on|for) \S+ is not defined")
+_UNDEFINED = re.compile(r"Namespace prefix (\S+) (?:for \S+ )?on \S+ is not defined")
 _ROOT_TAG = re.compile(rb"<([A-Za-z_][\w.\-]*)(?=[\s/>])")
 _ROUNDS = 20  # prefixes declared one by one, as the parser meets them
 

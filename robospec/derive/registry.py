@@ -6,11 +6,14 @@ from __future__ import annotations
 
 from typing import cast
 
+import robospec.derive.geoms as geoms
+import robospec.derive.includes as includes
 import robospec.derive.inertia as inertia
 import robospec.derive.integers as integers
 import robospec.derive.limits as limits
 import robospec.derive.mass as mass
 import robospec.derive.mimic as mimic
+import robospec.derive.mirrors as mirrors
 import robospec.derive.namespaces as namespaces
 import robospec.derive.packages as packages
 import robospec.derive.spherical as spherical
@@ -25,8 +28,11 @@ MENDS: tuple[MendClass, ...] = cast(
     (
         xml_repair,
         namespaces,
+        includes,
+        geoms,
         substitutions,
         packages,
+        mirrors,
         textures,
         transmissions,
         mass,

@@ -14,7 +14,7 @@ from pydantic import Field
 
 from robospec.model.common import Number, StrictModel
 
-InertiaPolicy = Literal["diagonal", "bound", "balance"]
+InertiaPolicy = Literal["diagonal", "bound", "balance", "shapes"]
 LimitRange = Annotated[list[Number], Field(min_length=2, max_length=2)]
 
 
@@ -49,6 +49,13 @@ class Mends(StrictModel):
         "where its URI names no package (`package:///...`) or SAPIEN would find another file.",
         examples=["resolve"],
     )
+    mirrors: Literal["copies"] | None = Field(
+        default=None,
+        description='`copies`: collision meshes mirrored by a negative scale (`scale="1 -1 '
+        '1"`), which PhysX cannot build and crashes on at the first contact, are named by a '
+        "mirrored copy of the file (written in robospec's cache) with a positive scale.",
+        examples=["copies"],
+    )
     textures: Literal["drop"] | None = Field(
         default=None,
         description="`drop`: remove `<texture/>` elements without a filename, at which SAPIEN's "
@@ -65,9 +72,13 @@ class Mends(StrictModel):
         default=None,
         description="How to mend inertias SAPIEN rejects or no rigid body has, tried in order "
         "on each: `diagonal` sets the products of inertia to 0 (when the diagonal alone is "
-        "valid); `bound` raises each principal moment to at least that of a 1 cm sphere of "
-        "the link's mass (MuJoCo's boundinertia), keeping the axes; `balance` sets principal "
-        "moments that break the triangle inequality to their mean (MuJoCo's balanceinertia).",
+        "valid); `bound` raises each principal moment to at least m·(2 mm)², a radius of "
+        "gyration below any real link's (MuJoCo's boundinertia), keeping the axes; `balance` "
+        "sets principal moments that break the triangle inequality to their mean (MuJoCo's "
+        "balanceinertia); "
+        "`shapes` writes the inertia of a solid box around the link's collision shapes, at "
+        "its mass, where the file's is rejected, far too small or missing (MuJoCo's "
+        "inertiafromgeom).",
         examples=["diagonal", ["diagonal", "bound"]],
     )
     mass: Literal["bound"] | None = Field(
@@ -114,24 +125,4 @@ class Mends(StrictModel):
         description="MJCF. `drop`: remove geoms of types ManiSkill's loader raises on (hfield, "
         "sdf); ManiSkill's scenes bring their own ground.",
         examples=["drop"],
-    )
-    meshes: Literal["explicit"] | None = Field(
-        default=None,
-        description="MJCF. `explicit`: give every `<mesh>` asset the name and scale MuJoCo "
-        "gives it (ManiSkill's loader ignores a scale set in `<default>` and names an unnamed "
-        "mesh by its file), and a unique name to repeated ones.",
-        examples=["explicit"],
-    )
-    contacts: Literal["collide"] | None = Field(
-        default=None,
-        description="MJCF. `collide`: give collision geoms that MuJoCo collides only through "
-        '`<contact><pair>`s (`contype="0"`) a contype, so ManiSkill\'s loader keeps their '
-        "collision shapes.",
-        examples=["collide"],
-    )
-    bodies: Literal["merge"] | None = Field(
-        default=None,
-        description="MJCF. `merge`: merge bodies without joints into their parents until the "
-        "model has no more than the 32 bodies ManiSkill's loader can keep apart.",
-        examples=["merge"],
     )

@@ -41,15 +41,12 @@ def robot_files(
     description_file = None
     ref = robot.description
     if ref.carried and robot.description_kind == "mjcf":
-        from robospec.output.carried_mjcf import carried_mjcf
-
         description_file = f"{module}.xml"
-        text, copied = carried_mjcf(ref, module_dir, module, self_contained and ref.derived)
-        files[description_file] = text
-        files.update(copied)
+        files.update(_carried_mjcf(ref, module, module_dir, description_file, self_contained))
     elif ref.carried:
         description_file = f"{module}.urdf"
-        copies = _copies(ref, module) if self_contained and ref.derived else {}
+        found = sorted({path for _uri, path in ref.mesh_paths})
+        copies = _copies(found, module) if self_contained and ref.derived else {}
         files[description_file] = carried_urdf(ref, module_dir, copies)
         for source, name in copies.items():
             files[name] = Path(source).read_bytes()
@@ -81,12 +78,39 @@ def checked_robot_files(
         )
 
 
-def _copies(ref: FileRef, module: str) -> dict[str, str]:
+def _carried_mjcf(
+    ref: FileRef, module: str, module_dir: Path, name: str, self_contained: bool
+) -> dict[str, str | bytes]:
+    """A derived MJCF and (``self_contained``) a copy of each file it names, beside the
+    module (robospec.derive.mjcf_files)."""
+    from lxml import etree
+
+    from robospec.derive.mjcf_files import carried_text, named_files
+
+    assert ref.generated_text is not None
+    root = etree.fromstring(ref.generated_text.encode("utf-8"))
+    found = sorted({path for _element, path in named_files(root, str(ref.absolute))})
+    copies = _copies([p for p in found if os.path.isfile(p)], module) if self_contained else {}
+
+    def name_of(path: str) -> str:
+        return copies.get(path) or Path(os.path.relpath(path, module_dir)).as_posix()
+
+    text = carried_text(ref.generated_text, str(ref.absolute), name_of)
+    how = f"with {', '.join(ref.parts)} mounted" if ref.parts else "mended"
+    files: dict[str, str | bytes] = {
+        name: f"<!-- {GENERATED_MARKER} from {ref.relative}, {how}: do not edit -->\n{text}"
+    }
+    for source, copy in copies.items():
+        files[copy] = Path(source).read_bytes()
+    return files
+
+
+def _copies(found: list[str], module: str) -> dict[str, str]:
     """A file name beside the module for each file the description names: ``{found: name}``,
     ``<module>.<file name>`` (numbered when two files share a name), in a stable order."""
     copies: dict[str, str] = {}
     taken: set[str] = set()
-    for source in sorted({found for _uri, found in ref.mesh_paths}):
+    for source in found:
         stem, suffix = os.path.splitext(os.path.basename(source))
         stem = re.sub(r"[^A-Za-z0-9_.\-]", "_", stem) or "file"
         name, n = f"{module}.{stem}{suffix}", 1

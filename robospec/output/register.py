@@ -260,6 +260,14 @@ def _dependencies(robot: object) -> list[str]:
             deps.extend(_xacro_neighbours(Path(source).parent))
     for ref in refs:
         deps.append(str(ref.absolute))
+        if ref.derived:
+            # files robospec wrote for the derived copy (mirrored meshes) live in the cache:
+            # one gone makes the entry stale, and compiling again writes it back
+            derived = cache_root() / "derived"
+            deps.extend(p for _uri, p in ref.mesh_paths if Path(p).is_relative_to(derived))
+        if ref.derived and ref.absolute.suffix.lower() == ".xml":
+            # a derived MJCF holds its includes written in place: a change there recompiles
+            deps.extend(str(p) for p in sorted(ref.absolute.parent.glob("*.xml")) if p.is_file())
         if ref.generated_text is not None and not ref.has_srdf_beside:
             # a xacro file may include its neighbours: any change there recompiles
             deps.extend(_xacro_neighbours(ref.absolute.parent))

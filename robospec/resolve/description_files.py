@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from robospec.description.facts import RobotDescription
+from robospec.description.sanity import SANITY_CODES
 
 if TYPE_CHECKING:
     from robospec.compose.model import Composed
@@ -202,12 +203,17 @@ def _load(
         beside_file=ref.has_srdf_beside,
     )
     if derived is not None:
-        diags = derived.unexplained(diags)
+        diags = derived.located(diags, str(ref.absolute)) if composed is None else diags
     diags = _unless_shipped(diags, ref)
     if composed is not None:
         from robospec.compose.model import relocate
 
-        context.diagnostics.extend(relocate(diags, str(ref.absolute), composed))
+        # each element at its file and line in the combined text's sources; the robot's own
+        # at the line of its derived text, which the derivation then maps to the user's file
+        diags = relocate(diags, str(ref.absolute), composed)
+        if derived is not None:
+            diags = derived.located(diags, shown)
+        context.diagnostics.extend(diags)
     else:
         context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
     # an expansion or a derived copy is written elsewhere: every path it names moves with it
@@ -380,7 +386,7 @@ def load_inherited_description(
 # SAPIEN ignores, an impossible inertia): not said of the descriptions ManiSkill ships, which a
 # spec cannot change and ManiSkill's own agents load as they are (Fetch's fingers, the Allegro
 # hand). Errors are said of every description.
-_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"})
+_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
 
 
 def _unless_shipped(diagnostics: list[Diagnostic], ref: FileRef) -> list[Diagnostic]:
