@@ -46,6 +46,9 @@ def resolve(
 
 def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
     spec = context.spec
+    if spec.parts and spec.description is None:
+        parts.warn_unsupported(context)  # said before the extended class is imported
+        return None
     base_ref, base_class = members.base_class(context)
     if spec.extends is not None and base_ref is None:
         return None
@@ -55,7 +58,6 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         )
         description_kind = "mjcf" if spec.description.kind == "mjcf" else "urdf"
     else:
-        parts.warn_unsupported(context)
         description_ref, description_kind = load_inherited_description(context, base_class)
     if description_ref is None or context.loaded_description is None:
         return None
