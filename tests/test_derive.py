@@ -287,21 +287,21 @@ def test_a_mirrored_copy_is_the_mesh_mirrored_with_its_faces_turned_outwards() -
         read_mesh(str(CODE_EXAMPLES / "RS714" / "meshes" / "upper_arm.stl")),
     )
     assert copy is not None and original is not None
-    assert len(copy.triangles) == len(original.triangles)
+    assert copy.triangle_count == original.triangle_count
 
     def normal(data: typing.Any, triangle: tuple[int, int, int]) -> list[float]:
-        a, b, c = (data.vertices[i] for i in triangle)
+        a, b, c = (data.vertex(i) for i in triangle)
         u = [b[k] - a[k] for k in range(3)]
         v = [c[k] - a[k] for k in range(3)]
         return [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
 
-    for before, after in zip(original.triangles, copy.triangles, strict=True):
+    for before, after in zip(original.triangles(), copy.triangles(), strict=True):
         # the copy's triangle is the original's mirrored in y, its normal mirrored too
-        assert {tuple(round(x, 6) for x in copy.vertices[i]) for i in after} == {
+        assert {tuple(round(x, 6) for x in copy.vertex(i)) for i in after} == {
             (
-                round(original.vertices[i][0], 6),
-                round(-original.vertices[i][1], 6),
-                round(original.vertices[i][2], 6),
+                round(original.vertex(i)[0], 6),
+                round(-original.vertex(i)[1], 6),
+                round(original.vertex(i)[2], 6),
             )
             for i in before
         }

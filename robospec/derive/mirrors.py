@@ -44,7 +44,7 @@ def apply(document: Document, policy: str) -> None:
             uri = mesh.get("filename", "")
             path = _find(uri, base_dir, finder)
             data = read_mesh(path) if path is not None else None
-            if path is None or data is None or len(data.triangles) == 0:
+            if path is None or data is None or data.triangle_count == 0:
                 document.refuse(
                     mesh,
                     CANNOT_MEND,
@@ -80,7 +80,9 @@ def mirrored_copy(path: str, data: MeshData, signs: tuple[float, ...]) -> str:
         import numpy as np
 
         folder.mkdir(parents=True, exist_ok=True)
-        corners = data.vertices[data.triangles] * np.asarray(signs)  # (M, 3, 3)
+        vertices = np.frombuffer(data.coordinates, dtype=np.float64).reshape(-1, 3)
+        triangles = np.frombuffer(data.indices, dtype=np.int64).reshape(-1, 3)
+        corners = vertices[triangles] * np.asarray(signs)  # (M, 3, 3)
         if signs[0] * signs[1] * signs[2] < 0:  # an odd mirror turns every face inside out
             corners = corners[:, [0, 2, 1], :]
         record = np.dtype([("normal", "<f4", 3), ("corners", "<f4", 9), ("attribute", "<u2")])

@@ -220,7 +220,7 @@ def _mesh_contents(mesh_files: tuple[MeshFile, ...], path: str, found: Findings)
         reason = None
         if not data.finite:
             reason = "it has NaN or infinite vertices"
-        elif len(data.vertices) < 4:
+        elif data.vertex_count < 4:
             reason = "it has fewer than four vertices"
         elif data.flat_axis() is not None:
             reason = f"it is flat (all its vertices share one {'xyz'[data.flat_axis() or 0]})"
