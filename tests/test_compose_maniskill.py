@@ -348,7 +348,7 @@ def test_check_says_where_a_part_sits_inside_the_robot(tmp_path: Path) -> None:
         " upper: null, stiffness: 100, damping: 10, normalize_action: false}\n"
         "control_modes: {pd_joint_pos: all}\n"
     )
-    (report,), _ = check_paths([spec], Options(steps=5))
+    (report,), _ = check_paths([spec], Options(steps=5), isolate=False)
     found = [d for f in report.findings for d in f.diagnostics if d.code == "RS734"]
     assert len(found) == 1
     (diagnostic,) = found
@@ -361,21 +361,25 @@ def test_check_says_where_a_part_sits_inside_the_robot(tmp_path: Path) -> None:
 # -- robospec new --attach -------------------------------------------------------------------------
 
 
-def test_new_attach_scaffolds_the_hand_and_declares_the_seam(tmp_path: Path) -> None:
-    from conftest import invoke_robospec
-
+def test_new_attach_declares_the_seam_the_collision_matrix_finds(tmp_path: Path) -> None:
+    # the arm scaffolded without its rest-pose search (which test_new covers), the hand given
+    # by its spec: what --attach adds is sampled here
+    from robospec.authoring.attach import parse_attach, run_attach
+    from robospec.authoring.commands import run_new
     from robospec.pipeline import compile_spec
 
-    robots = maniskill_assets_dir()
-    assert robots is not None
-    arm = robots / "robots" / "xarm7" / "xarm7.urdf"
-    hand = robots / "robots" / "ability_hand" / "ability_hand_right.urdf"
+    assets = maniskill_assets_dir()
+    assert assets is not None
+    arm = assets / "robots" / "xarm7" / "xarm7.urdf"
+    shutil.copy(COMPOSED / "ability_hand_right.yaml", tmp_path / "hand.yaml")
     out = tmp_path / "xarm7_hand.yaml"
-    result = invoke_robospec("new", str(arm), "-o", str(out), "--attach", f"{hand}@link_eef")
-    assert result.exit_code == 0, result.output
-    assert (tmp_path / "ability_hand_right.yaml").is_file()  # the hand's scaffold
+    written, _ = run_new(arm, out, None, False, simulate=False)
+    assert written is not None
+    attach = [parse_attach(f"{tmp_path / 'hand.yaml'}@link_eef")]
+    _, diagnostics = run_attach(out, arm, attach, force=False, simulate=True)
+    assert not any(d.is_error for d in diagnostics), [d.format_text() for d in diagnostics]
     text = out.read_text()
-    assert "  ability_hand_right: {spec: ability_hand_right.yaml, at: link_eef}\n" in text
+    assert "  hand: {spec: hand.yaml, at: link_eef}\n" in text
     # the hand's base and link7 touch in every pose (two empty frames apart, not adjacent)
     assert text.rstrip().endswith("never_collide:\n  - [base, link7]")
     compiled = compile_spec(out)
