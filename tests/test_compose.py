@@ -437,3 +437,15 @@ def test_new_attach_says_which_link_it_cannot_mount_on(tmp_path: Path) -> None:
     )
     assert result.exit_code == 1
     assert "error[RS742]" in result.output and "did you mean 'tool0'?" in result.output
+
+
+def test_a_parts_mends_apply_to_its_description_before_it_is_mounted(tmp_path: Path) -> None:
+    hand = HAND.read_text().replace(
+        '/ability_hand_right.urdf"', '/ability_hand_right.urdf"\n  mend: {mimic: controller}'
+    )
+    (tmp_path / "ability_hand_right.yaml").write_text(hand)
+    (tmp_path / "xarm7_ability.yaml").write_text(COMPOSED.read_text())
+    result = _compiled(tmp_path / "xarm7_ability.yaml")
+    assert "<mimic" not in result.robot.description.generated_text
+    assert not any(d.code == "RS309" for d in result.diagnostics)
+    assert all(j.mimic is None for j in result.description.joints)

@@ -221,6 +221,7 @@ _CODES = [
     Code("RS740", "parts on a robot without its own description"),
     Code("RS741", "fold_frames with no empty frame to fold"),
     Code("RS742", "--attach names no part or link robospec can mount"),
+    Code("RS743", "robospec optimize of a robot with parts"),
     # -- robospec doc --images: drawing the pictures (RS660-RS669)
     Code("RS660", "the render extra is not installed"),
     Code("RS661", "no OpenGL to draw the pictures with"),
