@@ -307,3 +307,20 @@ def test_a_mirrored_copy_is_the_mesh_mirrored_with_its_faces_turned_outwards() -
         }
         n0, n1 = normal(original, before), normal(copy, after)
         assert n1 == pytest.approx([n0[0], -n0[1], n0[2]], abs=1e-9)
+
+
+def test_a_mend_note_reaches_every_output_format(tmp_path: Path) -> None:
+    import json
+
+    from robospec.reporting import render
+
+    folder = tmp_path / "robot"
+    shutil.copytree(CODE_EXAMPLES / "RS706", folder)
+    diagnostics = compile_spec(folder / "fail.yaml").diagnostics
+    report = json.loads(render(diagnostics, 1, "json"))
+    assert [d["severity"] for d in report["diagnostics"]] == ["note"]
+    assert report["summary"]["notes"] == 1 and report["summary"]["errors"] == 0
+    sarif = json.loads(render(diagnostics, 1, "sarif"))
+    assert [r["level"] for r in sarif["runs"][0]["results"]] == ["note"]
+    assert render(diagnostics, 1, "github").startswith("::notice ")
+    assert "note[RS706]" in render(diagnostics, 1, "text")
