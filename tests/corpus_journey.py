@@ -39,7 +39,7 @@ BUILD_PACKAGE = "corpus_agents"
 
 # seconds a step may take before it counts as hung: expanding xacro, loading a humanoid and
 # stepping it on a busy CPU take a while
-TIMEOUTS = {"inspect": 120, "new": 120, "validate": 120, "check": 600, "build": 120, "child": 600}
+TIMEOUTS = {"inspect": 120, "new": 300, "validate": 120, "check": 600, "build": 120, "child": 600}
 
 TRACEBACK = "Traceback (most recent call last):"
 

@@ -105,7 +105,9 @@ def _table(journeys: list[Journey]) -> str:
 
 def _codes(found: list[Found]) -> str:
     errors = _unique(f.code for f in found if f.is_error)
-    warnings = [c for c in _unique(f.code for f in found if not f.is_error) if c not in errors]
+    # notes say what a mend did, not what check found
+    said = (f.code for f in found if f.severity == "warning")
+    warnings = [c for c in _unique(said) if c not in errors]
     shown = [_code_link(c) for c in errors] + [f"*{_code_link(c)}*" for c in warnings]
     return ", ".join(shown) or "—"
 

@@ -34,7 +34,7 @@ def test_json_format_follows_the_diagnostics_contract() -> None:
     result = run_robospec("validate", "--format", "json", str(MISSPELLED))
     assert result.returncode == 1
     report = json.loads(result.stdout)
-    assert report["summary"] == {"errors": 1, "warnings": 0, "files": 1}
+    assert report["summary"] == {"errors": 1, "warnings": 0, "notes": 0, "files": 1}
     (diagnostic,) = report["diagnostics"]
     assert set(diagnostic) == {"file", "line", "column", "code", "severity", "message", "hint"}
     assert (diagnostic["line"], diagnostic["column"], diagnostic["code"]) == (6, 51, "RS201")

@@ -73,8 +73,13 @@ def mjcf(worldbody: str, head: str = "") -> str:
 
 def test_humanoid_has_21_active_joints_in_maniskill_order() -> None:
     description, diagnostics = parse_file(humanoid_path())
-    # its joint springs and armature are all ManiSkill's loader leaves out (RS084)
-    assert [(d.code, d.is_error) for d in diagnostics] == [("RS084", False), ("RS084", False)]
+    # its joint springs and armature are all ManiSkill's loader leaves out (RS084); its angles
+    # are MJCF's default degrees, said as a note (RS086)
+    assert [(d.code, d.is_error) for d in diagnostics] == [
+        ("RS086", False),
+        ("RS084", False),
+        ("RS084", False),
+    ]
     assert description is not None
     assert description.active_joint_names == HUMANOID_ACTIVE_JOINTS
 
@@ -199,7 +204,8 @@ def test_unnamed_active_joint_is_a_warning() -> None:
     description, diagnostics = parse_mjcf(mjcf(body), "u.xml")
     assert description is not None and description.active_joint_names == ("",)
     assert [(d.code, d.severity.value, d.location.line) for d in diagnostics] == [
-        ("RS052", "warning", 3)
+        ("RS086", "note", 1),  # the hinge's range is in MJCF's default degrees
+        ("RS052", "warning", 3),
     ]
 
 

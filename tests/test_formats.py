@@ -76,7 +76,7 @@ def test_text_first_lines_are_exactly_the_diagnostics_one_line_form() -> None:
         diagnostics.extend(item.diagnostics)
     text = render(diagnostics, len(compiled), "text")
     headers = [
-        line for line in text.splitlines() if re.match(r"\S+:\d+:\d+: (error|warning)\[", line)
+        line for line in text.splitlines() if re.match(r"\S+:\d+:\d+: (error|warning|note)\[", line)
     ]
     assert headers == [d.format_text().splitlines()[0] for d in sorted(diagnostics, key=sort_key)]
     assert len(headers) > 30

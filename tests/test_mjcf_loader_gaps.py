@@ -76,12 +76,20 @@ def chain(path: Path, bodies: int) -> Path:
         ),
         pytest.param("mesh_name.xml", [("RS085", "error", 11)], id="mesh_name"),
         pytest.param("masses.xml", [("RS075", "warning", 8), ("RS076", "error", 10)], id="masses"),
-        pytest.param("orientation.xml", [("RS080", "error", 6)], id="orientation"),
+        pytest.param(
+            "orientation.xml",
+            [("RS086", "note", 1), ("RS080", "error", 6)],  # its euler= is in degrees
+            id="orientation",
+        ),
         pytest.param("zaxis_floor.xml", [("RS080", "error", 4)], id="zaxis_floor"),
         pytest.param("hfield.xml", [("RS079", "error", 7)], id="hfield"),
         pytest.param("include.xml", [("RS082", "error", 6)], id="include"),
         pytest.param("wrapper.xml", [("RS083", "warning", 4)], id="wrapper"),
-        pytest.param("joint_attributes.xml", [("RS084", "warning", 7)] * 3, id="joint_attributes"),
+        pytest.param(
+            "joint_attributes.xml",
+            [("RS086", "note", 1), *[("RS084", "warning", 7)] * 3],  # its range is in degrees
+            id="joint_attributes",
+        ),
         pytest.param("groups.xml", [("RS078", "warning", 5)], id="groups"),
     ],
 )
@@ -293,7 +301,7 @@ def test_inspect_shows_an_mjcf_robots_tree_beside_its_errors() -> None:
     text, diagnostics = run_inspect(GAPS / "orientation.xml", "text")
     assert text is not None
     assert "    base  <- (fixed, unnamed)\n      tilted  <- tilted (continuous)\n" in text
-    assert [d.code for d in diagnostics] == ["RS080"]
+    assert [d.code for d in diagnostics] == ["RS086", "RS080"]
 
 
 CONTROL_SPEC = """robospec: 1

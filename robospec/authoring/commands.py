@@ -3,6 +3,7 @@ its output text and diagnostics, and writes files only when it has no errors (at
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -94,6 +95,9 @@ def run_new(
         diagnostics.extend(write_text(written[-1], schema_text()))
     text, more = scaffold_text(analysis, out, uid, reference, simulate)
     diagnostics.extend(more)
+    refused = _validate_errors(text, out)
+    if refused:  # never write a spec robospec validate would reject: say what it would say
+        return None, [*diagnostics, *refused]
     diagnostics.extend(write_text(out, text))
     return (None if has_errors(diagnostics) else written), diagnostics
 
@@ -142,12 +146,37 @@ def scaffold_text(
     elif found is not None:
         gains = with_refined(gains, found.gains, found.over_rating)
         refined = bool(found.changed)
-    text = to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
+
+    def written(rest: RestPose) -> str:
+        return to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
+
+    text = written(rest)
+    while rest.overlapping and _never_collide_rejected(text, out):
+        # validate would refuse the pairs (no collision-group bit left for them all): the
+        # entry covering the last pair goes, and the rest warnings name it as touching
+        rest = dataclasses.replace(rest, overlapping=rest.overlapping[:-1])
+        text = written(rest)
     return text, [
         *rating_warnings(analysis, gains),
         *problems,
         *_rest_warnings(analysis, rest, text, out),
     ]
+
+
+def _validate_errors(text: str, out: Path) -> list[Diagnostic]:
+    from robospec.pipeline import compile_spec
+
+    return [d for d in compile_spec(out, text=text.encode("utf-8")).diagnostics if d.is_error]
+
+
+def _never_collide_rejected(text: str, out: Path) -> bool:
+    """Whether ``robospec validate`` would refuse the scaffold's never_collide: pairs left
+    colliding for want of a free collision-group bit, or pairs it does not list disabled."""
+    from robospec.pipeline import compile_spec
+
+    robot = compile_spec(out, text=text.encode("utf-8")).robot
+    record = robot.never_collide if robot is not None else None
+    return record is not None and bool(record.uncovered or record.side_effects)
 
 
 def _rest_warnings(

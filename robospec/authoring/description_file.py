@@ -6,11 +6,14 @@ malformed file gets exactly the located diagnostics ``robospec validate`` gives.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from robospec.description import RobotDescription, load_description
+
+if TYPE_CHECKING:
+    from robospec.derive import Derived
 from robospec.diagnostics import Diagnostic, Location, error
 
 FileKind = Literal["urdf", "xacro", "mjcf"]
@@ -30,8 +33,11 @@ class DescriptionFile:
     description: RobotDescription
     robot_name: str | None  # <robot name=...> / <mujoco model=...>
     # the XML the description was read from (a xacro file's expansion): ``new`` reads the
-    # joint frames and, for MJCF, the keyframes and actuators from it
+    # joint frames and, for MJCF, the keyframes and actuators from it; the derived copy when
+    # the description needs mends
     text: bytes = b""
+    # the mends it needs to load (robospec.derive): class -> policy, in the order they run
+    mends: dict[str, Any] = field(default_factory=dict)
 
 
 def file_kind(path: Path) -> FileKind | None:
@@ -67,14 +73,46 @@ def read_description_file(
         text, diagnostics = expand_xacro(str(path), {})
         if text is None:
             return None, diagnostics
-    description, more = load_description(str(path), "mjcf" if kind == "mjcf" else "urdf", text)
-    diagnostics.extend(more)
+    description_kind: Literal["urdf", "mjcf"] = "mjcf" if kind == "mjcf" else "urdf"
+    mends, derived = _mended(path, description_kind, text, diagnostics)
+    if derived is not None:
+        text = derived.text
+    description, more = load_description(
+        str(path), description_kind, text, beside_file=kind != "xacro"
+    )
+    diagnostics.extend(derived.located(more, str(path)) if derived is not None else more)
     if description is None or (any(d.is_error for d in diagnostics) and not keep_errors):
         return None, diagnostics
     if text is None:
         text = path.read_bytes()
     data = text.encode("utf-8") if isinstance(text, str) else text
-    return DescriptionFile(path, kind, description, _robot_name(text), data), diagnostics
+    robot_name = _robot_name(text)
+    return DescriptionFile(path, kind, description, robot_name, data, mends), diagnostics
+
+
+def _mended(
+    path: Path,
+    kind: Literal["urdf", "mjcf"],
+    text: str | bytes | None,
+    diagnostics: list[Diagnostic],
+) -> tuple[dict[str, Any], Derived | None]:
+    """The mends the description needs to load, and the derived copy (None when it needs
+    none); the notes of what they change join ``diagnostics``."""
+    from robospec.derive import Source, suggest_mends
+    from robospec.description.urdf import read_file_bytes
+
+    try:
+        data = read_file_bytes(str(path)) if text is None else None
+    except OSError:
+        return {}, None  # the description's own load says why
+    if data is None:
+        data = text.encode("utf-8") if isinstance(text, str) else text or b""
+    mends, derived = suggest_mends(Source(str(path), str(path), kind, data))
+    if not mends:
+        return {}, None
+    diagnostics.extend(derived.notes)
+    diagnostics.extend(derived.refusals)
+    return mends, derived
 
 
 def _placeholders_expanded(path: Path) -> tuple[Path, Diagnostic | None]:

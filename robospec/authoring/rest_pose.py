@@ -30,6 +30,10 @@ MIN_DEPTH = 0.001  # m: robospec check's default (checks.self_contact.min_depth)
 # links this many active joints apart or fewer are neighbours: a contact between them in every
 # pose is their shapes overlapping at the joint (a housing, a motor inside the body)
 NEIGHBOURS = 2
+# after this many poses, a pair that touched in every one overlaps whatever joins it: coarse
+# collision shapes (iCub's boxes: its head and shoulder touch 59 mm deep in every pose), which
+# PhysX pushes apart with all its might at the first step
+THOROUGH = 100
 
 
 @dataclass(frozen=True)
@@ -136,10 +140,11 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
     height = answer.get("root_height")
     touching = tuple((a, b, float(d)) for a, b, d in answer["touching"])
     always = {(a, b) for a, b in answer.get("always", [])}
+    tried = int(answer["tried"])
     overlapping = tuple(
         (a, b)
         for a, b, _ in touching
-        if (a, b) in always and _joints_apart(tree, a, b) <= NEIGHBOURS
+        if (a, b) in always and (_joints_apart(tree, a, b) <= NEIGHBOURS or tried >= THOROUGH)
     )
     return RestPose(
         qpos=qpos,
@@ -147,7 +152,7 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
         checked=True,
         touching=touching,
         overlapping=overlapping,
-        tried=int(answer["tried"]),
+        tried=tried,
     )
 
 

@@ -157,6 +157,17 @@ def scaffold(
     where = str(source.path.resolve()) if absolute_paths else None
     data["description"] = {key: where or description_reference(source, spec_path.parent)}
     notes[("description",)] = "relative paths are relative to this file"
+    if source.mends:
+        from robospec.derive import mend_class
+
+        data["description"]["mend"] = dict(source.mends)
+        notes[("description", "mend")] = (
+            "robospec mends a copy of the description (never the file): see docs/mends.md"
+        )
+        for name in source.mends:
+            mend = mend_class(name)
+            if mend is not None:
+                notes[("description", "mend", name)] = mend.WHY
     if floating:
         data["loader"] = {"fix_root_link": False}
         notes[("loader", "fix_root_link")] = analysis.body.why_floating
@@ -340,8 +351,8 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
     if rest.overlapping:
         pairs = ", ".join(f"{a} + {b}" for a, b in rest.overlapping)
         text += (
-            f" These touched in every pose tried, their shapes overlapping where they are "
-            f"joined, and are declared never_collide: {pairs}."
+            f" These touched in every pose tried, their shapes overlapping (where they are "
+            f"joined, or coarse shapes), and are declared never_collide: {pairs}."
         )
     standing = standing_pose(analysis, rest)
     if standing is not None and analysis.body.floating:

@@ -26,8 +26,14 @@ def load_description(
     kind: Literal["urdf", "mjcf"],
     text: str | bytes | None = None,
     packages: Mapping[str, str] | None = None,
+    *,
+    beside_file: bool | None = None,
 ) -> tuple[RobotDescription | None, list[Diagnostic]]:
     """Parse the description at ``path`` (or ``text``, when given, located as ``path``).
+
+    ``beside_file`` says whether the text stands for the file at ``path`` (a derived copy of
+    it: its SRDF is read) or for another (a xacro expansion: none is); by default, whether no
+    ``text`` was given.
 
     A file that cannot be read is RS050 at ``path:1:1``; nothing here raises on bad input.
     A URDF file's SRDF (``robot.srdf`` beside ``robot.urdf``), which SAPIEN reads by itself,
@@ -40,9 +46,14 @@ def load_description(
     memo = active_memo()
     if memo is not None:
         return memo.load(
-            path, kind, text, packages, lambda: _load_description(path, kind, text, packages)
+            path,
+            kind,
+            text,
+            packages,
+            lambda: _load_description(path, kind, text, packages, beside_file),
+            beside_file,
         )
-    return _load_description(path, kind, text, packages)
+    return _load_description(path, kind, text, packages, beside_file)
 
 
 def _load_description(
@@ -50,8 +61,11 @@ def _load_description(
     kind: Literal["urdf", "mjcf"],
     text: str | bytes | None,
     packages: Mapping[str, str] | None,
+    beside_file: bool | None = None,
 ) -> tuple[RobotDescription | None, list[Diagnostic]]:
     given_text = text is not None
+    if beside_file is None:
+        beside_file = not given_text
     if text is None:
         from robospec.description.urdf import read_file_bytes
 
@@ -70,7 +84,7 @@ def _load_description(
         from robospec.description.urdf import parse_urdf
 
         description, diagnostics = parse_urdf(text, path, look_for_files=True, packages=packages)
-        if description is not None and not given_text:
+        if description is not None and beside_file:
             # SAPIEN reads the SRDF beside a URDF file (not beside a xacro expansion)
             from robospec.description.srdf import read_srdf_bits
 

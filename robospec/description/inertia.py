@@ -249,3 +249,60 @@ def _inertia_hint(xx: float, yy: float, zz: float, diagonal: bool) -> str:
             "SAPIEN accepts; or write the link's real inertia"
         )
     return "write the link's real inertia (or mass 0 and all six 0: SAPIEN then computes both)"
+
+
+def rejected(xx: float, xy: float, xz: float, yy: float, yz: float, zz: float) -> bool:
+    """Whether SAPIEN rejects this inertia (or takes it by rounding luck): RS059's rule."""
+    principal = principal_moments(xx, xy, xz, yy, yz, zz)
+    diagonal = xy == 0 and xz == 0 and yz == 0
+    noise = 0.0 if diagonal else _SINGULAR * abs(principal[2])
+    return principal[0] <= noise
+
+
+def impossible(moments: tuple[float, float, float]) -> bool:
+    """Whether principal moments (smallest first) break the triangle inequality: RS062's rule."""
+    return moments[0] + moments[1] < moments[2] * (1 - _TRIANGLE_SLACK)
+
+
+Matrix = tuple[tuple[float, float, float], ...]
+
+
+def principal_axes(
+    xx: float, xy: float, xz: float, yy: float, yz: float, zz: float
+) -> tuple[tuple[float, float, float], Matrix]:
+    """The principal moments and axes (the columns of a rotation) of a symmetric inertia, by
+    cyclic Jacobi rotations: exact to rounding, and no numpy on the validate path."""
+    a = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]
+    v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    for _sweep in range(50):
+        off = a[0][1] ** 2 + a[0][2] ** 2 + a[1][2] ** 2
+        scale = a[0][0] ** 2 + a[1][1] ** 2 + a[2][2] ** 2
+        if off <= 1e-30 * max(scale, 1e-300):
+            break
+        for p, q in ((0, 1), (0, 2), (1, 2)):
+            if a[p][q] == 0.0:
+                continue
+            theta = (a[q][q] - a[p][p]) / (2 * a[p][q])
+            t = math.copysign(1.0, theta) / (abs(theta) + math.sqrt(theta * theta + 1))
+            c = 1 / math.sqrt(t * t + 1)
+            s = t * c
+            for k in range(3):  # A <- A J (columns p, q)
+                akp, akq = a[k][p], a[k][q]
+                a[k][p], a[k][q] = c * akp - s * akq, s * akp + c * akq
+            for k in range(3):  # A <- J^T A (rows p, q)
+                apk, aqk = a[p][k], a[q][k]
+                a[p][k], a[q][k] = c * apk - s * aqk, s * apk + c * aqk
+            for k in range(3):
+                vkp, vkq = v[k][p], v[k][q]
+                v[k][p], v[k][q] = c * vkp - s * vkq, s * vkp + c * vkq
+    moments = (a[0][0], a[1][1], a[2][2])
+    return moments, tuple(tuple(row) for row in v)  # type: ignore[return-value]
+
+
+def from_axes(moments: tuple[float, float, float], axes: Matrix) -> tuple[float, ...]:
+    """The inertia ``R diag(moments) R^T`` as (ixx, ixy, ixz, iyy, iyz, izz)."""
+
+    def entry(i: int, j: int) -> float:
+        return sum(axes[i][k] * moments[k] * axes[j][k] for k in range(3))
+
+    return (entry(0, 0), entry(0, 1), entry(0, 2), entry(1, 1), entry(1, 2), entry(2, 2))

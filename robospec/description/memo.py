@@ -50,7 +50,11 @@ class DescriptionMemo:
         self.parses = 0  # how many times a description was really parsed (tests and benchmarks)
 
     def key(
-        self, path: str, text: str | bytes | None, packages: Mapping[str, str] | None
+        self,
+        path: str,
+        text: str | bytes | None,
+        packages: Mapping[str, str] | None,
+        beside_file: bool | None = None,
     ) -> Key | None:
         """What a parse of ``path`` depends on; None when the file cannot be read (the loader
         then reports that, uncached)."""
@@ -62,7 +66,8 @@ class DescriptionMemo:
                 return None
         else:
             content = _digest(text.encode() if isinstance(text, str) else text)
-        srdf = _stat(path[:-4] + "srdf") if text is None else None
+        reads_srdf = text is None if beside_file is None else beside_file
+        srdf = _stat(path[:-4] + "srdf") if reads_srdf else None
         return (content, srdf, tuple(sorted((packages or {}).items())))
 
     def load(
@@ -72,8 +77,9 @@ class DescriptionMemo:
         text: str | bytes | None,
         packages: Mapping[str, str] | None,
         parse: Callable[[], Loaded],
+        beside_file: bool | None = None,
     ) -> Loaded:
-        key = self.key(path, text, packages)
+        key = self.key(path, text, packages, beside_file)
         if key is None:
             return parse()
         known = self._entries.get((path, kind))

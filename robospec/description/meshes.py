@@ -38,6 +38,7 @@ from robospec.diagnostics import Diagnostic, error, warning
 MESH_NOT_FOUND = "RS056"
 MESH_UNREADABLE = "RS057"
 PACKAGE_NOT_FOUND = "RS058"
+MIRRORED = "RS087"
 
 Role = Literal["collision", "visual", "texture"]
 
@@ -67,8 +68,22 @@ def check_mesh_files(
     found_all = Findings()
     files: list[MeshFile] = []
     unknown_packages: dict[str, list[_Named]] = {}
-    for named in _file_references(root):
-        found, problem = _locate(named.uri, base_dir, finder)
+    for named in file_references(root):
+        if named.role == "collision" and _mirrored(named.element):
+            found_all.add(
+                error(
+                    element_at(path, named.element),
+                    MIRRORED,
+                    f"collision mesh '{named.uri}' of {named.owner} is mirrored "
+                    f'(scale="{named.element.get("scale")}"): PhysX cannot build a mirrored '
+                    "convex mesh, and SAPIEN's process dies in native code at its first "
+                    "contact with another",
+                    "`description: {mend: {mirrors: copies}}` names a mirrored copy of the file "
+                    "instead (docs/mends.md)",
+                ),
+                fold_as="more mirrored collision meshes",
+            )
+        found, problem = locate(named.uri, base_dir, finder)
         if problem is not None:
             unknown_packages.setdefault(problem, []).append(named)
         elif found is None:
@@ -102,7 +117,7 @@ def check_mesh_files(
     return tuple(files), found_all.result()
 
 
-def _file_references(root: etree._Element) -> Iterator[_Named]:
+def file_references(root: etree._Element) -> Iterator[_Named]:
     """The ``filename``s SAPIEN's loader reads: link meshes, and material textures (those of
     a link's visuals and the top-level ones its visuals name)."""
     for link in root.iterfind("link"):
@@ -121,7 +136,7 @@ def _file_references(root: etree._Element) -> Iterator[_Named]:
             yield _Named(texture, texture.get("filename", ""), "texture", owner)
 
 
-def _locate(uri: str, base_dir: str, finder: PackageFinder) -> tuple[str | None, str | None]:
+def locate(uri: str, base_dir: str, finder: PackageFinder) -> tuple[str | None, str | None]:
     """(the file, None), (None, None) when it is not there, or (None, package name) when the
     package itself is not found."""
     if uri.startswith(PACKAGE_SCHEME):
@@ -202,3 +217,11 @@ def _unknown_package(path: str, package: str, uses: list[_Named]) -> Diagnostic:
         f"(no package.xml names it, and no folder '{package}' holds these files, from the "
         "description's folder up)",
     )
+
+
+def _mirrored(mesh: etree._Element) -> bool:
+    """Whether a mesh's scale has a negative factor (it is drawn mirrored)."""
+    try:
+        return any(float(v) < 0 for v in (mesh.get("scale") or "").split())
+    except ValueError:
+        return False  # not numbers: the loader rules say so

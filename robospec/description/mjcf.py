@@ -69,7 +69,7 @@ from robospec.description.urdf import (
     parse_xml,
     read_file_bytes,
 )
-from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics import Diagnostic, Location, error, note, warning
 
 ReadFile = Callable[[str], bytes]
 
@@ -146,6 +146,8 @@ def parse_mjcf(
         eulerseq = compiler.get("eulerseq", "xyz")
 
     state = _State(path, use_degrees, {}, {}, diagnostics, file_of)
+    if compiler is None or compiler.get("angle") is None:
+        diagnostics.extend(_degrees_note(top, compiler, root, state))
     for default in (el for el in top if el.tag == "default"):
         _parse_default(default, None, state)
 
@@ -564,3 +566,48 @@ def _make_joint(
         lower=lower,
         upper=upper,
     )
+
+
+DEGREES = "RS086"
+
+
+def _degrees_note(
+    top: list[etree._Element],
+    compiler: etree._Element | None,
+    root: etree._Element,
+    state: _State,
+) -> list[Diagnostic]:
+    """RS086: no ``<compiler angle=...>``, so MJCF's default holds and every angle the model
+    gives (``euler``, ``axisangle``, a hinge's ``range``) is in degrees. MuJoCo and ManiSkill
+    agree on it; a model written in radians without saying so is turned by a factor of 57.3,
+    without a word from either. Said whatever else the model says."""
+    angles = [
+        el
+        for branch in top
+        for el in branch.iter()
+        if isinstance(el.tag, str)
+        and (
+            el.get("euler") is not None
+            or el.get("axisangle") is not None
+            or (
+                el.tag == "joint"
+                and el.get("range") is not None
+                and el.get("type", "hinge") == "hinge"
+            )
+        )
+    ]
+    if not angles:
+        return []
+    where = state.where(compiler) if compiler is not None else at(state.path, root)
+    first = state.where(angles[0])
+    return [
+        note(
+            where,
+            DEGREES,
+            f"no <compiler angle=...>: MJCF's default holds, and the model's {len(angles)} "
+            f"angle(s) (euler=, axisangle=, hinge range=; the first at line {first.line}) are "
+            "read as degrees by MuJoCo and ManiSkill alike",
+            'if they are radians, say <compiler angle="radian"/>; if degrees, say '
+            '<compiler angle="degree"/> to silence this note',
+        )
+    ]

@@ -143,3 +143,16 @@ def sapien_mesh_path(filename: str, urdf_dir: str) -> str | None:
         return None
     path = os.path.join(os.path.abspath(urdf_dir), filename)
     return path if os.path.isfile(path) else None
+
+
+def find_up(rest: str, start: str) -> str | None:
+    """The file ``rest`` (a relative path) below ``start`` or the nearest folder above it that
+    holds it: where a ``package:///rest`` URI, which names no package, can only mean."""
+    rest = rest.lstrip("/")
+    if not rest:
+        return None
+    for folder in _folders_up(start):
+        path = os.path.join(folder, rest)
+        if os.path.isfile(path):
+            return path
+    return None

@@ -35,6 +35,7 @@ from robospec.description.facts import (
 )
 from robospec.description.inertia import check_inertials
 from robospec.description.meshes import check_mesh_files
+from robospec.description.sanity import check_sanity
 from robospec.description.source_columns import element_at
 from robospec.description.urdf_loader_rules import check_loader_rules
 from robospec.description.urdf_values import read_floats
@@ -213,11 +214,13 @@ def parse_urdf(
     if root is None:
         return None, diagnostics
     description = _kinematic_tree(root, path, diagnostics)
+    diagnostics[:] = _fold_joint_types(diagnostics)
     diagnostics.extend(check_loader_rules(root, path))
     diagnostics.extend(check_inertials(root, path))
     if look_for_files:
         mesh_files, mesh_diagnostics = check_mesh_files(root, path, packages)
         diagnostics.extend(mesh_diagnostics)
+        diagnostics.extend(check_sanity(root, path, mesh_files, packages))
         if description is not None:
             description = dataclasses.replace(description, mesh_files=mesh_files)
     return description, diagnostics
@@ -362,7 +365,9 @@ def _read_joint(
                 at(path, element),
                 INVALID_STRUCTURE,
                 f"joint '{name}' has unknown type '{joint_type}'",
-                did_you_mean(joint_type, sorted(URDF_JOINT_TYPES)),
+                "a ball joint: `mend: {spherical: hinges}` writes it as three continuous joints"
+                if joint_type in ("spherical", "ball")
+                else did_you_mean(joint_type, sorted(URDF_JOINT_TYPES)),
             )
         )
         return None
@@ -635,3 +640,21 @@ def _articulation(
         root_link=chosen,
         floating_root=chosen != base,
     )
+
+
+_UNKNOWN_TYPE = re.compile(r"^joint '.*' has unknown type '(?P<type>[^']*)'$")
+
+
+def _fold_joint_types(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """Joints of one unknown type (pybullet's humanoid has eight spherical ones) are one
+    diagnostic, at the first, naming the lines of the others."""
+    from robospec.description.urdf_values import Findings
+
+    found = Findings()
+    for d in diagnostics:
+        match = _UNKNOWN_TYPE.match(d.message)
+        if match is None:
+            found.add(d)
+        else:
+            found.add(d, fold_as=f"more joints of type '{match['type']}'")
+    return sorted(found.result(), key=lambda d: (d.location.line, d.code))

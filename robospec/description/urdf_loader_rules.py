@@ -196,7 +196,29 @@ def _joint_extras(joint: etree._Element, path: str, found: Findings) -> None:
 
 
 def _transmissions(root: etree._Element, path: str, found: Findings) -> None:
+    for _transmission, problems in transmission_problems(root, path):
+        for problem in problems:
+            found.add(_as_transmission_problem(problem), fold_as="more transmission problems")
+
+
+def unreadable_transmissions(root: etree._Element, path: str) -> list[tuple[etree._Element, str]]:
+    """Each ``<transmission>`` SAPIEN's parser stops at, and the first reason why."""
+    return [
+        (transmission, problems[0].message.removesuffix(_STOPS))
+        for transmission, problems in transmission_problems(root, path)
+        if problems
+    ]
+
+
+_STOPS = "; SAPIEN's URDF parser stops at it"
+
+
+def transmission_problems(
+    root: etree._Element, path: str
+) -> list[tuple[etree._Element, list[Diagnostic]]]:
+    """Every ``<transmission>`` and what SAPIEN's parser cannot read in it (often nothing)."""
     first_line: dict[str, int] = {}
+    result: list[tuple[etree._Element, list[Diagnostic]]] = []
     for transmission in root.iterfind("transmission"):
         name = transmission.get("name")
         what = f"transmission '{name}'" if name is not None else "<transmission>"
@@ -239,15 +261,15 @@ def _transmissions(root: etree._Element, path: str, found: Findings) -> None:
                     )
         for reduction in transmission.iterfind("actuator/mechanicalReduction"):
             read_text_float(reduction, path, problems, f"{what} <mechanicalReduction>")
-        for problem in problems:
-            found.add(_as_transmission_problem(problem), fold_as="more transmission problems")
+        result.append((transmission, problems))
+    return result
 
 
 def _transmission_error(path: str, element: etree._Element, message: str) -> Diagnostic:
     return error(
         at(path, element),
         BAD_TRANSMISSION,
-        f"{message}; SAPIEN's URDF parser stops at it",
+        f"{message}{_STOPS}",
         _TRANSMISSION_HINT,
     )
 
@@ -259,7 +281,7 @@ def _as_transmission_problem(problem: Diagnostic) -> Diagnostic:
     return error(
         problem.location,
         BAD_TRANSMISSION,
-        f"{problem.message}; SAPIEN's URDF parser stops at it",
+        f"{problem.message}{_STOPS}",
         problem.hint or _TRANSMISSION_HINT,
     )
 

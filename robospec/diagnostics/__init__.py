@@ -14,6 +14,9 @@ from dataclasses import dataclass
 class Severity(str, enum.Enum):
     ERROR = "error"
     WARNING = "warning"
+    # what robospec did on the user's behalf (a mend it applied to a derived description):
+    # never a problem, always said where it happened
+    NOTE = "note"
 
 
 @dataclass(frozen=True, order=True)
@@ -71,6 +74,10 @@ def error(location: Location, code: str, message: str, hint: str | None = None) 
 
 def warning(location: Location, code: str, message: str, hint: str | None = None) -> Diagnostic:
     return Diagnostic(location, code, Severity.WARNING, message, hint)
+
+
+def note(location: Location, code: str, message: str, hint: str | None = None) -> Diagnostic:
+    return Diagnostic(location, code, Severity.NOTE, message, hint)
 
 
 def has_errors(diagnostics: Iterable[Diagnostic]) -> bool:

@@ -3,7 +3,8 @@
 Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
 into the robot description, RS3xx semantic checks, RS4xx `robospec import`, RS5xx physics
 checks (`robospec check`), RS6xx writing files and the authoring commands (`robospec build`,
-`inspect`, `new`, `doc`), RS9xx internal errors.
+`inspect`, `new`, `doc`), RS7xx descriptions robospec derives (mends applied to a copy, parts
+composed into one), RS9xx internal errors.
 """
 
 from __future__ import annotations
@@ -64,6 +65,14 @@ _CODES = [
     Code("RS083", "MJCF wrapper body's pose dropped"),
     Code("RS084", "MJCF joint attribute not loaded"),
     Code("RS085", "MJCF mesh the loader cannot resolve"),
+    Code("RS086", "MJCF angles in degrees by default"),
+    Code("RS087", "collision mesh mirrored by a negative scale"),
+    Code("RS088", "description lengths look like millimetres"),
+    Code("RS089", "inertia far too large or small for the link's shapes"),
+    Code("RS090", "mass under a gram beside heavy links"),
+    Code("RS091", "joint without an effort or velocity limit"),
+    Code("RS092", "xacro element left in a plain URDF"),
+    Code("RS093", "collision mesh PhysX can build no shape from"),
     # -- schema
     Code("RS101", "unknown key"),
     Code("RS102", "invalid value"),
@@ -191,6 +200,40 @@ _CODES = [
     Code("RS648", "simulated robot cannot match the reference"),
     Code("RS649", "reference does not determine stiffness and damping each"),
     Code("RS650", "reference fit crashed"),
+    # -- mends: what robospec changed in a derived copy of the description (RS700-RS729)
+    Code("RS700", "mended: XML text no parser accepts"),
+    Code("RS701", "mended: undeclared namespace prefixes"),
+    Code("RS702", "mended: unexpanded substitutions written as their defaults"),
+    Code("RS703", "mended: mesh URIs resolved to the files robospec found"),
+    Code("RS704", "mended: empty textures removed"),
+    Code("RS705", "mended: transmissions SAPIEN cannot read removed"),
+    Code("RS706", "mended: inertias SAPIEN rejects"),
+    Code("RS707", "mended: masses raised to the bound"),
+    Code("RS708", "mended: integers written as decimals"),
+    Code("RS709", "mended: joint limits without lower or upper"),
+    Code("RS710", "mended: URDF mimic tags removed"),
+    Code("RS711", "mended: spherical joints written as three continuous joints"),
+    Code("RS712", "mended: MJCF includes written in place"),
+    Code("RS713", "mended: MJCF geoms ManiSkill cannot load removed"),
+    Code("RS714", "mended: mirrored collision meshes written as mirrored copies"),
+    Code("RS725", "mend changes nothing"),
+    Code("RS726", "mend for another kind of description"),
+    Code("RS727", "mend cannot mend an element as asked"),
+    # -- parts: robots mounted on the spec's robot, composed into one description (RS730-RS759)
+    Code("RS730", "part mounted on a link no one has"),
+    Code("RS731", "part that is not one tree fixed at its root"),
+    Code("RS732", "name clash a prefix cannot fix"),
+    Code("RS733", "parts mounted on each other in a ring"),
+    Code("RS734", "part inside the robot at rest"),
+    Code("RS735", "part of another description format"),
+    Code("RS736", "part names prefixed"),
+    Code("RS737", "part whose spec has errors"),
+    Code("RS738", "what a part's spec declares that does not come along"),
+    Code("RS739", "part mode the part does not have"),
+    Code("RS740", "parts on a robot without its own description"),
+    Code("RS741", "fold_frames with no empty frame to fold"),
+    Code("RS742", "--attach names no part or link robospec can mount"),
+    Code("RS743", "robospec optimize of a robot with parts"),
     # -- robospec doc --images: drawing the pictures (RS660-RS669)
     Code("RS660", "the render extra is not installed"),
     Code("RS661", "no OpenGL to draw the pictures with"),

@@ -77,6 +77,7 @@ def code_page(entry: Code, examples: CodeExamples, docstring: str | None) -> str
         lines += [f"Severity: **{severity}**.", ""]
     if examples.about:
         lines += [examples.about.strip(), ""]
+    lines += _mend_lines(entry.code)
     if docstring:
         lines += [_docstring_markdown(docstring), ""]
     if examples.failing and examples.passing:
@@ -99,6 +100,25 @@ def code_page(entry: Code, examples: CodeExamples, docstring: str | None) -> str
         ]
     lines += ["[All diagnostic codes](../diagnostics.md)"]
     return "\n".join(lines).rstrip() + "\n"
+
+
+def mends_for(code: str) -> list[str]:
+    """The mend classes that mend the problem ``code`` reports (robospec.derive)."""
+    from robospec.derive import MENDS
+
+    return [mend.NAME for mend in MENDS if code in mend.FIXES]
+
+
+def _mend_lines(code: str) -> list[str]:
+    names = mends_for(code)
+    if not names:
+        return []
+    links = ", ".join(f"[`{name}`](../mends.md#{name})" for name in names)
+    return [
+        f"**Mend:** robospec can mend this in a copy of the description it loads instead of "
+        f"the file (`description: {{mend: ...}}`; `robospec new` writes it): {links}.",
+        "",
+    ]
 
 
 def _why_not_run(code: str) -> str:
@@ -156,9 +176,14 @@ def _docstring_markdown(doc: str) -> str:
 def _run_sections(examples: CodeExamples) -> list[str]:
     assert examples.failing and examples.passing
     shown: set[Path] = set()
-    lines = ["## Failing example", ""]
+    notes = _severity(examples) == "note"  # robospec said what it did: nothing failed
+    mend = examples.code < "RS730"  # RS700-RS729: mends (RS730 on: parts)
+    first, second = (
+        ("the mend applied", "nothing to mend") if mend else ("what robospec did", "nothing to do")
+    )
+    lines = [f"## Example: {first}" if notes else "## Failing example", ""]
     lines += _example(examples.failing, examples.support_files, shown)
-    lines += ["## Passing example", ""]
+    lines += [f"## Example: {second}" if notes else "## Passing example", ""]
     lines += _example(examples.passing, examples.support_files, shown)
     if examples.more_failing:
         lines += ["## More failing examples", ""]

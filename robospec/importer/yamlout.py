@@ -31,7 +31,7 @@ BLANK_BEFORE = (
     "tcp",
 )
 _TOKEN = "RSFLOW{}X"
-_TOKEN_LINE = re.compile(r"^(?P<head>\s*(?:\S.*?:|-))\s+RSFLOW(?P<n>\d+)X$")
+_TOKEN_LINE = re.compile(r"^(?P<head>\s*(?:\S.*?:|-))\s+RSFLOW(?P<n>\d+)X(?P<comment>\s+#.*)?$")
 
 
 class _Plain(str):
@@ -198,10 +198,14 @@ class _Writer:
         if match is None:
             return [line.rstrip()]
         head = match.group("head")
+        comment = (match.group("comment") or "").strip()
         pieces = flow_pieces(self.flows[int(match.group("n"))])
         one_line = layout(pieces, len(head) + 1)
         if len(one_line) == 1 or isinstance(self.flows[int(match.group("n"))], list):
-            return [head + " " + one_line[0], *one_line[1:]]
+            first = head + " " + one_line[0] + (f"  {comment}" if comment else "")
+            return [first, *one_line[1:]]
+        if comment:
+            head += f"  {comment}"
         indent = len(head) - len(head.lstrip()) + 2
         return [
             head,

@@ -131,9 +131,10 @@ def to_lsp(diagnostic: Diagnostic, lines: list[str]) -> types.Diagnostic:
             end=types.Position(line=line, character=end),
         ),
         message=message,
-        severity=types.DiagnosticSeverity.Error
-        if diagnostic.severity is Severity.ERROR
-        else types.DiagnosticSeverity.Warning,
+        severity={
+            Severity.ERROR: types.DiagnosticSeverity.Error,
+            Severity.WARNING: types.DiagnosticSeverity.Warning,
+        }.get(diagnostic.severity, types.DiagnosticSeverity.Information),
         code=diagnostic.code,
         code_description=types.CodeDescription(href=href) if href else None,
         source="robospec",

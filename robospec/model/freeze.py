@@ -41,6 +41,7 @@ MODEL_MODULES = (
     "robospec.model.controllers",
     "robospec.model.members",
     "robospec.model.check_settings",
+    "robospec.model.mends",
     "robospec.model.spec",
 )
 _DROPPED_KEYS = frozenset({"metadata", "serialization"})

@@ -7,6 +7,7 @@ inherited field points at the line where it was written.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -246,7 +247,13 @@ def _message(kind: str, err: Any, path: KeyPath, data: Any) -> tuple[str, str | 
     if kind == "literal_error":
         expected = err.get("ctx", {}).get("expected") or err.get("ctx", {}).get("expected_tags")
         got = _node(data, path)
-        return f"invalid value {got!r}{where}", f"expected one of {expected}" if expected else None
+        if not expected:
+            return f"invalid value {got!r}{where}", None
+        # pydantic says the choices as "'a', 'b' or 'c'": a misspelt one gets its suggestion
+        choices = re.findall(r"'([^']*)'", str(expected))
+        suggestion = did_you_mean(str(got), choices) if isinstance(got, str) else None
+        hint = f"expected one of {expected}"
+        return f"invalid value {got!r}{where}", f"{suggestion} ({hint})" if suggestion else hint
     if kind == "string_pattern_mismatch":
         got = _node(data, path)
         return f"invalid name {got!r}{where}", "use letters, digits, '_', '-' and '.'"

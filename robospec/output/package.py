@@ -52,28 +52,43 @@ MANIFEST_HEADER = "# robospec build: the files it wrote here, which it may repla
 @dataclass
 class BuildResult:
     diagnostics: list[Diagnostic] = field(default_factory=list)
-    files: dict[str, str] = field(default_factory=dict)
+    files: dict[str, str | bytes] = field(default_factory=dict)
     changed: list[str] = field(default_factory=list)
 
 
-def plan_package(compiled: list[CompiledSpec], out_dir: Path) -> dict[str, str]:
+def plan_package(compiled: list[CompiledSpec], out_dir: Path) -> dict[str, str | bytes]:
     """The package's files ``{name: text}`` (specs that cannot be emitted are left out)."""
     return _plan(compiled, out_dir)[0]
 
 
-def _plan(compiled: list[CompiledSpec], out_dir: Path) -> tuple[dict[str, str], list[Diagnostic]]:
+def _plan(
+    compiled: list[CompiledSpec], out_dir: Path
+) -> tuple[dict[str, str | bytes], list[Diagnostic]]:
     """The package's files, and an RS105 diagnostic for each spec that cannot be emitted."""
     out_dir = out_dir.resolve()
     taken: set[str] = set()
-    files: dict[str, str] = {}
+    files: dict[str, str | bytes] = {}
     problems: list[Diagnostic] = []
     modules: list[tuple[str, str, str]] = []
     for item in sorted(compiled, key=lambda c: c.display):
         assert item.robot is not None
         module = module_name_for(item.robot.uid, taken)
-        robot_files = checked_robot_files(item.robot, module, out_dir, item.display)
+        robot_files = checked_robot_files(
+            item.robot, module, out_dir, item.display, self_contained=True
+        )
         if isinstance(robot_files, Diagnostic):
             problems.append(robot_files)
+            continue
+        clash = sorted(set(robot_files) & set(files))
+        if clash:  # a copied mesh named like another robot's module: never one over another
+            problems.append(
+                error(
+                    Location(item.display),
+                    "RS105",
+                    f"'{clash[0]}' would be written twice into the package",
+                    "build this spec into another package",
+                )
+            )
             continue
         files.update(robot_files)
         modules.append((module, item.robot.uid, item.robot.class_name))
@@ -152,7 +167,7 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
     return result
 
 
-def _compare(out_dir: Path, files: dict[str, str], result: BuildResult) -> list[str]:
+def _compare(out_dir: Path, files: dict[str, str | bytes], result: BuildResult) -> list[str]:
     """Fill ``result`` with refusals and changed names; return our stale files to remove."""
     previous = _previous_manifest(out_dir)
     existing = {p.name: p for p in out_dir.iterdir()} if out_dir.is_dir() else {}
@@ -176,9 +191,9 @@ def _compare(out_dir: Path, files: dict[str, str], result: BuildResult) -> list[
     return stale
 
 
-def _same_bytes(path: Path, text: str) -> bool:
+def _same_bytes(path: Path, content: str | bytes) -> bool:
     try:
-        return path.is_file() and path.read_bytes() == text.encode("utf-8")
+        return path.is_file() and path.read_bytes() == _bytes(content)
     except OSError:
         return False
 
@@ -217,7 +232,7 @@ def _recover(out_dir: Path) -> None:
             shutil.rmtree(path, ignore_errors=True)
 
 
-def _write_atomically(out_dir: Path, files: dict[str, str], stale: list[str]) -> None:
+def _write_atomically(out_dir: Path, files: dict[str, str | bytes], stale: list[str]) -> None:
     staging = Path(tempfile.mkdtemp(prefix=_staging_prefix(out_dir), dir=out_dir.parent))
     try:
         for name in sorted(files):
@@ -242,9 +257,14 @@ def _write_atomically(out_dir: Path, files: dict[str, str], stale: list[str]) ->
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def _write_synced(path: Path, text: str) -> None:
-    with open(path, "w", encoding="utf-8", newline="\n") as handle:
-        handle.write(text)
+def _bytes(content: str | bytes) -> bytes:
+    """A file's bytes: text as UTF-8 (robospec writes \\n line ends), copies as they are."""
+    return content if isinstance(content, bytes) else content.encode("utf-8")
+
+
+def _write_synced(path: Path, content: str | bytes) -> None:
+    with open(path, "wb") as handle:
+        handle.write(_bytes(content))
         handle.flush()
         os.fsync(handle.fileno())  # the rename must not publish empty files on a crash
 

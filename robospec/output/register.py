@@ -180,15 +180,18 @@ def _store(item: CompiledSpec, file: Path, entry: Path) -> None:
     entry.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=".tmp-", dir=entry.parent))
     try:
-        for name, text in files.items():
-            (staging / name).write_text(text, encoding="utf-8")
+        for name, content in files.items():
+            if isinstance(content, bytes):
+                (staging / name).write_bytes(content)
+            else:
+                (staging / name).write_text(content, encoding="utf-8")
         deps = [str(file.resolve()), *_dependencies(item.robot)]
         manifest = {
             "uid": item.robot.uid,
             "class_name": item.robot.class_name,
             "override": item.robot.override,
             "module_file": f"{module}.py",
-            "module_sha256": _sha256(files[f"{module}.py"].encode()),
+            "module_sha256": _sha256(str(files[f"{module}.py"]).encode()),
             "deps": [[path, _file_hash(path)] for path in deps],
         }
         (staging / "manifest.json").write_text(json.dumps(manifest, indent=1))
@@ -251,23 +254,36 @@ def _dependencies(robot: object) -> list[str]:
         value for c in robot.controllers for _, value in c.kwargs if isinstance(value, FileRef)
     ]
     deps: list[str] = []
+    for source in robot.description.sources:  # a composed robot's parts: specs, descriptions
+        deps.append(source)
+        if source.endswith(".xacro"):  # and what a part's xacro may include
+            deps.extend(_xacro_neighbours(Path(source).parent))
     for ref in refs:
         deps.append(str(ref.absolute))
-        if ref.generated_text is not None:
+        if ref.derived:
+            # files robospec wrote for the derived copy (mirrored meshes) live in the cache:
+            # one gone makes the entry stale, and compiling again writes it back
+            derived = cache_root() / "derived"
+            deps.extend(p for _uri, p in ref.mesh_paths if Path(p).is_relative_to(derived))
+        if ref.derived and ref.absolute.suffix.lower() == ".xml":
+            # a derived MJCF holds its includes written in place: a change there recompiles
+            deps.extend(str(p) for p in sorted(ref.absolute.parent.glob("*.xml")) if p.is_file())
+        if ref.generated_text is not None and not ref.has_srdf_beside:
             # a xacro file may include its neighbours: any change there recompiles
-            folder = ref.absolute.parent
-            deps.extend(
-                str(p)
-                for p in sorted(folder.rglob("*"))
-                if p.is_file() and p.suffix in (".xacro", ".urdf")
-            )
-    if robot.description_kind == "urdf" and robot.description.generated_text is None:
+            deps.extend(_xacro_neighbours(ref.absolute.parent))
+    if robot.description_kind == "urdf" and robot.description.has_srdf_beside:
         from robospec.description.srdf import srdf_path
 
         srdf = srdf_path(str(robot.description.absolute))
         if os.path.isfile(srdf):  # SAPIEN's collision bits, which never_collide packs around
             deps.append(srdf)
     return sorted(set(deps), key=deps.index)
+
+
+def _xacro_neighbours(folder: Path) -> list[str]:
+    return [
+        str(p) for p in sorted(folder.rglob("*")) if p.is_file() and p.suffix in (".xacro", ".urdf")
+    ]
 
 
 def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dict[str, type]:

@@ -58,5 +58,5 @@ def _traced(context: CheckContext, message: UpstreamMessage) -> Location | None:
     for mesh in description.mesh_files:
         candidates = [mesh.uri, mesh.path or "", mesh.loader_path or ""]
         if any(c and (c == named or PurePath(c).name == name) for c in candidates):
-            return context.described_at(mesh.line)
+            return context.at_description(mesh.line)
     return None

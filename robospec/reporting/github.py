@@ -10,7 +10,7 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-from robospec.diagnostics import Diagnostic
+from robospec.diagnostics import Diagnostic, Severity
 from robospec.reporting.summary import summary_line
 
 
@@ -44,7 +44,9 @@ def annotation(d: Diagnostic) -> str:
     }
     props = ",".join(f"{key}={escape_property(value)}" for key, value in properties.items())
     message = d.message if not d.hint else f"{d.message}\nhint: {d.hint}"
-    return f"::{d.severity.value} {props}::{escape_data(message)}"
+    # GitHub's workflow commands say "notice" where robospec says "note"
+    command = "notice" if d.severity is Severity.NOTE else d.severity.value
+    return f"::{command} {props}::{escape_data(message)}"
 
 
 def render(diagnostics: Sequence[Diagnostic], files: int) -> str:

@@ -15,7 +15,7 @@ from importlib import metadata
 from pathlib import Path, PurePosixPath
 from urllib.parse import quote
 
-from robospec.diagnostics import Diagnostic, Location, Severity
+from robospec.diagnostics import Diagnostic, Location
 from robospec.diagnostics.codes import CODES
 
 SCHEMA_URI = "https://json.schemastore.org/sarif-2.1.0.json"
@@ -66,7 +66,7 @@ def result(d: Diagnostic, rule_index: int, root: Path) -> dict[str, object]:
     return {
         "ruleId": d.code,
         "ruleIndex": rule_index,
-        "level": "error" if d.severity is Severity.ERROR else "warning",
+        "level": d.severity.value,  # SARIF's levels include "error", "warning" and "note"
         "message": {"text": text},
         "locations": [
             {

@@ -38,7 +38,9 @@ def plain_lines(d: Diagnostic) -> list[str]:
 
 def format_diagnostic(d: Diagnostic, style: _Style) -> list[str]:
     loc = d.location
-    severity = ansi.ERROR if d.severity is Severity.ERROR else ansi.WARNING
+    severity = {Severity.ERROR: ansi.ERROR, Severity.WARNING: ansi.WARNING}.get(
+        d.severity, ansi.NOTE
+    )
     lines = [
         f"{style(ansi.BOLD, f'{loc.file}:{loc.line}:{loc.column}:')} "
         f"{style(severity, f'{d.severity.value}[{d.code}]')} {d.message}"

@@ -10,10 +10,16 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from robospec.description.facts import RobotDescription
+from robospec.description.sanity import SANITY_CODES
+
+if TYPE_CHECKING:
+    from robospec.compose.model import Composed
+    from robospec.derive import Derived
 from robospec.diagnostics import Diagnostic, Location
 from robospec.load.source_map import KeyPath
 from robospec.resolve.context import ResolveContext
@@ -82,19 +88,68 @@ def shown_path(context: ResolveContext, ref: FileRef) -> str:
     return ref.placeholder_text or str(Path(context.loaded.path).parent / ref.relative)
 
 
-def load_spec_description(context: ResolveContext) -> FileRef | None:
-    """Load the description the spec's ``description:`` names (into the context)."""
-    from robospec.description import load_description
-
+def load_spec_description(context: ResolveContext, mount: Mount | None = None) -> FileRef | None:
+    """Load the description the spec's ``description:`` names (into the context). ``mount``:
+    what writes the combined description of it and the spec's parts (robospec.resolve.parts),
+    given the ref of the prepared description, its kind and shown name; it returns the ref of
+    the combined text (and sets ``context.composed``), or None when the parts cannot be
+    mounted."""
     desc = context.spec.description
     assert desc is not None
-    path: KeyPath = ("description", desc.kind)
-    packages = package_folders(context)
+    prepared = _prepare(context, desc, ("description",))
+    if prepared is None or isinstance(prepared, FileRef):
+        return prepared  # could not be read, or not downloaded (names are assumed)
+    ref, kind, shown, packages, derived = prepared
+    if mount is not None:
+        mounted = mount(context, ref, kind, shown)
+        if mounted is None:
+            return None
+        ref = mounted
+    description, ref = _load(context, ref, kind, shown, packages, derived, context.composed)
+    context.loaded_description = description
+    return ref if description is not None else None
+
+
+Mount = Callable[[ResolveContext, FileRef, str, str], "FileRef | None"]
+
+
+def load_part_description(
+    context: ResolveContext, desc: Any, where: KeyPath
+) -> tuple[FileRef, RobotDescription, str] | None:
+    """A part's bare description (``parts.NAME.description``), expanded and mended as the
+    spec's own: its file, its facts and how diagnostics name it."""
+    prepared = _prepare(context, desc, where)
+    if prepared is None or isinstance(prepared, FileRef):
+        if isinstance(prepared, FileRef):  # not downloaded: nothing to mount yet
+            context.err(
+                (*where, desc.kind),
+                "RS055",
+                f"'{desc.path}' is not downloaded: the part cannot be mounted",
+                "python -m mani_skill.utils.download_asset " + " ".join(desc.download),
+            )
+        return None
+    ref, kind, shown, packages, derived = prepared
+    description, ref = _load(context, ref, kind, shown, packages, derived, None)
+    return (ref, description, shown) if description is not None else None
+
+
+Prepared = tuple[FileRef, Literal["urdf", "mjcf"], str, dict[str, str], "Derived | None"]
+
+
+def _prepare(context: ResolveContext, desc: Any, where: KeyPath) -> Prepared | FileRef | None:
+    """The description entry at ``where`` found, expanded (xacro) and mended (derive): its
+    ref (with the text robospec wrote, if any), kind, shown name, packages and derivation. A
+    download ManiSkill has not fetched yet gives its bare ref (the context's description is
+    then assumed from the spec's names)."""
+    path: KeyPath = (*where, desc.kind)
+    packages = package_folders(context, desc, where)
     ref = file_ref(context, desc.path, path, may_be_missing=bool(desc.download))
     if ref is None:
         return None
     shown = shown_path(context, ref)
     if not ref.absolute.is_file():  # a download ManiSkill has not fetched yet
+        if where != ("description",):
+            return ref
         from robospec.description.assumed import assumed_description
 
         context.warn(
@@ -106,6 +161,7 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         context.assumed = True
         context.loaded_description = assumed_description(context.spec, shown)
         return ref
+    mends = desc.mend.model_dump(exclude_none=True) if desc.mend is not None else {}
     if desc.kind == "xacro":
         from robospec.description.xacro import expand_xacro
 
@@ -114,30 +170,133 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
         if text is None:
             return None
-        description, diags = load_description(
-            str(ref.absolute), "urdf", text=text, packages=packages
-        )
-        diags = _relocate(_unless_shipped(diags, ref), str(ref.absolute), shown + " (expanded)")
+        shown += " (expanded)"
+        ref = dataclasses.replace(ref, generated_text=text, has_srdf_beside=False)
+    kind: Literal["urdf", "mjcf"] = "mjcf" if desc.kind == "mjcf" else "urdf"
+    derived = None
+    if mends:
+        found = _derive(context, ref, kind, shown, packages, mends, where, path)
+        if found is None:
+            return None
+        ref, derived = found
+    return ref, kind, shown, packages, derived
+
+
+def _load(
+    context: ResolveContext,
+    ref: FileRef,
+    kind: Literal["urdf", "mjcf"],
+    shown: str,
+    packages: dict[str, str],
+    derived: Derived | None,
+    composed: Composed | None,
+) -> tuple[RobotDescription | None, FileRef]:
+    """Parse the description ``ref`` holds (its text, when robospec wrote one); its problems
+    go to the context under the file the user wrote (each element's own, when composed)."""
+    from robospec.description import load_description
+
+    description, diags = load_description(
+        str(ref.absolute),
+        kind,
+        text=ref.generated_text,
+        packages=packages,
+        beside_file=ref.has_srdf_beside,
+    )
+    if derived is not None:
+        diags = derived.located(diags, str(ref.absolute)) if composed is None else diags
+    diags = _unless_shipped(diags, ref)
+    if composed is not None:
+        from robospec.compose.model import relocate
+
+        # each element at its file and line in the combined text's sources; the robot's own
+        # at the line of its derived text, which the derivation then maps to the user's file
+        diags = relocate(diags, str(ref.absolute), composed)
+        if derived is not None:
+            diags = derived.located(diags, shown)
         context.diagnostics.extend(diags)
-        # the expansion is written beside the generated module: every path moves with it
-        mesh_paths = _carried_mesh_paths(description, always=True)
-        ref = dataclasses.replace(ref, generated_text=text, mesh_paths=mesh_paths)
     else:
-        description, diags = load_description(str(ref.absolute), desc.kind, packages=packages)
-        context.diagnostics.extend(_relocate(_unless_shipped(diags, ref), str(ref.absolute), shown))
-        ref = dataclasses.replace(ref, mesh_paths=_carried_mesh_paths(description, always=False))
-    context.loaded_description = description
-    return ref if description is not None else None
+        context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
+    # an expansion or a derived copy is written elsewhere: every path it names moves with it
+    always = ref.generated_text is not None
+    ref = dataclasses.replace(ref, mesh_paths=_carried_mesh_paths(description, always=always))
+    return description, ref
 
 
-def package_folders(context: ResolveContext) -> dict[str, str]:
-    """The spec's ``description.packages``, each an absolute folder; a folder that is not
-    there is RS058 at its value (and left out)."""
-    desc = context.spec.description
+def _derive(
+    context: ResolveContext,
+    ref: FileRef,
+    kind: Literal["urdf", "mjcf"],
+    shown: str,
+    packages: dict[str, str],
+    mends: dict[str, Any],
+    where: KeyPath = ("description",),
+    file_path: KeyPath = ("description",),
+) -> tuple[FileRef, Derived] | None:
+    """The spec's mends applied to a copy of the description (robospec.derive): the notes of
+    what changed, in the description; what the spec asked that does not fit, at its entry."""
+    from robospec.derive import NOT_FOR_KIND, STALE, Source, derive, mend_class
+    from robospec.diagnostics.suggest import did_you_mean
+
+    if ref.generated_text is not None:
+        data = ref.generated_text.encode("utf-8")
+    else:
+        from robospec.description.urdf import read_file_bytes
+
+        try:
+            data = read_file_bytes(str(ref.absolute))
+        except OSError as exc:
+            context.err(
+                file_path,
+                "RS050",
+                f"cannot read robot description '{shown}': {exc.strerror or exc}",
+            )
+            return None
+    derived = derive(Source(str(ref.absolute), shown, kind, data, packages), mends)
+    context.diagnostics.extend(derived.notes)
+    context.diagnostics.extend(derived.refusals)
+    for outcome in derived.outcomes:
+        at: KeyPath = (*where, "mend", outcome.name)
+        policy = _policy_text(mends[outcome.name])
+        if outcome.status == "stale":
+            context.warn(
+                at,
+                STALE,
+                f"mend '{outcome.name}: {policy}' changes nothing in '{shown}'",
+                "remove it (robospec new writes only the mends a robot needs)",
+            )
+        elif outcome.status == "not_for_kind":
+            mend = mend_class(outcome.name)
+            kinds = " and ".join(sorted(mend.KINDS)).upper() if mend is not None else "other"
+            from robospec.derive import MENDS
+
+            fitting = [m.NAME for m in MENDS if kind in m.KINDS]
+            context.err(
+                at,
+                NOT_FOR_KIND,
+                f"mend '{outcome.name}' is for {kinds} descriptions, and '{shown}' is "
+                f"{kind.upper()}",
+                did_you_mean(outcome.name, fitting)
+                or f"{kind.upper()} mends: {', '.join(fitting)}",
+            )
+    return dataclasses.replace(ref, generated_text=derived.text, derived=True), derived
+
+
+def _policy_text(policy: Any) -> str:
+    if isinstance(policy, list):
+        return "[" + ", ".join(f"{p:g}" if isinstance(p, float) else str(p) for p in policy) + "]"
+    return str(policy)
+
+
+def package_folders(
+    context: ResolveContext, desc: Any = None, entry: KeyPath = ("description",)
+) -> dict[str, str]:
+    """The ``packages`` of the description entry at ``entry`` (the spec's own by default), each
+    an absolute folder; a folder that is not there is RS058 at its value (and left out)."""
+    desc = desc if desc is not None else context.spec.description
     assert desc is not None
     folders: dict[str, str] = {}
     for name, text in desc.packages.items():
-        where: KeyPath = ("description", "packages", name)
+        where: KeyPath = (*entry, "packages", name)
         in_assets, in_data = split_assets(text), split_data(text)
         if in_data is not None:
             folder = maniskill_data_dir() / in_data
@@ -227,7 +386,7 @@ def load_inherited_description(
 # SAPIEN ignores, an impossible inertia): not said of the descriptions ManiSkill ships, which a
 # spec cannot change and ManiSkill's own agents load as they are (Fetch's fingers, the Allegro
 # hand). Errors are said of every description.
-_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"})
+_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
 
 
 def _unless_shipped(diagnostics: list[Diagnostic], ref: FileRef) -> list[Diagnostic]:

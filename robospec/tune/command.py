@@ -166,7 +166,7 @@ def _over_rating(item: CompiledSpec, tunings: Sequence[ControllerTuning]) -> lis
         for joint, demand, cap in tuning.over_rating:
             rating = ratings.get(joint)
             where = (
-                item.context.described_at(rating.line)
+                item.context.at_description(rating.line)
                 if rating is not None
                 else item.context.key(("controllers", tuning.controller))
             )

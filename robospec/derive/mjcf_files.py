@@ -1,0 +1,59 @@
+"""The files an MJCF model names (meshes, textures, height fields, skins), found as MuJoCo finds
+them, and the model written so that it names them from elsewhere: what carrying a derived MJCF
+into robospec's cache or a built package takes.
+
+MuJoCo takes a mesh, height field or skin ``file`` relative to ``<compiler meshdir>`` (else
+``assetdir``), a texture's relative to ``texturedir`` (else ``assetdir``), each relative to the
+model's folder. ManiSkill's loader takes every one relative to ``meshdir``. A carried model has
+its includes written in place, every file named relative to where it is carried (or by the name
+of its copy there) and no directories in its ``<compiler>``: both read it the same way.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+
+from lxml import etree
+
+from robospec.derive.document import Document, Source
+
+_MESH_LIKE = ("mesh", "hfield", "skin")
+_DIRECTORIES = ("assetdir", "meshdir", "texturedir")
+
+
+def named_files(root: etree._Element, model: str) -> list[tuple[etree._Element, str]]:
+    """Each element of ``root`` (an MJCF read from the file ``model``) that names a file, and
+    the file (absolute), as MuJoCo finds it."""
+    folder = os.path.dirname(os.path.abspath(model))
+    compiler = root.find("compiler")
+    get = compiler.get if compiler is not None else (lambda _key, default=None: default)
+    assets = get("assetdir", "") or ""
+    meshes = get("meshdir", None) or assets
+    textures = get("texturedir", None) or assets
+    found = []
+    for element in root.iter(*_MESH_LIKE, "texture"):
+        file = element.get("file")
+        parent = element.getparent()
+        if not file or parent is None or parent.tag == "default":
+            continue
+        base = textures if element.tag == "texture" else meshes
+        found.append((element, os.path.normpath(os.path.join(folder, base, file))))
+    return found
+
+
+def carried_text(text: str, model: str, name_of: Callable[[str], str]) -> str:
+    """The model ``text`` (read from the file ``model``) as written elsewhere: includes in
+    place, each file named ``name_of(absolute path)``, no compiler directories."""
+    document = Document(Source(model, model, "mjcf", text.encode("utf-8")))
+    document.parse()
+    from robospec.derive.includes import inline_all
+
+    inline_all(document, note=False)
+    root = document.tree
+    for element, path in named_files(root, model):
+        element.set("file", name_of(path))
+    for compiler in root.iter("compiler"):
+        for attribute in _DIRECTORIES:
+            compiler.attrib.pop(attribute, None)
+    return etree.tostring(root, encoding="unicode") + "\n"

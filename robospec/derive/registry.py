@@ -1,0 +1,49 @@
+"""Every mend class, in the order they run: text first (the file must become XML), then the
+tree, each before the ones that read what it mends (substitutions before the package URIs they
+write, masses before the inertias scaled with them)."""
+
+from __future__ import annotations
+
+from typing import cast
+
+import robospec.derive.geoms as geoms
+import robospec.derive.includes as includes
+import robospec.derive.inertia as inertia
+import robospec.derive.integers as integers
+import robospec.derive.limits as limits
+import robospec.derive.mass as mass
+import robospec.derive.mimic as mimic
+import robospec.derive.mirrors as mirrors
+import robospec.derive.namespaces as namespaces
+import robospec.derive.packages as packages
+import robospec.derive.spherical as spherical
+import robospec.derive.substitutions as substitutions
+import robospec.derive.textures as textures
+import robospec.derive.transmissions as transmissions
+import robospec.derive.xml_repair as xml_repair
+from robospec.derive.mend import MendClass
+
+MENDS: tuple[MendClass, ...] = cast(
+    "tuple[MendClass, ...]",
+    (
+        xml_repair,
+        namespaces,
+        includes,
+        geoms,
+        substitutions,
+        packages,
+        mirrors,
+        textures,
+        transmissions,
+        mass,
+        inertia,
+        integers,
+        limits,
+        spherical,
+        mimic,
+    ),
+)
+
+
+def mend_class(name: str) -> MendClass | None:
+    return next((m for m in MENDS if m.NAME == name), None)
