@@ -83,7 +83,9 @@ def test_gains_are_critically_damped_at_20_rad_s_with_the_rating_as_force_limit(
     tmp_path: Path,
 ) -> None:
     data, diagnostics = _scaffold(tmp_path, ARM.format(effort=100))
-    assert [d.code for d in diagnostics] == []
+    # the slider's effort="0": the description's own sanity warning (RS091), no gain warning
+    assert [d.code for d in diagnostics] == ["RS091"], [d.format_text() for d in diagnostics]
+    assert "'slide'" in diagnostics[0].message
     arm = data["controllers"]["arm_pos"]
     inertia = 0.02 + 2 * 0.25 + 0.002 + 1.1
     # a fixed robot under ManiSkill's gravity compensation holds no load: stiffness I w²
