@@ -12,11 +12,15 @@
    (benchmarks/step_throughput.py).
 4. Validate time and peak memory on synthetic robots of 100 to 10,000 links
    (benchmarks/scaling.py).
-5. `env.step` throughput of robots optimized by `robospec optimize` against the same robots
-   as written (benchmarks/optimize_throughput.py).
-6. How soon `robospec lsp` publishes fresh diagnostics after an edit of the Panda spec
+5. `env.step` throughput of robots optimized by `robospec optimize`, and by its fast profile,
+   against the same robots as written (benchmarks/optimize_throughput.py).
+6. What optimize and the fast profile change in behaviour: link-pose divergence, check's step
+   responses and the Panda's motion-planning success (benchmarks/optimize_fidelity.py).
+7. The same robots on physx_cuda at 1,024 and 4,096 environments, where a GPU is
+   (benchmarks/optimize_gpu.py; skipped with a message elsewhere).
+8. How soon `robospec lsp` publishes fresh diagnostics after an edit of the Panda spec
    (benchmarks/lsp_latency.py).
-7. Time to draw a robot card's pictures (`robospec doc --images`) for the Panda and the G1
+9. Time to draw a robot card's pictures (`robospec doc --images`) for the Panda and the G1
    on the CPU (benchmarks/pictures.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
@@ -34,6 +38,8 @@ from pathlib import Path
 
 import first_error
 import lsp_latency
+import optimize_fidelity
+import optimize_gpu
 import optimize_throughput
 import pictures
 import registration
@@ -49,6 +55,8 @@ SECTION_TITLES = (
     step_throughput.TITLE,
     scaling.TITLE,
     optimize_throughput.TITLE,
+    optimize_fidelity.TITLE,
+    optimize_gpu.TITLE,
     lsp_latency.TITLE,
     pictures.TITLE,
 )
@@ -60,6 +68,8 @@ PARTS = (
     "step_throughput",
     "scaling",
     "optimize_throughput",
+    "optimize_fidelity",
+    "optimize_gpu",
     "lsp_latency",
     "pictures",
 )
@@ -77,6 +87,17 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             "optimize_throughput": lambda: optimize_throughput.measure(
                 steps=10, rounds=1, only=["panda"], corpus=False, samples=20, every_spec=False
             ),
+            "optimize_fidelity": lambda: optimize_fidelity.measure(
+                seeds=1,
+                steps=5,
+                samples=20,
+                robots=("panda",),
+                check_robots=("panda",),
+                tasks=("PickCube-v1",),
+            ),
+            "optimize_gpu": lambda: optimize_gpu.measure(
+                envs=(16,), steps=5, samples=20, robots=("panda",)
+            ),
             "lsp_latency": lambda: lsp_latency.measure(4),
             "pictures": lambda: pictures.measure(1, only=["panda"]),
         }
@@ -86,6 +107,8 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "step_throughput": lambda: step_throughput.measure(steps=200, rounds=5),
         "scaling": lambda: scaling.measure([100, 1_000, 10_000], repeat),
         "optimize_throughput": lambda: optimize_throughput.measure(steps=200, rounds=5),
+        "optimize_fidelity": lambda: optimize_fidelity.measure(seeds=50, steps=100),
+        "optimize_gpu": lambda: optimize_gpu.measure(),
         "lsp_latency": lambda: lsp_latency.measure(40),
         "pictures": lambda: pictures.measure(repeat),
     }

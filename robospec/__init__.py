@@ -12,17 +12,17 @@ from typing import TYPE_CHECKING, Any
 from robospec.diagnostics import Diagnostic, SpecError
 
 if TYPE_CHECKING:
-    from robospec.output.register import register
+    from robospec.output.register import register, sim_config_for
 
 __version__ = "0.1.0"
-__all__ = ["Diagnostic", "SpecError", "__version__", "register"]
+__all__ = ["Diagnostic", "SpecError", "__version__", "register", "sim_config_for"]
 
 
 def __getattr__(name: str) -> Any:
     # registration's imports (shutil, tempfile, hashlib, ...) are not needed by the CLI's
     # validate, which imports this package first
-    if name == "register":
-        from robospec.output.register import register
+    if name in ("register", "sim_config_for"):
+        import importlib
 
-        return register
+        return getattr(importlib.import_module("robospec.output.register"), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -7,6 +7,7 @@ its verdicts are noise; the quick-run test checks that every part runs, not that
 
 from __future__ import annotations
 
+import json
 import math
 import subprocess
 import sys
@@ -19,6 +20,9 @@ from conftest import ROOT
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import first_error
+import optimize_fidelity
+import optimize_gpu
+import optimize_throughput
 import run
 import scaling
 from section import Section
@@ -99,3 +103,97 @@ def test_quick_run_runs_every_part_and_writes_every_section(tmp_path: Path) -> N
     assert _headings(doc) == list(run.SECTION_TITLES)
     assert "`rs_panda` / `panda` | pd_joint_delta_pos |" in doc
     assert "| 100 |" in doc and "ValueError" in doc and "error[RS201]" in doc
+    # the fast profile, side by side with optimize: speed, divergence, step responses, tasks
+    assert "| `specs/maniskill/panda.yaml` | manipulation |" in doc
+    assert "| `panda` | fast | 14 |" in doc and "| `panda` | `arm_pos` |" in doc
+    assert "| PickCube-v1 | 1 |" in doc or "task success" in doc
+    assert "physx_cuda" in doc
+
+
+def test_the_planning_worker_finds_numpy_1_where_setup_puts_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import numpy
+
+    if int(numpy.__version__.split(".")[0]) < 2:
+        assert optimize_fidelity.numpy1_path() == ""  # nothing to put first
+        return
+    monkeypatch.delenv("ROBOSPEC_NUMPY1", raising=False)
+    monkeypatch.setattr(sys, "prefix", str(tmp_path))
+    assert optimize_fidelity.numpy1_path() is None
+    (tmp_path / "numpy1" / "numpy").mkdir(parents=True)
+    (tmp_path / "numpy1" / "numpy" / "__init__.py").write_text("")
+    assert optimize_fidelity.numpy1_path() == str(tmp_path / "numpy1")
+    elsewhere = tmp_path / "mine"
+    (elsewhere / "numpy").mkdir(parents=True)
+    (elsewhere / "numpy" / "__init__.py").write_text("")
+    monkeypatch.setenv("ROBOSPEC_NUMPY1", str(elsewhere))
+    assert optimize_fidelity.numpy1_path() == str(elsewhere)
+
+
+def test_without_numpy_1_task_success_is_not_measured_and_says_why(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(optimize_fidelity, "numpy1_path", lambda: None)
+    notes: list[str] = []
+    lines, met = optimize_fidelity._success_part(tmp_path, 50, 20, ("PickCube-v1",), notes)
+    assert not met and len(lines) == 2  # the header, no rows
+    assert "numpy" in notes[0] and "scripts/setup" in notes[0]
+
+
+def test_step_response_figures_are_one_row_per_controller(monkeypatch: pytest.MonkeyPatch) -> None:
+    finding = {
+        "check": "step_response",
+        "mode": "pd_joint_pos",
+        "subject": "arm (arm_pos)",
+        "metrics": {
+            "rise_time": 0.23,
+            "overshoot": 0.077,
+            "settling_time": 0.24,
+            "steady_state_error": 0.00029,
+        },
+    }
+    again = {**finding, "mode": "pd_joint_delta_pos"}  # the same controller in another mode
+    report = {
+        "robots": [
+            {"spec": "a.yaml", "findings": [finding, again]},
+            {"spec": "b.yaml", "findings": []},
+        ]
+    }
+    done = subprocess.CompletedProcess([], 0, stdout=json.dumps(report), stderr="")
+    monkeypatch.setattr(optimize_fidelity.subprocess, "run", lambda *a, **k: done)
+    every = optimize_fidelity._step_responses([Path("a.yaml"), Path("b.yaml")])
+    assert every["b.yaml"] == {}
+    figures = every["a.yaml"]
+    assert list(figures) == ["arm_pos"]
+    assert optimize_fidelity._figures(figures["arm_pos"]) == "0.23 s, 7.7%, 0.24 s, 0.00029"
+    assert optimize_fidelity._figures(None) == "—"
+
+
+def test_the_gpu_benchmark_skips_with_a_message_where_there_is_no_cuda(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.setattr(optimize_gpu, "cuda_device", lambda: None)
+    section = optimize_gpu.measure()
+    assert section.meets_target  # nothing measured is no missed target
+    assert "Not measured: this machine has no CUDA device" in section.body
+    assert "--only optimize_gpu" in section.body and "4,096" in section.body
+
+
+def test_the_fast_table_takes_the_median_and_the_slowest_of_the_fast_robots() -> None:
+    def row(ratios: list[float]) -> dict[str, object]:
+        report = {
+            "simulation": {"category": "locomotion", "contact_offset": 0.001},
+            "collision_shapes": [{"primitives": 3}, {"primitives": 0}],
+            "contacts": [{"pairs_per_configuration": 20.0}, {"pairs_per_configuration": 5.0}],
+        }
+        return {"original": 100.0, "fast": 250.0, "fast_ratios": ratios, "fast_report": report}
+
+    measured = [
+        (Path("a.yaml"), {}, row([2.5, 2.4, 2.6])),
+        (Path("b.yaml"), {}, row([1.1, 1.2, 1.0])),
+        (Path("c.yaml"), {}, row([3.0, 3.1, 2.9])),
+    ]
+    lines, median, slowest = optimize_throughput._fast_table(measured)
+    assert median == 2.5 and slowest == 1.1
+    assert "| locomotion | 3 | 1 mm | 20.0 → 5.0 | 100 | 250 | 2.50 |" in lines[2]

@@ -218,9 +218,13 @@ def test_hull_caps_vertices_and_keeps_nearly_all_the_volume(tmp_path: Path) -> N
     }
 
 
-def _one_mesh_robot(path: Path, origin: str = "") -> etree._Element:
+# SAPIEN weighs a link without an <inertial> by its shapes: primitives leave those alone
+INERTIAL = '<inertial><mass value="1"/><inertia ixx="1" iyy="1" izz="1"/></inertial>'
+
+
+def _one_mesh_robot(path: Path, origin: str = "", inertial: str = INERTIAL) -> etree._Element:
     return etree.fromstring(
-        f"""<robot name="r"><link name="part"><collision>{origin}
+        f"""<robot name="r"><link name="part">{inertial}<collision>{origin}
         <geometry><mesh filename="{path}" scale="2 2 2"/></geometry>
         </collision></link></robot>"""
     )
@@ -269,11 +273,29 @@ def test_primitives_fit_a_sphere_and_a_capsule(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 @needs_g1
-def test_primitives_leave_a_complex_mesh_alone(tmp_path: Path) -> None:
+def test_a_complex_mesh_fits_no_primitive_and_becomes_what_sapien_makes_of_it(
+    tmp_path: Path,
+) -> None:
     robot = _robot(("pelvis",))
+    for link in robot.iter("link"):  # weighed by its <inertial>, not by its shapes
+        link.insert(0, etree.fromstring(INERTIAL))
     result, changes = optimize_collisions(robot, tmp_path, method="primitives")
-    assert [(c.method, c.written) for c in changes] == [("kept", ())]
-    assert etree.tostring(result) == etree.tostring(robot)
+    (change,) = changes
+    assert change.method == "convert" and change.reason == "no primitive within the bound"
+    assert change.fit_error is not None and change.fit_error > 0.005
+    converted, _ = optimize_collisions(robot, tmp_path / "c", method="convert")
+    assert len(result.findall("link/collision")) == len(converted.findall("link/collision"))
+
+
+def test_a_link_weighed_by_its_shapes_keeps_them(tmp_path: Path) -> None:
+    # no <inertial>: SAPIEN takes its mass from its shapes, which a box would change
+    trimesh.creation.box((0.1, 0.2, 0.4)).export(tmp_path / "box.stl")
+    robot = _one_mesh_robot(tmp_path / "box.stl", inertial="")
+    result, changes = optimize_collisions(
+        robot, tmp_path / "out", method="primitives", multiple_collisions=False
+    )
+    assert [(c.method, c.reason) for c in changes] == [("kept", "mass from its collision shapes")]
+    assert result.find("link/collision/geometry/mesh") is not None
 
 
 @needs_g1

@@ -2,9 +2,10 @@
 
 Sections: the robot (uid, class, description file), the kinematic tree as a Mermaid
 ``graph TD`` (links as nodes, joints as labelled edges, active joints drawn thick), the active
-joints, the action layout of each control mode (:mod:`.layout`), the keyframes and the cameras.
-With pictures (``doc --images``, :mod:`robospec.pictures`) the card leads with the robot, shows
-it from each view at each keyframe, and each camera's view below the cameras' table.
+joints, the action layout of each control mode (:mod:`.layout`), the keyframes, the cameras and
+the spec's ``simulation`` settings (where it has any). With pictures (``doc --images``,
+:mod:`robospec.pictures`) the card leads with the robot, shows it from each view at each
+keyframe, and each camera's view below the cameras' table.
 No path of the machine appears (files are shown as the spec names them) and numbers are
 formatted the same way every time, so the card is byte-identical for the same spec.
 """
@@ -96,10 +97,42 @@ def robot_card(
     lines += _actions(robot, description)
     lines += _keyframes(robot, description)
     lines += _cameras(robot, pictures)
+    lines += _simulation(robot)
     lines += _plots(plots)
     while lines and lines[-1] == "":
         lines.pop()
     return "\n".join(lines) + "\n"
+
+
+def _simulation(robot: ResolvedRobot) -> list[str]:
+    """The spec's ``simulation`` section, where it has one: what the agent changes in how its
+    shapes collide, and the sim config it recommends."""
+    sim = robot.simulation
+    if sim.empty:
+        return []
+    lines = ["## Simulation", ""]
+    if sim.profile is not None:
+        lines += [
+            f"Written by `robospec optimize --profile {sim.profile}`: the robot collides "
+            "differently from its description, for speed.",
+            "",
+        ]
+    lines += ["| setting | value |", "| --- | --- |"]
+    if sim.category is not None:
+        lines.append(f"| category | {sim.category} |")
+    if sim.contact_offset is not None:
+        lines.append(
+            f"| contact offset of the robot's shapes | {number(sim.contact_offset)} m "
+            "(ManiSkill's scenes: 0.02 m) |"
+        )
+    for key, value in sim.sim_config.get("scene_config", {}).items():
+        lines.append(f"| {key.replace('_', ' ')} | {value} |")
+    if sim.sim_config:
+        lines += [
+            "",
+            "Pass the recommended sim config to `gym.make(..., sim_config=sim_config_for(uid))`.",
+        ]
+    return [*lines, ""]
 
 
 def _plots(plots: Sequence[tuple[str, str]]) -> list[str]:

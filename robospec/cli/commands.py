@@ -415,13 +415,14 @@ def optimize(
         typer.Option("--keep", help="a link to keep although the spec does not name it"),
     ] = None,
     shapes: Annotated[
-        str,
+        str | None,
         typer.Option(
             "--shapes",
-            help="collision meshes: keep, convert (STL to what SAPIEN simulates, no warning), "
-            "hull, coacd (convex decomposition) or primitives",
+            help="collision meshes: keep, convert (STL to what SAPIEN simulates, no warning; "
+            "the default), hull, coacd (convex decomposition) or primitives (the fast "
+            "profile's)",
         ),
-    ] = "convert",
+    ] = None,
     max_vertices: Annotated[
         int | None,
         typer.Option("--max-vertices", min=4, help="cap each convex shape's vertices (hull)"),
@@ -434,6 +435,38 @@ def optimize(
             help="random configurations for the self-collision matrix (0: no never_collide)",
         ),
     ] = 10_000,
+    profile: Annotated[
+        str,
+        typer.Option(
+            "--profile",
+            help="default (the same robot) or fast (it collides differently, for speed: "
+            "primitive shapes, small contact offsets, a recommended sim config)",
+        ),
+    ] = "default",
+    max_error: Annotated[
+        float | None,
+        typer.Option(
+            "--max-error",
+            help="how far a primitive collision shape may stand off the mesh, in m "
+            "(primitives; default 0.005)",
+        ),
+    ] = None,
+    contact_offset: Annotated[
+        float | None,
+        typer.Option(
+            "--contact-offset",
+            help="the robot's shapes' contact offset, in m (fast; default: measured, at "
+            "most 0.001)",
+        ),
+    ] = None,
+    category: Annotated[
+        str | None,
+        typer.Option(
+            "--category",
+            help="manipulation (15 solver iterations) or locomotion (4) (fast; default: "
+            "locomotion for a robot with a free root)",
+        ),
+    ] = None,
     format: ReportFormatOpt = ReportFormat.text,
 ) -> None:
     """Write OUT.yaml: the same robot with a description that simulates faster.
@@ -441,7 +474,8 @@ def optimize(
     Fixed joints are merged into their parent links (every link the spec names is kept),
     collision meshes are made what SAPIEN simulates well, and link pairs that touch in no
     sampled configuration are declared never_collide. The optimized URDF is written beside
-    OUT.yaml; nothing robospec did not write is overwritten.
+    OUT.yaml; nothing robospec did not write is overwritten. --profile fast also changes how
+    the robot collides, for speed, and says so in OUT.yaml's simulation section.
 
     Example: robospec optimize specs/maniskill/fetch.yaml -o out/fetch_fast.yaml
     """
@@ -450,9 +484,14 @@ def optimize(
     options = OptimizeOptions(
         keep=tuple(keep or ()),
         uid=uid,
-        shapes=shapes,
+        shapes=shapes or "",
         max_vertices=max_vertices,
         samples=samples,
+        profile=profile,
+        max_error=max_error,
+        contact_offset=contact_offset,
+        category=category,
+        arguments=tuple(sys.argv[1:]),
     )
     report, diagnostics = run_optimize(spec, out, options)
     typer.echo(render(report, diagnostics, format.value))

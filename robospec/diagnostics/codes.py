@@ -194,6 +194,14 @@ _CODES = [
     Code("RS662", "mesh cannot be read for the pictures"),
     Code("RS663", "MuJoCo cannot load the MJCF for the pictures"),
     Code("RS664", "the pictures' scene cannot be built"),
+    # -- robospec optimize --profile fast (RS670-RS689)
+    Code("RS670", "unknown optimize profile"),
+    Code("RS671", "--max-error out of range"),
+    Code("RS672", "--contact-offset out of range"),
+    Code("RS673", "a link the spec names would be merged away"),
+    Code("RS674", "collision meshes fit no primitive within the bound"),
+    Code("RS675", "unknown robot category"),
+    Code("RS676", "an option that applies only to another profile or shapes method"),
     # -- mends: what robospec changed in a derived copy of the description (RS700-RS729)
     Code("RS700", "mended: XML text no parser accepts"),
     Code("RS701", "mended: undeclared namespace prefixes"),

@@ -62,6 +62,7 @@ CLASS_ATTRIBUTES = frozenset(
         "_sensor_configs",
         "_after_init",
         "_after_loading_articulation",
+        "recommended_sim_config",
     }
 )
 
@@ -195,6 +196,9 @@ def generate_class_body(
         body.append(generate_controller_configs(robot, attributes, variables, context.file_expr))
     if robot.cameras and "cameras" in declared:
         body.append(generate_sensor_configs(robot.cameras))
+    if robot.simulation.sim_config:
+        # read by the built package's sim_config_for(uid), for gym.make(sim_config=...)
+        body.append(assign("recommended_sim_config", const(robot.simulation.sim_config)))
     body.extend(generate_members(robot, python))
     return body, paragraphs
 

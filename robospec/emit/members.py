@@ -373,6 +373,19 @@ def generate_after_loading_articulation(
     robot: ResolvedRobot, python: PythonNames
 ) -> ast.FunctionDef | None:
     body: list[ast.stmt] = []
+    offset = robot.simulation.contact_offset
+    if offset is not None:
+        # on the shapes themselves, before the scene is simulated (and, on the GPU, before
+        # PhysX copies them): ManiSkill's scene config gives every shape its own 2 cm
+        body += template(
+            """
+            for link in self.robot.links:
+                for body in link._bodies:
+                    for shape in body.get_collision_shapes():
+                        shape.set_contact_offset(OFFSET)
+            """,
+            OFFSET=constant(offset),
+        )
     for drive in robot.drives:
         body += template(
             """

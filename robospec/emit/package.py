@@ -6,6 +6,7 @@ device, with or without robospec installed."""
 from __future__ import annotations
 
 import ast
+import textwrap
 
 from robospec.emit.layout import format_module
 from robospec.emit.layout.imports import sorted_imports
@@ -29,6 +30,14 @@ def headless_module_source() -> str:
     )
 
 
+# the package's one function: a spec's `simulation` section, as gym.make takes it
+SIM_CONFIG_FOR = '''
+def sim_config_for(uid):
+    """The sim config robot `uid`'s spec recommends, for gym.make(sim_config=...), or {}."""
+    return deepcopy(getattr(AGENTS[uid], "recommended_sim_config", {}))
+'''
+
+
 def emit_package_init(modules: list[tuple[str, str, str]]) -> str:
     """The source of ``__init__.py`` for ``(module, uid, class name)`` entries, in order.
 
@@ -42,7 +51,7 @@ def emit_package_init(modules: list[tuple[str, str, str]]) -> str:
     )
     imports: list[ast.ImportFrom] = [ast.ImportFrom(None, [ast.alias(HEADLESS_MODULE)], 1)]
     classes: list[ast.expr] = []
-    bound: set[str] = {"AGENTS", "agent", HEADLESS_MODULE}
+    bound: set[str] = {"AGENTS", "agent", "deepcopy", "sim_config_for", HEADLESS_MODULE}
     for module, _, class_name in modules:
         own = safe_identifier(class_name)
         local = own if own not in bound else f"{own}_{safe_identifier(module)}"
@@ -61,11 +70,13 @@ def emit_package_init(modules: list[tuple[str, str, str]]) -> str:
     install = ast.Call(
         ast.Attribute(ast.Name(HEADLESS_MODULE, ast.Load()), "install", ast.Load()), [], []
     )
+    imports.append(ast.ImportFrom("copy", [ast.alias("deepcopy")], 0))
     body: list[ast.stmt] = [
         ast.Expr(ast.Constant(doc)),
         *sorted_imports(imports),
         ast.Expr(install),
         assign("AGENTS", table),
+        *ast.parse(textwrap.dedent(SIM_CONFIG_FOR)).body,
     ]
     module_node = ast.Module(body, type_ignores=[])
     return format_module(ast.fix_missing_locations(module_node))

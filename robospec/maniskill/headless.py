@@ -53,16 +53,20 @@ def make_empty_env(
     headless: bool = True,
     num_envs: int = 1,
     sim_backend: str = "physx_cpu",
+    sim_config: dict[str, Any] | None = None,
 ) -> Any:
     """ManiSkill's ``Empty-v1`` with robot ``uid``, state observations, no renderer: the
     environment every headless run and comparison in robospec uses (on the CPU unless
-    ``sim_backend`` says ``physx_cuda``)."""
+    ``sim_backend`` says ``physx_cuda``; ``sim_config``: what ManiSkill merges over the task's,
+    e.g. a spec's recommended one)."""
     import gymnasium as gym
     import mani_skill.envs  # noqa: F401  (registers Empty-v1)
 
     kwargs: dict[str, Any] = {}
     if control_mode is not None:
         kwargs["control_mode"] = control_mode
+    if sim_config:
+        kwargs["sim_config"] = sim_config
     if not headless:
         return gym.make(
             "Empty-v1",
@@ -75,5 +79,10 @@ def make_empty_env(
         )
     with headless_loading():
         return make_empty_env(
-            uid, control_mode, headless=False, num_envs=num_envs, sim_backend=sim_backend
+            uid,
+            control_mode,
+            headless=False,
+            num_envs=num_envs,
+            sim_backend=sim_backend,
+            sim_config=sim_config,
         )

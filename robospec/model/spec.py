@@ -274,6 +274,45 @@ class CollisionRule(StrictModel):
     )
 
 
+class Simulation(StrictModel):
+    """How the robot simulates beyond its description: PhysX settings the agent applies to
+    its own shapes, and the sim config it recommends for `gym.make` (`robospec optimize
+    --profile fast` writes this section)."""
+
+    profile: Literal["fast"] | None = Field(
+        default=None,
+        description="The `robospec optimize` profile that wrote this spec, which changes how "
+        "the robot collides for speed (see docs/optimize.md); informational.",
+        examples=["fast"],
+    )
+    category: Literal["manipulation", "locomotion"] | None = Field(
+        default=None,
+        description="What the robot is for, which the recommended solver iterations follow: "
+        "manipulation (15 or more) or locomotion (about 4).",
+        examples=["manipulation"],
+    )
+    contact_offset: Annotated[Number, Field(gt=0)] | None = Field(
+        default=None,
+        description="PhysX contact offset of every collision shape of the robot, in m, set "
+        "by the agent after loading (ManiSkill's scenes give every shape 0.02). Two shapes "
+        "make contacts once they are nearer than the sum of their offsets: a small offset "
+        "stops neighbouring links that never touch from making contacts.",
+        examples=[0.002],
+    )
+    solver_position_iterations: Annotated[int, Field(ge=1, le=255)] | None = Field(
+        default=None,
+        description="The PhysX solver position iterations recommended for this robot "
+        "(`sim_config_for(uid)`; ManiSkill's default is 15).",
+        examples=[4],
+    )
+    solver_velocity_iterations: Annotated[int, Field(ge=0, le=255)] | None = Field(
+        default=None,
+        description="The PhysX solver velocity iterations recommended for this robot "
+        "(`sim_config_for(uid)`; ManiSkill's default is 1).",
+        examples=[1],
+    )
+
+
 _GRIPPER_MATERIAL = {"static_friction": 2.0, "dynamic_friction": 2.0, "restitution": 0.0}
 _FINGER = {"material": "gripper", "patch_radius": 0.1, "min_patch_radius": 0.1}
 _REST = {"qpos": {"arm": [0, "pi/8", 0, "-5*pi/8", 0, "3*pi/4", "pi/4"], "gripper": 0.04}}
@@ -553,6 +592,12 @@ class Spec(StrictModel):
         default_factory=Hooks,
         description="Python functions and members for what no declaration covers.",
         examples=[{"after_init": "my_robots.hooks:after_init"}],
+    )
+    simulation: Simulation = Field(
+        default_factory=Simulation,
+        description="PhysX settings for the robot's own shapes and the sim config it "
+        "recommends (`sim_config_for(uid)`).",
+        examples=[{"contact_offset": 0.002, "solver_position_iterations": 15}],
     )
     checks: Checks = Field(
         default_factory=Checks,

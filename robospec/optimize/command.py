@@ -9,6 +9,13 @@ collision meshes it made). Each carries robospec's mark, and a file without it i
 overwritten (RS604). Everything is written to temporary names first and renamed in place at the
 end, so a failure leaves the old output or none, never a part.
 
+``--profile fast`` changes how the robot collides, for speed (see :mod:`robospec.optimize.fast`):
+collision meshes become boxes, capsules or spheres where one lies within ``--max-error`` of
+the mesh, the robot's own shapes get a contact offset small enough that pairs that never touch
+make no contacts, and the spec recommends solver iterations for the robot's category; all of
+it is written into the spec's ``simulation`` section, and the report gives each change with
+what it measured.
+
 The links kept are every link the spec names — wherever: groups' links, camera mounts, tcp,
 ee_link and root_link_name, named links, link and collision rules, never_collide, grasping and
 the other members' links, drives (``Bindings.link_names`` of the resolve stage) — the links of
@@ -30,6 +37,14 @@ from robospec.diagnostics import Diagnostic, Location, error, has_errors, warnin
 # the first line of every file robospec optimize writes: what it may overwrite
 MARK = "written by robospec optimize"
 SHAPE_METHODS = ("keep", "convert", "hull", "coacd", "primitives")
+PROFILES = ("default", "fast")
+CATEGORIES = ("manipulation", "locomotion")
+# --max-error: a primitive standing off the mesh by more than 5 cm is another robot
+MAX_ERROR_RANGE = (0.0, 0.05)  # exclusive, inclusive; m
+DEFAULT_MAX_ERROR = 0.005
+# --contact-offset: above ManiSkill's own 2 cm it is no profile for speed; below 0.1 mm PhysX
+# sees contacts only once shapes touch
+CONTACT_OFFSET_RANGE = (0.0001, 0.02)  # inclusive; m
 FINAL_URDF = ".final.urdf"  # in the staging folder: the URDF as it is named from OUT's folder
 
 
@@ -37,10 +52,24 @@ FINAL_URDF = ".final.urdf"  # in the staging folder: the URDF as it is named fro
 class OptimizeOptions:
     keep: tuple[str, ...] = ()  # links to keep although the spec does not name them
     uid: str | None = None  # the optimized spec's uid; default: the spec's, plus "_optimized"
-    shapes: str = "convert"  # what becomes of collision meshes: SHAPE_METHODS
+    shapes: str = ""  # what becomes of collision meshes: SHAPE_METHODS ("": the profile's)
     max_vertices: int | None = None  # a cap on each convex shape's vertices (hull)
     samples: int = 10_000  # configurations for the collision matrix (MoveIt's default); 0: none
     seed: int = 0
+    profile: str = "default"  # PROFILES: "fast" changes how the robot collides, for speed
+    max_error: float | None = None  # primitives: how far one may stand off the mesh (m)
+    contact_offset: float | None = None  # fast: the robot's shapes' offset (default: measured)
+    category: str | None = None  # fast: manipulation or locomotion (default: by the root)
+    # the command line as given (after the program name): where each option's value stands,
+    # for the diagnostics about it
+    arguments: tuple[str, ...] = ()
+
+    @property
+    def shape_method(self) -> str:
+        """The shapes method asked for, or the profile's: primitives for fast."""
+        if self.shapes != "":
+            return self.shapes
+        return "primitives" if self.profile == "fast" else "convert"
 
 
 @dataclass
@@ -59,6 +88,10 @@ class OptimizeReport:
     shapes: list[dict[str, Any]] = field(default_factory=list)
     never_collide: list[list[str]] = field(default_factory=list)  # entries added
     samples: int = 0
+    profile: str = "default"
+    # the fast profile: the spec's simulation section as written, and what it measured
+    simulation: dict[str, Any] = field(default_factory=dict)
+    contacts: list[dict[str, Any]] = field(default_factory=list)  # before, after
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
     def to_json(self) -> dict[str, Any]:
@@ -73,6 +106,9 @@ class OptimizeReport:
             "unmerged": self.unmerged,
             "collision_shapes": self.shapes,
             "never_collide": {"samples": self.samples, "entries": self.never_collide},
+            "profile": self.profile,
+            "simulation": self.simulation,
+            "contacts": self.contacts,
             "diagnostics": [d.to_json() for d in self.diagnostics],
         }
 
@@ -101,9 +137,9 @@ class OptimizeReport:
             )
             lines += [
                 f"    {s['link']}: {s['method']} {s['shapes_before']} -> {s['shapes_after']} "
-                f"shape(s), {s['vertices_before']} -> {s['vertices_after']} vertices"
+                f"shape(s), {s['vertices_before']} -> {s['vertices_after']} vertices" + _fit_text(s)
                 for s in self.shapes
-                if s["method"] != "kept"
+                if s["method"] != "kept" or s.get("reason")
             ]
         if self.samples:
             lines.append(
@@ -111,7 +147,47 @@ class OptimizeReport:
                 "sampled configurations and the keyframes"
             )
             lines += [f"    [{', '.join(entry)}]" for entry in self.never_collide]
+        if self.profile != "default":
+            lines += _profile_text(self.profile, self.simulation, self.contacts)
         return "\n".join(lines)
+
+
+def _fit_text(shape: dict[str, Any]) -> str:
+    if shape.get("fit_error") is None and not shape.get("reason"):
+        return ""
+    text = ""
+    if shape.get("fit_error") is not None:
+        text += f", {shape['fit']} within {shape['fit_error'] * 1000:.2f} mm"
+    if shape.get("reason"):
+        text += f" (kept: {shape['reason']})"
+    return text
+
+
+def _profile_text(
+    profile: str, simulation: dict[str, Any], contacts: list[dict[str, Any]]
+) -> list[str]:
+    lines = [f"  profile {profile}: the robot collides differently, for speed"]
+    if "contact_offset" in simulation:
+        lines.append(
+            f"    contact offset of the robot's shapes: {simulation['contact_offset']} m "
+            "(ManiSkill's scenes: 0.02 m)"
+        )
+    if len(contacts) == 2:
+        before, after = contacts
+        lines.append(
+            f"      pairs of its links making contacts, per sampled configuration: "
+            f"{before['pairs_per_configuration']:.1f} -> {after['pairs_per_configuration']:.1f} "
+            f"({before['configurations']} configurations); pairs that never touch making "
+            f"contacts: {before['never_touching_pairs']} -> {after['never_touching_pairs']}"
+        )
+    if "solver_position_iterations" in simulation:
+        lines.append(
+            f"    recommended sim config ({simulation.get('category')}): solver iterations "
+            f"{simulation['solver_position_iterations']} position, "
+            f"{simulation['solver_velocity_iterations']} velocity "
+            "(sim_config_for(uid); ManiSkill's default 15 and 1)"
+        )
+    return lines
 
 
 def run_optimize(
@@ -191,15 +267,113 @@ def _run_optimize(
 
 
 def _option_problems(options: OptimizeOptions, at: Location) -> list[Diagnostic]:
-    if options.shapes not in SHAPE_METHODS:
-        return [
+    """Every option problem, each located at its value on the command line."""
+    import math
+
+    from robospec.cli.uid_option import argument_location
+    from robospec.diagnostics.suggest import did_you_mean
+
+    def where(option: str, value: object) -> Location:
+        if not options.arguments:
+            return at
+        return argument_location(option, str(value), options.arguments)
+
+    problems: list[Diagnostic] = []
+    if options.shapes not in ("", *SHAPE_METHODS):
+        problems.append(
             error(
-                at,
+                where("--shapes", options.shapes),
                 "RS607",
                 f"--shapes {options.shapes!r} is not one of {', '.join(SHAPE_METHODS)}",
             )
-        ]
-    return []
+        )
+    if options.profile not in PROFILES:
+        problems.append(
+            error(
+                where("--profile", options.profile),
+                "RS670",
+                f"unknown profile {options.profile!r}",
+                did_you_mean(options.profile, PROFILES) or "profiles: " + ", ".join(PROFILES),
+            )
+        )
+    if options.category is not None and options.category not in CATEGORIES:
+        problems.append(
+            error(
+                where("--category", options.category),
+                "RS675",
+                f"unknown category {options.category!r}",
+                did_you_mean(options.category, CATEGORIES)
+                or "categories: " + ", ".join(CATEGORIES),
+            )
+        )
+    low, high = MAX_ERROR_RANGE
+    if options.max_error is not None and not (
+        math.isfinite(options.max_error) and low < options.max_error <= high
+    ):
+        problems.append(
+            error(
+                where("--max-error", _argument_text(options.max_error, options.arguments)),
+                "RS671",
+                f"--max-error {options.max_error:g} is out of range: a primitive may stand "
+                f"off the mesh by more than 0 and at most {high:g} m",
+                f"the fast profile's default is {DEFAULT_MAX_ERROR:g} m (5 mm)",
+            )
+        )
+    low, high = CONTACT_OFFSET_RANGE
+    if options.contact_offset is not None and not (
+        math.isfinite(options.contact_offset) and low <= options.contact_offset <= high
+    ):
+        problems.append(
+            error(
+                where(
+                    "--contact-offset", _argument_text(options.contact_offset, options.arguments)
+                ),
+                "RS672",
+                f"--contact-offset {options.contact_offset:g} is out of range: from {low:g} "
+                f"to {high:g} m (ManiSkill's own offset)",
+                "leave it out and the fast profile measures one",
+            )
+        )
+    if problems or options.profile not in PROFILES:
+        return sorted(problems, key=lambda d: d.location)
+    fast_only = [
+        (name, value)
+        for name, value in (
+            ("--contact-offset", options.contact_offset),
+            ("--category", options.category),
+        )
+        if value is not None and options.profile != "fast"
+    ]
+    if options.max_error is not None and options.shape_method != "primitives":
+        fast_only.append(("--max-error", options.max_error))
+    return [
+        error(
+            where(name, _argument_text(value, options.arguments)),
+            "RS676",
+            f"{name} applies only to "
+            + (
+                "primitive collision shapes (--shapes primitives, or --profile fast)"
+                if name == "--max-error"
+                else "--profile fast"
+            ),
+            "add --profile fast" if options.shape_method != "primitives" else None,
+        )
+        for name, value in fast_only
+    ]
+
+
+def _argument_text(value: object, arguments: Sequence[str]) -> str:
+    """A number option's value as the command line wrote it (``5e-3`` for 0.005), to locate
+    it there; as Python writes it when the command line is not known."""
+    if isinstance(value, float):
+        for argument in arguments:
+            text = argument.partition("=")[2] or argument
+            try:
+                if float(text) == value:
+                    return text
+            except ValueError:
+                continue
+    return str(value)
 
 
 def _uid(uid: str, options: OptimizeOptions) -> str:
@@ -257,6 +431,10 @@ def _optimize_into(
             for name in unknown
         ]
     condensed = condense(urdf, keep)
+    merged_away = _named_links_merged_away(compiled, condensed.robot)
+    if merged_away:
+        return merged_away
+    report.profile = options.profile
     report.links_before = len(urdf.findall("link"))
     report.links_after = len(condensed.robot.findall("link"))
     report.merged = [(m.link, m.into, m.joint) for m in condensed.merged]
@@ -273,7 +451,8 @@ def _optimize_into(
     )
     optimized = condensed.robot
     collision_dir = staging / targets["collision"].name
-    if options.shapes != "keep":
+    method = options.shape_method
+    if method != "keep":
         from robospec.optimize.shapes import MissingDependency, optimize_collisions
 
         collision_dir.mkdir()
@@ -282,14 +461,20 @@ def _optimize_into(
             optimized, changes = optimize_collisions(
                 optimized,
                 collision_dir,
-                method=options.shapes,
+                method=method,
                 max_vertices=options.max_vertices,
                 # what SAPIEN builds from a mesh depends on it: one hull, or one per part
                 multiple_collisions=robot.load_multiple_collisions,
+                max_error=_max_error(options),
             )
         except MissingDependency as exc:
             return [error(Location("<command line>"), "RS607", str(exc), exc.hint)]
         report.shapes = [_shape_json(c) for c in changes]
+        unfitted = (
+            _unfitted(compiled, changes, _max_error(options)) if method == "primitives" else None
+        )
+        if unfitted is not None:
+            report.diagnostics.append(unfitted)
         if all(p.name == ".robospec-optimize" for p in collision_dir.iterdir()):
             shutil.rmtree(collision_dir)  # nothing was made: no folder
     # two renders: one that works from the staging folder, checked there, and the one that
@@ -306,17 +491,70 @@ def _optimize_into(
             if srdf.startswith("<?xml")
             else f"<!-- {MARK} -->\n{srdf}"
         )
+    matrix = None
     if options.samples:
         report.samples = options.samples
-        report.never_collide = _never_collide(urdf_file, optimized, compiled, options)
+        report.never_collide, matrix = _never_collide(urdf_file, optimized, compiled, options)
     staged_spec = staging / targets["spec"].name
     while True:
         staged_spec.write_text(_optimized_spec(compiled, targets, report), encoding="utf-8")
         if not report.never_collide or not _packing_problems(staged_spec):
-            return []
+            break
         # the packer could not honour every entry beside the spec's own without disabling
         # pairs that touch: the entry covering the fewest pairs goes
         report.never_collide.pop()
+    if options.profile == "fast":
+        from robospec.optimize.fast import fast_simulation
+
+        report.simulation, report.contacts = fast_simulation(
+            urdf_file, staged_spec, compiled, matrix, options
+        )
+        staged_spec.write_text(_optimized_spec(compiled, targets, report), encoding="utf-8")
+    return []
+
+
+def _max_error(options: OptimizeOptions) -> float:
+    return options.max_error if options.max_error is not None else DEFAULT_MAX_ERROR
+
+
+def _unfitted(compiled: Any, changes: Sequence[Any], bound: float) -> Diagnostic | None:
+    """RS674 when some collision meshes fit no primitive within the bound: which, and the
+    nearest miss."""
+    missed = [c for c in changes if c.reason == "no primitive within the bound"]
+    if not missed:
+        return None
+    nearest = min(missed, key=lambda c: c.fit_error)
+    fitted = sum(c.primitives for c in changes)
+    return warning(
+        Location(str(compiled.path)),
+        "RS674",
+        f"{len(missed)} collision mesh(es) fit no primitive within {bound * 1000:g} mm and keep "
+        f"the shapes SAPIEN makes of them ({fitted} became primitives); the nearest miss: "
+        f"{nearest.link}'s {nearest.fit}, {nearest.fit_error * 1000:.1f} mm off",
+        "a larger --max-error turns more into primitives, and changes the robot more",
+    )
+
+
+def _named_links_merged_away(compiled: Any, condensed: Any) -> list[Diagnostic]:
+    """RS673 for each link the spec names that the condensed description lacks, where the
+    spec names it: optimize keeps every link the spec names, so this is a link named where
+    the keep list did not look, and the optimized spec would not compile."""
+    present = {link.get("name") for link in condensed.findall("link")}
+    problems = []
+    seen: set[str] = set()
+    for path, name in compiled.context.bindings.link_names:
+        if name in present or name in seen:
+            continue
+        seen.add(name)
+        problems.append(
+            error(
+                compiled.context.value(path),
+                "RS673",
+                f"link '{name}' would be merged away by robospec optimize, and the spec names it",
+                f"keep it with --keep {name}",
+            )
+        )
+    return problems
 
 
 def _packing_problems(spec: Path) -> bool:
@@ -407,12 +645,16 @@ def _shape_json(change: Any) -> dict[str, Any]:
         "shapes_after": change.shapes_after,
         "vertices_before": change.vertices_before,
         "vertices_after": change.vertices_after,
+        "fit": change.fit or None,
+        "fit_error": change.fit_error,
+        "reason": change.reason or None,
+        "primitives": change.primitives,
     }
 
 
 def _never_collide(
     urdf_file: Path, urdf: Any, compiled: Any, options: OptimizeOptions
-) -> list[list[str]]:
+) -> tuple[list[list[str]], Any]:
     """never_collide entries for the pairs that touched in no sampled configuration (or in
     every one), within the group-2 bits the spec leaves free."""
     from robospec.optimize.collision_matrix import sample_collision_matrix
@@ -439,9 +681,10 @@ def _never_collide(
         for joint in urdf.iter("joint")
         if (child := _child(joint)) is not None and (parent := joint.find("parent")) is not None
     }
-    return never_collide_entries(
+    entries = never_collide_entries(
         matrix.never | matrix.always, matrix.adjacent, free_bits(taken), parents
     )
+    return entries, matrix
 
 
 def _optimized_spec(compiled: Any, targets: dict[str, Path], report: OptimizeReport) -> str:
@@ -456,6 +699,7 @@ def _optimized_spec(compiled: Any, targets: dict[str, Path], report: OptimizeRep
         urdf=targets["urdf"].name,
         never_collide=report.never_collide,
         header=f"# {MARK} from {compiled.path.name}: robospec optimize rewrites this file",
+        simulation=report.simulation,
     )
 
 

@@ -99,14 +99,14 @@ def _next_mergeable(robot: etree._Element, kept: frozenset[str]) -> etree._Eleme
             child not in kept
             and child_link is not None
             and parent_link is not None
-            and not _mass_from_shapes(child_link)
-            and not _mass_from_shapes(parent_link)
+            and not mass_from_shapes(child_link)
+            and not mass_from_shapes(parent_link)
         ):
             return joint
     return None
 
 
-def _mass_from_shapes(link: etree._Element) -> bool:
+def mass_from_shapes(link: etree._Element) -> bool:
     """SAPIEN computes this link's mass and inertia from its collision shapes (it has no usable
     ``<inertial>`` but has ``<collision>``s): a number robospec cannot reproduce without
     SAPIEN, and one an ``<inertial>`` written by a merge would replace, so the link stays."""

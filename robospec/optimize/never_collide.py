@@ -40,10 +40,13 @@ def never_collide_entries(
     chosen: list[tuple[str, ...]] = []
     for band in bands:
         near = {p for p in want if distance(p) <= band}
-        packing = pack(near, free=adjacent_pairs, available=available)
+        # the farther pairs that never touch need no bit in this band, but a clique may take
+        # them in for free: a bit then covers more than the band
+        free = ok - near
+        packing = pack(near, free=free, available=available)
         if packing.side_effects or packing.uncovered:
             # this band does not fit: what is left of the bits goes to its best cliques
-            whole = pack(near, free=adjacent_pairs, available=FREE_BITS)
+            whole = pack(near, free=free, available=FREE_BITS)
             covered = {p for links in chosen for p in clique_pairs(links)}
             extra = [
                 links

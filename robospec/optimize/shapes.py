@@ -22,13 +22,19 @@ writes each part's points in SAPIEN's walk order, one OBJ per part, one ``<colli
 
 Methods (``method=``): ``convert`` (that, for STL meshes; the behaviour stays), ``hull`` (one
 convex OBJ per mesh, at most ``max_vertices`` vertices), ``coacd`` (a convex decomposition, one
-OBJ per part), ``primitives`` (a box, capsule or sphere where one matches the mesh's hull within
-``tolerance``). trimesh and numpy are imported when the function runs (they cost a second).
+OBJ per part), ``primitives`` (a box, capsule or sphere where one lies within ``max_error``
+metres of the mesh's hull, each mesh not fitted becoming its ``convert`` shapes). A primitive
+fit encloses the hull (the oriented bounding box, the thinnest capsule along its longest axis,
+the smallest sphere), so its error is how far its surface stands off the hull at most
+(:func:`fit_error`). A link whose mass SAPIEN takes from its collision shapes (no usable
+``<inertial>``) keeps its meshes: a primitive would change its mass. trimesh and numpy are
+imported when the function runs (they cost a second).
 """
 
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import re
 from collections.abc import Iterator, Sequence
@@ -37,6 +43,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from lxml import etree
+
+from robospec.optimize.condense import mass_from_shapes
 
 if TYPE_CHECKING:
     import numpy as np
@@ -69,6 +77,12 @@ class ShapeChange:
     shapes_after: int
     vertices_before: int  # the mesh's distinct vertices
     vertices_after: int  # the written files' vertices (0 for primitives)
+    # primitives: the best fit's error in m (whether or not it was within the bound), and why
+    # a mesh was kept ("" when it was not, or for the other methods)
+    fit_error: float | None = None
+    fit: str = ""  # the best fit's kind (box, capsule, sphere)
+    reason: str = ""
+    primitives: int = 0  # shapes written as primitives
 
 
 @dataclass(frozen=True)
@@ -84,10 +98,13 @@ class _Mesh:
 class _Result:
     """One collision element's replacement: new elements and files, or nothing (kept)."""
 
-    method: str
+    method: str  # "unfitted": no primitive within the bound (elements: none)
     elements: tuple[etree._Element, ...]
     files: tuple[tuple[str, str], ...]  # (file name, OBJ text)
     vertices: int
+    fit_error: float | None = None
+    fit: str = ""
+    primitives: int = 0
 
 
 def optimize_collisions(
@@ -98,17 +115,21 @@ def optimize_collisions(
     max_vertices: int | None = None,
     tolerance: float = 0.05,
     multiple_collisions: bool = True,
+    max_error: float = 0.005,
 ) -> tuple[etree._Element, tuple[ShapeChange, ...]]:
     """A copy of ``robot`` (a URDF ``<robot>`` whose collision mesh paths are absolute) whose
     collision meshes are rewritten by ``method``, the new files written under ``assets`` (named
     ``<link>_<collision>[_<part>].obj``, same input, same bytes) and named by absolute path; and
     one :class:`ShapeChange` per collision element. ``multiple_collisions`` is the loader's
     ``load_multiple_collisions``: what ``convert`` must reproduce (without it an STL already
-    loads as one hull, silently, and is kept)."""
+    loads as one hull, silently, and is kept). ``tolerance`` is coacd's concavity threshold;
+    ``max_error`` the distance in m a primitive may stand off the mesh's hull."""
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}: one of {', '.join(METHODS)}")
     if max_vertices is not None and max_vertices < 4:
         raise ValueError("max_vertices must be at least 4 (a tetrahedron)")
+    if not max_error > 0:
+        raise ValueError(f"max_error must be positive, not {max_error}")
     if method == "coacd":
         _import_coacd()  # fail before anything is written
     robot = copy.deepcopy(robot)
@@ -116,10 +137,21 @@ def optimize_collisions(
     files: dict[str, str] = {}
     for link in robot.iter("link"):
         name = link.get("name", "")
+        # SAPIEN weighs this link by its shapes: a primitive would change its mass
+        weighed = method == "primitives" and mass_from_shapes(link)
         for index, collision in enumerate(link.findall("collision")):
             change, written = _optimize_one(
-                name, index, collision, assets, method, max_vertices, tolerance, multiple_collisions
+                name,
+                index,
+                collision,
+                assets,
+                "convert" if weighed else method,
+                max_vertices,
+                (tolerance, max_error),
+                multiple_collisions,
             )
+            if weighed and change.method == "kept":
+                change = dataclasses.replace(change, reason="mass from its collision shapes")
             changes.append(change)
             files.update(written)
     assets.mkdir(parents=True, exist_ok=True)
@@ -135,7 +167,7 @@ def _optimize_one(
     assets: Path,
     method: str,
     max_vertices: int | None,
-    tolerance: float,
+    bounds: tuple[float, float],  # coacd's tolerance, the primitives' max_error
     multiple: bool,
 ) -> tuple[ShapeChange, dict[str, str]]:
     geometry = collision.find("geometry")
@@ -157,7 +189,7 @@ def _optimize_one(
     shapes_before = 1 if parts_before is None else len(parts_before)
     stem = f"{_safe(link)}_{index}"
     result = _replacement(
-        method, collision, shape, mesh, parts_before, stem, assets, max_vertices, tolerance
+        method, collision, shape, mesh, parts_before, stem, assets, max_vertices, bounds
     )
     if result is None:
         vertices = len(mesh.vertices)
@@ -165,6 +197,32 @@ def _optimize_one(
             link, filename, "kept", (), shapes_before, shapes_before, vertices, vertices
         )
         return change, {}
+    if result.method == "unfitted":
+        # no primitive within the bound: the mesh stays what SAPIEN makes of it (convert)
+        converted = _replacement(
+            "convert", collision, shape, mesh, parts_before, stem, assets, max_vertices, bounds
+        )
+        fitted = dataclasses.replace(result, method="kept")
+        if converted is not None:
+            _replace(collision, converted.elements)
+            fitted = dataclasses.replace(converted, fit_error=result.fit_error, fit=result.fit)
+        else:
+            fitted = dataclasses.replace(fitted, vertices=len(mesh.vertices))
+        count = len(fitted.elements) if converted is not None else shapes_before
+        change = ShapeChange(
+            link,
+            filename,
+            fitted.method,
+            tuple(name for name, _ in fitted.files),
+            shapes_before,
+            count,
+            len(mesh.vertices),
+            fitted.vertices,
+            fit_error=result.fit_error,
+            fit=result.fit,
+            reason="no primitive within the bound",
+        )
+        return change, dict(fitted.files)
     _replace(collision, result.elements)
     change = ShapeChange(
         link,
@@ -175,6 +233,9 @@ def _optimize_one(
         len(result.elements),
         len(mesh.vertices),
         result.vertices,
+        fit_error=result.fit_error,
+        fit=result.fit,
+        primitives=result.primitives,
     )
     return change, dict(result.files)
 
@@ -188,8 +249,9 @@ def _replacement(
     stem: str,
     assets: Path,
     max_vertices: int | None,
-    tolerance: float,
+    bounds: tuple[float, float],
 ) -> _Result | None:
+    tolerance, max_error = bounds
     if method == "convert":
         if parts is None:
             return None  # not an STL SAPIEN splits: it loads as it did, without a warning
@@ -200,7 +262,7 @@ def _replacement(
     if method == "coacd":
         hulls = _coacd(mesh, max_vertices, tolerance)
         return _as_meshes("coacd", collision, [_obj(v, f) for v, f in hulls], stem, assets)
-    return _primitive(collision, shape, mesh, tolerance)
+    return _primitives(collision, shape, mesh, parts, stem, assets, max_error)
 
 
 def _as_meshes(
@@ -446,24 +508,79 @@ def _coacd(
 # -- primitives
 
 
-def _primitive(
-    collision: etree._Element, shape: etree._Element, mesh: _Mesh, tolerance: float
+def _primitives(
+    collision: etree._Element,
+    shape: etree._Element,
+    mesh: _Mesh,
+    parts: list[np.ndarray] | None,
+    stem: str,
+    assets: Path,
+    max_error: float,
 ) -> _Result | None:
-    """The box, capsule or sphere whose volume is nearest the mesh's hull's, if within
-    ``tolerance`` of it; the mesh's scale is baked into the primitive's size."""
+    """Each shape SAPIEN builds from the mesh (its hull, or each part's of an STL it splits) as
+    the box, capsule or sphere that stands off it least, where one does by at most
+    ``max_error`` m; a part none fits stays the shape SAPIEN makes of it (as ``convert``
+    writes it). ``unfitted`` when no shape fits (elements: none), naming the nearest miss."""
+    pieces = parts if parts is not None else [mesh.vertices]
+    fits = [_fit(collision, shape, points, max_error) for points in pieces]
+    fitted = [fit for fit in fits if fit is not None and fit[2] <= max_error]
+    if not fitted:
+        misses = [fit for fit in fits if fit is not None]
+        if not misses:
+            return None
+        kind, error = min(((f[1], f[2]) for f in misses), key=lambda pair: pair[1])
+        return _Result("unfitted", (), (), 0, fit_error=error, fit=kind)
+    elements: list[etree._Element] = []
+    files: list[tuple[str, str]] = []
+    vertices = 0
+    for part, (points, fit) in enumerate(zip(pieces, fits, strict=True)):
+        if fit is not None and fit[2] <= max_error:
+            elements.append(fit[0])
+            continue
+        # one of several parts, none fitting it: the convex shape SAPIEN cooks from it
+        text, count = _point_obj(points)
+        converted = _as_meshes("convert", collision, [(text, count)], f"{stem}_{part}", assets)
+        elements += converted.elements
+        files += converted.files
+        vertices += count
+    kinds = sorted({fit[1] for fit in fitted})
+    return _Result(
+        fitted[0][1] if len(pieces) == 1 else "primitives",
+        tuple(elements),
+        tuple(files),
+        vertices,
+        fit_error=max(fit[2] for fit in fitted),
+        fit="/".join(kinds),
+        primitives=len(fitted),
+    )
+
+
+def _fit(
+    collision: etree._Element, shape: etree._Element, points: np.ndarray, max_error: float
+) -> tuple[etree._Element, str, float] | None:
+    """The ``<collision>`` holding the box, capsule or sphere around ``points`` (in the mesh's
+    frame, before its scale) that stands off their hull least, its kind and that distance in
+    m; the mesh's scale is baked into the primitive's size. None for a flat part."""
     import numpy as np
+    import trimesh
 
     scale = np.array([float(s) for s in (shape.get("scale") or "1 1 1").split()])
-    points = np.asarray(mesh.vertices, dtype=np.float64) * scale
-    hull = _convex_hull(points)
-    volume = float(hull.volume)
-    if volume <= 0:
+    try:
+        hull = _convex_hull(np.asarray(points, dtype=np.float64) * scale)
+    except Exception:  # fewer than four points not in a plane: qhull finds no hull
         return None
-    fits = [fit for fit in (_box(hull), _capsule(hull), _sphere(hull)) if fit is not None]
-    best = min(fits, key=lambda fit: abs(fit[1] - volume))
-    if abs(best[1] - volume) > tolerance * volume:
+    if float(hull.volume) <= 0:
         return None
-    kind, _, attributes, transform = best
+    # the principal axes first (cheap); the smallest oriented box (trimesh's search, a third
+    # of a second on a detailed hull) only when a fit comes within four times the bound
+    fits = _fits(hull, _principal_bounds(hull))
+    errors = [fit_error(fit, hull) for fit in fits]
+    if min(errors) <= 4 * max_error:
+        tighter = _fits(hull, trimesh.bounds.oriented_bounds(hull))
+        fits += tighter
+        errors += [fit_error(fit, hull) for fit in tighter]
+    best = int(np.argmin(errors))
+    kind, _, attributes, transform = fits[best]
     element = copy.deepcopy(collision)
     geometry = element.find("geometry")
     assert geometry is not None
@@ -471,27 +588,110 @@ def _primitive(
         geometry.remove(child)
     etree.SubElement(geometry, kind, attributes)
     _set_origin(element, _origin_matrix(collision) @ transform)
-    return _Result(kind, (element,), (), 0)
+    return element, kind, float(errors[best])
+
+
+# directions over which a fit's error is sought, before the best few are refined
+_DIRECTIONS = 1000
+_REFINED = 4
+
+
+def fit_error(fit: _Fit, hull: trimesh.Trimesh) -> float:
+    """How far the primitive's surface stands off the hull at most, in m.
+
+    The fit encloses the hull; for two convex shapes the Hausdorff distance is the largest
+    difference of their support functions over directions u (h(u): how far the shape reaches
+    along u), which both have in closed form here: the hull's from its vertices, a box's from
+    its half extents, a sphere's and a capsule's from their centres and radius. It is sought
+    over directions spread evenly on the sphere, the best few then refined by a local search
+    (the difference is smooth away from a few directions): exact to a few hundredths of a
+    millimetre on shapes of robot links."""
+    import numpy as np
+
+    vertices = np.asarray(hull.vertices, dtype=np.float64)
+    reach = _support(fit)
+
+    def gap(directions: np.ndarray) -> np.ndarray:
+        directions = directions / np.linalg.norm(directions, axis=-1, keepdims=True)
+        return reach(directions) - np.max(directions @ vertices.T, axis=-1)
+
+    # a Fibonacci sphere: the same directions every run
+    index = np.arange(_DIRECTIONS) + 0.5
+    polar = np.arccos(1 - 2 * index / _DIRECTIONS)
+    azimuth = np.pi * (1 + 5**0.5) * index
+    directions = np.stack(
+        [np.cos(azimuth) * np.sin(polar), np.sin(azimuth) * np.sin(polar), np.cos(polar)], axis=1
+    )
+    gaps = gap(directions)
+    best = float(np.max(gaps))
+    # refine around the best few: rounds of perturbations in a shrinking cone, all at once
+    rng = np.random.default_rng(0)
+    candidates = directions[np.argsort(gaps)[-_REFINED:]]
+    for spread in (0.05, 0.015, 0.005, 0.0015, 0.0005):
+        tried = candidates[:, None, :] + spread * rng.standard_normal((len(candidates), 32, 3))
+        tried = np.concatenate([candidates[:, None, :], tried], axis=1)
+        scores = gap(tried.reshape(-1, 3)).reshape(len(candidates), -1)
+        candidates = tried[np.arange(len(candidates)), np.argmax(scores, axis=1)]
+        best = max(best, float(np.max(scores)))
+    return max(best, 0.0)
+
+
+def _support(fit: _Fit) -> Any:
+    """The fit's support function: directions (n, 3) -> how far it reaches along each."""
+    import numpy as np
+
+    kind, _, attributes, transform = fit
+    rotation, centre = np.asarray(transform)[:3, :3], np.asarray(transform)[:3, 3]
+    if kind == "box":
+        half = np.array([float(v) for v in attributes["size"].split()]) / 2
+        return lambda u: u @ centre + np.abs(u @ rotation) @ half
+    radius = float(attributes["radius"])
+    if kind == "sphere":
+        return lambda u: u @ centre + radius
+    axis = rotation[:, 2] * float(attributes["length"]) / 2  # the capsule's axis is its z
+    return lambda u: u @ centre + np.abs(u @ axis) + radius
 
 
 _Fit = tuple[str, float, dict[str, str], Any]  # tag, volume, attributes, transform in the mesh
 
 
-def _box(hull: trimesh.Trimesh) -> _Fit | None:
-    import trimesh
+def _fits(hull: trimesh.Trimesh, bounds: tuple[np.ndarray, np.ndarray]) -> list[_Fit]:
+    """The box and the capsule of a frame of the hull, and its smallest sphere."""
+    fits = (_box(bounds), _capsule(hull, bounds), _sphere(hull, bounds))
+    return [fit for fit in fits if fit is not None]
 
-    transform, extents = trimesh.bounds.oriented_bounds(hull)
+
+def _principal_bounds(hull: trimesh.Trimesh) -> tuple[np.ndarray, np.ndarray]:
+    """As ``trimesh.bounds.oriented_bounds`` gives them (the transform that moves the hull
+    into a box centred at the origin, and the box's extents), along the hull's principal
+    axes of inertia."""
+    import numpy as np
+
+    points = np.asarray(hull.vertices, dtype=np.float64)
+    _, axes = np.linalg.eigh(np.asarray(hull.moment_inertia))
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] = -axes[:, 2]
+    local = points @ axes
+    low, high = local.min(axis=0), local.max(axis=0)
+    to_box = np.eye(4)
+    to_box[:3, :3] = axes.T
+    to_box[:3, 3] = -(low + high) / 2
+    return to_box, high - low
+
+
+def _box(bounds: tuple[np.ndarray, np.ndarray]) -> _Fit | None:
+    transform, extents = bounds
     size = [float(e) for e in extents]
     # oriented_bounds gives the transform that moves the mesh to the box: the box is its inverse
     return "box", size[0] * size[1] * size[2], {"size": _floats(size)}, _inverse(transform)
 
 
-def _capsule(hull: trimesh.Trimesh) -> _Fit | None:
+def _capsule(hull: trimesh.Trimesh, bounds: tuple[np.ndarray, np.ndarray]) -> _Fit | None:
     """Along the oriented box's longest axis, the thinnest capsule around the hull's vertices."""
     import numpy as np
     import trimesh
 
-    to_box, extents = trimesh.bounds.oriented_bounds(hull)
+    to_box, extents = bounds
     box = _inverse(to_box)
     axis = int(np.argmax(extents))
     # turn the longest axis onto z (URDF's capsule axis; SAPIEN turns it onto PhysX's x)
@@ -513,11 +713,15 @@ def _capsule(hull: trimesh.Trimesh) -> _Fit | None:
     return "capsule", volume, attributes, frame @ centre
 
 
-def _sphere(hull: trimesh.Trimesh) -> _Fit | None:
+def _sphere(hull: trimesh.Trimesh, bounds: tuple[np.ndarray, np.ndarray]) -> _Fit | None:
+    """The sphere around the hull centred on its box: within a few % of the smallest (an
+    exact smallest sphere takes trimesh a tenth of a second per hull), and a fit that is
+    near the bound at all is of a near-round shape, whose box centre is its sphere's."""
     import numpy as np
-    import trimesh
 
-    centre, radius = trimesh.nsphere.minimum_nsphere(np.asarray(hull.vertices))
+    points = np.asarray(hull.vertices, dtype=np.float64)
+    centre = _inverse(bounds[0])[:3, 3]
+    radius = float(np.max(np.linalg.norm(points - centre, axis=1)))
     transform = np.eye(4)
     transform[:3, 3] = centre
     volume = 4 / 3 * math.pi * float(radius) ** 3

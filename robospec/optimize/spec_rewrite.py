@@ -1,5 +1,6 @@
 """The optimized spec: the user's spec as written, with only what optimize changes changed — its
-uid, its description (now the optimized URDF beside it) and the never_collide entries added.
+uid, its description (now the optimized URDF beside it), the never_collide entries added and,
+for a profile that changes how the robot simulates, its ``simulation`` section.
 
 A YAML spec goes through ruamel's round trip, so comments, key order and flow style stay; a TOML
 spec through tomlkit, likewise, when the output is TOML too, else it is written as YAML. Paths
@@ -29,6 +30,7 @@ def rewrite_spec(
     urdf: str,
     never_collide: list[list[str]],
     header: str,
+    simulation: dict[str, Any] | None = None,
 ) -> str:
     text = spec.read_text(encoding="utf-8")
     if spec.suffix in TOML_SUFFIXES and out.suffix in TOML_SUFFIXES:
@@ -36,6 +38,7 @@ def rewrite_spec(
 
         document: Any = tomlkit.parse(text)
         _change(document, spec, out, uid, urdf, never_collide, table=tomlkit.inline_table)
+        _set_simulation(document, simulation, tomlkit.table)
         return f"{header}\n{tomlkit.dumps(document)}"
     from ruamel.yaml import YAML
 
@@ -49,6 +52,7 @@ def rewrite_spec(
     else:
         document = yaml.load(text)
     _change(document, spec, out, uid, urdf, never_collide, table=None)
+    _set_simulation(document, simulation, None)
     stream = io.StringIO()
     yaml.dump(document, stream)
     return f"{header}\n{_moved_schema_modeline(stream.getvalue(), spec, out)}"
@@ -96,6 +100,18 @@ def _change(
             document["never_collide"] = entries = []
         for entry in never_collide:
             entries.append(_flow(list(entry)))
+
+
+def _set_simulation(document: Any, simulation: dict[str, Any] | None, table: Any) -> None:
+    """The profile's ``simulation`` keys, over whatever the spec had there (its other keys
+    stay)."""
+    if not simulation:
+        return
+    section = document.get("simulation")
+    if not hasattr(section, "keys"):
+        document["simulation"] = section = table() if table is not None else {}
+    for key, value in simulation.items():
+        section[key] = value
 
 
 def _flow(items: list[str]) -> Any:

@@ -347,3 +347,17 @@ def _exec_module(name: str, path: Path) -> ModuleType:
         sys.modules.pop(name, None)
         raise
     return module
+
+
+def sim_config_for(uid: str) -> dict[str, object]:
+    """The sim config the spec of registered robot ``uid`` recommends (its ``simulation``
+    section), for ``gym.make(..., sim_config=...)``: ManiSkill merges it over the task's own.
+    Empty for a robot whose spec recommends none, or a robot robospec did not compile."""
+    import copy
+
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    if uid not in REGISTERED_AGENTS:
+        raise KeyError(f"no agent is registered under uid {uid!r}")
+    agent = REGISTERED_AGENTS[uid].agent_cls
+    return copy.deepcopy(getattr(agent, "recommended_sim_config", {}))

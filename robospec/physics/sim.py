@@ -94,8 +94,15 @@ class Sim:
         self.uid = uid
         self.mode = mode
         self.backend = backend
+        from robospec.output.register import sim_config_for
+
+        # the robot as its spec means it to be simulated: the sim config it recommends
         self.env = make_empty_env(
-            uid, mode, num_envs=backend.num_envs, sim_backend=backend.sim_backend
+            uid,
+            mode,
+            num_envs=backend.num_envs,
+            sim_backend=backend.sim_backend,
+            sim_config=sim_config_for(uid),
         )
         self.env.reset(seed=0)
         self._bind()

@@ -116,6 +116,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         drives=members.drives(context),
         hooks=members.hooks(context),
         never_collide=never_collide,
+        simulation=members.simulation(context),
     )
 
 

@@ -26,6 +26,7 @@ from robospec.resolve.resolved import (
     ResolvedHeight,
     ResolvedHooks,
     ResolvedLinkState,
+    ResolvedSimulation,
     ResolvedStanding,
     ResolvedStatic,
     ResolvedTcp,
@@ -160,6 +161,18 @@ def link_states(context: ResolveContext) -> tuple[ResolvedLinkState, ...]:
             ResolvedLinkState(name, links, single, state.quantity, state.stack_dim, state.method)
         )
     return tuple(out)
+
+
+def simulation(context: ResolveContext) -> ResolvedSimulation:
+    section = context.spec.simulation
+    offset = section.contact_offset
+    return ResolvedSimulation(
+        profile=section.profile,
+        category=section.category,
+        contact_offset=float(offset) if offset is not None else None,
+        solver_position_iterations=section.solver_position_iterations,
+        solver_velocity_iterations=section.solver_velocity_iterations,
+    )
 
 
 def disable_gravity(context: ResolveContext) -> tuple[str, ...]:

@@ -236,6 +236,35 @@ class ResolvedHooks:
 
 
 @dataclass(frozen=True)
+class ResolvedSimulation:
+    """The spec's ``simulation`` section: what the agent sets on its own shapes, and the sim
+    config it recommends (``sim_config``: ManiSkill's ``SimConfig`` as the nested dict that
+    ``gym.make(sim_config=...)`` merges over a task's defaults)."""
+
+    profile: str | None = None
+    category: str | None = None
+    contact_offset: float | None = None
+    solver_position_iterations: int | None = None
+    solver_velocity_iterations: int | None = None
+
+    @property
+    def sim_config(self) -> dict[str, Any]:
+        scene = {
+            key: value
+            for key, value in (
+                ("solver_position_iterations", self.solver_position_iterations),
+                ("solver_velocity_iterations", self.solver_velocity_iterations),
+            )
+            if value is not None
+        }
+        return {"scene_config": scene} if scene else {}
+
+    @property
+    def empty(self) -> bool:
+        return self == ResolvedSimulation()
+
+
+@dataclass(frozen=True)
 class ResolvedRobot:
     uid: str
     class_name: str
@@ -272,3 +301,4 @@ class ResolvedRobot:
     drives: tuple[ResolvedDrive, ...] = ()
     hooks: ResolvedHooks = ResolvedHooks()
     never_collide: ResolvedNeverCollide | None = None
+    simulation: ResolvedSimulation = ResolvedSimulation()

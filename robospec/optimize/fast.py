@@ -1,0 +1,100 @@
+"""``robospec optimize --profile fast``: what the profile adds to optimize, each a change to
+how the robot simulates, for speed, and each measured.
+
+- **Primitive collision shapes** (:mod:`robospec.optimize.shapes`, ``primitives``): a box,
+  capsule or sphere where one lies within ``--max-error`` of the mesh.
+- **A contact offset for the robot's own shapes** (:mod:`robospec.optimize.contacts`): the
+  agent sets it on every collision shape after loading (the spec's
+  ``simulation.contact_offset``). Measured over sampled configurations: the pairs of the
+  robot's links making contacts at ManiSkill's 2 cm and at the profile's offset.
+- **A recommended sim config** for the robot's category (``simulation.category``, from
+  ``--category`` or the root: a robot with a free root walks): 15 solver position iterations
+  for manipulation (ManiSkill's default, which its notes call the balance of speed and
+  accuracy; stable grasps want 15 or more), 4 for locomotion (ManiSkill's quadruped and
+  humanoid control tasks use 4). The built package exposes it as ``sim_config_for(uid)``.
+
+Its speed, and what it costs in behaviour, are measured by benchmarks/optimize_throughput.py,
+benchmarks/optimize_fidelity.py and benchmarks/optimize_gpu.py, not here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+# solver iterations (position, velocity) by category
+ITERATIONS = {"manipulation": (15, 1), "locomotion": (4, 1)}
+# configurations the contact count is taken over: the matrix's first ones
+CONTACT_SAMPLES = 1000
+
+
+def category_of(robot: Any, asked: str | None) -> str:
+    """The category asked for, else by the root: a robot whose root is free stands or walks."""
+    if asked is not None:
+        return asked
+    return "manipulation" if robot.fix_root_link else "locomotion"
+
+
+def fast_simulation(
+    urdf_file: Path, staged_spec: Path, compiled: Any, matrix: Any, options: Any
+) -> tuple[dict[str, Any], list[dict[str, Any]]]:
+    """The spec's ``simulation`` section for the fast profile, and the contact counts it
+    measured (at ManiSkill's offset, then at the profile's; none without a matrix)."""
+    from robospec.optimize.contacts import LARGEST_OFFSET
+
+    robot = compiled.robot
+    category = category_of(robot, options.category)
+    positions, velocities = ITERATIONS[category]
+    offset = options.contact_offset
+    counts: list[dict[str, Any]] = []
+    if matrix is not None and not robot.disable_self_collisions:
+        before, after = _measure(urdf_file, staged_spec, matrix, options, offset)
+        offset = after.offset
+        counts = [asdict(before), asdict(after)]
+    if offset is None:
+        offset = LARGEST_OFFSET
+    simulation = {
+        "profile": "fast",
+        "category": category,
+        "contact_offset": float(f"{offset:.6g}"),
+        "solver_position_iterations": positions,
+        "solver_velocity_iterations": velocities,
+    }
+    return simulation, counts
+
+
+def _measure(
+    urdf_file: Path, staged_spec: Path, matrix: Any, options: Any, offset: float | None
+) -> tuple[Any, Any]:
+    """Contact counts at ManiSkill's offset and at the profile's (``offset``, or the one
+    the first count calls for), over the matrix's first configurations."""
+    from robospec.optimize.collision_matrix import configurations, joint_ranges, load_for_contacts
+    from robospec.optimize.contacts import (
+        MANISKILL_OFFSET,
+        count_contacts_at,
+        disabled_pairs,
+        profile_offset,
+    )
+    from robospec.pipeline import compile_spec
+
+    packed = compile_spec(staged_spec)
+    assert packed.robot is not None and packed.description is not None
+    bits = [
+        (rule.bit, rule.links)
+        for rule in packed.robot.collision_rules
+        if rule.group == 2 and rule.value == 1
+    ]
+    bits += list(packed.description.loader_collision_bits)
+    loaded = load_for_contacts(str(urdf_file), fix_root_link=packed.robot.fix_root_link)
+    links = [link.name for link in loaded.robot.links]
+    skip = disabled_pairs(links, matrix.adjacent, bits)
+    names, lower, upper = joint_ranges(loaded.robot)
+    rows = configurations(
+        names, lower, upper, loaded.mimics, (), min(options.samples, CONTACT_SAMPLES), options.seed
+    )
+    never = matrix.never
+    before = count_contacts_at(loaded, rows, MANISKILL_OFFSET, skip, never)
+    chosen = offset if offset is not None else profile_offset(before.nearest_gap)
+    after = count_contacts_at(loaded, rows, chosen, skip, never)
+    return before, after
