@@ -41,8 +41,16 @@ BROKEN: dict[str, tuple[str, typing.Any]] = {
 MJCF_BROKEN: dict[str, tuple[str, typing.Any]] = {
     "includes": ("RS712/mounted.xml", "inline"),
     "geoms": ("RS713/terrain.xml", "drop"),
+    "mesh_names": ("RS715/unnamed.xml", "mujoco"),
+    "asset_names": ("RS719/repeated.xml", "first"),
+    "mesh_scale": ("RS716/scaled.xml", "defaults"),
+    "contype": ("RS717/touching.xml", "conaffinity"),
+    "freejoint": ("RS718/floating.xml", "root"),
+    "orientations": ("RS721/turned.xml", "quat"),
+    "bodies": ("RS720/plated.xml", "merge"),
 }
 SOUND = CODE_EXAMPLES / "RS725" / "arm.urdf"
+SOUND_MJCF = CODE_EXAMPLES / "RS074" / "arm.xml"
 
 
 def _source(path: Path) -> Source:
@@ -83,6 +91,13 @@ def test_a_mend_changes_the_broken_description_and_notes_it_at_the_element(name:
 @pytest.mark.parametrize("name", list(BROKEN))
 def test_a_mend_of_a_sound_description_changes_nothing_and_is_stale(name: str) -> None:
     derived = derive(_source(SOUND), {name: BROKEN[name][1]})
+    assert [o.status for o in derived.outcomes] == ["stale"]
+    assert derived.notes == ()
+
+
+@pytest.mark.parametrize("name", list(MJCF_BROKEN))
+def test_an_mjcf_mend_of_a_sound_model_changes_nothing_and_is_stale(name: str) -> None:
+    derived = derive(_source(SOUND_MJCF), {name: MJCF_BROKEN[name][1]})
     assert [o.status for o in derived.outcomes] == ["stale"]
     assert derived.notes == ()
 
