@@ -283,4 +283,3 @@ def suggest(document: Document) -> str | None:
     if body_count(whole(document.trial())) <= GROUND_BIT:
         return None
     return "merge" if document.would_change(apply, "merge") else None
-

@@ -31,9 +31,7 @@ def apply(document: Document, policy: str) -> None:
     root = whole(document)
     table = classes(root, document.source.path)
     free = [
-        j
-        for j in root.iter("joint")
-        if in_model(j) and effective(table, j).get("type") == "free"
+        j for j in root.iter("joint") if in_model(j) and effective(table, j).get("type") == "free"
     ]
     if not free:
         return
