@@ -2,22 +2,30 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, Severity, error, has_errors, sort_key
 from robospec.load.discovery import discover
 from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
-from robospec.load.source_map import LoadedSpec
+from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
 from robospec.maniskill.installed import registered_uids
-from robospec.model.validate import build_spec
+from robospec.model.frozen import Spec
+from robospec.model.validate import SpecModelResult, build_spec
 from robospec.resolve import resolve
 from robospec.resolve.description_files import shown_path
+from robospec.resolve.part_types import Locator, PartInput
+from robospec.resolve.parts import filled_joints
 from robospec.resolve.resolved import ResolvedRobot
+
+if TYPE_CHECKING:
+    from robospec.compose.model import Composed
 
 
 @dataclass
@@ -30,6 +38,15 @@ class CompiledSpec:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     # the resolved robot with its spec and locators, as the checks saw it (physics checks too)
     context: CheckContext | None = None
+    # with parts: the combined description (where its lines came from), and what came along
+    # from the parts' specs: key path here -> where the part's spec wrote it
+    composed: Composed | None = None
+    part_origins: dict[KeyPath, tuple[Locator, KeyPath]] = field(default_factory=dict)
+
+    def part_location(self, path: KeyPath) -> Location | None:
+        """Where a part's spec wrote what ``path`` names here (its key), if it came from one."""
+        found = self.part_origins.get(path)
+        return found[0](found[1], True) if found is not None else None
 
     @property
     def ok(self) -> bool:
@@ -43,15 +60,18 @@ def compile_spec(
     overrides: Overrides = False,
     text: bytes | None = None,
     silence: frozenset[str] = frozenset(),
+    mounting: tuple[Path, ...] = (),
 ) -> CompiledSpec:
     """``overrides``: uids this compilation may take over from ManiSkill (True: any), as
     ``register(..., override=...)`` allows, on top of a spec's own ``override: true``.
     ``text``: the spec's contents as an editor holds them, unsaved (the file's are read when
     None); relative paths in it are still relative to ``path``. ``silence``: warning codes
-    not to report (the command line's ``--silence``), with those the spec lists."""
+    not to report (the command line's ``--silence``), with those the spec lists.
+    ``mounting``: the specs being compiled that mount this one as a part (outermost first), to
+    find a ring of parts."""
     result = CompiledSpec(path, display or str(path))
     try:
-        _compile_into(result, overrides, text)
+        _compile_into(result, overrides, text, mounting)
     except Exception as exc:  # a bug of ours must still be a located diagnostic
         result.robot = None
         result.diagnostics.append(
@@ -100,7 +120,9 @@ def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
         result.robot = None
 
 
-def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None) -> None:
+def _compile_into(
+    result: CompiledSpec, overrides: Overrides, text: bytes | None, mounting: tuple[Path, ...]
+) -> None:
     fmt = SPEC_SUFFIXES.get(result.path.suffix.lower())
     if text is not None and fmt is not None:
         loaded, diagnostics = parse_spec_bytes(text, result.display, fmt)
@@ -126,8 +148,11 @@ def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None
                 "ManiSkill's agent on purpose",
             )
         )
-    resolution = resolve(loaded, model, result.path)
+    parts = _compile_parts(result, spec, model, loaded, mounting)
+    resolution = resolve(loaded, model, result.path, parts)
     result.diagnostics.extend(resolution.diagnostics)
+    result.composed = resolution.composed
+    result.part_origins = resolution.origins
     result.description = resolution.loaded_description
     robot = resolution.robot
     if robot is None or resolution.loaded_description is None:
@@ -140,6 +165,11 @@ def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None
         bindings=resolution.bindings,
         locate_value=resolution.at_value,
         locate_key=resolution.at_key,
+        description_origins=resolution.composed.origins if resolution.composed else None,
+        filled_by_parts=filled_joints(resolution),
+        part_passive_joints=frozenset(
+            resolution.part_plan.passive_joints if resolution.part_plan else ()
+        ),
     )
     result.diagnostics.extend(run_checks(BINDING_CHECKS, context))
     if not has_errors(result.diagnostics):
@@ -147,6 +177,91 @@ def _compile_into(result: CompiledSpec, overrides: Overrides, text: bytes | None
         result.context = context
     if not has_errors(result.diagnostics):
         result.robot = robot
+
+
+def _compile_parts(
+    result: CompiledSpec,
+    spec: Spec,
+    model: SpecModelResult,
+    loaded: LoadedSpec,
+    mounting: tuple[Path, ...],
+) -> dict[str, PartInput]:
+    """Each part given as a spec, compiled on its own (its problems reported where they are
+    written); a spec that mounts, directly or through its parts, the spec mounting it is
+    RS733 at the entry that closes the ring."""
+    parts: dict[str, PartInput] = {}
+    here = _identity(result.path)
+    for name, part in spec.parts.items():
+        if part.spec is None:
+            continue
+        where = loaded.source.value(model.origin(("parts", name, "spec")))
+        path = result.path.parent / part.spec
+        display = os.path.normpath(str(Path(result.display).parent / part.spec))
+        chain = (*mounting, here)
+        if _identity(path) in chain:
+            ring = [p.name for p in chain[chain.index(_identity(path)) :]] + [path.name]
+            result.diagnostics.append(
+                error(
+                    where,
+                    "RS733",
+                    f"part '{name}' mounts a spec that mounts this one: {' -> '.join(ring)}",
+                    "a spec cannot be a part of itself",
+                )
+            )
+            parts[name] = PartInput(name, None, None, display, display, cycle=True)
+            continue
+        if not path.is_file():
+            result.diagnostics.append(error(where, "RS050", f"file not found: '{part.spec}'"))
+            parts[name] = PartInput(name, None, None, display, display, cycle=True)
+            continue
+        # its own problems are its file's: validating it reports them; here, RS737 names them
+        parts[name] = part_input(name, compile_spec(path, display, mounting=chain))
+    return parts
+
+
+def part_input(name: str, compiled: CompiledSpec) -> PartInput:
+    """What mounting and merging read of a part's own compilation."""
+    context = compiled.context
+    if compiled.robot is None or context is None or compiled.description is None:
+        errors = tuple(
+            d.format_text().split("\n", 1)[0] for d in compiled.diagnostics if d.is_error
+        )
+        return PartInput(
+            name, None, None, compiled.display, compiled.display, failed=True, errors=errors
+        )
+    spec = context.spec
+    carried_not = [
+        what
+        for what, given in (
+            ("hooks", bool(spec.hooks.after_init or spec.hooks.after_loading_articulation)),
+            ("hooked methods", bool(spec.hooks.methods)),
+            ("extended class (extends)", spec.extends is not None),
+            (
+                "is_static, is_standing and is_fallen",
+                bool(spec.is_static or spec.is_standing or spec.is_fallen),
+            ),
+        )
+        if given
+    ]
+    return PartInput(
+        name=name,
+        robot=compiled.robot,
+        description=compiled.description,
+        shown=context.description_file,
+        spec_shown=compiled.display,
+        spec_path=str(_identity(compiled.path)),
+        locate=lambda path, key: context.key(path) if key else context.value(path),
+        fix_root_link=compiled.robot.fix_root_link,
+        passive_joints=context.passive_joints_bound,
+        carried_not=tuple(carried_not),
+    )
+
+
+def _identity(path: Path) -> Path:
+    try:
+        return Path(os.path.realpath(path))
+    except (OSError, ValueError):
+        return path
 
 
 def compile_all(

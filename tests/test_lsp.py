@@ -555,3 +555,60 @@ async def test_the_server_imports_neither_maniskill_nor_sapien_nor_torch() -> No
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+# -- parts -------------------------------------------------------------------------------------
+
+PART_FILES = CODE_EXAMPLES / "RS730"  # an arm, a gripper and the gripper's spec
+ARM_WITH_GRIPPER = """robospec: 1
+uid: my_arm
+description: {urdf: arm.urdf}
+parts:
+  gripper: {spec: gripper.yaml, at: tool0}
+controllers:
+  arm: {type: pd_joint_pos, joints: [shoulder], lower: -3, upper: 3, stiffness: 100, damping: 10}
+control_modes:
+  pd_joint_pos: {arm: arm}
+  both: {arm: arm, hand: fingers}
+tcp: left_finger
+"""
+
+
+def arm_with_gripper(tmp_path: Path) -> Path:
+    for name in ("arm.urdf", "gripper.urdf", "gripper.yaml"):
+        shutil.copy(PART_FILES / name, tmp_path / name)
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(ARM_WITH_GRIPPER)
+    return spec
+
+
+async def test_completion_offers_a_parts_links_joints_and_controllers(
+    client: LanguageClient, tmp_path: Path
+) -> None:
+    spec = arm_with_gripper(tmp_path)
+    typed = ARM_WITH_GRIPPER.replace("hand: fingers}", "hand: }").replace(
+        "tcp: left_finger", "tcp: "
+    )
+    uri = open_doc(client, spec, typed)
+    controllers = await labels(client, uri, position_of(typed, "hand: }", 6))
+    assert {"arm", "fingers"} <= controllers  # the gripper's controller came along
+    links = await labels(client, uri, position_of(typed, "tcp: ", 5))
+    assert {"upper_arm", "palm", "left_finger"} <= links
+    joints = await labels(client, uri, position_of(typed, "joints: [shoulder]", 10))
+    assert {"shoulder", "left", "right"} <= joints
+
+
+async def test_definition_jumps_into_the_part(client: LanguageClient, tmp_path: Path) -> None:
+    spec = arm_with_gripper(tmp_path)
+    uri = open_doc(client, spec)
+    gripper_spec = (tmp_path / "gripper.yaml").resolve()
+    link = await definition(client, uri, position_of(ARM_WITH_GRIPPER, "tcp: left_finger", 6))
+    assert link.uri == (tmp_path / "gripper.urdf").resolve().as_uri()
+    lines = (tmp_path / "gripper.urdf").read_text().split("\n")
+    assert lines[link.range.start.line].strip() == '<link name="left_finger">'
+    controller = await definition(client, uri, position_of(ARM_WITH_GRIPPER, "hand: fingers", 7))
+    assert controller.uri == gripper_spec.as_uri()
+    text = gripper_spec.read_text()
+    assert controller.range.start == position_of(text, "  fingers: {type", 2)
+    part = await definition(client, uri, position_of(ARM_WITH_GRIPPER, "spec: gripper.yaml", 8))
+    assert (part.uri, part.range.start.line) == (gripper_spec.as_uri(), 0)

@@ -1,11 +1,11 @@
 """``robospec doc``: a Markdown robot card, a pure function of the compiled spec.
 
-Sections: the robot (uid, class, description file), the kinematic tree as a Mermaid
-``graph TD`` (links as nodes, joints as labelled edges, active joints drawn thick), the active
-joints, the action layout of each control mode (:mod:`.layout`), the keyframes, the cameras and
-the spec's ``simulation`` settings (where it has any). With pictures (``doc --images``,
-:mod:`robospec.pictures`) the card leads with the robot, shows it from each view at each
-keyframe, and each camera's view below the cameras' table.
+Sections: the robot (uid, class, description file), the parts mounted on it, the kinematic
+tree as a Mermaid ``graph TD`` (links as nodes, joints as labelled edges, active joints drawn
+thick), the active joints, the action layout of each control mode (:mod:`.layout`), the
+keyframes, the cameras and the spec's ``simulation`` settings (where it has any). With
+pictures (``doc --images``, :mod:`robospec.pictures`) the card leads with the robot, shows it
+from each view at each keyframe, and each camera's view below the cameras' table.
 No path of the machine appears (files are shown as the spec names them) and numbers are
 formatted the same way every time, so the card is byte-identical for the same spec.
 """
@@ -91,6 +91,7 @@ def robot_card(
     if lead is not None:  # as model cards do: first, what the robot looks like
         lines += [f"![{robot.uid} at keyframe {lead.keyframe}](<{lead.link}>)", ""]
     lines += _summary(robot, description, spec_link)
+    lines += _parts(robot)
     lines += _pictures(pictures)
     lines += _tree(description)
     lines += _joints(description)
@@ -165,6 +166,30 @@ def _summary(robot: ResolvedRobot, description: RobotDescription, spec_link: str
         f"| control modes | {len(robot.modes)} (default {code(default)}) |",
         "",
     ]
+
+
+def _parts(robot: ResolvedRobot) -> list[str]:
+    """The robots mounted on this one (``parts:``): where, how, and what was renamed."""
+    if not robot.parts:
+        return []
+    lines = [
+        "## Parts",
+        "",
+        "Robots mounted on this one; the description above is robospec's combination of them.",
+        "",
+        "| part | from | at | pose (p; q) | joint | root | prefixed | frames left out |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for part in robot.parts:
+        pose = f"{_vector(part.p)}; {_vector(part.q)}"
+        renamed = ", ".join(f"{code(old)} → {code(new)}" for _, old, new in part.renamed) or "—"
+        folded = ", ".join(code(name) for name in part.folded) or "—"
+        joint = code(part.joint) if part.joint else "(welded body)"
+        lines.append(
+            f"| {code(part.name)} | {part.kind} {code(part.source)} | {code(part.at)} | {pose} | "
+            f"{joint} | {code(part.root)} | {renamed} | {folded} |"
+        )
+    return [*lines, ""]
 
 
 def _tree(description: RobotDescription) -> list[str]:

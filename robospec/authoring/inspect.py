@@ -21,6 +21,8 @@ def mimic_text(joint: Joint) -> str:
 
 
 def inspect_report(source: DescriptionFile) -> dict[str, Any]:
+    from robospec.authoring.mounting import mounting_frames
+
     description = source.description
     return {
         "file": str(source.path),
@@ -57,6 +59,11 @@ def inspect_report(source: DescriptionFile) -> dict[str, Any]:
                 "joint_type": row.joint.type if row.joint else None,
             }
             for row in KinematicTree(description).rows()
+        ],
+        # where a part can be mounted (parts: {NAME: {at, pose}}), and where this robot mounts
+        "mounting_frames": [
+            {"at": f.at, "pose": f.pose_yaml(), "role": f.role, "why": f.why}
+            for f in mounting_frames(source)
         ],
     }
 
@@ -115,4 +122,17 @@ def render_text(report: dict[str, Any]) -> str:
         else:
             via = f"  <- ({row['joint_type']}, unnamed)"
         lines.append(f"{indent}{row['link']}{via}")
+    frames = report.get("mounting_frames", [])
+    if frames:
+        lines += ["", "mounting frames (parts: {NAME: {at: LINK, pose: ...}}):"]
+        for frame in frames:
+            pose = f", pose {_pose_text(frame['pose'])}" if frame["pose"] else ""
+            role = "mount a part at" if frame["role"] == "flange" else "mounted by"
+            lines.append(f"  {role} {frame['at']}{pose}: {frame['why']}")
     return "\n".join(lines) + "\n"
+
+
+def _pose_text(pose: dict[str, list[float]]) -> str:
+    return (
+        "{" + ", ".join(f"{k}: [{', '.join(f'{v:g}' for v in vs)}]" for k, vs in pose.items()) + "}"
+    )

@@ -61,7 +61,8 @@ def _by_name(
             whole = False
             continue
         covered.update(joints)
-    missing = [j for j in active if j not in covered]
+    # joints of mounted parts take their values from the parts' keyframes (merged by joint)
+    missing = [j for j in active if j not in covered and j not in context.filled_by_parts]
     if missing and whole:
         yield error(
             context.value(path), "RS303", "no value for active joint(s) " + ", ".join(missing)

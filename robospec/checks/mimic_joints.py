@@ -14,7 +14,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.description.facts import Joint
-from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.diagnostics import Diagnostic, warning
 
 
 def unguarded_modes(context: CheckContext, joint: Joint) -> list[str]:
@@ -51,11 +51,13 @@ def physx_mimic_joints(context: CheckContext, mode: str | None = None) -> list[J
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     for joint in physx_mimic_joints(context):
         assert joint.mimic is not None
+        modes = unguarded_modes(context, joint)
+        where = f"in mode(s) {', '.join(modes)}" if modes else "(the spec has no control modes)"
         yield warning(
-            Location(context.description_file, joint.line, 1),
+            context.at_description(joint.line),
             "RS309",
             f"joint '{joint.name}' mimics '{joint.mimic.joint}' and no pd_joint_pos_mimic "
-            f"controller drives it in mode(s) {', '.join(unguarded_modes(context, joint))}: "
+            f"controller drives it {where}: "
             "SAPIEN turns URDF <mimic> into a PhysX mimic joint, which alone is unstable on the "
             "CPU (NaN within a few steps)",
             "drive the pair with a pd_joint_pos_mimic controller in every mode, and leave "

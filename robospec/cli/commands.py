@@ -364,6 +364,15 @@ def new(
         ),
     ] = False,
     force: Annotated[bool, typer.Option("--force", help="overwrite SPEC")] = False,
+    attach: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--attach",
+            metavar="HAND@LINK",
+            help="mount a part (its spec, or a description to scaffold a spec for) on the "
+            "robot's link LINK (default: its first mounting frame, e.g. tool0); repeatable",
+        ),
+    ] = None,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
 ) -> None:
@@ -379,8 +388,12 @@ def new(
     A problem with --uid is reported at `<command line>:1:COLUMN`, the column of its value in
     the command as typed.
 
+    With --attach, each part is mounted in the spec's `parts:` (docs/composing.md), and the
+    pairs of links at the seam that touch in every pose are declared in never_collide.
+
     Example: robospec new robots/my_arm.urdf -o specs/my_arm.yaml
     Example: robospec new go2.xml -o specs/go2.yaml --uid my_go2
+    Example: robospec new xarm7.urdf -o specs/xarm7_hand.yaml --attach hand.urdf@link_eef
     """
     from robospec.authoring.commands import run_new
 
@@ -396,6 +409,13 @@ def new(
 
         where = argument_location("--uid", uid, sys.argv[1:])
     written, diagnostics = run_new(description, out, uid, force, not no_sim, where)
+    if attach and written is not None:
+        from robospec.authoring.attach import parse_attach, run_attach
+
+        parts = [parse_attach(text) for text in attach]
+        more, found = run_attach(out, description, parts, force=force, simulate=not no_sim)
+        diagnostics.extend(found)
+        written = None if has_errors(found) else [*more, *(w for w in written if w not in more)]
     done = "wrote " + ", ".join(str(path) for path in written or [])
     _finish(diagnostics, written is None, format, color, done)
 

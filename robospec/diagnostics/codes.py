@@ -3,8 +3,8 @@
 Ranges: RS0xx reading files (spec syntax, description files), RS1xx spec schema, RS2xx references
 into the robot description, RS3xx semantic checks, RS4xx `robospec import`, RS5xx physics
 checks (`robospec check`), RS6xx writing files and the authoring commands (`robospec build`,
-`inspect`, `new`, `doc`), RS7xx mends robospec applies to a copy of the description, RS9xx
-internal errors.
+`inspect`, `new`, `doc`), RS7xx descriptions robospec derives (mends applied to a copy, parts
+composed into one), RS9xx internal errors.
 """
 
 from __future__ import annotations
@@ -189,20 +189,6 @@ _CODES = [
     Code("RS648", "simulated robot cannot match the reference"),
     Code("RS649", "reference does not determine stiffness and damping each"),
     Code("RS650", "reference fit crashed"),
-    # -- robospec doc --images: drawing the pictures (RS660-RS669)
-    Code("RS660", "the render extra is not installed"),
-    Code("RS661", "no OpenGL to draw the pictures with"),
-    Code("RS662", "mesh cannot be read for the pictures"),
-    Code("RS663", "MuJoCo cannot load the MJCF for the pictures"),
-    Code("RS664", "the pictures' scene cannot be built"),
-    # -- robospec optimize --profile fast (RS670-RS689)
-    Code("RS670", "unknown optimize profile"),
-    Code("RS671", "--max-error out of range"),
-    Code("RS672", "--contact-offset out of range"),
-    Code("RS673", "a link the spec names would be merged away"),
-    Code("RS674", "collision meshes fit no primitive within the bound"),
-    Code("RS675", "unknown robot category"),
-    Code("RS676", "an option that applies only to another profile or shapes method"),
     # -- mends: what robospec changed in a derived copy of the description (RS700-RS729)
     Code("RS700", "mended: XML text no parser accepts"),
     Code("RS701", "mended: undeclared namespace prefixes"),
@@ -229,6 +215,35 @@ _CODES = [
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),
+    # -- parts: robots mounted on the spec's robot, composed into one description (RS730-RS759)
+    Code("RS730", "part mounted on a link no one has"),
+    Code("RS731", "part that is not one tree fixed at its root"),
+    Code("RS732", "name clash a prefix cannot fix"),
+    Code("RS733", "parts mounted on each other in a ring"),
+    Code("RS734", "part inside the robot at rest"),
+    Code("RS735", "part of another description format"),
+    Code("RS736", "part names prefixed"),
+    Code("RS737", "part whose spec has errors"),
+    Code("RS738", "what a part's spec declares that does not come along"),
+    Code("RS739", "part mode the part does not have"),
+    Code("RS740", "parts on a robot without its own description"),
+    Code("RS741", "fold_frames with no empty frame to fold"),
+    Code("RS742", "--attach names no part or link robospec can mount"),
+    Code("RS743", "robospec optimize of a robot with parts"),
+    # -- robospec doc --images: drawing the pictures (RS660-RS669)
+    Code("RS660", "the render extra is not installed"),
+    Code("RS661", "no OpenGL to draw the pictures with"),
+    Code("RS662", "mesh cannot be read for the pictures"),
+    Code("RS663", "MuJoCo cannot load the MJCF for the pictures"),
+    Code("RS664", "the pictures' scene cannot be built"),
+    # -- robospec optimize --profile fast (RS670-RS689)
+    Code("RS670", "unknown optimize profile"),
+    Code("RS671", "--max-error out of range"),
+    Code("RS672", "--contact-offset out of range"),
+    Code("RS673", "a link the spec names would be merged away"),
+    Code("RS674", "collision meshes fit no primitive within the bound"),
+    Code("RS675", "unknown robot category"),
+    Code("RS676", "an option that applies only to another profile or shapes method"),
     # -- internal
     Code("RS900", "internal error"),
 ]

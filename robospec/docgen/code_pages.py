@@ -163,10 +163,14 @@ def _docstring_markdown(doc: str) -> str:
 def _run_sections(examples: CodeExamples) -> list[str]:
     assert examples.failing and examples.passing
     shown: set[Path] = set()
-    notes = _severity(examples) == "note"  # a mend said what it did: nothing failed
-    lines = ["## Example: the mend applied" if notes else "## Failing example", ""]
+    notes = _severity(examples) == "note"  # robospec said what it did: nothing failed
+    mend = examples.code < "RS730"  # RS700-RS729: mends (RS730 on: parts)
+    first, second = (
+        ("the mend applied", "nothing to mend") if mend else ("what robospec did", "nothing to do")
+    )
+    lines = [f"## Example: {first}" if notes else "## Failing example", ""]
     lines += _example(examples.failing, examples.support_files, shown)
-    lines += ["## Example: nothing to mend" if notes else "## Passing example", ""]
+    lines += [f"## Example: {second}" if notes else "## Passing example", ""]
     lines += _example(examples.passing, examples.support_files, shown)
     if examples.more_failing:
         lines += ["## More failing examples", ""]

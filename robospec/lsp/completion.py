@@ -7,7 +7,7 @@ from lsprotocol import types
 
 from robospec.lsp.documents import Analysis
 from robospec.lsp.positions import MARKER, Cursor, value_at
-from robospec.lsp.robot import names
+from robospec.lsp.robot import names, part_names
 from robospec.lsp.schema_paths import allowed_at
 
 _KIND_ITEM = {
@@ -26,6 +26,8 @@ def complete(analysis: Analysis, cursor: Cursor) -> list[types.CompletionItem]:
     items: dict[str, types.CompletionItem] = {}
     for kind in sorted(allowed.value_kinds):
         for name, detail in names(kind, analysis.description, cursor.data).items():
+            items.setdefault(name, _item(name, detail, _KIND_ITEM.get(kind), cursor))
+        for name, detail in part_names(kind, analysis.compiled.part_origins).items():
             items.setdefault(name, _item(name, detail, _KIND_ITEM.get(kind), cursor))
     for value, text in allowed.values.items():
         items.setdefault(value, _item(value, text, types.CompletionItemKind.EnumMember, cursor))

@@ -105,6 +105,18 @@ class Analysis:
         candidate = Path(os.path.normpath(shown))
         return candidate if candidate.is_absolute() and candidate.is_file() else None
 
+    def element_at(self, line: int) -> tuple[Path, int] | None:
+        """The file and line of the description's element on ``line`` — in the file it came
+        from, for a description composed with parts."""
+        composed = self.compiled.composed
+        if composed is None:
+            return (self.description_file, line) if self.description_file is not None else None
+        found = composed.origins.locate(line)
+        if found is None:
+            return None
+        path = composed.origins.path_of(found[0])
+        return (Path(path), found[1]) if path is not None else None
+
     def _on_spec(self, diagnostic: Diagnostic) -> Diagnostic:
         loaded = self.compiled.loaded
         where = (
@@ -120,6 +132,17 @@ class Analysis:
             f"{shown}{suffix}:{loc.line}:{loc.column}: {diagnostic.message}",
             diagnostic.hint,
         )
+
+
+def _part_files(compiled: CompiledSpec) -> list[Path]:
+    """The files the parts of a spec were read from: their descriptions (the combined
+    description's origins) and their specs."""
+    files: list[Path] = []
+    if compiled.composed is not None:
+        files += [Path(path) for _, path in compiled.composed.origins.files]
+    if compiled.robot is not None:
+        files += [Path(path) for path in compiled.robot.description.sources]
+    return list(dict.fromkeys(files))
 
 
 class Workspace:
@@ -153,8 +176,12 @@ class Workspace:
         description_file = None
         if compiled.description is None and compiled.loaded is not None:
             # a spec with errors in its model (half written) is not resolved: its description
-            # is still what completion and hover need
-            compiled.description = self._description_alone(path, compiled.loaded.data)
+            # (with its parts mounted) is still what completion and hover need
+            data = compiled.loaded.data
+            if isinstance(data, dict) and isinstance(data.get("parts"), dict):
+                self._with_parts_alone(path, data, compiled)
+            else:
+                compiled.description = self._description_alone(path, data)
         if compiled.description is not None:
             description_file = Path(compiled.description.path)
         read: dict[Path, tuple[int, int] | None] = {}
@@ -162,9 +189,34 @@ class Workspace:
             read[description_file] = _signature(description_file)
             srdf = description_file.with_suffix(".srdf")
             read[srdf] = _signature(srdf)
+        for part_file in _part_files(compiled):  # a part's spec or description edited on disk
+            read[part_file] = _signature(part_file)
         analysis = Analysis(path, text, version, compiled, description_file, read)
         self.analyses[path] = analysis
         return analysis
+
+    def _with_parts_alone(self, spec: Path, data: dict[str, Any], compiled: CompiledSpec) -> None:
+        """The combined description of a half-written spec's description and parts, and what
+        came along from the parts' specs: compiled from those two keys alone (YAML reads the
+        JSON written here), whatever else the spec has wrong."""
+        import json
+
+        alone = {
+            "robospec": 1,
+            "uid": "robospec_lsp_parts",
+            "description": data.get("description"),
+            "parts": data["parts"],
+            "control_modes": {"mode": "controller"},  # required; unknown, and never resolved
+        }
+        try:
+            text = json.dumps(alone).encode("utf-8")
+        except (TypeError, ValueError):
+            return
+        with remembering(self.memo):
+            found = compile_spec(spec, str(spec), text=text)
+        compiled.description = found.description
+        compiled.composed = found.composed
+        compiled.part_origins = found.part_origins
 
     def describe_from(self, analysis: Analysis, data: Any) -> None:
         """Give ``analysis`` (of a text that does not parse) the description that ``data``

@@ -50,6 +50,19 @@ def names(kind: str, description: RobotDescription | None, data: Any) -> dict[st
     return {name: kind for name in _keys(data, section)} if section else {}
 
 
+def part_names(kind: str, origins: Mapping[tuple[Any, ...], Any]) -> dict[str, str]:
+    """The names of a reference ``kind`` that came along from the spec's parts (a part's
+    controllers, named links, ...), each with what it is."""
+    section = DEFINED_IN.get(kind)
+    if section is None:
+        return {}
+    return {
+        str(path[1]): f"{kind} from a part's spec"
+        for path in origins
+        if len(path) == 2 and path[0] == section
+    }
+
+
 def _number(value: float | None) -> str:
     return "∞" if value is None else f"{value:g}"
 

@@ -12,6 +12,7 @@ import re
 
 UID_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$"  # an agent's uid
 NAME_PATTERN = r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,63}$"  # a group, keyframe, camera... name
+PREFIX_PATTERN = r"^[A-Za-z0-9_.\-]{1,32}$"  # what a part's clashing names are given
 GLOB_PATTERN = r"[*?\[]"  # a joint or link pattern holding one of these is a glob
 
 GLOB = re.compile(GLOB_PATTERN)

@@ -136,6 +136,12 @@ def one_description(description: Any) -> Any:
     return description
 
 
+def one_part_source(part: Any) -> Any:
+    if (part.spec is None) == (part.description is None):
+        raise ValueError("give exactly one of spec and description")
+    return part
+
+
 def description_or_base(spec: Any) -> Any:
     if spec.extends is None and spec.description is None:
         raise ValueError("give a description (or extend a Python agent class)")
@@ -163,6 +169,20 @@ class DescriptionBehaviour:
     @property
     def path(self: Any) -> str:
         return str(self.urdf or self.mjcf or self.xacro or "")
+
+
+class PartBehaviour:
+    """The names a part's defaults give it."""
+
+    __slots__ = ()
+
+    def joint_name(self: Any, name: str) -> str:
+        """The fixed joint that mounts part ``name``."""
+        return str(self.joint or f"{name}_mount")
+
+    def name_prefix(self: Any, name: str) -> str:
+        """What goes before a clashing name of part ``name``."""
+        return str(self.prefix or f"{name}_")
 
 
 class StepResponseBehaviour:

@@ -38,7 +38,7 @@ from robospec.model.members import (
     Tcp,
 )
 from robospec.model.mends import Mends
-from robospec.model.names import NAME_PATTERN, UID_PATTERN
+from robospec.model.names import NAME_PATTERN, PREFIX_PATTERN, UID_PATTERN
 from robospec.model.refs import (
     ControllerName,
     JointPattern,
@@ -274,6 +274,64 @@ class CollisionRule(StrictModel):
     )
 
 
+class Part(StrictModel, rules.PartBehaviour):
+    """Another robot mounted on this one, e.g. a gripper or a hand on an arm: a spec (its
+    groups, controllers, keyframes, tcp, grasping, materials and link rules come along) or a
+    bare description, fixed to a link of this robot. robospec writes the combined description;
+    a name of the part that this robot already has is prefixed (and the prefix reported)."""
+
+    spec: str | None = Field(
+        default=None,
+        description="The part's spec file (YAML or TOML), relative to this spec file.",
+        examples=["ability_hand_right.yaml"],
+    )
+    description: Description | None = Field(
+        default=None,
+        description="The part's description, when it has no spec: its joints are then driven "
+        "by this spec's controllers.",
+        examples=[{"urdf": "{maniskill_assets}/robots/ability_hand/ability_hand_right.urdf"}],
+    )
+    at: LinkName = Field(
+        description="The link of this robot (or of another part) the part is fixed to.",
+        examples=["link7"],
+    )
+    pose: Pose = Field(
+        default_factory=Pose,
+        description="Where the part's root link sits in the frame of `at`.",
+        examples=[{"p": [0, 0, 0], "rpy": [0, 0, "pi/2"]}],
+    )
+    joint: Annotated[str, Field(pattern=NAME_PATTERN)] | None = Field(
+        default=None,
+        description="The name of the fixed joint that mounts the part; default: `<part>_mount`.",
+        examples=["hand_joint"],
+    )
+    fold_frames: bool = Field(
+        default=False,
+        description="Leave out the empty frames at the seam, as hand-made combinations do: a "
+        "mount link that is an empty leaf frame (a flange such as `link_eef` or `tool0`) gives "
+        "its place to the part, its joint now holding the part's root; a root that is an "
+        "empty frame fixed to one link is left out, that link mounted instead. Their poses go "
+        "into the mounting joint (SAPIEN would give each empty link 1e-6 kg).",
+        examples=[True],
+    )
+    prefix: Annotated[str, Field(pattern=PREFIX_PATTERN)] | None = Field(
+        default=None,
+        description="What goes before each name of the part that the robot already has "
+        "(links, joints, controllers, ...); default: `<part>_`. Names that do not clash are "
+        "kept as they are.",
+        examples=["hand_"],
+    )
+    mode: Annotated[str, Field(pattern=NAME_PATTERN)] | None = Field(
+        default=None,
+        description="The part's control mode whose controllers join each of this robot's "
+        "control modes (a mode that already drives the part's joints is left as it is); "
+        "default: the part's first.",
+        examples=["pd_joint_delta_pos"],
+    )
+
+    _spec_or_description = model_validator(mode="after")(rules.one_part_source)
+
+
 class Simulation(StrictModel):
     """How the robot simulates beyond its description: PhysX settings the agent applies to
     its own shapes, and the sim config it recommends for `gym.make` (`robospec optimize
@@ -406,6 +464,14 @@ GraspingEntry = Annotated[
     Grasping, Field(description="A grasp check by its method name.", examples=[_GRASP])
 ]
 
+PartEntry = Annotated[
+    Part,
+    Field(
+        description="A robot mounted on this one, by a name of its own.",
+        examples=[{"spec": "ability_hand_right.yaml", "at": "link7"}],
+    ),
+]
+
 LinkStateEntry = Annotated[
     LinkState,
     Field(description="A property reading link poses or velocities.", examples=[_TIP_POSES]),
@@ -441,6 +507,12 @@ class Spec(StrictModel):
         default=None,
         description="The robot description file; optional only with `extends`.",
         examples=[{"urdf": "{maniskill_assets}/robots/panda/panda_v2.urdf"}],
+    )
+    parts: dict[Name, PartEntry] = Field(
+        default_factory=dict,
+        description="Robots mounted on this one (a gripper or a hand on an arm), each a spec "
+        "or a description fixed to a link; robospec writes the combined description.",
+        examples=[{"hand": {"spec": "ability_hand_right.yaml", "at": "link7"}}],
     )
     loader: Loader = Field(
         default_factory=Loader,

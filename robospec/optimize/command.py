@@ -222,6 +222,19 @@ def _run_optimize(
             error(Location(str(spec)), "RS607", "the spec does not compile")
         ]
     robot = compiled.robot
+    if robot.parts:
+        # the condensed description would hold the parts' links, which the optimized spec's
+        # parts: would then mount a second time; split back, fold_frames' frames are gone
+        return None, [
+            error(
+                compiled.loaded.source.key(("parts",)) if compiled.loaded else Location(str(spec)),
+                "RS743",
+                "robospec optimize condenses one description, and this robot is composed of "
+                f"{len(robot.parts) + 1} (parts: " + ", ".join(p.name for p in robot.parts) + ")",
+                "optimize the robot's description and each part's spec on their own, and mount "
+                "the optimized parts",
+            )
+        ]
     if robot.description_kind != "urdf" or compiled.description is None:
         return None, [
             error(

@@ -96,8 +96,9 @@ def _carried_mjcf(
         return copies.get(path) or Path(os.path.relpath(path, module_dir)).as_posix()
 
     text = carried_text(ref.generated_text, str(ref.absolute), name_of)
+    how = f"with {', '.join(ref.parts)} mounted" if ref.parts else "mended"
     files: dict[str, str | bytes] = {
-        name: f"<!-- {GENERATED_MARKER} from {ref.relative}, mended: do not edit -->\n{text}"
+        name: f"<!-- {GENERATED_MARKER} from {ref.relative}, {how}: do not edit -->\n{text}"
     }
     for source, copy in copies.items():
         files[copy] = Path(source).read_bytes()
@@ -139,6 +140,8 @@ def carried_urdf(ref: FileRef, module_dir: Path, copies: dict[str, str] | None =
             moved = copied if copied is not None else os.path.relpath(found[filename], module_dir)
             element.set("filename", Path(moved).as_posix())
     how = ", mended" if ref.derived else ""
+    if ref.parts:
+        how = f", with {', '.join(ref.parts)} mounted"
     root.addprevious(etree.Comment(f" {GENERATED_MARKER} from {ref.relative}{how}: do not edit "))
     text = etree.tostring(root.getroottree(), encoding="unicode", xml_declaration=False)
     return text if text.endswith("\n") else text + "\n"

@@ -254,6 +254,10 @@ def _dependencies(robot: object) -> list[str]:
         value for c in robot.controllers for _, value in c.kwargs if isinstance(value, FileRef)
     ]
     deps: list[str] = []
+    for source in robot.description.sources:  # a composed robot's parts: specs, descriptions
+        deps.append(source)
+        if source.endswith(".xacro"):  # and what a part's xacro may include
+            deps.extend(_xacro_neighbours(Path(source).parent))
     for ref in refs:
         deps.append(str(ref.absolute))
         if ref.derived:
@@ -266,12 +270,7 @@ def _dependencies(robot: object) -> list[str]:
             deps.extend(str(p) for p in sorted(ref.absolute.parent.glob("*.xml")) if p.is_file())
         if ref.generated_text is not None and not ref.has_srdf_beside:
             # a xacro file may include its neighbours: any change there recompiles
-            folder = ref.absolute.parent
-            deps.extend(
-                str(p)
-                for p in sorted(folder.rglob("*"))
-                if p.is_file() and p.suffix in (".xacro", ".urdf")
-            )
+            deps.extend(_xacro_neighbours(ref.absolute.parent))
     if robot.description_kind == "urdf" and robot.description.has_srdf_beside:
         from robospec.description.srdf import srdf_path
 
@@ -279,6 +278,12 @@ def _dependencies(robot: object) -> list[str]:
         if os.path.isfile(srdf):  # SAPIEN's collision bits, which never_collide packs around
             deps.append(srdf)
     return sorted(set(deps), key=deps.index)
+
+
+def _xacro_neighbours(folder: Path) -> list[str]:
+    return [
+        str(p) for p in sorted(folder.rglob("*")) if p.is_file() and p.suffix in (".xacro", ".urdf")
+    ]
 
 
 def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dict[str, type]:

@@ -36,7 +36,7 @@ def description_location(context: CheckContext, element: Element | None) -> Loca
     if element is not None:
         line = _element_line(context, element)
         if line is not None:
-            return Location(context.description_file, line, 1)
+            return context.at_description(line)
     return context.key(("description",))
 
 

@@ -34,8 +34,9 @@ def nan_cause(
     mimics = [j for j in physx_mimic_joints(context, mode) if j.mimic is not None]
     if mimics:
         pairs = ", ".join(f"'{j.name}' mimics '{j.mimic.joint}'" for j in mimics if j.mimic)
+        where = context.at_description(mimics[0].line)
         return NanCause(
-            f"the URDF <mimic> tags ({pairs}; {context.description_file}:{mimics[0].line}): "
+            f"the URDF <mimic> tags ({pairs}; {where.file}:{where.line}): "
             "SAPIEN turns them into PhysX mimic joints, which alone go NaN on the CPU",
             "remove the <mimic> tags from the URDF and drive each pair with a "
             "pd_joint_pos_mimic controller, e.g. mimic: {"

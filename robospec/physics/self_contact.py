@@ -1,4 +1,4 @@
-"""RS508: links of the robot touch each other at a keyframe.
+"""RS508 and RS734: links of the robot touch each other at a keyframe.
 
 Each keyframe is set, the drives are told to hold it, and one physics step runs; every pair of
 the robot's own links then in contact deeper than ``checks.self_contact.min_depth`` is reported
@@ -9,6 +9,9 @@ A touching pair at rest pushes the robot away from its keyframe from the first s
 contact is meant (a closed hand, a finger resting on the palm), declare it in the spec; else the
 keyframe needs another pose.
 
+A pair with one link in a mounted part (``parts:``) and the other outside it is the part's
+pose pushing it into the robot: RS734, at the part's ``pose``, at the first keyframe it happens.
+
 Passing: the Panda's ``rest`` keyframe: no two links touch.
 Failing: a keyframe that folds the Panda's fingers into its fifth link; the hint suggests
 ``never_collide: [[panda_leftfinger, panda_link5]]``.
@@ -16,6 +19,9 @@ Failing: a keyframe that folds the Panda's fingers into its fifth link; the hint
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+
+from robospec.diagnostics import Diagnostic
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
 
@@ -30,6 +36,7 @@ def check(run: CheckRun) -> list[Finding]:
     sim = run.sim(run.modes[0])
     min_depth = run.settings.self_contact.min_depth
     findings = []
+    reported: set[str] = set()  # parts already said to be inside the robot
     for keyframe in run.keyframes:
         sim.start(keyframe)
         sim.hold_drive_targets()
@@ -42,6 +49,22 @@ def check(run: CheckRun) -> list[Finding]:
         if not touching:
             findings.append(
                 Finding(NAME, None, label, Status.PASS, "no links touch", metrics(pairs=0))
+            )
+            continue
+        diagnostics = list(_inside_parts(run, touching, label, reported))
+        touching = {pair: d for pair, d in touching.items() if not _across(run, pair)}
+        if not touching:
+            findings.append(
+                Finding(
+                    NAME,
+                    None,
+                    label,
+                    Status.FAIL,
+                    "a part is inside the robot",
+                    metrics(pairs=len(details)),
+                    tuple(diagnostics),
+                    details,
+                )
             )
             continue
         listed = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for (a, b), d in touching.items())
@@ -61,8 +84,45 @@ def check(run: CheckRun) -> list[Finding]:
                 Status.FAIL,
                 f"{len(touching)} touching pair(s): {listed}",
                 metrics(pairs=len(touching)),
-                (diagnostic,),
+                (*diagnostics, diagnostic),
                 details,
             )
         )
     return findings
+
+
+def _part_of(run: CheckRun, link: str) -> str | None:
+    return next((p.name for p in run.context.robot.parts if link in p.links), None)
+
+
+def _across(run: CheckRun, pair: tuple[str, str]) -> bool:
+    """Whether the pair straddles the seam of a mounted part."""
+    return _part_of(run, pair[0]) != _part_of(run, pair[1])
+
+
+def _inside_parts(
+    run: CheckRun, touching: dict[tuple[str, str], float], label: str, reported: set[str]
+) -> Iterator[Diagnostic]:
+    """RS734 for each part that a pair across its seam shows inside the robot, deepest first."""
+    by_part: dict[str, list[tuple[str, str, float]]] = {}
+    for (a, b), depth in touching.items():
+        for inside, outside in ((a, b), (b, a)):
+            part = _part_of(run, inside)
+            if part is not None and part != _part_of(run, outside):
+                by_part.setdefault(part, []).append((inside, outside, depth))
+    for part, pairs in by_part.items():
+        if part in reported:
+            continue
+        reported.add(part)
+        inside, outside, depth = max(pairs, key=lambda p: p[2])
+        rule = ", ".join(f"[{o}, {i}]" for i, o, _ in pairs)
+        yield run.fail(
+            ("parts", part, "pose"),
+            "RS734",
+            f"part '{part}' is inside the robot at keyframe '{label}': its link '{inside}' is "
+            f"{depth * 1000:.1f} mm into '{outside}'"
+            + (f" (and {len(pairs) - 1} more pair(s))" if len(pairs) > 1 else ""),
+            "move the part with `pose:` (robospec inspect names the mount's frames); where it "
+            "is meant to touch there (its base against the flange), declare "
+            f"`never_collide: [{rule}]`",
+        )

@@ -10,12 +10,13 @@ names that bind to nothing. One module per part of the spec, each taking the
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 from pathlib import Path
 
 from robospec.diagnostics import error
 from robospec.load.source_map import LoadedSpec
 from robospec.model.validate import SpecModelResult
-from robospec.resolve import members
+from robospec.resolve import members, parts
 from robospec.resolve.cameras import resolve_camera
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.controllers import resolve_controller
@@ -23,32 +24,46 @@ from robospec.resolve.description_files import load_inherited_description, load_
 from robospec.resolve.keyframes import resolve_keyframe
 from robospec.resolve.modes import resolve_modes
 from robospec.resolve.never_collide import resolve_never_collide
+from robospec.resolve.part_types import PartInput
 from robospec.resolve.resolved import ResolvedCollisionRule, ResolvedRobot
 from robospec.resolve.selection import group_joints, select_joints, select_links
 from robospec.resolve.urdf_config import resolve_urdf_config
 
 
-def resolve(loaded: LoadedSpec, model: SpecModelResult, spec_file: Path) -> ResolveContext:
+def resolve(
+    loaded: LoadedSpec,
+    model: SpecModelResult,
+    spec_file: Path,
+    parts: Mapping[str, PartInput] | None = None,
+) -> ResolveContext:
     """Resolve ``model``'s spec; the context holds the robot (None when its description could
-    not be loaded), the bindings and the diagnostics."""
-    context = ResolveContext(loaded, model, spec_file)
+    not be loaded), the bindings and the diagnostics. ``parts``: the spec's parts, each
+    compiled on its own (robospec.pipeline), which are mounted on its description."""
+    context = ResolveContext(loaded, model, spec_file, parts=dict(parts or {}))
     context.robot = _resolve_robot(context)
     return context
 
 
 def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
     spec = context.spec
+    if spec.parts and spec.description is None:
+        parts.warn_unsupported(context)  # said before the extended class is imported
+        return None
     base_ref, base_class = members.base_class(context)
     if spec.extends is not None and base_ref is None:
         return None
     if spec.description is not None:
-        description_ref = load_spec_description(context)
+        description_ref = load_spec_description(
+            context, parts.compose_parts if spec.parts else None
+        )
         description_kind = "mjcf" if spec.description.kind == "mjcf" else "urdf"
     else:
         description_ref, description_kind = load_inherited_description(context, base_class)
     if description_ref is None or context.loaded_description is None:
         return None
     description = context.description
+    context.robot_description_ref = description_ref
+    context.part_plan = parts.make_plan(context)
     for name in spec.groups:
         if description.joint(name) is not None:
             # a selection names a group or a joint by the same word: one of them would be
@@ -83,8 +98,11 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         )
         for i, rule in enumerate(spec.collision_rules)
     )
-    packed, never_collide = resolve_never_collide(context, rules)
-    return ResolvedRobot(
+    rules += tuple(context.part_plan.collision_rules)
+    packed, never_collide = resolve_never_collide(
+        context, rules, tuple(context.part_plan.never_collide)
+    )
+    robot = ResolvedRobot(
         uid=spec.uid,
         class_name=spec.class_name or class_name_for(spec.uid),
         spec_path=context.loaded.path,
@@ -118,6 +136,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         never_collide=never_collide,
         simulation=members.simulation(context),
     )
+    return parts.merge(context, robot)
 
 
 def declared_sections(context: ResolveContext) -> frozenset[str]:

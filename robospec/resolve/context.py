@@ -10,13 +10,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult
-from robospec.resolve.resolved import Bindings, ResolvedRobot
+from robospec.resolve.part_types import Locator, PartInput, Plan
+from robospec.resolve.resolved import Bindings, FileRef, ResolvedRobot
+
+if TYPE_CHECKING:
+    from robospec.compose.model import Composed
 
 
 @dataclass
@@ -34,6 +39,17 @@ class ResolveContext:
     robot: ResolvedRobot | None = None
     # group name -> its joints, each group expanded once
     group_joints: dict[str, list[str]] = field(default_factory=dict)
+    # the parts the spec mounts, compiled (robospec.resolve.parts), by name
+    parts: dict[str, PartInput] = field(default_factory=dict)
+    # the combined description, once the parts are mounted, and what comes along from them
+    composed: Composed | None = None
+    part_plan: Plan | None = None
+    # the robot's URDF, when SAPIEN would have read an SRDF beside it (before parts were added)
+    base_srdf: str | None = None
+    # the robot's description as the generated agent names it (the combined one, with parts)
+    robot_description_ref: FileRef | None = None
+    # paths of what came along from a part's spec -> where that part's spec wrote it
+    origins: dict[KeyPath, tuple[Locator, KeyPath]] = field(default_factory=dict)
 
     @property
     def spec(self) -> Spec:
@@ -49,10 +65,21 @@ class ResolveContext:
     # -- where things were written -----------------------------------------------------------
 
     def at_value(self, path: KeyPath) -> Location:
-        return self.loaded.source.value(self.model.origin(path))
+        found = self._in_part(path, key=False)
+        return found or self.loaded.source.value(self.model.origin(path))
 
     def at_key(self, path: KeyPath) -> Location:
-        return self.loaded.source.key(self.model.origin(path))
+        found = self._in_part(path, key=True)
+        return found or self.loaded.source.key(self.model.origin(path))
+
+    def _in_part(self, path: KeyPath, *, key: bool) -> Location | None:
+        """Where a part's spec wrote what ``path`` names, for what came along from a part."""
+        for length in range(len(path), 0, -1):
+            found = self.origins.get(path[:length])
+            if found is not None:
+                locate, there = found
+                return locate((*there, *path[length:]), key)
+        return None
 
     def err(self, path: KeyPath, code: str, message: str, hint: str | None = None) -> None:
         self.diagnostics.append(error(self.at_value(path), code, message, hint))

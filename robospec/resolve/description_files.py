@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -17,6 +18,7 @@ from robospec.description.facts import RobotDescription
 from robospec.description.sanity import SANITY_CODES
 
 if TYPE_CHECKING:
+    from robospec.compose.model import Composed
     from robospec.derive import Derived
 from robospec.diagnostics import Diagnostic, Location
 from robospec.load.source_map import KeyPath
@@ -86,19 +88,68 @@ def shown_path(context: ResolveContext, ref: FileRef) -> str:
     return ref.placeholder_text or str(Path(context.loaded.path).parent / ref.relative)
 
 
-def load_spec_description(context: ResolveContext) -> FileRef | None:
-    """Load the description the spec's ``description:`` names (into the context)."""
-    from robospec.description import load_description
-
+def load_spec_description(context: ResolveContext, mount: Mount | None = None) -> FileRef | None:
+    """Load the description the spec's ``description:`` names (into the context). ``mount``:
+    what writes the combined description of it and the spec's parts (robospec.resolve.parts),
+    given the ref of the prepared description, its kind and shown name; it returns the ref of
+    the combined text (and sets ``context.composed``), or None when the parts cannot be
+    mounted."""
     desc = context.spec.description
     assert desc is not None
-    path: KeyPath = ("description", desc.kind)
-    packages = package_folders(context)
+    prepared = _prepare(context, desc, ("description",))
+    if prepared is None or isinstance(prepared, FileRef):
+        return prepared  # could not be read, or not downloaded (names are assumed)
+    ref, kind, shown, packages, derived = prepared
+    if mount is not None:
+        mounted = mount(context, ref, kind, shown)
+        if mounted is None:
+            return None
+        ref = mounted
+    description, ref = _load(context, ref, kind, shown, packages, derived, context.composed)
+    context.loaded_description = description
+    return ref if description is not None else None
+
+
+Mount = Callable[[ResolveContext, FileRef, str, str], "FileRef | None"]
+
+
+def load_part_description(
+    context: ResolveContext, desc: Any, where: KeyPath
+) -> tuple[FileRef, RobotDescription, str] | None:
+    """A part's bare description (``parts.NAME.description``), expanded and mended as the
+    spec's own: its file, its facts and how diagnostics name it."""
+    prepared = _prepare(context, desc, where)
+    if prepared is None or isinstance(prepared, FileRef):
+        if isinstance(prepared, FileRef):  # not downloaded: nothing to mount yet
+            context.err(
+                (*where, desc.kind),
+                "RS055",
+                f"'{desc.path}' is not downloaded: the part cannot be mounted",
+                "python -m mani_skill.utils.download_asset " + " ".join(desc.download),
+            )
+        return None
+    ref, kind, shown, packages, derived = prepared
+    description, ref = _load(context, ref, kind, shown, packages, derived, None)
+    return (ref, description, shown) if description is not None else None
+
+
+Prepared = tuple[FileRef, Literal["urdf", "mjcf"], str, dict[str, str], "Derived | None"]
+
+
+def _prepare(context: ResolveContext, desc: Any, where: KeyPath) -> Prepared | FileRef | None:
+    """The description entry at ``where`` found, expanded (xacro) and mended (derive): its
+    ref (with the text robospec wrote, if any), kind, shown name, packages and derivation. A
+    download ManiSkill has not fetched yet gives its bare ref (the context's description is
+    then assumed from the spec's names)."""
+    path: KeyPath = (*where, desc.kind)
+    packages = package_folders(context, desc, where)
     ref = file_ref(context, desc.path, path, may_be_missing=bool(desc.download))
     if ref is None:
         return None
     shown = shown_path(context, ref)
     if not ref.absolute.is_file():  # a download ManiSkill has not fetched yet
+        if where != ("description",):
+            return ref
         from robospec.description.assumed import assumed_description
 
         context.warn(
@@ -124,10 +175,26 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
     kind: Literal["urdf", "mjcf"] = "mjcf" if desc.kind == "mjcf" else "urdf"
     derived = None
     if mends:
-        found = _derive(context, ref, kind, shown, packages, mends)
+        found = _derive(context, ref, kind, shown, packages, mends, where, path)
         if found is None:
             return None
         ref, derived = found
+    return ref, kind, shown, packages, derived
+
+
+def _load(
+    context: ResolveContext,
+    ref: FileRef,
+    kind: Literal["urdf", "mjcf"],
+    shown: str,
+    packages: dict[str, str],
+    derived: Derived | None,
+    composed: Composed | None,
+) -> tuple[RobotDescription | None, FileRef]:
+    """Parse the description ``ref`` holds (its text, when robospec wrote one); its problems
+    go to the context under the file the user wrote (each element's own, when composed)."""
+    from robospec.description import load_description
+
     description, diags = load_description(
         str(ref.absolute),
         kind,
@@ -136,13 +203,23 @@ def load_spec_description(context: ResolveContext) -> FileRef | None:
         beside_file=ref.has_srdf_beside,
     )
     if derived is not None:
-        diags = derived.located(diags, str(ref.absolute))
-    context.diagnostics.extend(_relocate(_unless_shipped(diags, ref), str(ref.absolute), shown))
+        diags = derived.located(diags, str(ref.absolute)) if composed is None else diags
+    diags = _unless_shipped(diags, ref)
+    if composed is not None:
+        from robospec.compose.model import relocate
+
+        # each element at its file and line in the combined text's sources; the robot's own
+        # at the line of its derived text, which the derivation then maps to the user's file
+        diags = relocate(diags, str(ref.absolute), composed)
+        if derived is not None:
+            diags = derived.located(diags, shown)
+        context.diagnostics.extend(diags)
+    else:
+        context.diagnostics.extend(_relocate(diags, str(ref.absolute), shown))
     # an expansion or a derived copy is written elsewhere: every path it names moves with it
     always = ref.generated_text is not None
     ref = dataclasses.replace(ref, mesh_paths=_carried_mesh_paths(description, always=always))
-    context.loaded_description = description
-    return ref if description is not None else None
+    return description, ref
 
 
 def _derive(
@@ -152,6 +229,8 @@ def _derive(
     shown: str,
     packages: dict[str, str],
     mends: dict[str, Any],
+    where: KeyPath = ("description",),
+    file_path: KeyPath = ("description",),
 ) -> tuple[FileRef, Derived] | None:
     """The spec's mends applied to a copy of the description (robospec.derive): the notes of
     what changed, in the description; what the spec asked that does not fit, at its entry."""
@@ -167,7 +246,7 @@ def _derive(
             data = read_file_bytes(str(ref.absolute))
         except OSError as exc:
             context.err(
-                ("description", context.spec.description.kind),  # type: ignore[union-attr]
+                file_path,
                 "RS050",
                 f"cannot read robot description '{shown}': {exc.strerror or exc}",
             )
@@ -176,11 +255,11 @@ def _derive(
     context.diagnostics.extend(derived.notes)
     context.diagnostics.extend(derived.refusals)
     for outcome in derived.outcomes:
-        where: KeyPath = ("description", "mend", outcome.name)
+        at: KeyPath = (*where, "mend", outcome.name)
         policy = _policy_text(mends[outcome.name])
         if outcome.status == "stale":
             context.warn(
-                where,
+                at,
                 STALE,
                 f"mend '{outcome.name}: {policy}' changes nothing in '{shown}'",
                 "remove it (robospec new writes only the mends a robot needs)",
@@ -192,7 +271,7 @@ def _derive(
 
             fitting = [m.NAME for m in MENDS if kind in m.KINDS]
             context.err(
-                where,
+                at,
                 NOT_FOR_KIND,
                 f"mend '{outcome.name}' is for {kinds} descriptions, and '{shown}' is "
                 f"{kind.upper()}",
@@ -208,14 +287,16 @@ def _policy_text(policy: Any) -> str:
     return str(policy)
 
 
-def package_folders(context: ResolveContext) -> dict[str, str]:
-    """The spec's ``description.packages``, each an absolute folder; a folder that is not
-    there is RS058 at its value (and left out)."""
-    desc = context.spec.description
+def package_folders(
+    context: ResolveContext, desc: Any = None, entry: KeyPath = ("description",)
+) -> dict[str, str]:
+    """The ``packages`` of the description entry at ``entry`` (the spec's own by default), each
+    an absolute folder; a folder that is not there is RS058 at its value (and left out)."""
+    desc = desc if desc is not None else context.spec.description
     assert desc is not None
     folders: dict[str, str] = {}
     for name, text in desc.packages.items():
-        where: KeyPath = ("description", "packages", name)
+        where: KeyPath = (*entry, "packages", name)
         in_assets, in_data = split_assets(text), split_data(text)
         if in_data is not None:
             folder = maniskill_data_dir() / in_data

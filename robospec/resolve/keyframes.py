@@ -12,6 +12,7 @@ from typing import Any
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Keyframe
 from robospec.resolve.context import ResolveContext
+from robospec.resolve.parts import keyframe_values
 from robospec.resolve.poses import position_and_quaternion
 from robospec.resolve.resolved import ResolvedKeyframe
 from robospec.resolve.root_pose import root_link_pose
@@ -56,6 +57,10 @@ def joint_values(context: ResolveContext, values: Any, path: KeyPath) -> tuple[f
         items = item if isinstance(item, list) else [item] * len(joints)
         if len(items) == len(joints):
             by_joint.update(zip(joints, items, strict=True))
+    if context.composed is not None and path[0] == "keyframes":
+        # merged by joint: the parts' joints the spec leaves out take the parts' values
+        for joint, value in keyframe_values(context, str(path[1]), str(path[-1])).items():
+            by_joint.setdefault(joint, value)
     if any(joint not in by_joint for joint in active):
         return None
     return tuple(by_joint[joint] for joint in active)

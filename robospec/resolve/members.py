@@ -15,6 +15,7 @@ from robospec.load.source_map import KeyPath
 from robospec.model.frozen import HeightBand
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.keyframes import NEEDS_DOWNLOAD
+from robospec.resolve.parts import part_named_link
 from robospec.resolve.poses import position_and_quaternion
 from robospec.resolve.python_refs import RefKind, check_ref
 from robospec.resolve.resolved import (
@@ -38,7 +39,7 @@ AXES = {"x": 0, "y": 1, "z": 2}
 
 def link_or_named(context: ResolveContext, name: str, path: KeyPath) -> str:
     """A link name, or a ``named_links`` attribute (one link or a list: RS316 tells which fits)."""
-    if name in context.spec.named_links:
+    if name in context.spec.named_links or part_named_link(context, name):
         return name
     if context.description.link(name) is None:
         candidates = [*context.description.link_names, *context.spec.named_links]

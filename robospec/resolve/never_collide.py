@@ -17,12 +17,15 @@ from robospec.resolve.selection import select_links
 
 
 def resolve_never_collide(
-    context: ResolveContext, user_rules: tuple[ResolvedCollisionRule, ...]
+    context: ResolveContext,
+    user_rules: tuple[ResolvedCollisionRule, ...],
+    extra: tuple[tuple[str, ...], ...] = (),
 ) -> tuple[tuple[ResolvedCollisionRule, ...], ResolvedNeverCollide | None]:
-    """The packed rules (to append after ``user_rules``) and what the checks need to know."""
+    """The packed rules (to append after ``user_rules``) and what the checks need to know.
+    ``extra``: entries already bound to links (what the parts bring), after the spec's own."""
     spec = context.spec
     description = context.description
-    if not spec.never_collide:
+    if not spec.never_collide and not extra:
         return (), None
     order = {name: i for i, name in enumerate(description.link_names)}
     entries = tuple(
@@ -32,7 +35,7 @@ def resolve_never_collide(
             )
         )
         for index, entry in enumerate(spec.never_collide)
-    )
+    ) + tuple(tuple(sorted(set(links) & set(order), key=order.__getitem__)) for links in extra)
     if spec.loader.disable_self_collisions:
         return (), ResolvedNeverCollide(entries, skipped=True)
 

@@ -51,6 +51,10 @@ class FileRef:
     # a description robospec derived (robospec.derive: mended): a built package carries it
     # with copies of every file it names, so that it loads where the original is absent
     derived: bool = False
+    # a description composed with parts mounted (robospec.compose): the parts' names, and
+    # the files it was written from besides this one (the parts' specs and descriptions)
+    parts: tuple[str, ...] = ()
+    sources: tuple[str, ...] = ()
     # whether SAPIEN reads an SRDF beside this file (a URDF file, mended or not; never a
     # xacro expansion, which SAPIEN never sees as a file)
     has_srdf_beside: bool = True
@@ -236,6 +240,26 @@ class ResolvedHooks:
 
 
 @dataclass(frozen=True)
+class ResolvedPart:
+    """A robot mounted on this one (``parts:``), as the combined description has it."""
+
+    name: str
+    source: str  # its spec file, or its description file, as the spec wrote it
+    kind: Literal["spec", "description"]
+    at: str  # the link the spec mounts it on (before fold_frames)
+    joint: str  # the fixed joint that mounts it ("" for an MJCF body, welded to its parent)
+    root: str  # its root link
+    p: tuple[float, float, float]
+    q: tuple[float, float, float, float]
+    links: tuple[str, ...]
+    joints: tuple[str, ...]
+    # (link | joint | material, name in the part's file, name here) for every prefixed name
+    renamed: tuple[tuple[str, str, str], ...] = ()
+    description: str = ""  # the part's description file, as diagnostics name it
+    folded: tuple[str, ...] = ()  # empty frames fold_frames left out (links and joints)
+
+
+@dataclass(frozen=True)
 class ResolvedSimulation:
     """The spec's ``simulation`` section: what the agent sets on its own shapes, and the sim
     config it recommends (``sim_config``: ManiSkill's ``SimConfig`` as the nested dict that
@@ -301,4 +325,6 @@ class ResolvedRobot:
     drives: tuple[ResolvedDrive, ...] = ()
     hooks: ResolvedHooks = ResolvedHooks()
     never_collide: ResolvedNeverCollide | None = None
+    # the robots mounted on this one (their links and joints are in the description)
+    parts: tuple[ResolvedPart, ...] = ()
     simulation: ResolvedSimulation = ResolvedSimulation()

@@ -1,0 +1,451 @@
+"""Parts: robots composed from two descriptions in one spec (``parts:``), without simulating.
+
+The combined description robospec writes is compared with the hand-made combinations that
+ship beside the parts: ManiSkill's ``xarm7_ability_right_hand.urdf`` (the xArm 7 with the Ability
+hand) link by link — names, tree, active joints in qpos order, every link's pose at random
+configurations, masses — and what comes along from the part's spec (controllers in every mode,
+keyframes merged by joint, tcp, materials) is checked in the robot that comes out. Prefixes,
+frames, rings of parts, MJCF parts and the carried files of ``build`` each have a test; the
+diagnostics of bad input are the catalogue's (docs/examples/codes/RS730 ... RS741).
+tests/test_compose_maniskill.py loads the composed robots in ManiSkill.
+"""
+
+from __future__ import annotations
+
+import random
+import re
+from pathlib import Path
+
+import pytest
+from conftest import CODE_EXAMPLES, SPECS
+
+from robospec.authoring.kinematics import urdf_kinematics
+from robospec.description import load_description
+from robospec.diagnostics import Severity
+from robospec.pipeline import compile_spec
+from robospec.resolve.paths import maniskill_assets_dir
+
+COMPOSED = SPECS / "composed" / "xarm7_ability.yaml"
+HAND = SPECS / "composed" / "ability_hand_right.yaml"
+EXAMPLES = CODE_EXAMPLES / "RS736"  # an arm and a gripper, small enough to write variants of
+
+
+def _assets() -> Path:
+    assets = maniskill_assets_dir()
+    assert assets is not None, "ManiSkill's assets are part of the maniskill extra"
+    return assets
+
+
+def _combined_file() -> Path:
+    return _assets() / "robots" / "xarm7" / "xarm7_ability_right_hand.urdf"
+
+
+def _compiled(path: Path) -> object:
+    result = compile_spec(path)
+    errors = [d.format_text() for d in result.diagnostics if d.is_error]
+    assert result.robot is not None and not errors, errors
+    return result
+
+
+# -- the xArm 7 with the Ability hand, against ManiSkill's hand-made file ----------------------
+
+
+def test_composed_xarm7_ability_has_maniskills_links_joints_and_masses() -> None:
+    result = _compiled(COMPOSED)
+    ours = result.description
+    theirs, _ = load_description(str(_combined_file()), "urdf")
+    assert ours is not None and theirs is not None
+    assert ours.link_names == theirs.link_names
+    assert ours.active_joint_names == theirs.active_joint_names
+    assert [(j.name, j.type, j.parent, j.child, j.lower, j.upper) for j in ours.joints] == [
+        (j.name, j.type, j.parent, j.child, j.lower, j.upper) for j in theirs.joints
+    ]
+    text = result.robot.description.generated_text
+    assert _masses(text) == _masses(_combined_file().read_text())
+
+
+def _masses(text: str) -> dict[str, float]:
+    from lxml import etree
+
+    root = etree.fromstring(text.encode())
+    return {
+        str(link.get("name")): float(mass.get("value"))
+        for link in root.findall("link")
+        if (mass := link.find("inertial/mass")) is not None
+    }
+
+
+def test_composed_xarm7_ability_puts_every_link_where_maniskills_file_does() -> None:
+    result = _compiled(COMPOSED)
+    ours = urdf_kinematics(result.robot.description.generated_text)
+    theirs = urdf_kinematics(_combined_file().read_bytes())
+    assert ours is not None and theirs is not None
+    joints = result.description.active_joints
+    rng = random.Random(25)
+    for _ in range(20):
+        qpos = {j.name: rng.uniform(j.lower or -3.0, j.upper or 3.0) for j in joints}
+        a, b = ours.link_poses(qpos), theirs.link_poses(qpos)
+        assert a.keys() == b.keys()
+        for link in a:
+            assert _distance(a[link], b[link]) < 1e-6, link
+
+
+def _distance(a: object, b: object) -> float:
+    rows = [*a.rotation, a.translation]  # type: ignore[attr-defined]
+    other = [*b.rotation, b.translation]  # type: ignore[attr-defined]
+    return max(
+        abs(x - y)
+        for row, row2 in zip(rows, other, strict=True)
+        for x, y in zip(row, row2, strict=True)
+    )
+
+
+def test_the_parts_controller_joins_every_mode_and_its_keyframe_merges_by_joint() -> None:
+    robot = _compiled(COMPOSED).robot
+    # upstream's modes: each of the arm's, with the hand's controller as 'gripper'
+    assert [(m.name, m.groups) for m in robot.modes] == [
+        ("pd_joint_delta_pos", (("arm", "arm_delta_pos"), ("gripper", "hand_target_delta_pos"))),
+        ("pd_joint_pos", (("arm", "arm_pos"), ("gripper", "hand_target_delta_pos"))),
+        ("pd_ee_delta_pose", (("arm", "arm_ee_delta_pose"), ("gripper", "hand_target_delta_pos"))),
+        (
+            "pd_ee_target_delta_pose",
+            (("arm", "arm_ee_target_delta_pose"), ("gripper", "hand_target_delta_pos")),
+        ),
+    ]
+    (rest,) = robot.keyframes
+    assert rest.qpos == (0, -0.4, 0, 0.5, 0, 0.9, -3.0, *[0.0] * 10)
+    assert robot.tcp is not None and robot.tcp.link == "base"  # the hand's
+    assert robot.urdf_config["_materials"] == {
+        "front_finger": {"static_friction": 2.0, "dynamic_friction": 1.5, "restitution": 0.0}
+    }
+    assert list(robot.urdf_config["link"]) == ["index_L2", "middle_L2", "ring_L2", "pinky_L2"]
+    assert dict(robot.named_links)["finger_tip_links"][0] == "thumb_tip"
+    (part,) = robot.parts
+    assert (part.name, part.at, part.joint, part.root) == ("hand", "link_eef", "joint_eef", "base")
+    assert part.folded == ("link_eef", "base_link", "base_joint")
+
+
+def test_the_hands_description_problems_point_into_the_hands_file() -> None:
+    result = compile_spec(COMPOSED)
+    mimics = [d for d in result.diagnostics if d.code == "RS309"]
+    assert mimics and all(
+        d.location.file == "{maniskill_assets}/robots/ability_hand/ability_hand_right.urdf"
+        for d in mimics
+    )
+    hand = (_assets() / "robots/ability_hand/ability_hand_right.urdf").read_text().splitlines()
+    for d in mimics:  # the line of the joint the warning names
+        assert re.search(rf'joint name="{d.message.split(chr(39))[1]}"', hand[d.location.line - 1])
+
+
+def test_fold_frames_leaves_out_the_arms_flange_and_the_hands_root_frame() -> None:
+    text = _compiled(COMPOSED).robot.description.generated_text
+    assert '<link name="link_eef"' not in text and '<link name="base_link"' not in text
+    joint = re.search(r'<joint name="joint_eef".*?</joint>', text, re.S)
+    assert joint is not None and '<child link="base"/>' in joint.group(0)
+
+
+# -- names, modes and keyframes of parts ---------------------------------------------------------
+
+
+def _arm_and_gripper(tmp_path: Path, part: str, extra: str = "", gripper_extra: str = "") -> Path:
+    """The catalogue's arm with a gripper whose root is base_link, as the arm's is."""
+    for name in ("arm.urdf", "gripper.urdf"):
+        (tmp_path / name).write_text((EXAMPLES / name).read_text())
+    (tmp_path / "gripper.yaml").write_text(
+        "robospec: 1\nuid: my_gripper\ndescription: {urdf: gripper.urdf}\n"
+        "materials: {rubber: {static_friction: 1, dynamic_friction: 1}}\n"
+        "links: {left_finger: {material: rubber}}\n"
+        "keyframes: {rest: {qpos: {left: 0.02}}, wide: {qpos: {left: 0.03}}}\n"
+        "controllers:\n"
+        "  arm: {type: pd_joint_pos, joints: [left], lower: 0, upper: 0.03, stiffness: 100,"
+        " damping: 10, normalize_action: false}\n"
+        "control_modes: {pd_joint_pos: {arm: arm}}\n"
+        "tcp: left_finger\n" + gripper_extra
+    )
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: my_arm\ndescription: {urdf: arm.urdf}\n"
+        f"parts:\n  gripper: {part}\n"
+        "materials: {rubber: {static_friction: 2, dynamic_friction: 2}}\n"
+        "keyframes: {rest: {qpos: {shoulder: 0.5}}}\n"
+        "controllers:\n"
+        "  arm: {type: pd_joint_pos, joints: [shoulder], lower: -3, upper: 3, stiffness: 100,"
+        " damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm}\n" + extra
+    )
+    return spec
+
+
+def test_clashing_names_get_the_parts_prefix_and_only_those(tmp_path: Path) -> None:
+    spec = _arm_and_gripper(tmp_path, "{spec: gripper.yaml, at: tool0}")
+    result = _compiled(spec)
+    (note,) = [d for d in result.diagnostics if d.code == "RS736"]
+    assert note.severity is Severity.NOTE and "'base_link' -> 'gripper_base_link'" in note.message
+    robot = result.robot
+    assert "gripper_base_link" in result.description.link_names
+    assert "left_finger" in result.description.link_names  # no clash: kept
+    # the part's controller 'arm' clashes with the robot's: prefixed, and used in every mode
+    assert [c.name for c in robot.controllers] == ["arm", "gripper_arm"]
+    assert robot.modes[0].groups == (("arm", "arm"), ("gripper_arm", "gripper_arm"))
+    # its material 'rubber' is another than the robot's: prefixed, and its link rule follows
+    assert robot.urdf_config["link"]["left_finger"]["material"] == "gripper_rubber"
+    assert robot.tcp is not None and robot.tcp.link == "left_finger"
+
+
+def test_keyframes_merge_by_joint_and_a_parts_own_keyframe_comes_along(tmp_path: Path) -> None:
+    robot = _compiled(_arm_and_gripper(tmp_path, "{spec: gripper.yaml, at: tool0}")).robot
+    frames = {k.name: k.qpos for k in robot.keyframes}
+    assert frames == {"rest": (0.5, 0.02), "wide": (0.5, 0.03)}
+
+
+def test_a_mode_that_already_drives_the_part_is_left_as_the_spec_writes_it(
+    tmp_path: Path,
+) -> None:
+    spec = _arm_and_gripper(
+        tmp_path,
+        "{spec: gripper.yaml, at: tool0}",
+        "  both: {arm: arm, fingers: gripper_arm}\n",
+    )
+    robot = _compiled(spec).robot
+    modes = {m.name: m.groups for m in robot.modes}
+    assert modes["both"] == (("arm", "arm"), ("fingers", "gripper_arm"))
+    assert modes["pd_joint_pos"] == (("arm", "arm"), ("gripper_arm", "gripper_arm"))
+
+
+def test_a_problem_of_a_part_controller_is_reported_in_the_parts_spec(tmp_path: Path) -> None:
+    # a normalized action over unbounded limits (RS319), written in the gripper's spec
+    spec = _arm_and_gripper(tmp_path, "{spec: gripper.yaml, at: tool0}")
+    urdf = tmp_path / "gripper.urdf"
+    urdf.write_text(urdf.read_text().replace('type="prismatic"', 'type="continuous"'))
+    gripper = tmp_path / "gripper.yaml"
+    gripper.write_text(
+        gripper.read_text().replace(
+            "lower: 0, upper: 0.03, stiffness: 100, damping: 10, normalize_action: false",
+            "lower: null, upper: null, stiffness: 100, damping: 10, normalize_action: true",
+        )
+    )
+    result = compile_spec(spec)
+    found = [d for d in result.diagnostics if d.code == "RS319"]
+    assert found and {d.location.file for d in found} == {str(gripper)}
+
+
+def test_parts_hang_from_parts_in_any_order(tmp_path: Path) -> None:
+    (tmp_path / "camera.urdf").write_text((CODE_EXAMPLES / "RS733" / "camera.urdf").read_text())
+    spec = _arm_and_gripper(
+        tmp_path,
+        "{spec: gripper.yaml, at: tool0}\n"
+        "  camera: {description: {urdf: camera.urdf}, at: left_finger}",
+    )
+    # the camera comes first in the file, on a link of the gripper, mounted after it
+    text = spec.read_text()
+    lines = text.splitlines()
+    gripper, camera = lines[4], lines[5]
+    spec.write_text(text.replace(gripper + "\n" + camera, camera + "\n" + gripper))
+    result = _compiled(spec)
+    assert {p.name: p.at for p in result.robot.parts} == {
+        "gripper": "tool0",
+        "camera": "left_finger",
+    }
+    assert "camera_link" in result.description.link_names
+
+
+def test_the_combined_description_loads_from_the_robots_folder_and_names_the_parts_files(
+    tmp_path: Path,
+) -> None:
+    text = _compiled(COMPOSED).robot.description.generated_text
+    meshes = re.findall(r'filename="([^"]+)"', text)
+    assert any(m.startswith("../ability_hand/meshes/") for m in meshes)
+    folder = _combined_file().parent
+    assert all((folder / m).is_file() for m in meshes), "every file, from the arm's folder"
+
+
+def test_build_writes_a_composed_robot_self_contained(tmp_path: Path) -> None:
+    from conftest import invoke_robospec
+
+    out = tmp_path / "pkg"
+    result = invoke_robospec("build", str(COMPOSED), "-o", str(out))
+    assert result.exit_code == 0, result.output
+    urdf = (out / "rs_xarm7_ability_composed.urdf").read_text()
+    assert "with part 'hand' mounted" in urdf
+    for mesh in re.findall(r'filename="([^"]+)"', urdf):
+        assert "/" not in mesh and (out / mesh).is_file(), mesh
+
+
+def test_register_recompiles_when_a_parts_spec_or_description_changes() -> None:
+    from robospec.output.register import _dependencies
+
+    deps = _dependencies(_compiled(COMPOSED).robot)
+    assert str(HAND.resolve()) in deps
+    assert any(d.endswith("ability_hand/ability_hand_right.urdf") for d in deps)
+
+
+# -- MJCF ------------------------------------------------------------------------------------------
+
+
+def _jaco(tmp_path: Path) -> Path:
+    from corpus import BY_KEY, CorpusMissing, locate
+
+    try:
+        arm, hand = locate(BY_KEY["dmc_jaco_arm"]), locate(BY_KEY["dmc_jaco_hand"])
+    except CorpusMissing as missing:
+        pytest.fail(str(missing))
+    (tmp_path / "hand.yaml").write_text(
+        f"robospec: 1\nuid: jaco_hand\ndescription: {{mjcf: '{hand}'}}\n"
+        "groups: {fingers: 'finger_[123]'}\n"
+        "keyframes: {rest: {qpos: {fingers: 0.2}}}\n"
+        "controllers:\n  fingers: {type: pd_joint_pos, joints: fingers, lower: null,"
+        " upper: null, stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes: {pd_joint_pos: {gripper: fingers}}\ntcp: hand\n"
+    )
+    spec = tmp_path / "jaco.yaml"
+    spec.write_text(
+        f"robospec: 1\nuid: jaco_with_hand\ndescription: {{mjcf: '{arm}'}}\n"
+        "parts: {hand: {spec: hand.yaml, at: b_6}}\n"
+        "groups: {arm: 'joint_[1-6]'}\n"
+        "keyframes: {rest: {qpos: {arm: [0, 3.14, 3.14, 0, 0, 0]}}}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: arm, lower: null, upper: null,"
+        " stiffness: 1000, damping: 100, normalize_action: false}\n"
+        "control_modes: {pd_joint_pos: {arm: arm}}\n"
+        # MuJoCo keeps the hand off the wrist with contype/conaffinity, which ManiSkill ignores
+        "never_collide: [[b_4, hand], [b_5, hand]]\n"
+    )
+    return spec
+
+
+def test_an_mjcf_hand_on_an_mjcf_arm_keeps_its_defaults_and_shares_alike_assets(
+    tmp_path: Path,
+) -> None:
+    result = _compiled(_jaco(tmp_path))
+    description = result.description
+    assert description.active_joint_names[-3:] == ("finger_1", "finger_2", "finger_3")
+    assert [j.lower for j in description.active_joints[-3:]] == [0.15, 0.15, 0.15]  # the hand's
+    text = result.robot.description.generated_text
+    assert '<default class="hand">' in text and 'childclass="hand"' in text
+    assert "hand_dark_gray" not in text  # both include common.xml's materials: shared
+    assert not any(d.code == "RS736" for d in result.diagnostics)
+
+
+def test_build_carries_a_composed_mjcf_standalone(tmp_path: Path) -> None:
+    from conftest import invoke_robospec
+
+    out = tmp_path / "pkg"
+    result = invoke_robospec("build", str(_jaco(tmp_path)), "-o", str(out))
+    assert result.exit_code == 0, result.output
+    xml = (out / "jaco_with_hand.xml").read_text()
+    assert "<include" not in xml and "meshdir" not in xml
+    files = re.findall(r'file="([^"]+)"', xml)
+    assert files and all((out / f).is_file() for f in files)
+    assert (
+        'mjcf_path = os.path.join(HERE, "jaco_with_hand.xml")'
+        in (out / "jaco_with_hand.py").read_text()
+    )
+
+
+# -- what cannot be composed ----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("example", ["fail_joint", "fail_prefix"])
+def test_a_clash_no_prefix_fixes_is_an_error_at_the_part(tmp_path: Path, example: str) -> None:
+    extra = "joint: shoulder" if example == "fail_joint" else "prefix: 'up'"
+    spec = _arm_and_gripper(tmp_path, f"{{spec: gripper.yaml, at: tool0, {extra}}}")
+    if example == "fail_prefix":  # the arm has upbase_link already: 'up' + base_link is taken
+        arm = tmp_path / "arm.urdf"
+        frame = (
+            '<link name="upbase_link"/><joint name="extra" type="fixed">'
+            '<parent link="tool0"/><child link="upbase_link"/></joint>'
+        )
+        arm.write_text(arm.read_text().replace("</robot>", frame + "</robot>"))
+    result = compile_spec(spec)
+    codes = [(d.code, d.location.line) for d in result.diagnostics if d.is_error]
+    assert codes == [("RS732", 5)], [d.format_text() for d in result.diagnostics]
+    assert result.robot is None
+
+
+# -- authoring: inspect, doc, new --attach ---------------------------------------------------------
+
+
+def test_inspect_names_the_arms_flange_frame_and_the_hands_root() -> None:
+    import json
+
+    from conftest import invoke_robospec
+
+    robots = _assets() / "robots"
+    arm = invoke_robospec("inspect", str(robots / "xarm7" / "xarm7.urdf"), "--format", "json")
+    frames = json.loads(arm.stdout)["mounting_frames"]
+    assert [(f["at"], f["role"]) for f in frames] == [
+        ("link_eef", "flange"),
+        ("link7", "flange"),
+        ("link_base", "root"),
+    ]
+    assert "named as a tool flange" in frames[0]["why"]
+    hand = invoke_robospec("inspect", str(robots / "ability_hand" / "ability_hand_right.urdf"))
+    assert "mounted by base_link: the root link" in hand.stdout
+    assert "fold_frames leaves it out" in hand.stdout  # an empty frame over 'base'
+
+
+def test_inspect_gives_an_mjcf_sites_pose_as_the_mounting_pose(tmp_path: Path) -> None:
+    from corpus import BY_KEY, locate
+
+    from robospec.authoring.description_file import read_description_file
+    from robospec.authoring.mounting import mounting_frames
+
+    source, _ = read_description_file(locate(BY_KEY["dmc_jaco_arm"]))
+    assert source is not None
+    first = mounting_frames(source)[0]
+    assert first.at == "b_6" and "site 'wristsite'" in first.why
+    assert first.pose_yaml() == {"q": [0, 0.707106781, 0.707106781, 0]}
+
+
+def test_the_card_shows_the_parts() -> None:
+    from robospec.authoring.card import robot_card
+
+    result = _compiled(COMPOSED)
+    card = robot_card(result.robot, result.description, "xarm7_ability.yaml")
+    section = card.split("## Parts", 1)[1].split("\n## ", 1)[0]
+    assert "| `hand` | spec `ability_hand_right.yaml` | `link_eef` |" in section
+    assert "`joint_eef`" in section and "`link_eef`, `base_link`, `base_joint`" in section
+
+
+def test_new_attach_mounts_a_spec_at_the_arms_flange_without_simulating(tmp_path: Path) -> None:
+    from conftest import invoke_robospec
+
+    for name in ("arm.urdf", "gripper.urdf", "gripper.yaml"):
+        (tmp_path / name).write_text((CODE_EXAMPLES / "RS730" / name).read_text())
+    out = tmp_path / "arm.yaml"
+    result = invoke_robospec(
+        "new", str(tmp_path / "arm.urdf"), "-o", str(out), "--no-sim", "--attach",
+        str(tmp_path / "gripper.yaml"),
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    text = out.read_text()
+    assert "parts: # robots mounted on this one" in text
+    assert "  gripper: {spec: gripper.yaml, at: tool0}\n" in text  # the first mounting frame
+    assert "never_collide" not in text  # the seam is sampled in ManiSkill only
+    compiled = _compiled(out)
+    assert [p.name for p in compiled.robot.parts] == ["gripper"]
+
+
+def test_new_attach_says_which_link_it_cannot_mount_on(tmp_path: Path) -> None:
+    from conftest import invoke_robospec
+
+    for name in ("arm.urdf", "gripper.urdf", "gripper.yaml"):
+        (tmp_path / name).write_text((CODE_EXAMPLES / "RS730" / name).read_text())
+    out = tmp_path / "arm.yaml"
+    attach = f"{tmp_path / 'gripper.yaml'}@tool1"
+    result = invoke_robospec(
+        "new", str(tmp_path / "arm.urdf"), "-o", str(out), "--no-sim", "--attach", attach
+    )
+    assert result.exit_code == 1
+    assert "error[RS742]" in result.output and "did you mean 'tool0'?" in result.output
+
+
+def test_a_parts_mends_apply_to_its_description_before_it_is_mounted(tmp_path: Path) -> None:
+    hand = HAND.read_text().replace(
+        '/ability_hand_right.urdf"', '/ability_hand_right.urdf"\n  mend: {mimic: controller}'
+    )
+    (tmp_path / "ability_hand_right.yaml").write_text(hand)
+    (tmp_path / "xarm7_ability.yaml").write_text(COMPOSED.read_text())
+    result = _compiled(tmp_path / "xarm7_ability.yaml")
+    assert "<mimic" not in result.robot.description.generated_text
+    assert not any(d.code == "RS309" for d in result.diagnostics)
+    assert all(j.mimic is None for j in result.description.joints)
