@@ -94,7 +94,7 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
         CODE_EXAMPLES / "RS721/arm.xml",
         {},
     ),
-    # the plates written as geoms of their segments by hand: 21 links where the file has 41
+    # the plates written as geoms of their segments by hand: 21 links where the file has 42
     "bodies": (CODE_EXAMPLES / "RS720/plated.xml", "merge", MJCF_DATA / "merged_plates.xml", {}),
 }
 
