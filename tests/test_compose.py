@@ -379,7 +379,7 @@ def test_inspect_names_the_arms_flange_frame_and_the_hands_root() -> None:
     ]
     assert "named as a tool flange" in frames[0]["why"]
     hand = invoke_robospec("inspect", str(robots / "ability_hand" / "ability_hand_right.urdf"))
-    assert "mounted by base_link: the root link" in hand.stdout
+    assert "mounted as a part by base_link: its root link" in hand.stdout
     assert "fold_frames leaves it out" in hand.stdout  # an empty frame over 'base'
 
 
@@ -449,3 +449,14 @@ def test_a_parts_mends_apply_to_its_description_before_it_is_mounted(tmp_path: P
     assert "<mimic" not in result.robot.description.generated_text
     assert not any(d.code == "RS309" for d in result.diagnostics)
     assert all(j.mimic is None for j in result.description.joints)
+
+
+def test_optimize_stops_at_a_robot_with_parts_at_its_parts_line(tmp_path: Path) -> None:
+    from robospec.optimize.command import OptimizeOptions, run_optimize
+
+    spec = SPECS / "composed" / "xarm7_ability.yaml"
+    report, diagnostics = run_optimize(spec, tmp_path / "out.yaml", OptimizeOptions())
+    assert report is None and not (tmp_path / "out.yaml").exists()
+    (stop,) = [d for d in diagnostics if d.is_error]
+    parts_line = spec.read_text().splitlines().index("parts:") + 1
+    assert (stop.code, stop.location.line) == ("RS743", parts_line)

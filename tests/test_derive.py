@@ -41,8 +41,16 @@ BROKEN: dict[str, tuple[str, typing.Any]] = {
 MJCF_BROKEN: dict[str, tuple[str, typing.Any]] = {
     "includes": ("RS712/mounted.xml", "inline"),
     "geoms": ("RS713/terrain.xml", "drop"),
+    "mesh_names": ("RS715/unnamed.xml", "mujoco"),
+    "asset_names": ("RS719/repeated.xml", "first"),
+    "mesh_scale": ("RS716/scaled.xml", "defaults"),
+    "contype": ("RS717/touching.xml", "conaffinity"),
+    "freejoint": ("RS718/floating.xml", "root"),
+    "orientations": ("RS721/turned.xml", "quat"),
+    "bodies": ("RS720/plated.xml", "merge"),
 }
 SOUND = CODE_EXAMPLES / "RS725" / "arm.urdf"
+SOUND_MJCF = CODE_EXAMPLES / "RS074" / "arm.xml"
 
 
 def _source(path: Path) -> Source:
@@ -83,6 +91,13 @@ def test_a_mend_changes_the_broken_description_and_notes_it_at_the_element(name:
 @pytest.mark.parametrize("name", list(BROKEN))
 def test_a_mend_of_a_sound_description_changes_nothing_and_is_stale(name: str) -> None:
     derived = derive(_source(SOUND), {name: BROKEN[name][1]})
+    assert [o.status for o in derived.outcomes] == ["stale"]
+    assert derived.notes == ()
+
+
+@pytest.mark.parametrize("name", list(MJCF_BROKEN))
+def test_an_mjcf_mend_of_a_sound_model_changes_nothing_and_is_stale(name: str) -> None:
+    derived = derive(_source(SOUND_MJCF), {name: MJCF_BROKEN[name][1]})
     assert [o.status for o in derived.outcomes] == ["stale"]
     assert derived.notes == ()
 
@@ -324,3 +339,45 @@ def test_a_mend_note_reaches_every_output_format(tmp_path: Path) -> None:
     assert [r["level"] for r in sarif["runs"][0]["results"]] == ["note"]
     assert render(diagnostics, 1, "github").startswith("::notice ")
     assert "note[RS706]" in render(diagnostics, 1, "text")
+
+
+def test_a_free_joint_below_the_robots_root_is_refused_at_its_element(tmp_path: Path) -> None:
+    # a second floating body in the robot's tree: no articulation can hold it, so no mend
+    text = (CODE_EXAMPLES / "RS718" / "arm.xml").read_text()
+    text = text.replace(
+        '<joint name="elbow" axis="0 1 0" range="-90 90"/>', '<joint name="loose" type="free"/>'
+    )
+    path = tmp_path / "loose.xml"
+    path.write_text(text)
+    derived = derive(_source(path), {"freejoint": "root"})
+    (refusal,) = derived.refusals
+    assert refusal.code == "RS727" and refusal.location.line == 10
+    assert "body 'lower'" in refusal.message
+    assert [o.status for o in derived.outcomes] == ["refused"]
+
+
+def test_merged_bodies_keep_mujocos_link_poses_mass_and_centre_of_mass(tmp_path: Path) -> None:
+    """What MuJoCo compiles of the merged model is the original's: each remaining body where it
+    was at a random configuration, and the robot's mass and centre of mass."""
+    mujoco = pytest.importorskip("mujoco")
+    import numpy as np
+
+    path = CODE_EXAMPLES / "RS720" / "plated.xml"
+    derived = derive(_source(path), {"bodies": "merge"})
+    merged_path = tmp_path / "merged.xml"
+    merged_path.write_text(derived.text)
+    original, merged = (mujoco.MjModel.from_xml_path(str(p)) for p in (path, merged_path))
+    assert (original.nbody, merged.nbody) == (43, 22)  # the world, and 42 bodies or 21
+    data = {m: mujoco.MjData(m) for m in (original, merged)}
+    qpos = np.random.default_rng(3).uniform(-0.5, 0.5, original.nq)
+    for model, state in data.items():
+        state.qpos[:] = qpos
+        mujoco.mj_kinematics(model, state)
+        mujoco.mj_comPos(model, state)
+    for body in range(1, merged.nbody):
+        name = mujoco.mj_id2name(merged, mujoco.mjtObj.mjOBJ_BODY, body)
+        there = mujoco.mj_name2id(original, mujoco.mjtObj.mjOBJ_BODY, name)
+        assert np.allclose(data[merged].xpos[body], data[original].xpos[there], atol=1e-9), name
+        assert np.allclose(data[merged].xquat[body], data[original].xquat[there], atol=1e-9)
+    assert merged.body_mass.sum() == pytest.approx(original.body_mass.sum(), rel=1e-9)
+    assert np.allclose(data[merged].subtree_com[0], data[original].subtree_com[0], atol=1e-9)

@@ -25,6 +25,7 @@ pytestmark = pytest.mark.maniskill
 
 ARM = CODE_EXAMPLES / "RS725" / "arm.urdf"
 GRIPPER = CODE_EXAMPLES / "RS710" / "gripper.urdf"
+MJCF_DATA = Path(__file__).parent / "data" / "mjcf"
 
 # mend class -> (broken description, policy, the sound description to compare with, what the
 # mend means to change: link -> property)
@@ -57,6 +58,44 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
         {},
     ),
     "geoms": (CODE_EXAMPLES / "RS713/terrain.xml", "drop", CODE_EXAMPLES / "RS713/arm.xml", {}),
+    "mesh_names": (
+        CODE_EXAMPLES / "RS715/unnamed.xml",
+        "mujoco",
+        CODE_EXAMPLES / "RS715/arm.xml",
+        {},
+    ),
+    "asset_names": (
+        CODE_EXAMPLES / "RS719/repeated.xml",
+        "first",
+        CODE_EXAMPLES / "RS719/arm.xml",
+        {},
+    ),
+    "mesh_scale": (
+        CODE_EXAMPLES / "RS716/scaled.xml",
+        "defaults",
+        CODE_EXAMPLES / "RS716/arm.xml",
+        {},
+    ),
+    "contype": (
+        CODE_EXAMPLES / "RS717/touching.xml",
+        "conaffinity",
+        CODE_EXAMPLES / "RS717/arm.xml",
+        {},
+    ),
+    "freejoint": (
+        CODE_EXAMPLES / "RS718/floating.xml",
+        "root",
+        CODE_EXAMPLES / "RS718/arm.xml",
+        {},
+    ),
+    "orientations": (
+        CODE_EXAMPLES / "RS721/turned.xml",
+        "quat",
+        CODE_EXAMPLES / "RS721/arm.xml",
+        {},
+    ),
+    # the plates written as geoms of their segments by hand: 21 links where the file has 42
+    "bodies": (CODE_EXAMPLES / "RS720/plated.xml", "merge", MJCF_DATA / "merged_plates.xml", {}),
 }
 
 
@@ -141,6 +180,12 @@ def _configurations(name: str, rng: np.random.Generator) -> tuple[list[dict], li
         ]  # the coupling the mimic tag and the controller both say
         return sound, sound
     angles = rng.uniform(-3, 3, size=4)
+    if name == "bodies":  # the snake's joints (30 degrees either way), three at a time
+        bent = [
+            {"joint1": float(a), "joint8": float(-a), "joint20": float(a / 2)}
+            for a in rng.uniform(-0.5, 0.5, size=4)
+        ]
+        return bent, bent
     sound = [{"shoulder": float(a)} for a in angles]
     if name == "spherical":  # the ball's rotation about z alone is the hinge's
         return sound, [{"shoulder_z": float(a)} for a in angles]

@@ -18,8 +18,14 @@ from test_docs import FENCE, _run_console, _workdir
 
 pytestmark = pytest.mark.maniskill  # the snippets simulate
 
-# page -> where its reader stands: the tutorial's folder of their own, or robospec's clone
-PAGES = {"index.md": "tutorial folder", "tutorial.md": "tutorial folder", "README.md": "clone"}
+# page -> where its reader stands: the tutorial's folder of their own, robospec's clone, or the
+# clone after the page's own commands (which write into it: here, a copy of its specs)
+PAGES = {
+    "index.md": "tutorial folder",
+    "tutorial.md": "tutorial folder",
+    "README.md": "clone",
+    "optimize.md": "clone after its commands",
+}
 
 
 def _snippets() -> list[tuple[str, int]]:
@@ -50,12 +56,22 @@ def test_every_snippet_that_makes_an_environment_runs_as_written(
     if PAGES[page] == "clone":
         cwd = ROOT
     else:
-        cwd = _workdir(tmp_path)
-        # the page's commands before the snippet, in the reader's folder (what they write)
+        if PAGES[page] == "tutorial folder":
+            cwd = _workdir(tmp_path)
+        else:  # the clone's specs, read where they are; what the commands write stays here
+            cwd = tmp_path / "clone"
+            cwd.mkdir()
+            (cwd / "specs").symlink_to(ROOT / "specs", target_is_directory=True)
+        # the page's commands before the snippet, in the reader's folder (what they write); a
+        # command shown twice (once to run, once with its output) runs once
         before = text[: snippet.start()]
+        commands: dict[str, None] = {}
         for console in re.findall(r"```console\n(.*?)```", before, re.S):
-            for command in re.findall(r"^\$ (robospec (?!check|tune).*)$", console, re.M):
-                _run_console(command, cwd)
+            # (a block in a list item is indented)
+            for command in re.findall(r"^ *\$ (robospec (?!check|tune).*)$", console, re.M):
+                commands[command] = None
+        for command in commands:
+            _run_console(command, cwd)
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(cwd), str(ROOT)])}
     result = subprocess.run(
         [sys.executable, "-c", textwrap.dedent(snippet["body"])],

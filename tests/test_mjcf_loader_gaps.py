@@ -295,13 +295,16 @@ def test_the_tree_reaches_every_link_through_the_nameless_fixed_joints() -> None
     assert description.joint_names == ("joint",)  # the nameless joint is no spec's to name
 
 
-def test_inspect_shows_an_mjcf_robots_tree_beside_its_errors() -> None:
+def test_inspect_shows_an_mjcf_robots_tree_with_the_mends_new_would_write() -> None:
     from robospec.authoring.commands import run_inspect
 
     text, diagnostics = run_inspect(GAPS / "orientation.xml", "text")
     assert text is not None
     assert "    base  <- (fixed, unnamed)\n      tilted  <- tilted (continuous)\n" in text
-    assert [d.code for d in diagnostics] == ["RS086", "RS080"]
+    # the frames are shown as `new`'s orientations mend leaves them: its note says what it
+    # wrote and how the euler angles were read (the degrees note's angles went with them)
+    assert [d.code for d in diagnostics] == ["RS721"]
+    assert "(degrees: no <compiler angle>)" in diagnostics[0].message
 
 
 CONTROL_SPEC = """robospec: 1

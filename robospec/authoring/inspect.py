@@ -127,7 +127,7 @@ def render_text(report: dict[str, Any]) -> str:
         lines += ["", "mounting frames (parts: {NAME: {at: LINK, pose: ...}}):"]
         for frame in frames:
             pose = f", pose {_pose_text(frame['pose'])}" if frame["pose"] else ""
-            role = "mount a part at" if frame["role"] == "flange" else "mounted by"
+            role = "mount a part at" if frame["role"] == "flange" else "mounted as a part by"
             lines.append(f"  {role} {frame['at']}{pose}: {frame['why']}")
     return "\n".join(lines) + "\n"
 

@@ -142,7 +142,7 @@ def _root(description: RobotDescription, root: etree._Element | None) -> Mountin
     link = description.root_link
     if description.kind == "mjcf":  # ManiSkill's dummy root holds the model's root body
         link = next((j.child for j in description.tree_joints if j.parent == link), link)
-    why = "the root link: where this robot is fixed as a part"
+    why = "its root link, where it is fixed when it is a part of another robot"
     if root is not None and description.kind == "urdf":
         element = next((e for e in root.findall("link") if e.get("name") == link), None)
         below = [j for j in description.tree_joints if j.parent == link]

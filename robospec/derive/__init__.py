@@ -157,7 +157,7 @@ def _note(document: Document, mend: MendClass, changes: list[Change]) -> Diagnos
     first = min(changes, key=lambda c: c.line)
     ordered = [first, *(c for c in changes if c is not first)]
     return note(
-        document.location(first.line, first.tag),
+        document.location_in(first.file, first.line, first.tag),
         mend.CODE,
         f"mend '{mend.NAME}': {fold_changes(ordered)}",
     )

@@ -9,6 +9,7 @@ located in the user's file by the same lines: every later diagnostic points at t
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -40,6 +41,7 @@ class Change:
     before: str
     after: str
     tag: str = ""  # the element's tag: the note's caret goes under its start tag
+    file: str = ""  # where the element was written, when not the description itself (shown)
 
     def text(self) -> str:
         return f"{self.subject}: {self.before} -> {self.after}"
@@ -101,7 +103,8 @@ class Document:
 
     def changed(self, at: etree._Element | int, subject: str, before: str, after: str) -> None:
         tag = at.tag if isinstance(at, etree._Element) and isinstance(at.tag, str) else ""
-        self.changes.append(Change(_line(at), subject, before, after, tag))
+        file, line = self.origins.get(at, ("", _line(at))) if tag else ("", _line(at))
+        self.changes.append(Change(line, subject, before, after, tag, file))
 
     def refuse(self, at: etree._Element | int, code: str, message: str, hint: str) -> None:
         """An element this mend cannot mend as asked: a located error in the description."""
@@ -114,10 +117,31 @@ class Document:
         line = _line(at)
         if isinstance(at, etree._Element) and isinstance(at.tag, str):
             tag = at.tag
+            if at in self.origins:  # written in an included file: located there
+                return self.location_in(*self.origins[at], tag)
         column = tag_column(self.source.path, line, tag) if tag else 1
         return Location(self.source.shown, line, column)
 
+    def location_in(self, shown: str, line: int, tag: str) -> Location:
+        """Where line ``line`` of the file diagnostics call ``shown`` stands: the description
+        itself, or a file it includes (named relative to the description's folder)."""
+        from robospec.description.source_columns import tag_column
+
+        if not shown or shown == self.source.shown:
+            return self.location(line, tag)
+        folder = os.path.dirname(self.source.shown)
+        relative = os.path.relpath(shown, folder) if folder else shown
+        path = os.path.join(os.path.dirname(os.path.abspath(self.source.path)), relative)
+        return Location(shown, line, tag_column(path, line, tag) if tag else 1)
+
     # -- editing ----------------------------------------------------------------------------
+
+    def track_lines(self) -> None:
+        """Record where every element was written, before a mend moves elements to other
+        lines: the derived text then maps each of its lines back (see :meth:`text`)."""
+        for element in self.tree.iter():
+            if isinstance(element.tag, str) and element not in self.origins:
+                self.origins[element] = (self.source.shown, _line(element))
 
     def remove(self, element: etree._Element) -> None:
         """Remove ``element``, its lines left blank before whatever followed it."""

@@ -6,15 +6,22 @@ from __future__ import annotations
 
 from typing import cast
 
+import robospec.derive.asset_names as asset_names
+import robospec.derive.bodies as bodies
+import robospec.derive.contype as contype
+import robospec.derive.freejoint as freejoint
 import robospec.derive.geoms as geoms
 import robospec.derive.includes as includes
 import robospec.derive.inertia as inertia
 import robospec.derive.integers as integers
 import robospec.derive.limits as limits
 import robospec.derive.mass as mass
+import robospec.derive.mesh_names as mesh_names
+import robospec.derive.mesh_scale as mesh_scale
 import robospec.derive.mimic as mimic
 import robospec.derive.mirrors as mirrors
 import robospec.derive.namespaces as namespaces
+import robospec.derive.orientations as orientations
 import robospec.derive.packages as packages
 import robospec.derive.spherical as spherical
 import robospec.derive.substitutions as substitutions
@@ -30,6 +37,13 @@ MENDS: tuple[MendClass, ...] = cast(
         namespaces,
         includes,
         geoms,
+        mesh_names,
+        asset_names,
+        mesh_scale,
+        contype,
+        freejoint,
+        orientations,
+        bodies,
         substitutions,
         packages,
         mirrors,

@@ -512,6 +512,10 @@ def _make_joint(
                 INVALID_STRUCTURE,
                 f"joint '{name}' has type '{mj_type}'; ManiSkill's MJCF loader only loads hinge "
                 "and slide joints (and a <freejoint/> on the root body)",
+                "a floating root: `description: {mend: {freejoint: root}}` writes it as the "
+                "<freejoint/> ManiSkill reads"
+                if mj_type == "free"
+                else None,
             )
         )
         return None

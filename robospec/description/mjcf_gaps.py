@@ -27,7 +27,12 @@ from robospec.description.mjcf_geoms import (
     visual_groups,
 )
 from robospec.description.mjcf_loaded import LoadedMjcf
-from robospec.description.mjcf_structure import collision_bits, joint_attributes, skipped_wrapper
+from robospec.description.mjcf_structure import (
+    collision_bits,
+    joint_attributes,
+    repeated_assets,
+    skipped_wrapper,
+)
 from robospec.diagnostics import Diagnostic
 
 
@@ -49,4 +54,5 @@ def loader_gaps(loaded: LoadedMjcf) -> list[Diagnostic]:
         *skipped_wrapper(loaded),  # RS083
         *joint_attributes(loaded),  # RS084
         *mesh_files(loaded),  # RS085, RS056
+        *repeated_assets(loaded),  # RS094
     ]

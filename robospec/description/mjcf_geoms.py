@@ -116,18 +116,30 @@ def mesh_files(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         name = attrs.get("mesh")
         if element.tag == "geom" and name is not None and name not in table:
             unknown.setdefault(name, element)
-    for name, element in unknown.items():
-        by_file = [key for key in table if os.path.basename(key) == name]
-        hint = (
-            f"name the mesh: ManiSkill calls the unnamed <mesh> of that file '{by_file[0]}'"
-            if by_file
-            else "define it in an <asset> of the model or of a file it includes at the top level"
-        )
+    if unknown:
+        # one diagnostic for them all: an exporter that leaves meshes unnamed leaves dozens
+        name, element = next(iter(unknown.items()))
+        by_file = {n: [k for k in table if os.path.basename(k) == n] for n in unknown}
+        if all(by_file.values()):
+            hint = (
+                f"name the meshes as MuJoCo does (ManiSkill calls the unnamed <mesh> of that "
+                f"file '{by_file[name][0]}'): `description: {{mend: {{mesh_names: mujoco}}}}` "
+                "does it in a copy"
+            )
+        elif by_file[name]:
+            hint = (
+                "name the mesh: ManiSkill calls the unnamed <mesh> of that file "
+                f"'{by_file[name][0]}'"
+            )
+        else:
+            hint = "define it in an <asset> of the model or of a file it includes at the top level"
+        others = len(unknown) - 1
+        more = f" (and {others} more: {names(list(unknown)[1:])})" if others else ""
         yield error(
             loaded.where(element),
             MESH_UNRESOLVED,
-            f"geom uses mesh '{name}', which ManiSkill's MJCF loader does not know: loading "
-            "fails (KeyError)",
+            f"geom uses mesh '{name}'{more}, which ManiSkill's MJCF loader does not know: "
+            "loading fails (KeyError)",
             hint,
         )
     missing_collision: list[tuple[LoadedGeom, str]] = []
@@ -551,7 +563,8 @@ def orientations(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             ORIENTATION,
             "zaxis along ±z makes ManiSkill's MJCF loader divide by zero (LinAlgError: "
             f"Eigenvalues did not converge){_elsewhere(failing)}: the file cannot be loaded at all",
-            f"write the same rotation as quat= in a copy of the model: {mend}",
+            "write the same rotation as quat= in a copy of the model (`description: {mend: "
+            f"{{orientations: quat}}}}` does it): {mend}",
         )
     differing: list[tuple[etree._Element, str]] = []
     reasons: set[str] = set()
@@ -573,8 +586,8 @@ def orientations(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             f"ManiSkill's MJCF loader reads {len(differing)} frame(s) of the robot turned "
             f"otherwise than MuJoCo ({names([what for _, what in differing])}): it "
             + ", ".join(sorted(reasons)),
-            "write them as quat= in a copy of the model: "
-            + _quat_mend(loaded, [element for element, _ in differing]),
+            "write them as quat= in a copy of the model (`description: {mend: {orientations: "
+            "quat}}` does it): " + _quat_mend(loaded, [element for element, _ in differing]),
         )
 
 

@@ -11,6 +11,8 @@
 * RS083 — a ``<worldbody>`` body holding nothing but one body is skipped, and its pose with it.
 * RS084 — joint attributes the loader does not read: ``ref``, ``stiffness`` (springs),
   ``armature``.
+* RS094 — an asset name defined twice (per kind, an unnamed mesh named after its file): MuJoCo
+  refuses the model, the loader keeps the last definition without a word.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ UNREAD_INCLUDE = "RS082"
 COLLISION_BITS = "RS081"
 SKIPPED_WRAPPER = "RS083"
 JOINT_ATTRIBUTES = "RS084"
+REPEATED_ASSET = "RS094"
+NAMED_ASSETS = ("mesh", "texture", "material", "hfield", "skin")
 
 GROUND_BIT = 30  # what ManiSkill's scenes set in group 2 of the ground's shapes
 GROUP_BITS = 32
@@ -93,7 +97,7 @@ def collision_bits(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             hint = (
                 f"merge the {fixed} bodies without joints into their parents (their geoms "
                 f"move up, posed as the body was) in a copy of the model: {count - fixed} "
-                f"bodies fit"
+                "bodies fit; `description: {mend: {bodies: merge}}` does it"
             )
         else:
             hint = f"ManiSkill 3.0.1 loads MJCF robots of at most {GROUP_BITS} bodies"
@@ -115,8 +119,8 @@ def collision_bits(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             f"ManiSkill's MJCF loader gives body '{ground.name}' (the {GROUND_BIT + 1}st) and "
             f"its parent '{ground.parent_link}' bit {GROUND_BIT} of collision group 2, which "
             "ManiSkill's scenes set on the ground: these two links do not collide with the floor",
-            "bodies without joints merged into their parents (in a copy of the model) leave "
-            "fewer bodies",
+            "bodies without joints merged into their parents leave fewer bodies: "
+            "`description: {mend: {bodies: merge}}` does it in a copy of the model",
         )
 
 
@@ -193,3 +197,33 @@ def _nonzero(text: str | None) -> bool:
         return any(float(part) != 0 for part in text.split()[:1])
     except ValueError:
         return False
+
+
+def repeated_assets(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
+    """RS094: asset names defined more than once, one error for the file, at the first repeat."""
+    found: dict[tuple[str, str], list[etree._Element]] = {}
+    for section in loaded.sections("asset"):
+        for element in loaded.includes.children(section):
+            if element.tag not in NAMED_ASSETS:
+                continue
+            name = element.get("name")
+            if not name and element.tag == "mesh":
+                name = os.path.splitext(os.path.basename(element.get("file", "")))[0]
+            if name:
+                found.setdefault((str(element.tag), name), []).append(element)
+    repeated = [(key, elements) for key, elements in found.items() if len(elements) > 1]
+    if not repeated:
+        return
+    (tag, name), elements = repeated[0]
+    first = loaded.where(elements[0])
+    listed = names([f"{t} {n}" for (t, n), _ in repeated])
+    yield error(
+        loaded.where(elements[1]),
+        REPEATED_ASSET,
+        f"{tag} '{name}' is defined again (first at line {first.line})"
+        + (f", and {len(repeated) - 1} more name(s) too ({listed})" if len(repeated) > 1 else "")
+        + ": MuJoCo refuses the model (repeated name), and ManiSkill's MJCF loader keeps the "
+        "last definition without a word, so geoms meant for the first load another file",
+        "remove or rename the repeats, or keep one definition of each in a copy: "
+        "`description: {mend: {asset_names: first}}` (or `last`)",
+    )

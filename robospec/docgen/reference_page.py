@@ -222,6 +222,7 @@ REF_KINDS = {
     "joint": "joint name",
     "link": "link name",
     "link-or-named": "link or named_links name",
+    "mount-link": "link name (a frame fold_frames leaves out too)",
     "link-pattern": "link pattern",
     "joint-selection": "joint selection",
     "controller": "controller name",

@@ -16,6 +16,7 @@ _KIND_ITEM = {
     "link": types.CompletionItemKind.Class,
     "link-pattern": types.CompletionItemKind.Class,
     "link-or-named": types.CompletionItemKind.Class,
+    "mount-link": types.CompletionItemKind.Class,
 }
 
 

@@ -42,7 +42,7 @@ def names(kind: str, description: RobotDescription | None, data: Any) -> dict[st
         return joints
     if kind == "joint-selection":
         return {**joints, **{g: "group" for g in _keys(data, "groups")}}
-    if kind in ("link", "link-pattern"):
+    if kind in ("link", "link-pattern", "mount-link"):
         return links
     if kind == "link-or-named":
         return {**links, **{n: "named link" for n in _keys(data, "named_links")}}

@@ -126,3 +126,53 @@ class Mends(StrictModel):
         "sdf); ManiSkill's scenes bring their own ground.",
         examples=["drop"],
     )
+    mesh_names: Literal["mujoco"] | None = Field(
+        default=None,
+        description="MJCF. `mujoco`: name each unnamed `<mesh>` as MuJoCo does, after its "
+        "file without folders (ManiSkill's loader keeps the folders, and its geoms' `mesh=` "
+        "names are then unknown to it).",
+        examples=["mujoco"],
+    )
+    asset_names: Literal["first", "last"] | None = Field(
+        default=None,
+        description="MJCF. Assets (meshes, textures, materials) defined twice under one name, "
+        "which MuJoCo refuses: `first` keeps each name's first definition, `last` its last "
+        "(what ManiSkill's loader does without a word).",
+        examples=["first"],
+    )
+    mesh_scale: Literal["defaults"] | None = Field(
+        default=None,
+        description="MJCF. `defaults`: write on each `<mesh>` the `scale` its `<default>` "
+        "class gives it, which ManiSkill's loader does not read (meshes drawn in millimetres "
+        "load a thousand times too large).",
+        examples=["defaults"],
+    )
+    contype: Literal["conaffinity"] | None = Field(
+        default=None,
+        description='MJCF. `conaffinity`: geoms with `contype="0"` that MuJoCo still collides '
+        "(their conaffinity matches other geoms' contype: the floor) get their conaffinity "
+        "as contype, so that ManiSkill's loader, which reads contype only, gives them a "
+        "collision shape.",
+        examples=["conaffinity"],
+    )
+    freejoint: Literal["root"] | None = Field(
+        default=None,
+        description='MJCF. `root`: the robot\'s floating root written as `<joint type="free">` '
+        "becomes the `<freejoint/>` ManiSkill's loader reads.",
+        examples=["root"],
+    )
+    bodies: Literal["merge"] | None = Field(
+        default=None,
+        description="MJCF. `merge`: merge each body without a joint below the robot's root "
+        "into its parent (what it holds moves up, posed as it was; inertials combined), so "
+        "that a robot of more than 30 bodies fits the collision bits ManiSkill's loader "
+        "gives each body.",
+        examples=["merge"],
+    )
+    orientations: Literal["quat"] | None = Field(
+        default=None,
+        description="MJCF. `quat`: write each body and geom frame ManiSkill's loader reads "
+        "turned otherwise than MuJoCo (`euler`, `xyaxes`, `zaxis`) as the `quat` MuJoCo "
+        "computes for it.",
+        examples=["quat"],
+    )

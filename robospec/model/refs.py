@@ -21,6 +21,7 @@ RefKind = Literal[
     "link",  # a link, by its exact name
     "link-pattern",  # a link, or a glob over links
     "link-or-named",  # a link, or a `named_links` attribute
+    "mount-link",  # a link, or an empty frame a part's `fold_frames` leaves out
     "material",  # a key of `materials`
     "controller",  # a key of `controllers`
     "control-mode",  # a key of `control_modes`
@@ -40,6 +41,7 @@ JointPattern = Annotated[str, _ref("joint-selection")]
 LinkName = Annotated[str, _ref("link")]
 LinkPattern = Annotated[str, _ref("link-pattern")]
 LinkOrNamed = Annotated[str, _ref("link-or-named")]
+MountLink = Annotated[str, _ref("mount-link")]
 MaterialName = Annotated[str, _ref("material")]
 ControllerName = Annotated[str, _ref("controller")]
 ControlModeName = Annotated[str, _ref("control-mode")]

@@ -47,6 +47,7 @@ from robospec.model.refs import (
     LinkPattern,
     LinkStateName,
     MaterialName,
+    MountLink,
 )
 
 ScalarArg = str | int | float | bool
@@ -291,7 +292,7 @@ class Part(StrictModel, rules.PartBehaviour):
         "by this spec's controllers.",
         examples=[{"urdf": "{maniskill_assets}/robots/ability_hand/ability_hand_right.urdf"}],
     )
-    at: LinkName = Field(
+    at: MountLink = Field(
         description="The link of this robot (or of another part) the part is fixed to.",
         examples=["link7"],
     )

@@ -47,6 +47,10 @@ def robot_names(compiled: CompiledSpec) -> RobotNames:
     description = compiled.description
     joints = list(description.active_joint_names)
     links = list(description.link_names)
+    # a part mounts at a link of the robot as written: one that `fold_frames` then left out of
+    # the combined description (a flange frame) is still where the spec says it sits
+    composed = compiled.composed
+    folded = [name for part in composed.parts for name in part.folded] if composed else []
     return RobotNames(
         uid=spec.uid,
         by_kind={
@@ -55,6 +59,7 @@ def robot_names(compiled: CompiledSpec) -> RobotNames:
             "link": links,
             "link-pattern": links,
             "link-or-named": [*links, *spec.named_links],
+            "mount-link": [*links, *folded],
             "material": list(spec.materials),
             "controller": list(spec.controllers),
             "control-mode": list(spec.control_modes),
@@ -92,6 +97,7 @@ _KIND_WORDS = {
     "link": "a link",
     "link-pattern": "a link",
     "link-or-named": "a link or a named_links attribute",
+    "mount-link": "a link (or a frame a part's fold_frames leaves out)",
     "material": "a material",
     "controller": "a controller",
     "control-mode": "a control mode",
