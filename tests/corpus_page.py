@@ -23,13 +23,14 @@ from corpus_journey import (
 from robospec.diagnostics.codes import CODES
 from robospec.docgen.gallery import gallery_markdown
 
-# the same corpus when `new` wrote one set of gains for every joint of every robot: a record,
-# so that the page says what deriving the gains from the robot changed
-BEFORE_DERIVED_GAINS = (
-    "Before `robospec new` derived each joint's gains from the robot (it wrote stiffness 1000, "
-    "damping 100 and force limit 100 for every joint), 18 of these 36 robots passed every step, "
-    "and 6 validated and then failed `check` as scaffolded: Unitree Laikago, Rethink Baxter, the "
-    "Allegro hand, ODRI Solo-12, the Unitree G1 and the dm_control humanoid."
+# the same corpus before `new` wrote mends and derived each joint's gains: a record, so that
+# the page says what the two changed
+BEFORE_MENDS_AND_DERIVED_GAINS = (
+    "Before `robospec new` wrote the mends a description needs ([Mends](mends.md)) and derived "
+    "each joint's gains from the robot (it wrote stiffness 1000, damping 100 and force limit "
+    "100 for every joint), 18 of these 36 robots passed every step, 12 stopped at `inspect` or "
+    "`new`, and 6 validated and then failed `check` as scaffolded: Unitree Laikago, Rethink "
+    "Baxter, the Allegro hand, ODRI Solo-12, the Unitree G1 and the dm_control humanoid."
 )
 CELL = {PASSED: "ok", FAILED: "fails", CRASHED: "**CRASH**", NOT_RUN: "—"}
 
@@ -94,7 +95,7 @@ def _summary(journeys: list[Journey]) -> str:
         f"- {stopped} stop with a located reason and no crash ({failed_check} of them validate "
         "and then fail `check` as `new` wrote them);\n"
         f"- {crashed} crash in at least one step.\n\n"
-        f"{BEFORE_DERIVED_GAINS}\n"
+        f"{BEFORE_MENDS_AND_DERIVED_GAINS}\n"
     )
 
 
