@@ -5,6 +5,7 @@ its code and a passing and a failing example in its docstring."""
 from __future__ import annotations
 
 import ast
+import functools
 import re
 import sys
 from pathlib import Path
@@ -28,7 +29,13 @@ def _modules() -> dict[str, Path]:
 def import_graph() -> dict[str, set[str]]:
     """Module -> the robospec modules it imports, wherever the import statement stands (inside
     a function or under TYPE_CHECKING too: a cycle hidden in a function is still a cycle).
-    ``from a.b import c`` imports ``a.b`` and, when it is a module, ``a.b.c``."""
+    ``from a.b import c`` imports ``a.b`` and, when it is a module, ``a.b.c``. (Parsed once per
+    session: each test gets its own copy.)"""
+    return {name: set(targets) for name, targets in _parsed_import_graph().items()}
+
+
+@functools.cache
+def _parsed_import_graph() -> dict[str, set[str]]:
     modules = _modules()
     graph: dict[str, set[str]] = {name: set() for name in modules}
     for name, path in modules.items():

@@ -39,6 +39,7 @@ def snapshot(folder: Path) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_build_writes_one_module_per_spec_and_an_init_that_imports_them(tmp_path: Path) -> None:
     out = tmp_path / "agents"
     result = build(out)
@@ -138,6 +139,7 @@ def test_a_build_from_before_the_manifest_header_is_still_robospecs(tmp_path: Pa
     assert manifest.read_text().startswith(MANIFEST_HEADER)
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_build_keeps_the_users_other_files_and_replaces_its_own(tmp_path: Path) -> None:
     out = tmp_path / "agents"
     assert build(out, specs=TWO_SPECS).returncode == 0
@@ -148,6 +150,7 @@ def test_build_keeps_the_users_other_files_and_replaces_its_own(tmp_path: Path) 
     assert "class RsPanda" in (out / "rs_panda.py").read_text()
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_check_reports_stale_output_and_writes_nothing(tmp_path: Path) -> None:
     out = tmp_path / "agents"
     assert build(out, "--check", specs=TWO_SPECS).returncode == 1

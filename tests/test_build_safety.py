@@ -285,6 +285,7 @@ def test_two_concurrent_builds_of_one_folder_leave_one_complete_build(
         assert leftovers(out) == []
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_a_symlink_in_the_output_folder_is_never_followed_or_replaced(
     versions: tuple[Path, Path], tmp_path: Path
 ) -> None:

@@ -141,6 +141,7 @@ def test_card_is_deterministic_and_names_no_machine_path(tmp_path: Path) -> None
     assert str(tmp_path) not in first and "site-packages" not in first
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_spec_with_errors_gets_diagnostics_and_no_card(tmp_path: Path) -> None:
     spec = tmp_path / "bad.yaml"
     run_new(
@@ -228,6 +229,7 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
         assert static == actual, mode.name
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_unwritable_card_is_rs603_and_exit_1(tmp_path: Path) -> None:
     spec = tmp_path / "twolink.yaml"
     run_new(

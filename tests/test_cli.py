@@ -12,6 +12,7 @@ from conftest import MISSPELLED_JOINT_SPEC as MISSPELLED
 from conftest import ROOT, invoke_robospec, run_robospec
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_validate_of_the_shipped_specs_exits_zero() -> None:
     result = run_robospec("validate", "specs/")
     assert result.returncode == 0, result.stdout + result.stderr
@@ -40,6 +41,7 @@ def test_json_format_follows_the_diagnostics_contract() -> None:
     assert (diagnostic["line"], diagnostic["column"], diagnostic["code"]) == (6, 51, "RS201")
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_usage_errors_exit_two() -> None:
     assert run_robospec("validate").returncode == 2
     assert run_robospec("validate", "--format", "yaml", "specs/").returncode == 2
@@ -56,6 +58,7 @@ def test_a_missing_path_is_a_located_error_not_a_traceback() -> None:
 HEAVY = ("torch", "sapien", "mani_skill", "trimesh", "yourdfpy")
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @pytest.mark.parametrize(
     ("entry", "heavy"),
     [
@@ -118,6 +121,7 @@ def test_every_writing_command_says_what_it_wrote(tmp_path: Path) -> None:
         assert written in result.stdout, args
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_a_warning_is_silenced_by_the_spec_or_on_the_command_line(tmp_path: Path) -> None:
     """RS307 (the ground's collision bits) is meant on a mobile base: fetch.yaml silences it;
     without that line it warns, and --silence RS307 silences it for one run. Errors stay."""

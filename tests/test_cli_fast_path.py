@@ -25,6 +25,7 @@ def _run(prefix: list[str], args: list[str], env: dict[str, str]) -> tuple[str, 
     return result.stdout, result.stderr, result.returncode
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @pytest.mark.parametrize(
     "args",
     fast_first(

@@ -111,6 +111,7 @@ def _bash_complete(*words: str) -> list[str]:
     return [line for line in result.stdout.splitlines() if line]
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_bash_completion_completes_command_names() -> None:
     assert _bash_complete("val") == ["validate"]
     assert set(_bash_complete("")) >= {"validate", "build", "schema", "check"}

@@ -182,6 +182,7 @@ def test_suggest_mends_what_needs_mending_and_nothing_else() -> None:
     assert suggest_mends(_source(SOUND))[0] == {}
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_validate_notes_the_mend_in_the_description_and_never_writes_the_file(
     tmp_path: Path,
 ) -> None:

@@ -97,6 +97,7 @@ def test_principal_moments_are_numpys_eigenvalues() -> None:
         assert np.allclose(ours, theirs, rtol=1e-9, atol=1e-12 * np.abs(theirs).max())
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_robospec_reports_every_inertia_sapien_asserts_on_and_no_other_beyond_rounding() -> None:
     checked = 0
     for matrix in random_inertias(4000, seed=2):

@@ -52,6 +52,7 @@ def fenced_blocks(page: str, language: str) -> list[tuple[str, str | None]]:
 # -- generated pages
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_generated_pages_equal_the_generator_output() -> None:
     pages = generated_pages(DOCS)
     assert stale_pages(DOCS, pages) == [], REGENERATE

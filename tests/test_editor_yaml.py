@@ -254,6 +254,7 @@ def panda_schema(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return narrowed_schema(PANDA_SPEC, tmp_path_factory.mktemp("narrowed") / "panda.schema.json")
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 async def test_narrowed_schema_completes_joint_names_in_keyframe_qpos(
     server: Client, panda_schema: Path, tmp_path: Path
 ) -> None:

@@ -68,6 +68,7 @@ def test_text_shows_the_source_line_and_underlines_the_misspelled_joint() -> Non
     assert summary == "1 file(s) checked: 1 error(s), 0 warning(s)"
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_text_first_lines_are_exactly_the_diagnostics_one_line_form() -> None:
     # the one-line form (Diagnostic.format_text, SpecError, other reports) and the excerpt
     # renderer must not drift apart: tools grep these lines
@@ -183,6 +184,7 @@ def run_on_a_terminal(*args: str, env: dict[str, str]) -> str:
     return b"".join(chunks).decode().replace("\r\n", "\n")
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_a_terminal_gets_colour_unless_no_color_is_set() -> None:
     coloured = run_on_a_terminal("validate", MISSPELLED, env=plain_env(TERM="xterm"))
     assert "\x1b[1;31merror[RS201]\x1b[0m" in coloured

@@ -216,6 +216,7 @@ def test_the_comparison_sees_many_valid_and_invalid_specs_and_every_kind_of_erro
 # -- the freezer ---------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_the_freezer_writes_the_same_module_under_any_hash_seed() -> None:
     texts = set()
     for seed in ("0", "1", "4242"):
@@ -321,6 +322,7 @@ def test_the_cache_is_made_again_when_a_model_source_changes(
     assert second == frozen_cache.entry_path()
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_a_damaged_cache_entry_is_made_again(cache: Path) -> None:
     entry = frozen_cache.entry_path()
     entry.parent.mkdir(parents=True)

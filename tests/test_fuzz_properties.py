@@ -354,6 +354,7 @@ def _compile(seed: Seed, raw: bytes, suffix: str | None = None) -> None:
         assert_well_formed(result.diagnostics, {str(path): raw})
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @budget(150)
 @given(data=st.data(), seed=st.sampled_from(SEEDS), fmt=st.sampled_from([".yaml", ".toml"]))
 def test_mutated_spec_data_gives_located_diagnostics(

@@ -119,6 +119,7 @@ def example_package(tmp_path_factory: pytest.TempPathFactory) -> dict[str, str]:
     return {name: text for name, text in files.items() if name.endswith(".py")}
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_every_example_spec_gives_a_module_ruff_leaves_as_it_is(
     example_package: dict[str, str],
 ) -> None:

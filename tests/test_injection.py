@@ -355,6 +355,7 @@ def toml_spec_text(robot: dict[str, object]) -> str:
     return "\n".join(lines) + "\n"
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @settings(
     # ROBOSPEC_INJECTION_EXAMPLES overrides; otherwise scaled like every property test (the
     # fast loop draws a fifth)

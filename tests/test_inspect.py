@@ -141,6 +141,7 @@ MALFORMED = {
 TREE_INTACT = {"unknown_mimic_target"}
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @pytest.mark.parametrize("case", fast_first(sorted(MALFORMED)))
 def test_malformed_description_gets_located_diagnostics_and_exit_1(
     tmp_path: Path, case: str

@@ -15,6 +15,7 @@ import ast
 import keyword
 import string
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_generated_code import FUZZ_SCALE, assert_formatted, ruff_findings
@@ -217,6 +218,7 @@ def modules(draw: st.DrawFn) -> ast.Module:
     return ast.fix_missing_locations(ast.Module(body, []))
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @settings(
     max_examples=max(int(200 * FUZZ_SCALE), 10),
     deadline=None,

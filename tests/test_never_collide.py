@@ -145,6 +145,7 @@ def instances(draw: st.DrawFn) -> tuple[set, set, list[int]]:
     return requested, free, available
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @settings(max_examples=300, deadline=None)
 @given(instances())
 def test_packing_properties(instance: tuple[set, set, list[int]]) -> None:

@@ -187,6 +187,7 @@ def test_a_robot_name_that_names_no_robot_gives_way_to_the_file_name(
     assert scaffold(urdf, tmp_path / "spec.yaml")["uid"] == uid
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_the_description_is_a_positional_argument_and_from_urdf_its_alias(tmp_path: Path) -> None:
     positional = run_robospec("new", str(TWOLINK_XACRO), "-o", str(tmp_path / "a.yaml"), "--no-sim")
     assert positional.returncode == 0, positional.stderr
@@ -274,6 +275,7 @@ def test_the_walk_for_a_schema_stops_at_the_repository_root(project: Path) -> No
     assert (out.parent / "robospec.schema.json").is_file()
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_without_a_schema_to_name_new_writes_one_beside_the_spec(project: Path) -> None:
     out = project / "robots" / "twolink.yaml"
     scaffold(TWOLINK_XACRO, out)
@@ -295,6 +297,7 @@ def test_sections_carry_comments_that_explain_them(tmp_path: Path) -> None:
         assert "#" in found, found
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_existing_spec_is_never_overwritten_without_force(tmp_path: Path) -> None:
     out = tmp_path / "twolink.yaml"
     out.write_text("mine\n")
@@ -401,6 +404,7 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     assert findings and all(f.status is Status.PASS for f in findings), findings
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_json_format_puts_the_diagnostics_report_on_stdout(tmp_path: Path) -> None:
     import json
 

@@ -247,6 +247,7 @@ def test_legs_fixed_to_a_world_link_do_not_float(tmp_path: Path) -> None:
     assert list(data["groups"]) == ["fl", "fr", "rl", "rr"]
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @needs_assets
 @pytest.mark.parametrize(
     ("robot", "floating", "groups"),

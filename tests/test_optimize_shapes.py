@@ -258,6 +258,7 @@ def test_primitives_turn_a_box_mesh_into_a_box(tmp_path: Path) -> None:
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_primitives_fit_a_sphere_and_a_capsule(tmp_path: Path) -> None:
     trimesh.creation.icosphere(subdivisions=4, radius=0.1).export(tmp_path / "ball.stl")
     trimesh.creation.capsule(height=0.3, radius=0.05, count=[64, 64]).export(tmp_path / "pill.stl")

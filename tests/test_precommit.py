@@ -51,6 +51,7 @@ def test_manifest_is_valid_for_pre_commit_and_offers_both_hooks() -> None:
     assert all(hook["language"] == "python" for hook in found.values())
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_hook_entries_are_real_commands_and_options() -> None:
     scripts = {script.name for script in entry_points(group="console_scripts")}
     for hook in hooks().values():

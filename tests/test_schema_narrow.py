@@ -66,6 +66,7 @@ def panda_data() -> Any:
     return load_spec_data(PANDA_SPEC)
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 @pytest.mark.parametrize("path", sample_fast(spec_params(SPEC_FILES, ROOT), FAST_SAMPLE))
 def test_every_shipped_spec_is_valid_under_the_schema_and_its_own_narrowed_schema(
     path: Path,
@@ -168,6 +169,7 @@ def test_a_glob_is_not_accepted_where_only_an_exact_name_is(
     assert errors(panda_schema, data)
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_schema_for_writes_the_narrowed_schema_to_a_file(tmp_path: Path) -> None:
     out = tmp_path / "panda.schema.json"
     result = run_robospec("schema", "--for", str(PANDA_SPEC), "-o", str(out))

@@ -86,6 +86,7 @@ def test_positive_example_validates_without_errors(path: Path) -> None:
     assert result.robot is not None
 
 
+@pytest.mark.slow  # over a second: CI runs it, the fast loop does not
 def test_every_shipped_spec_validates() -> None:
     compiled, diagnostics = compile_all([SPECS])
     assert len(compiled) >= 4
