@@ -222,6 +222,10 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     for item in items:
         if MANISKILL_MARK in getattr(item, "fixturenames", ()):
             item.add_marker(MANISKILL_MARK)
+    # the modules of minutes first (a stable sort: each module's tests keep their order):
+    # xdist hands out whole modules in this order (--dist loadfile), and one of them started
+    # last would keep one worker busy alone at the end
+    items.sort(key=lambda item: item.get_closest_marker("minutes") is None)
 
 
 @pytest.hookimpl(wrapper=True)

@@ -82,6 +82,7 @@ def test_the_run_exits_1_exactly_when_a_section_misses_its_target_and_names_it(
 
 @pytest.mark.maniskill
 @pytest.mark.slow
+@pytest.mark.minutes
 def test_quick_run_runs_every_part_and_writes_every_section(tmp_path: Path) -> None:
     pytest.importorskip("mani_skill")
     out = tmp_path / "performance.md"

@@ -28,6 +28,8 @@ from corpus import (
 from corpus_journey import FAILED, PASSED, Journey, Step, run_corpus
 from corpus_page import render_page
 
+pytestmark = pytest.mark.minutes  # the journeys: a quarter of an hour of CI
+
 ROBOT_KEYS = [robot.key for robot in CORPUS]
 # the steps ManiSkill runs a robot in, where a description it cannot load fails
 LOADING_STEPS = ("register", "build")

@@ -13,13 +13,14 @@ from pathlib import Path
 
 import pytest
 from conftest import MANISKILL_VERSION, SPECS
-from test_check_zoo import FLOATING, KNOWN_BROKEN_UPSTREAM, TUNED_VARIANTS
+from test_check_zoo import FLOATING, TUNED_VARIANTS, expected_failures
 
 from robospec.optimize.command import OptimizeOptions, run_optimize
 from robospec.physics.batch import RobotReport, check_paths
 
 pytestmark = [
     pytest.mark.maniskill,
+    pytest.mark.minutes,
     # what optimize writes does not depend on ManiSkill's version, and checking two dozen robots
     # twice would cost CI minutes: judged on 3.0.1, where tests/test_check_zoo.py's list holds
     pytest.mark.skipif(MANISKILL_VERSION == "nightly", reason="judged on ManiSkill 3.0.1"),
@@ -75,8 +76,8 @@ CHAOTIC = frozenset({"RS503", "RS504"})
 def test_optimized_specs_pass_check_or_fail_as_their_originals_do(
     optimized_reports: dict[str, RobotReport],
 ) -> None:
-    expected_codes = {
-        uid: codes for uid, (codes, _) in (KNOWN_BROKEN_UPSTREAM | TUNED_VARIANTS).items()
+    expected_codes = expected_failures() | {
+        uid: codes for uid, (codes, _) in TUNED_VARIANTS.items()
     }
     for optimized_uid, report in optimized_reports.items():
         uid = optimized_uid.removesuffix(SUFFIX)

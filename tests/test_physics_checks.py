@@ -22,6 +22,7 @@ from conftest import CRASHING_MODES, MANISKILL_SPECS
 
 pytestmark = [
     pytest.mark.maniskill,
+    pytest.mark.minutes,
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::UserWarning"),
 ]
