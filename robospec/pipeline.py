@@ -89,22 +89,30 @@ def compile_spec(
     return result
 
 
+def silenced_codes(result: CompiledSpec, silence: frozenset[str]) -> frozenset[str]:
+    """The warning codes not to report for ``result``: the command line's ``silence`` and the
+    codes robospec has that the spec's own ``silence`` list names."""
+    from robospec.diagnostics.codes import CODES
+
+    listed = result.loaded.data.get("silence") if result.loaded is not None else None
+    named = listed if isinstance(listed, list) else []
+    return silence | {code for code in named if isinstance(code, str) and code in CODES}
+
+
 def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
     """Drop the warnings whose codes the spec's ``silence`` list or the command line's
     ``--silence`` name; errors stay, whatever the list says. A listed code robospec does not
     have is an error (RS107)."""
     from robospec.diagnostics.codes import CODES
 
-    codes = set(silence)
+    codes = set(silenced_codes(result, silence))
     listed = result.loaded.data.get("silence") if result.loaded is not None else None
     problems: list[Diagnostic] = []
     if isinstance(listed, list) and result.loaded is not None:
         for index, code in enumerate(listed):
             if not isinstance(code, str):
                 continue  # the schema reports it
-            if code in CODES:
-                codes.add(code)
-            elif code.startswith("RS"):
+            if code not in CODES and code.startswith("RS"):
                 problems.append(
                     error(
                         result.loaded.source.value(("silence", index)),

@@ -23,7 +23,13 @@ from robospec.physics.results import Options
 pytestmark = pytest.mark.maniskill
 
 DATA = ROOT / "tests" / "data" / "check"
-SPECS = ["crawler_falls", "crawler_hovers", "crawler_in_orbit", "crawler_fixed"]
+SPECS = [
+    "crawler_falls",
+    "crawler_hovers",
+    "crawler_in_orbit",
+    "crawler_in_orbit_silenced",
+    "crawler_fixed",
+]
 
 
 @pytest.fixture(scope="module")
@@ -83,6 +89,26 @@ def test_gravity_compensation_asked_for_on_purpose_is_a_warning(
     (diagnostic,) = found["pd_joint_pos"].diagnostics
     assert (diagnostic.code, diagnostic.severity) == ("RS518", Severity.WARNING)
     assert diagnostic.location.line == _line("crawler_in_orbit", "  pd_joint_pos:")
+
+
+def test_a_warning_of_the_simulation_that_the_spec_silences_is_not_reported(
+    reports: dict[str, RobotReport],
+) -> None:
+    loud, quiet = reports["crawler_in_orbit"], reports["crawler_in_orbit_silenced"]
+    assert [d.code for f in loud.findings for d in f.diagnostics] == ["RS518"]
+    assert [d.code for f in quiet.findings for d in f.diagnostics] == [] and not quiet.failed
+    assert [f.status for f in quiet.findings] == [f.status for f in loud.findings]
+
+
+def test_an_error_stays_whatever_the_command_line_silences(tmp_path: Path) -> None:
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+        found, _ = check_paths(
+            [DATA / "crawler_hovers.yaml"], Options(steps=10), silence=frozenset({"RS518"})
+        )
+    (report,) = found
+    errors = [d.code for f in report.findings for d in f.diagnostics if d.is_error]
+    assert report.failed and errors == ["RS518", "RS518"]
 
 
 def test_a_root_the_loader_frees_while_the_spec_fixes_it_is_rs519(

@@ -278,6 +278,7 @@ def check(
             "of tasks (tabletop) runs each; repeat for several",
         ),
     ] = None,
+    silence: SilenceOpt = None,
 ) -> None:
     """Run headless physics checks on each robot (exit 1 when a check fails).
 
@@ -290,8 +291,9 @@ def check(
     """
     from robospec.physics.command import run_check
 
+    codes = _silenced_codes(silence)
     code, text = run_check(
-        paths, steps, format.value, gpu, num_envs, render, plot, task or [], sys.argv[1:]
+        paths, steps, format.value, gpu, num_envs, render, plot, task or [], sys.argv[1:], codes
     )
     typer.echo(text)
     raise typer.Exit(code)

@@ -696,7 +696,8 @@ class Spec(StrictModel):
     silence: list[Annotated[str, Field(pattern=r"^RS[0-9]{3}$")]] = Field(
         default_factory=list,
         description="Warning codes not to report for this spec, where the warned-of thing is "
-        "meant (the ground's collision bits on a mobile base, say); an error cannot be silenced.",
+        "meant (the ground's collision bits on a mobile base, say), by validate and the other "
+        "commands, check's simulation included; an error cannot be silenced.",
         examples=[["RS084"]],
     )
 

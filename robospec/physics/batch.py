@@ -14,6 +14,7 @@ checks ran before it.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
@@ -42,7 +43,7 @@ from robospec.physics.results import (
     RobotProgress,
     RobotReport,
 )
-from robospec.pipeline import CompiledSpec, compile_all
+from robospec.pipeline import CompiledSpec, compile_all, silenced_codes
 
 # (name, check) in the order they run and are reported
 CHECKS: tuple[tuple[str, Callable[[CheckRun], list[Finding]]], ...] = (
@@ -63,12 +64,15 @@ def check_paths(
     progress: Progress | None = None,
     *,
     isolate: bool = True,
+    silence: frozenset[str] = frozenset(),
 ) -> tuple[list[RobotReport], list[Diagnostic]]:
     """Reports for every spec found under ``paths``, plus diagnostics not tied to one spec.
 
     With ``isolate`` (the default) robots are checked in a worker process, one after another,
-    and a worker that dies is replaced; without, in this process."""
-    compiled, diagnostics = compile_all(paths)
+    and a worker that dies is replaced; without, in this process. ``silence``: warning codes
+    not to report (``--silence``), with those each spec's ``silence`` lists — the simulation's
+    warnings as well as the compiler's."""
+    compiled, diagnostics = compile_all(paths, silence=silence)
     reports: list[RobotReport] = []
     pending = [(item, precheck(item)) for item in compiled]
     total = len(CHECKS) * sum(report is None for _, report in pending)
@@ -83,14 +87,26 @@ def check_paths(
                 if progress is not None:
                     progress(done + index, total, label)
 
-            if isolate:
-                reports.append(pool.check(item, options, step))
-            else:
-                reports.append(check_compiled(item, options, step))
+            report = (
+                pool.check(item, options, step) if isolate else check_compiled(item, options, step)
+            )
+            reports.append(without_silenced(report, silenced_codes(item, silence)))
             done += len(CHECKS)
     if progress is not None:
         progress(total, total, "done")
     return reports, diagnostics
+
+
+def without_silenced(report: RobotReport, codes: frozenset[str]) -> RobotReport:
+    """``report`` without the warnings (never the errors) whose codes are silenced."""
+    if not codes:
+        return report
+
+    def kept(diagnostics: Sequence[Diagnostic]) -> tuple[Diagnostic, ...]:
+        return tuple(d for d in diagnostics if d.is_error or d.code not in codes)
+
+    report.findings = [replace(f, diagnostics=kept(f.diagnostics)) for f in report.findings]
+    return report
 
 
 def precheck(item: CompiledSpec) -> RobotReport | None:

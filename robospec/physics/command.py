@@ -25,6 +25,7 @@ def run_check(
     plot_dir: Path | None = None,
     tasks: Sequence[str] = (),
     arguments: Sequence[str] = (),
+    silence: frozenset[str] = frozenset(),
 ) -> tuple[int, str]:
     """``arguments``: the command line as typed (after ``robospec``), to locate ``--task``."""
     problems = _unavailable(gpu, render_dir)
@@ -37,7 +38,7 @@ def run_check(
     progress = ProgressLine()
     try:
         options = Options(steps, backend, render_dir, plot_dir and plot_dir.resolve(), requests)
-        reports, extra = check_paths(paths, options, progress)
+        reports, extra = check_paths(paths, options, progress, silence=silence)
     finally:
         progress.close()
     extra = [*problems, *extra]
