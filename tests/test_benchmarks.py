@@ -15,7 +15,7 @@ import warnings
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from conftest import MANISKILL_VERSION, ROOT
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
@@ -83,6 +83,9 @@ def test_the_run_exits_1_exactly_when_a_section_misses_its_target_and_names_it(
 @pytest.mark.maniskill
 @pytest.mark.slow
 @pytest.mark.minutes
+# the benchmarks' code is the same on either ManiSkill, and their figures are measured on
+# 3.0.1: the smoke run costs CI three minutes, once is enough
+@pytest.mark.skipif(MANISKILL_VERSION == "nightly", reason="run on ManiSkill 3.0.1")
 def test_quick_run_runs_every_part_and_writes_every_section(tmp_path: Path) -> None:
     pytest.importorskip("mani_skill")
     out = tmp_path / "performance.md"
