@@ -215,7 +215,9 @@ GRIPPER_CONTROLLER = (
 
 
 @pytest.fixture(scope="module")
-def panda(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, type]]:
+def panda_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """arm.yaml (rtb-data's Panda arm with the Franka hand mounted as a part), hand.yaml, and
+    combined.yaml (rtb-data's own combined description)."""
     combined = locate(BY_KEY["rtb_panda"])  # panda_arm_hand.urdf.xacro
     robots = combined.parent
     package = robots.parent
@@ -252,7 +254,14 @@ def panda(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, type]]
         + f"  gripper: {GRIPPER_CONTROLLER}\n"
         + "control_modes: {pd_joint_pos: {arm: arm, gripper: gripper}}\n"
     )
-    with registered(folder, tmp_path_factory.mktemp("cache")) as agents:
+    return folder
+
+
+@pytest.fixture(scope="module")
+def panda(
+    panda_folder: Path, tmp_path_factory: pytest.TempPathFactory
+) -> Iterator[dict[str, type]]:
+    with registered(panda_folder, tmp_path_factory.mktemp("cache")) as agents:
         yield agents
 
 
@@ -329,6 +338,21 @@ def test_an_mjcf_arm_with_an_mjcf_hand_loads_in_maniskill_with_finite_state(
 
 
 # -- robospec check --------------------------------------------------------------------------
+
+
+def test_the_composed_panda_and_jaco_pass_check(panda_folder: Path, tmp_path: Path) -> None:
+    from test_compose import _jaco
+
+    from robospec.physics.batch import Options, check_paths
+
+    specs = [panda_folder / "arm.yaml", _jaco(tmp_path)]
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+        reports, extra = check_paths(specs, Options(steps=20))
+    assert extra == []
+    for report in reports:
+        failing = [d.format_text() for d in report.all_diagnostics if d.is_error]
+        assert not report.failed and failing == [], report.uid
 
 
 def test_check_says_where_a_part_sits_inside_the_robot(tmp_path: Path) -> None:
