@@ -332,6 +332,29 @@ def test_a_mesh_that_cannot_be_read_is_left_out_with_rs662(tmp_path: Path) -> No
 
 
 @pytest.mark.slow
+def test_primitives_of_no_extent_are_left_out_and_flat_ones_drawn_as_sheets(
+    tmp_path: Path,
+) -> None:
+    # pybullet's Laikago has <sphere radius="0.0"/> toes, which MuJoCo refused (RS664)
+    (tmp_path / "arm.urdf").write_text(
+        '<robot name="arm"><link name="base"><visual><geometry><box size="0.2 0.2 0"/>'
+        "</geometry></visual></link>"
+        '<link name="tip"><visual><geometry><sphere radius="0.0"/></geometry></visual>'
+        '<collision><geometry><cylinder radius="0.03" length="0"/></geometry></collision>'
+        "</link>"
+        '<joint name="j" type="revolute"><parent link="base"/><child link="tip"/>'
+        '<origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
+    )
+    spec = tmp_path / "arm.yaml"
+    written, _ = run_new(tmp_path / "arm.urdf", spec, None, force=False, simulate=False)
+    assert written is not None
+    diagnostics = run_doc(spec, tmp_path / "arm.md", images=True, collisions=True)
+    assert [d.code for d in diagnostics if d.code.startswith("RS66")] == []
+    assert sorted(images_folder(tmp_path / "arm.md").rglob("*.png"))
+
+
+@pytest.mark.slow
 def test_without_opengl_doc_images_is_rs661(tmp_path: Path) -> None:
     # GLFW needs a display, which a test machine has not
     env = {**os.environ, "MUJOCO_GL": "glfw", "DISPLAY": ""}

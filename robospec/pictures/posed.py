@@ -41,6 +41,7 @@ MJCF_UNLOADABLE = "RS663"
 Layer = Literal["visual", "collision"]
 Kind = Literal["mesh", "box", "sphere", "cylinder", "capsule"]
 DEFAULT_RGBA = (0.72, 0.72, 0.74, 1.0)  # a shape that has no colour of its own
+SHEET = 1e-4  # m: the half-thickness a flat primitive is drawn with (MuJoCo wants sizes > 0)
 
 
 @dataclass(frozen=True)
@@ -231,20 +232,27 @@ class UrdfShapes:
         kind_element = geometry[0]
         kind = kind_element.tag
         rgba = _visual_colour(element, colours) if layer == "visual" else None
+        # a primitive of no extent (pybullet's Laikago has <sphere radius="0.0"/> toes) draws
+        # nothing, and MuJoCo refuses it; a flat one (a box of zero height, a disc) is a sheet
         if kind == "box":
             size = finite_numbers(kind_element.get("size"), 3)
-            return (
-                Shape(link, layer, "box", tuple(s / 2 for s in size), rgba=rgba) if size else None
-            )
+            if not size or max(size) <= 0:
+                return None
+            return Shape(link, layer, "box", tuple(max(s / 2, SHEET) for s in size), rgba=rgba)
         if kind == "sphere":
             radius = finite_numbers(kind_element.get("radius"), 1)
-            return Shape(link, layer, "sphere", radius, rgba=rgba) if radius else None
+            return (
+                Shape(link, layer, "sphere", radius, rgba=rgba)
+                if radius and radius[0] > 0
+                else None
+            )
         if kind in ("cylinder", "capsule"):
             radius = finite_numbers(kind_element.get("radius"), 1)
             length = finite_numbers(kind_element.get("length"), 1)
-            if not radius or not length:
+            if not radius or not length or radius[0] <= 0:
                 return None
-            return Shape(link, layer, kind, (radius[0], length[0] / 2), rgba=rgba)  # type: ignore[arg-type]
+            half = max(length[0] / 2, SHEET)
+            return Shape(link, layer, kind, (radius[0], half), rgba=rgba)  # type: ignore[arg-type]
         if kind != "mesh":
             return None
         uri = kind_element.get("filename", "")
