@@ -10,7 +10,14 @@ from typing import TYPE_CHECKING
 
 from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
 from robospec.description.facts import RobotDescription
-from robospec.diagnostics import Diagnostic, Location, Severity, error, has_errors, sort_key
+from robospec.diagnostics import (
+    Diagnostic,
+    Location,
+    error,
+    has_errors,
+    sort_key,
+    without_codes,
+)
 from robospec.load.discovery import discover
 from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
 from robospec.load.source_map import KeyPath, LoadedSpec
@@ -121,9 +128,7 @@ def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
                         "docs/diagnostics.md lists them",
                     )
                 )
-    result.diagnostics = [
-        d for d in result.diagnostics if d.severity is Severity.ERROR or d.code not in codes
-    ] + problems
+    result.diagnostics = without_codes(result.diagnostics, codes) + problems
     if problems:
         result.robot = None
 

@@ -7,7 +7,7 @@ on bad input; the CLI and :func:`robospec.register` decide what to do with them.
 from __future__ import annotations
 
 import enum
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable
 from dataclasses import dataclass
 
 
@@ -82,6 +82,12 @@ def note(location: Location, code: str, message: str, hint: str | None = None) -
 
 def has_errors(diagnostics: Iterable[Diagnostic]) -> bool:
     return any(d.is_error for d in diagnostics)
+
+
+def without_codes(diagnostics: Iterable[Diagnostic], codes: Collection[str]) -> list[Diagnostic]:
+    """``diagnostics`` less the warnings and notes whose codes are in ``codes``: an error is
+    never left out."""
+    return [d for d in diagnostics if d.is_error or d.code not in codes]
 
 
 def sort_key(d: Diagnostic) -> tuple[str, int, int, str]:

@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
 
-from robospec.diagnostics import Diagnostic, Location, SpecError, error
+from robospec.diagnostics import Diagnostic, Location, SpecError, error, without_codes
 from robospec.model.frozen import Checks
 from robospec.physics import (
     action_layout,
@@ -99,13 +99,11 @@ def check_paths(
 
 def without_silenced(report: RobotReport, codes: frozenset[str]) -> RobotReport:
     """``report`` without the warnings (never the errors) whose codes are silenced."""
-    if not codes:
-        return report
-
-    def kept(diagnostics: Sequence[Diagnostic]) -> tuple[Diagnostic, ...]:
-        return tuple(d for d in diagnostics if d.is_error or d.code not in codes)
-
-    report.findings = [replace(f, diagnostics=kept(f.diagnostics)) for f in report.findings]
+    if codes:
+        report.findings = [
+            replace(f, diagnostics=tuple(without_codes(f.diagnostics, codes)))
+            for f in report.findings
+        ]
     return report
 
 

@@ -20,7 +20,7 @@ from robospec.description.sanity import SANITY_CODES
 if TYPE_CHECKING:
     from robospec.compose.model import Composed
     from robospec.derive import Derived
-from robospec.diagnostics import Diagnostic, Location
+from robospec.diagnostics import Diagnostic, Location, without_codes
 from robospec.load.source_map import KeyPath
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.paths import (
@@ -392,7 +392,7 @@ _WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
 def _unless_shipped(diagnostics: list[Diagnostic], ref: FileRef) -> list[Diagnostic]:
     if ref.kind == "file":
         return diagnostics
-    return [d for d in diagnostics if d.is_error or d.code not in _WARNINGS_NOT_FOR_SHIPPED]
+    return without_codes(diagnostics, _WARNINGS_NOT_FOR_SHIPPED)
 
 
 def _xacro_arg(value: Any) -> str:
