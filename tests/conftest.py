@@ -263,6 +263,17 @@ def _imported_maniskill() -> list[str]:
     return [name for name in MANISKILL_MODULES if name in sys.modules]
 
 
+def contact_offsets(entities: Iterable[Any]) -> list[float]:
+    """The contact offset of every collision shape of ManiSkill's ``entities`` (links or actors:
+    their ``_bodies`` in each sub-scene)."""
+    return [
+        shape.contact_offset
+        for entity in entities
+        for body in entity._bodies
+        for shape in body.get_collision_shapes()
+    ]
+
+
 def _skipped_for_maniskill(report: pytest.TestReport | pytest.CollectReport) -> bool:
     if not report.skipped or not isinstance(report.longrepr, tuple):
         return False

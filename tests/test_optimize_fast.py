@@ -13,7 +13,7 @@ from types import SimpleNamespace
 
 import pytest
 import trimesh
-from conftest import PANDA_SPEC, invoke_robospec, run_robospec
+from conftest import PANDA_SPEC, contact_offsets, invoke_robospec, run_robospec
 
 from robospec.optimize import command as optimize_command
 from robospec.optimize.command import OptimizeOptions, run_optimize
@@ -388,12 +388,7 @@ def test_the_fast_panda_registers_takes_its_sim_config_and_steps(
             sim_config=config,
         )
     try:
-        offsets = {
-            round(shape.contact_offset, 6)
-            for link in env.unwrapped.agent.robot.links
-            for body in link._bodies
-            for shape in body.get_collision_shapes()
-        }
+        offsets = {round(o, 6) for o in contact_offsets(env.unwrapped.agent.robot.links)}
         assert offsets == {round(report.simulation["contact_offset"], 6)}  # type: ignore[attr-defined]
         env.reset(seed=0)
         for _ in range(5):

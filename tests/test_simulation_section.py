@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import ClassVar
 
 import pytest
-from conftest import PANDA_SPEC, ROOT
+from conftest import PANDA_SPEC, ROOT, contact_offsets
 
 from robospec.authoring.commands import run_doc
 from robospec.diagnostics import has_errors
@@ -161,17 +161,8 @@ def test_in_maniskill_the_robots_shapes_carry_the_offset_and_gym_make_takes_the_
         )
     try:
         base = env.unwrapped
-        robot = {
-            shape.contact_offset
-            for link in base.agent.robot.links
-            for body in link._bodies
-            for shape in body.get_collision_shapes()
-        }
-        ground = {
-            shape.contact_offset
-            for body in base.ground._bodies
-            for shape in body.get_collision_shapes()
-        }
+        robot = set(contact_offsets(base.agent.robot.links))
+        ground = set(contact_offsets([base.ground]))
         assert sorted(robot) == pytest.approx([0.002])
         assert sorted(ground) == pytest.approx([0.02])  # the scene's own shapes keep ManiSkill's
         assert base.sim_config.scene_config.solver_position_iterations == 17
