@@ -8,8 +8,10 @@ cannot hold the pose: gains too weak for the load, a keyframe pressing against a
 into the robot itself or into the ground. Joints a velocity controller drives (wheels) and
 passive joints are not held to an angle: they are left out of the joint drift.
 
-A robot with a free root is held twice. On a test stand first — its root held where the
-keyframe puts it — which measures its drives alone (RS501 when they cannot hold the pose).
+A robot with a free root is held twice. On a test stand first — its root held clear of the
+ground, the keyframe's pose lifted (``Sim.test_stand``) — which measures its drives alone
+(RS501 when they cannot hold the pose): held where the keyframe stands it, its feet would press
+on the ground with a root that cannot give way.
 Then standing on the ground, but only where its statics say it can stand: its centre of mass
 over the support polygon of its contacts with the ground at the keyframe
 (:mod:`robospec.physics.statics`). There a fall is RS501; a robot whose centre of mass lies
@@ -99,6 +101,8 @@ def _run_hold(
 ) -> _Held:
     settings = run.settings.keyframe_hold
     start = sim.start(keyframe)
+    # on a test stand: lifted clear of the ground, its root held there (Sim.test_stand)
+    pin = sim.test_stand() if pinned and not sim.fixed_root else None
     root_start = sim.root_position()
     action = sim.hold_action(start) if by_action else None
     if action is None:
@@ -107,7 +111,6 @@ def _run_hold(
     joint_drift = np.zeros(len(sim.joint_names))
     root_drift = 0.0
     finite = True
-    pin = sim.robot.pose if pinned and not sim.fixed_root else None
     for _ in range(settings.steps):
         if action is not None:
             sim.step(action, pin)
@@ -183,7 +186,11 @@ def _hold(
             f"it can stand there: its centre of mass is {standing.inside * 100:.3g} cm inside "
             f"the support polygon of its contacts ({', '.join(standing.links)})"
         )
-    where = "on a test stand (its root held)" if pinned and not sim.fixed_root else ""
+    where = (
+        "on a test stand (its root held clear of the ground)"
+        if pinned and not sim.fixed_root
+        else ""
+    )
     diagnostic = run.fail(
         run.keyframe_path(keyframe),
         "RS501",

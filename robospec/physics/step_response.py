@@ -35,7 +35,6 @@ from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "step_response"
 SETTLE_TIME = 0.5  # seconds of holding before the step
-LIFT = 5.0  # metres a floating robot is lifted for its step: feet on the floor would block it
 
 
 class StepSettings(Protocol):
@@ -169,8 +168,7 @@ def step_trace(
     joints = list(group.joint_indices)
     # on a test stand: lifted clear of the ground (a floating root held there), so nothing
     # but the drives shapes the step — an arm mounted on the floor would hit it half the time
-    lifted = sim.lifted_root(LIFT)
-    pin = None if sim.fixed_root else lifted
+    pin = sim.test_stand()
     # settle first: under gravity a holding drive sags to an equilibrium; the step is measured
     # from there, so the sag itself (keyframe_hold's business) is not counted as step error
     for _ in range(round(SETTLE_TIME * sim.sim_freq)):
