@@ -71,7 +71,9 @@ def joint_gains(
             else None
         )
         kind = "prismatic" if joint.type == "prismatic" else "revolute"
-        computed = analytic_gains(kind, load.inertia, load.load, span, rating(analysis, joint))
+        computed = analytic_gains(
+            kind, load.inertia, load.load, span, rating(analysis, joint), load.topple
+        )
         drive = analysis.drives.get(joint.name)
         if drive is not None and drive.stiffness is not None:
             # the model's own servo gains: what it was tuned with

@@ -182,7 +182,7 @@ def scaffold(
 
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
-    controllers, modes = controllers_and_modes(analysis, gains)
+    controllers, modes = controllers_and_modes(analysis, gains, rest.qpos)
     data["controllers"] = controllers
     notes[("controllers",)] = _gains_note(analysis, refined)
     data["control_modes"] = modes

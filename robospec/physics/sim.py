@@ -243,7 +243,21 @@ class Sim:
         return all(bool(np.all(np.asarray(link.disable_gravity))) for link in self.robot.links)
 
     def root_speed(self) -> np.ndarray:
-        velocity = self.robot.root_linear_velocity.cpu().numpy().astype(np.float64)
+        """How fast the robot as a whole moves: the speed of its centre of mass, one per
+        environment. Not the root link's: ManiSkill's MJCF loader roots a free-jointed robot
+        in a massless link at the world body's frame, which can lie far from the robot (the
+        dm_control humanoid's, 1.5 m below its torso), and a robot turning in place swings
+        it round fast (24 m/s while the humanoid's centre of mass moved at 1.7 m/s)."""
+        total = None
+        momentum = None
+        for link in self.robot.links:
+            mass = link.mass.reshape(-1, 1)  # (num_envs, 1)
+            part = link.linear_velocity * mass  # the link's centre of mass's velocity
+            momentum = part if momentum is None else momentum + part
+            total = mass if total is None else total + mass
+        if momentum is None or total is None:
+            return np.zeros(self.backend.num_envs)
+        velocity = (momentum / total.clamp(min=1e-12)).cpu().numpy().astype(np.float64)
         return np.linalg.norm(velocity, axis=-1)
 
     # -- stepping ------------------------------------------------------------------------------
