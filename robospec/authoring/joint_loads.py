@@ -56,7 +56,7 @@ from robospec.authoring.mjcf_model import (
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 
-GRAVITY = 9.81  # m/s², along -z of the root frame (the robot upright, as its rest pose stands)
+GRAVITY = 9.81  # m/s², along the world's -z (the root frame turned as its rest pose stands it)
 DENSITY = 1000.0  # kg/m³: PhysX's and MuJoCo's default
 
 
@@ -342,10 +342,14 @@ def joint_loads(
     qpos: Mapping[str, float],
     armature: Mapping[str, float] | None = None,
     feet: Sequence[Sequence[str]] = (),
+    upright: Matrix = IDENTITY_ROTATION,
 ) -> dict[str, JointLoad]:
     """Every moving joint of ``model`` at ``qpos``. ``feet``: for a robot that stands, the links
-    of each foot (the ground pushes on the lowest frame of each); empty: it does not stand."""
-    poses = model.link_poses(qpos)
+    of each foot (the ground pushes on the lowest frame of each); empty: it does not stand.
+    ``upright``: how the root frame is turned in the world, gravity pulling along the world's
+    -z (a description written y-up stands turned: ``RobotAnalysis.upright``)."""
+    turned = Transform(upright)
+    poses = {link: turned @ pose for link, pose in model.link_poses(qpos).items()}
     children: dict[str, list[str]] = {}
     for joint in model.joints:
         children.setdefault(joint.parent, []).append(joint.child)

@@ -51,6 +51,8 @@ class Request:
     # a step of one towards the other (robospec check's step response) goes nowhere
     clearance: float = 0.002
     budget: int = 400  # poses tried at most
+    # (w, x, y, z): how a floating robot stands (its root turned so, for a y-up description)
+    upright: list[float] = field(default_factory=lambda: [1.0, 0.0, 0.0, 0.0])
     # then scaffold the robot at the rest pose found and measure its gains there
     # (robospec.authoring.refine): (the description file, the spec's path, the schema reference)
     refinement: tuple[str, str, str] | None = None
@@ -192,6 +194,23 @@ class Probe:
                 return trial, touching
         return None
 
+    def adjacent(self) -> list[tuple[str, str]]:
+        """Pairs of links with collision shapes joined only through links without any (the
+        links a spherical joint becomes in SAPIEN, one per axis; an MJCF body's joints after
+        its first): as good as parent and child, whose collisions PhysX leaves out, yet PhysX
+        collides these. DeepMimic's feet, three hinges below the shins, hit them whichever
+        way an ankle turned."""
+        found = set()
+        for link in self.sim.robot.links:
+            if not link._objs[0].collision_shapes:
+                continue
+            node, skipped = _parent(link), False
+            while node is not None and not node._objs[0].collision_shapes:
+                node, skipped = _parent(node), True
+            if skipped and node is not None:
+                found.add((min(link.name, node.name), max(link.name, node.name)))
+        return sorted(found)
+
     def mount_height(self, qpos: list[float]) -> float | None:
         """For a fixed robot whose moving links reach below the ground at ``qpos`` (its root at
         the origin, where ManiSkill's scenes put it), the height to mount it at so they clear
@@ -210,12 +229,13 @@ class Probe:
 
     def standing_height(self, qpos: list[float]) -> float | None:
         """How far above the ground the root must be for the lowest collision point of the
-        robot, at ``qpos`` and upright, to touch it."""
+        robot, at ``qpos`` and upright (its root turned as ``upright`` says), to touch it."""
         import torch
         from mani_skill.utils.structs.pose import Pose
 
         robot = self.sim.robot
-        robot.set_pose(Pose.create_from_pq(torch.zeros(1, 3), torch.tensor([[1.0, 0, 0, 0]])))
+        turn = torch.tensor([self.request.upright], dtype=torch.float32)
+        robot.set_pose(Pose.create_from_pq(torch.zeros(1, 3), turn))
         robot.set_qpos(torch.tensor([qpos], dtype=torch.float32))
         lowest = math.inf
         for link in robot.links:
@@ -225,11 +245,16 @@ class Probe:
         return None if math.isinf(lowest) else -lowest
 
 
+def _parent(link: Any) -> Any:
+    return link.joint.parent_link if link.joint is not None else None
+
+
 def run(request: Request) -> dict[str, Any]:
     probe = Probe(request)
     try:
         qpos, contacts = probe.search()
         height = probe.standing_height(qpos) if request.floating else probe.mount_height(qpos)
+        adjacent = probe.adjacent()
     finally:
         probe.sim.close()
     answer: dict[str, Any] = {
@@ -242,6 +267,8 @@ def run(request: Request) -> dict[str, Any]:
         # (one pose tried: no joint lies between the pairs touching there, so they always do)
         "always": sorted(probe.always or ()),
         "root_height": height,
+        "upright": list(request.upright),
+        "adjacent": adjacent,
     }
     if request.refinement is not None:
         try:
@@ -299,7 +326,7 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Any:
         keyframe = ResolvedKeyframe(
             "rest",
             (0.0, 0.0, rest.root_height or 0.0),
-            (1.0, 0.0, 0.0, 0.0),
+            rest.upright,
             tuple(rest.qpos[name] for name in request.joints),
             None,
         )
