@@ -19,6 +19,8 @@ from robospec.authoring.joint_gains import loads
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 
+ROOT = Path(__file__).resolve().parent.parent
+
 # one arm link: a 2 kg point-like mass 0.5 m out along x, turning about y at the origin, and a
 # 1 kg slider on it; the inertias are small boxes about their centres
 ARM = """<?xml version="1.0"?>
@@ -270,3 +272,45 @@ def test_a_joint_whose_range_spans_more_than_a_turn_takes_targets_one_turn_about
     arm, _ = _scaffold(tmp_path / "arm", ARM.format(effort=100))
     assert arm["controllers"]["arm_pos"]["lower"] is None
     assert arm["controllers"]["arm_pos"]["upper"] is None
+
+
+def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_path: Path) -> None:
+    from robospec.authoring.frames import from_quaternion
+    from robospec.authoring.joint_loads import joint_loads
+
+    text = (ROOT / "tests" / "data" / "new" / "quadruped.urdf").read_text()
+    # the same robot under a root link whose frame is y-up (graphics' and motion capture's
+    # convention): its legs point along -y of the root
+    turned = text.replace(
+        '<robot name="quad">',
+        '<robot name="quad"><link name="yup"/><joint name="yup_to_body" type="fixed">'
+        '<parent link="yup"/><child link="body"/><origin rpy="-1.5707963267948966 0 0"/>'
+        "</joint>",
+    )
+    found = {}
+    for name, body in (("zup", text), ("yup", turned)):
+        path = tmp_path / f"{name}.urdf"
+        path.write_text(body)
+        source, _ = read_description_file(path)
+        assert source is not None
+        analysis = analyse(source)
+        assert analysis.body.floating and analysis.kinematics is not None
+        qpos = analysis.start_qpos()
+        upright = analysis.upright(qpos)
+        loads = joint_loads(
+            analysis.kinematics,
+            analysis.inertials,
+            qpos,
+            feet=analysis.feet(),
+            upright=from_quaternion(*upright),
+        )
+        found[name] = (upright, loads)
+    assert found["zup"][0] == (1.0, 0.0, 0.0, 0.0)
+    # a quarter turn about x takes its y to z
+    assert found["yup"][0] == pytest.approx((math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0))
+    # stood upright, each joint carries what it carries written z-up
+    for joint, load in found["zup"][1].items():
+        turned_load = found["yup"][1][joint]
+        assert turned_load.held == pytest.approx(load.held, abs=1e-9), joint
+        assert turned_load.standing == pytest.approx(load.standing, abs=1e-9), joint
+        assert turned_load.topple == pytest.approx(load.topple, abs=1e-9), joint
