@@ -1,7 +1,8 @@
-"""How ``robospec check`` runs a robot, on real SAPIEN physics with two tiny robots: a step that
-a self-contact blocks one way goes the other way; a floating robot's test stand holds it clear of
+"""How ``robospec check`` runs a robot, on real SAPIEN physics with tiny robots: a step that a
+self-contact blocks one way goes the other way; a floating robot's test stand holds it clear of
 the ground; a runaway is the robot's centre of mass moving, not a far-off root link swinging
-round. Each would have failed a corpus robot for the check's procedure, not for a defect."""
+round. Each would have failed a corpus robot for the check's procedure, not for a defect. And
+which links ``robospec new`` finds adjacent through shapeless links (pose_probe)."""
 
 from __future__ import annotations
 
@@ -19,6 +20,11 @@ pytestmark = [
 ]
 
 BOX = '<geometry><box size="{}"/></geometry>'
+LIMIT = '<limit lower="-1" upper="1" effort="10" velocity="5"/>'
+INERTIAL = (
+    '<inertial><mass value="1"/>'
+    '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+)
 
 # a fixed post with an arm turning about z; a wall fixed to the base lies 2 mm beside the arm on
 # the side a step towards the farther limit (upper, 2 rad away; lower 1 rad) turns it into
@@ -72,22 +78,51 @@ STICK = f"""<?xml version="1.0"?>
 """
 
 
+# a foot two hinges below its base through a link without shapes (as a spherical joint becomes
+# three hinges): adjacent; a thigh below a hip whose housing (welded to it) has shapes: not
+CHAINED = f"""<?xml version="1.0"?>
+<robot name="chained">
+  <link name="base">{INERTIAL}<collision>{BOX.format("0.1 0.1 0.1")}</collision></link>
+  <link name="between">{INERTIAL}</link>
+  <link name="foot">{INERTIAL}
+    <collision><origin xyz="0 0 -0.2"/>{BOX.format("0.1 0.1 0.1")}</collision></link>
+  <link name="hip">{INERTIAL}</link>
+  <link name="housing">{INERTIAL}<collision>{BOX.format("0.05 0.05 0.05")}</collision></link>
+  <link name="thigh">{INERTIAL}
+    <collision><origin xyz="0 0 -0.2"/>{BOX.format("0.05 0.05 0.1")}</collision></link>
+  <joint name="a" type="revolute"><parent link="base"/><child link="between"/>
+    <origin xyz="0.3 0 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
+  <joint name="b" type="revolute"><parent link="between"/><child link="foot"/>
+    <axis xyz="0 1 0"/>{LIMIT}</joint>
+  <joint name="c" type="revolute"><parent link="base"/><child link="hip"/>
+    <origin xyz="-0.3 0 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
+  <joint name="weld" type="fixed"><parent link="hip"/><child link="housing"/></joint>
+  <joint name="d" type="revolute"><parent link="hip"/><child link="thigh"/>
+    <axis xyz="0 1 0"/>{LIMIT}</joint>
+</robot>
+"""
+JOINTS = {"walled": ["turn"], "stick": ["hip"], "chained": ["a", "b", "c", "d"]}
+
+
 def _spec(folder: Path, name: str, urdf: str, floating: bool) -> Path:
     (folder / f"{name}.urdf").write_text(urdf)
-    joint = "turn" if name == "walled" else "hip"
+    joints = JOINTS[name]
+    qpos = [0.0] * len(joints)
+    height = -0.8 if floating else 0.0
+    fixed = str(not floating).lower()
     spec = folder / f"{name}.yaml"
     spec.write_text(
         f"""robospec: 1
 uid: rs_test_{name}
 description: {{urdf: {name}.urdf}}
-loader: {{fix_root_link: {str(not floating).lower()}}}
+loader: {{fix_root_link: {fixed}}}
 keyframes:
-  rest: {{qpos: [0.0], pose: {{p: [0, 0, {-0.8 if floating else 0.0}]}}}}
+  rest: {{qpos: {qpos}, pose: {{p: [0, 0, {height}]}}}}
 controllers:
-  drive: {{type: pd_joint_pos, joints: [{joint}], lower: null, upper: null, stiffness: 100,
+  drive: {{type: pd_joint_pos, joints: {joints}, lower: null, upper: null, stiffness: 100,
           damping: 10, force_limit: 100, normalize_action: false}}
 control_modes:
-  pd_joint_pos: {{drive: drive, balance_passive_force: {str(not floating).lower()}}}
+  pd_joint_pos: {{drive: drive, balance_passive_force: {fixed}}}
 """
     )
     return spec
@@ -101,6 +136,7 @@ def robots(tmp_path_factory: pytest.TempPathFactory, maniskill: object) -> dict[
     specs = {
         "walled": _spec(folder, "walled", WALLED, floating=False),
         "stick": _spec(folder, "stick", STICK, floating=True),
+        "chained": _spec(folder, "chained", CHAINED, floating=False),
     }
     for spec in specs.values():
         compiled = compile_spec(spec)
@@ -173,3 +209,23 @@ def test_a_runaway_is_the_centre_of_mass_moving_not_a_far_root_link_swinging(
         sim.robot.set_root_linear_velocity(torch.tensor([[0.0, 3.0, 0.0]]))
         sim.sim_step()
         assert sim.root_speed()[0] == pytest.approx(3.0, rel=0.02)
+
+
+def test_new_finds_links_adjacent_through_links_without_shapes(robots: dict[str, Path]) -> None:
+    from robospec.authoring.pose_probe import Probe, Request
+
+    request = Request(
+        spec=str(robots["chained"]),
+        uid="rs_test_chained",
+        mode="pd_joint_pos",
+        joints=["a", "b", "c", "d"],
+        start=[0.0] * 4,
+        limits=[(-1.0, 1.0)] * 4,
+    )
+    probe = Probe(request)
+    try:
+        # the foot hangs from the base through a shapeless link: PhysX, which leaves a parent
+        # and its child alone, collides them; the thigh's parent is the hip with its housing
+        assert probe.adjacent() == [("base", "foot")]
+    finally:
+        probe.sim.close()

@@ -35,6 +35,9 @@ CHECK_STEP = {"revolute": 0.1, "prismatic": 0.01}
 # the moves (of a joint's range) that make room for a step: small, the pose is found already
 ROOM_STEPS = (0.02, 0.05, 0.1)
 ROOM_BUDGET = 200  # poses tried at most making room for steps
+# m: a step that brings links this near blocks it: check lets the robot settle under gravity
+# on its test stand before it steps, and a sag of millimetres closes a smaller gap
+ROOM_MARGIN = 0.005
 FULL_TURN = 2 * math.pi
 FLOATING_LIFT = 10.0  # m: a floating robot is held well above the ground while contacts count
 SEED = 0
@@ -94,8 +97,11 @@ class Probe:
         self.followers = {follower for follower, _, _, _ in request.mimic}
         self.tried = 0
         self.always: set[tuple[str, str]] | None = None  # the pairs every pose tried touched
+        self._adjacent: list[tuple[str, str]] | None = None  # (adjacent(), once: links stay)
 
-    def contacts(self, qpos: list[float]) -> Contacts:
+    def contacts(self, qpos: list[float], within: float | None = None) -> Contacts:
+        """The pairs in contact at ``qpos`` or nearer than ``within`` (m; default: the
+        search's clearance), with their depth."""
         from robospec.resolve.resolved import ResolvedKeyframe
 
         self.tried += 1
@@ -108,7 +114,7 @@ class Probe:
         touching = {
             pair: depth
             for pair, depth in sorted(self.sim.self_contacts().items())
-            if depth >= -self.request.clearance
+            if depth >= -(self.request.clearance if within is None else within)
         }
         self.always = set(touching) if self.always is None else self.always & set(touching)
         return touching
@@ -206,17 +212,35 @@ class Probe:
         links a spherical joint becomes in SAPIEN, one per axis; an MJCF body's joints after
         its first): as good as parent and child, whose collisions PhysX leaves out, yet PhysX
         collides these. DeepMimic's feet, three hinges below the shins, hit them whichever
-        way an ankle turned."""
+        way an ankle turned. Links welded together (fixed joints) count as one body."""
+        if self._adjacent is not None:
+            return self._adjacent
+        links = {link.name: link for link in self.sim.robot.links}
+        body = {name: name for name in links}  # link -> the top link of its welded body
+
+        def top(name: str) -> str:
+            link = links[name]
+            while _fixed(link) and _parent(link) is not None:
+                link = _parent(link)
+            return str(link.name)
+
+        members: dict[str, list[str]] = {}
+        for name in links:
+            body[name] = top(name)
+            if links[name]._objs[0].collision_shapes:
+                members.setdefault(body[name], []).append(name)
         found = set()
-        for link in self.sim.robot.links:
-            if not link._objs[0].collision_shapes:
+        for head in members:
+            node, skipped = _parent(links[head]), False
+            while node is not None and body[node.name] not in members:
+                node, skipped = _parent(links[body[node.name]]), True
+            if not skipped or node is None:
                 continue
-            node, skipped = _parent(link), False
-            while node is not None and not node._objs[0].collision_shapes:
-                node, skipped = _parent(node), True
-            if skipped and node is not None:
-                found.add((min(link.name, node.name), max(link.name, node.name)))
-        return sorted(found)
+            for a in members[head]:
+                for b in members[body[node.name]]:
+                    found.add((min(a, b), max(a, b)))
+        self._adjacent = sorted(found)
+        return self._adjacent
 
     def step_size(self, index: int) -> float:
         name = self.request.joints[index]
@@ -237,7 +261,10 @@ class Probe:
             trial = self.follow(trial)
             if abs(trial[index] - qpos[index]) < 0.5 * self.step_size(index):
                 continue  # a limit: check steps the other way
-            new = self.touching(trial) - rest
+            # (pairs the scaffold declares never_collide do not block: adjacent ones, and
+            # those that touched in every pose so far)
+            near = set(self.contacts(trial, ROOM_MARGIN))
+            new = near - rest - set(self.adjacent()) - (self.always or set())
             if not new:
                 return set()
             pairs |= new
@@ -340,6 +367,12 @@ class Probe:
 
 def _parent(link: Any) -> Any:
     return link.joint.parent_link if link.joint is not None else None
+
+
+def _fixed(link: Any) -> bool:
+    """Whether ``link`` is welded to its parent (a fixed joint)."""
+    joint = link.joint
+    return joint is not None and joint.parent_link is not None and joint._objs[0].type == "fixed"
 
 
 def run(request: Request) -> dict[str, Any]:
