@@ -14,8 +14,7 @@ one joint (of those between two touching links, by 10, 20, 35 or 50 % of its ran
 that leaves fewer pairs touching (:func:`better`); when no move helps, random moves of all those
 joints at once, from a fixed seed. A pose changes only to undo a contact, so a contact nothing
 undoes leaves the starting pose as it was; the answer names the pairs that touched in every pose
-tried. Then each joint must have room for ``robospec check``'s step one way or the other: where
-a contact blocks it both ways, the pose moves a little (:meth:`Probe.make_room`).
+tried.
 """
 
 from __future__ import annotations
@@ -29,15 +28,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 STEPS = (0.1, 0.2, 0.35, 0.5)
-# robospec check's step (checks.step_response.step, prismatic_step): each joint must have room
-# for it one way or the other at rest, or the check's step runs into a contact
-CHECK_STEP = {"revolute": 0.1, "prismatic": 0.01}
-# the moves (of a joint's range) that make room for a step: small, the pose is found already
-ROOM_STEPS = (0.02, 0.05, 0.1)
-ROOM_BUDGET = 200  # poses tried at most making room for steps
-# m: a step that brings links this near blocks it: check lets the robot settle under gravity
-# on its test stand before it steps, and a sag of millimetres closes a smaller gap
-ROOM_MARGIN = 0.005
 FULL_TURN = 2 * math.pi
 FLOATING_LIFT = 10.0  # m: a floating robot is held well above the ground while contacts count
 SEED = 0
@@ -99,9 +89,7 @@ class Probe:
         self.always: set[tuple[str, str]] | None = None  # the pairs every pose tried touched
         self._adjacent: list[tuple[str, str]] | None = None  # (adjacent(), once: links stay)
 
-    def contacts(self, qpos: list[float], within: float | None = None) -> Contacts:
-        """The pairs in contact at ``qpos`` or nearer than ``within`` (m; default: the
-        search's clearance), with their depth."""
+    def contacts(self, qpos: list[float]) -> Contacts:
         from robospec.resolve.resolved import ResolvedKeyframe
 
         self.tried += 1
@@ -114,7 +102,7 @@ class Probe:
         touching = {
             pair: depth
             for pair, depth in sorted(self.sim.self_contacts().items())
-            if depth >= -(self.request.clearance if within is None else within)
+            if depth >= -self.request.clearance
         }
         self.always = set(touching) if self.always is None else self.always & set(touching)
         return touching
@@ -242,95 +230,6 @@ class Probe:
         self._adjacent = sorted(found)
         return self._adjacent
 
-    def step_size(self, index: int) -> float:
-        name = self.request.joints[index]
-        prismatic = bool(self.sim.prismatic[self.sim.joint_names.index(name)])
-        return CHECK_STEP["prismatic" if prismatic else "revolute"]
-
-    def touching(self, qpos: list[float]) -> set[tuple[str, str]]:
-        """The pairs in contact (not just near) at ``qpos``."""
-        return {pair for pair, depth in self.contacts(qpos).items() if depth >= 0.0}
-
-    def blocked(self, qpos: list[float], index: int, rest: set[tuple[str, str]]) -> set:
-        """The pairs that block robospec check's step of joint ``index`` from ``qpos`` both
-        ways (a way its limits close counts as blocked); empty when one way is free."""
-        pairs: set[tuple[str, str]] = set()
-        for sign in (1.0, -1.0):
-            trial = list(qpos)
-            trial[index] += sign * self.step_size(index)
-            trial = self.follow(trial)
-            if abs(trial[index] - qpos[index]) < 0.5 * self.step_size(index):
-                continue  # a limit: check steps the other way
-            # (pairs the scaffold declares never_collide do not block: adjacent ones, and
-            # those that touched in every pose so far)
-            near = set(self.contacts(trial, ROOM_MARGIN))
-            new = near - rest - set(self.adjacent()) - (self.always or set())
-            if not new:
-                return set()
-            pairs |= new
-        return pairs
-
-    def make_room(self, qpos: list[float]) -> list[float]:
-        """Move the pose found a little where a joint has no room for robospec check's step
-        either way (DeepMimic's feet side by side: turning one about the vertical swings it
-        into the other): the smallest move of a joint between the links in the way, nearest
-        them first, that frees the step without more contact at rest."""
-        rest = self.touching(qpos)
-        budget = self.tried + ROOM_BUDGET
-        for index in range(len(qpos)):
-            if index in self.followers or self.tried >= budget:
-                continue
-            pairs = self.blocked(qpos, index, rest)
-            if not pairs:
-                continue
-            moved = self._room(qpos, index, pairs, rest, budget)
-            if moved is not None:
-                qpos, rest = moved
-        return qpos
-
-    def _room(
-        self,
-        qpos: list[float],
-        index: int,
-        pairs: set[tuple[str, str]],
-        rest: set[tuple[str, str]],
-        budget: int,
-    ) -> tuple[list[float], set[tuple[str, str]]] | None:
-        joints = self.movable_nearest(pairs)
-        near = len(self.contacts(qpos))
-        for step in ROOM_STEPS:
-            for candidate in joints:
-                for sign in (1.0, -1.0):
-                    if self.tried >= budget:
-                        return None
-                    trial = list(qpos)
-                    trial[candidate] += sign * step * self.span(candidate)
-                    trial = self.follow(trial)
-                    if trial == qpos:
-                        continue
-                    found = self.contacts(trial)
-                    now = {pair for pair, depth in found.items() if depth >= 0.0}
-                    if now - rest or len(found) > near:
-                        continue  # no new contact, none nearer than the search's clearance
-                    if not self.blocked(trial, index, now):
-                        return trial, now
-        return None
-
-    def movable_nearest(self, pairs: set[tuple[str, str]]) -> list[int]:
-        """The joints between the links of each pair, leaders only, those nearest the links
-        first."""
-        order: dict[int, int] = {}
-        for a, b in sorted(pairs):
-            path_a, path_b = self._path(a), self._path(b)
-            for path, other in ((path_a, path_b), (path_b, path_a)):
-                for depth, joint in enumerate(path):
-                    if joint in other or joint not in self.index:
-                        continue
-                    index = self.index[joint]
-                    if index not in self.followers:
-                        order[index] = min(order.get(index, depth), depth)
-        return sorted(order, key=lambda i: (order[i], i))
-
     def mount_height(self, qpos: list[float]) -> float | None:
         """For a fixed robot whose moving links reach below the ground at ``qpos`` (its root at
         the origin, where ManiSkill's scenes put it), the height to mount it at so they clear
@@ -379,8 +278,6 @@ def run(request: Request) -> dict[str, Any]:
     probe = Probe(request)
     try:
         qpos, contacts = probe.search()
-        qpos = probe.make_room(qpos)
-        contacts = probe.contacts(qpos)
         height = probe.standing_height(qpos) if request.floating else probe.mount_height(qpos)
         adjacent = probe.adjacent()
     finally:
