@@ -183,7 +183,8 @@ def test_tune_write_turns_the_upstream_twin_into_the_shipped_tuned_spec(
 COUPLED_URDF = """<?xml version="1.0"?>
 <robot name="coupled_slider">
   <link name="base">
-    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <inertial><mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
     <collision><geometry><box size="0.1 0.1 0.05"/></geometry></collision>
   </link>
   <joint name="slide" type="prismatic">
@@ -191,14 +192,16 @@ COUPLED_URDF = """<?xml version="1.0"?>
     <limit lower="-0.5" upper="0.5" effort="100000" velocity="10"/>
   </joint>
   <link name="carriage">
-    <inertial><mass value="0.05"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial>
+    <inertial><mass value="0.05"/>
+      <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial>
   </link>
   <joint name="swing" type="revolute">
     <parent link="carriage"/><child link="arm"/><origin xyz="0 0 0.05"/><axis xyz="0 0 1"/>
     <limit lower="-2" upper="0.05" effort="100000" velocity="10"/>
   </joint>
   <link name="arm">
-    <inertial><origin xyz="0.2 0 0"/><mass value="2"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <inertial><origin xyz="0.2 0 0"/><mass value="2"/>
+      <inertia ixx="1e-3" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
   </link>
 </robot>
 """
