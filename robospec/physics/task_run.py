@@ -27,7 +27,7 @@ import numpy as np
 
 from robospec.diagnostics import Location, error
 from robospec.physics.check_run import CheckRun
-from robospec.physics.crash import from_exception
+from robospec.physics.crash import USER, from_exception
 from robospec.physics.findings import Finding, Status, metrics
 
 NAME = "task"
@@ -190,15 +190,19 @@ def _crashed(run: CheckRun, task: str, stage: str, exc: Exception) -> Finding:
             "RS528",
             f"{task} calls agent.{member}: {mend(member, run.context.spec)} (at {stage} it raised "
             f"{type(exc).__name__})",
-            f"{crash.frame}" if crash.frame else None,
+            f"raised {crash.where()}" if crash.frame else None,
         )
     else:
+        # the hint follows whose code raised: a hook of the spec's is the user's to mend
+        own = crash.frame is not None and crash.frame.owner == USER
         diagnostic = error(
             _where(run, task),
             "RS527",
-            f"{task} crashed at {stage} with this robot: {crash.what}"
-            + (f" ({crash.frame})" if crash.frame else ""),
-            "the frame named is where ManiSkill or SAPIEN raised",
+            f"{task} crashed at {stage} with this robot: {crash.what}, {crash.where()}",
+            "mend the hook named: the task called it"
+            if own
+            else "the frame named is where ManiSkill or SAPIEN raised; run robospec check "
+            "without --task to see whether the robot alone runs",
         )
     return Finding(NAME, None, task, Status.FAIL, f"crashed at {stage}", {}, (diagnostic,))
 
