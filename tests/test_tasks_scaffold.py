@@ -152,6 +152,35 @@ def test_bad_task_input_is_a_located_error(tmp_path: Path) -> None:
     )
 
 
+@pytest.mark.slow  # a sweep over the folder's 21 tasks (about 35 s)
+def test_check_task_tabletop_runs_or_explains_every_task_of_the_folder(tmp_path: Path) -> None:
+    from robospec.maniskill.tasks import installed_tasks
+
+    spec = tmp_path / "panda.yaml"
+    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(_assets()))
+    spec.write_text(text.replace("uid: rs_panda", "uid: tabletop_panda"))
+    env = {**os.environ, "ROBOSPEC_CACHE_DIR": str(tmp_path / "cache"), "NO_COLOR": "1"}
+    done = run_robospec(
+        "check", str(spec), "--task", "tabletop", "--steps", "1", env=env, timeout=600
+    )
+    assert "Traceback" not in done.stdout + done.stderr
+    rows = dict(re.findall(r"^  task +- +(\S+) +(pass|skip|FAIL) ", done.stdout, re.M))
+    # every task of the folder was run and reported, each once
+    assert sorted(rows) == sorted(installed_tasks().family("tabletop")), done.stdout
+    assert {"PickCube-v1", "PushCube-v1", "StackCube-v1"} <= {
+        t for t, r in rows.items() if r == "pass"
+    }
+    for task, result in rows.items():
+        if result == "skip":
+            # a task that cannot run here says why: it needs several robots, a download, a
+            # robot of its own or a renderer — never a crash counted against the robot
+            (line,) = re.findall(rf"^  task +- +{re.escape(task)} +skip +(.*)$", done.stdout, re.M)
+            assert line.startswith("not run: it "), line
+    # the Panda runs every task it can: nothing is blamed on it (a task's own needs are skips)
+    assert "FAIL" not in rows.values() and "error[RS527]" not in done.stdout, done.stdout
+    assert done.returncode == 0, done.stdout
+
+
 # a two-joint chain whose `tcp` is a hook that raises (tests/hookmods/crash_hooks.py): the spec
 # has every member PushCube-v1 calls, and the task crashes inside ManiSkill's reset calling it
 CRASHING_SPEC = """robospec: 1
