@@ -151,10 +151,14 @@ def scaffold_text(
         return to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
 
     text = written(rest)
+    depth = {(a, b): d for a, b, d in rest.touching}
     while rest.overlapping and _never_collide_rejected(text, out):
         # validate would refuse the pairs (no collision-group bit left for them all): the
-        # entry covering the last pair goes, and the rest warnings name it as touching
-        rest = dataclasses.replace(rest, overlapping=rest.overlapping[:-1])
+        # shallowest pair goes (it was the last one found: the Shadow hand lost its 24 mm thumb
+        # overlap for a 1 mm one), and the rest warnings name it as touching
+        shallowest = min(rest.overlapping, key=lambda pair: depth.get(pair, 0.0))
+        kept = tuple(pair for pair in rest.overlapping if pair != shallowest)
+        rest = dataclasses.replace(rest, overlapping=kept)
         text = written(rest)
     return text, [
         *rating_warnings(analysis, gains),
