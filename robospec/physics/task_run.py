@@ -14,7 +14,12 @@ is a located diagnostic:
 - RS526: the task's objects lie beyond the robot's reach from where the task loads it;
 - RS527: the task crashed inside ManiSkill or SAPIEN, or its state went NaN.
 
-A task asked for by its folder that needs several robots or a download is skipped, not failed.
+A task that cannot run with any robot robospec registers, in the headless scene check runs
+(``render_backend="none"``), is not counted against the robot: it needs several robots, assets
+ManiSkill has not downloaded (a data group too: TurnFaucet-v1's ``partnet_mobility_faucet``), a
+robot of its own (PickCubeSO100-v1 sets ``robot_uids`` itself), or render bodies a scene without
+rendering lacks (PushT-v1). Asked for by its folder it is skipped with the reason; by name it is
+RS525.
 """
 
 from __future__ import annotations
