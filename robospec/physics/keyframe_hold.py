@@ -199,8 +199,11 @@ def _hold(
         + ": "
         + "; ".join(problems)
         + ground.note(run, keyframe),
-        "stiffen the drives holding it (robospec tune finds gains), move the keyframe off joint "
-        "limits and away from self-contact and the ground, or set "
+        "the description's <mimic> and <limit> disagree (RS545): mend the description; no "
+        "gains or keyframe make the joint follow"
+        if mimic and "(RS545)" in mimic
+        else "stiffen the drives holding it (robospec tune finds gains), move the keyframe off "
+        "joint limits and away from self-contact and the ground, or set "
         "checks.keyframe_hold.max_joint_drift/max_root_drift if the motion is expected",
     )
     return Finding(NAME, sim.mode, subject, Status.FAIL, summary, values, (diagnostic,))
@@ -262,7 +265,10 @@ def support_at(sim: Sim, keyframe: ResolvedKeyframe | None) -> Support:
 def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> str | None:
     """Why mimic joints move off a keyframe: the mode's ``pd_joint_pos_mimic`` controllers hold
     each mimic joint at ``multiplier * control + offset``, whatever the keyframe says."""
+    from robospec.physics.mimic_limits import contradictions
+
     index = {name: i for i, name in enumerate(sim.joint_names)}
+    contradicted = contradictions(run)
     wrong = []
     for group in sim.groups():
         name = run.controller_name(sim.mode, group.name)
@@ -276,6 +282,13 @@ def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> str | None:
                 wrong.append(f"'{joint}' is at {start[index[joint]]:.4g}, held at {held:.4g}")
     if not wrong:
         return None
+    if contradicted:
+        # no keyframe agrees with both: the description's <mimic> and <limit> disagree
+        return "; ".join(c.words() for _, c in sorted(contradicted.items())) + (
+            " (RS545): no keyframe agrees with both the mimic controllers and the limits ("
+            + "; ".join(wrong)
+            + ")"
+        )
     return (
         f"the keyframe disagrees with the mimic controllers, which hold each mimic joint at "
         f"multiplier * control joint + offset ({'; '.join(wrong)})"

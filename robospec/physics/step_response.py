@@ -333,6 +333,17 @@ def _finding(
             else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
         )
         cause, hint = _slow_cause(sim, group, trace, slowest.joint, kind)
+        from robospec.physics.mimic_limits import contradiction_words
+
+        contradicted = contradiction_words(run, slowest.joint)
+        if contradicted is not None:  # a mimic joint its relation holds past its limits
+            cause, hint = (
+                contradicted,
+                (
+                    "the description's <mimic> and <limit> of this joint disagree: mend the "
+                    "description; no gains make it follow"
+                ),
+            )
         problems.append(
             run.fail(
                 where,
