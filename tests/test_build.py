@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, SAME_ON_EVERY_MANISKILL
 
 from robospec.output.package import MANIFEST, MANIFEST_HEADER
 
@@ -61,6 +61,7 @@ def test_build_writes_one_module_per_spec_and_an_init_that_imports_them(tmp_path
 
 
 @pytest.mark.slow
+@SAME_ON_EVERY_MANISKILL
 def test_build_output_is_byte_identical_across_runs_and_hash_seeds(tmp_path: Path) -> None:
     states = []
     for seed in ("0", "1", "4242"):  # 0: no hash randomization at all

@@ -20,11 +20,14 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, SAME_ON_EVERY_MANISKILL
 
 from robospec.output.package import MANIFEST
 
-pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL and flock are POSIX")
+pytestmark = [
+    pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL and flock are POSIX"),
+    SAME_ON_EVERY_MANISKILL,
+]
 
 
 def build_command(specs: Path, out: Path) -> list[str]:

@@ -16,6 +16,7 @@ import keyword
 import string
 
 import pytest
+from conftest import SAME_ON_EVERY_MANISKILL
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_generated_code import FUZZ_SCALE, assert_formatted, ruff_findings
@@ -219,6 +220,7 @@ def modules(draw: st.DrawFn) -> ast.Module:
 
 
 @pytest.mark.slow  # over a second: CI runs it, the fast loop does not
+@SAME_ON_EVERY_MANISKILL
 @settings(
     max_examples=max(int(200 * FUZZ_SCALE), 10),
     deadline=None,

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from conftest import SAME_ON_EVERY_MANISKILL
 from lxml import etree
 
 from robospec.optimize import shapes
@@ -305,6 +306,7 @@ def test_a_link_weighed_by_its_shapes_keeps_them(tmp_path: Path) -> None:
     importlib.util.find_spec("coacd") is None,
     reason="coacd is not installed (pip install 'robospec[optimize]')",
 )
+@SAME_ON_EVERY_MANISKILL
 def test_coacd_decomposes_into_convex_parts(tmp_path: Path) -> None:
     robot = _robot(("left_ankle_pitch_link",))  # a small link: coacd takes seconds on it
     result, changes = optimize_collisions(
