@@ -362,8 +362,11 @@ def _scaffold_corpus(work: Path) -> tuple[list[Path], list[str]]:
     for key in keys:
         description = locate(BY_KEY[key])
         spec = work / f"{key}.yaml"
+        command = [PYTHON, "-m", "robospec", "new", str(description), "-o", str(spec)]
+        # a uid of its own: the corpus's Allegro hand is named as ManiSkill's is (RS306)
+        command += ["--uid", f"corpus_{key}"]
         made = subprocess.run(
-            [PYTHON, "-m", "robospec", "new", str(description), "-o", str(spec)],
+            command,
             capture_output=True,
             text=True,
             cwd=ROOT,
