@@ -38,6 +38,7 @@ from robospec.physics.report import render_json, render_text  # noqa: E402
 
 PANDA = MANISKILL_SPECS / "panda.yaml"
 INSPIRE = MANISKILL_SPECS / "fixed_inspire_hand_right.yaml"
+FETCH = MANISKILL_SPECS / "fetch.yaml"
 ARM = [f"panda_joint{i}" for i in range(1, 8)]
 
 Change = Callable[[Any], None]
@@ -163,7 +164,7 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
 @pytest.fixture(scope="module")
 def panda(tmp_path_factory: pytest.TempPathFactory) -> RobotReport:
     """The shipped Panda spec, with the default thresholds and step counts."""
-    report = shipped_spec_reports(tmp_path_factory)["rs_panda"]
+    report = shipped_spec_reports(tmp_path_factory, [PANDA, INSPIRE, FETCH])["rs_panda"]
     assert report.spec.endswith(PANDA.name)
     return report
 
@@ -171,7 +172,7 @@ def panda(tmp_path_factory: pytest.TempPathFactory) -> RobotReport:
 @pytest.fixture(scope="module")
 def zoo(tmp_path_factory: pytest.TempPathFactory) -> dict[str, RobotReport]:
     """ManiSkill robots broken upstream, as shipped: the right fixed inspire hand, and fetch."""
-    reports = shipped_spec_reports(tmp_path_factory)
+    reports = shipped_spec_reports(tmp_path_factory, [PANDA, INSPIRE, FETCH])
     return {uid: reports[uid] for uid in ("rs_fixed_inspire_hand_right", "rs_fetch")}
 
 
