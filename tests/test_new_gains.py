@@ -19,6 +19,8 @@ from robospec.authoring.joint_gains import loads
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 
+ROOT = Path(__file__).resolve().parent.parent
+
 # one arm link: a 2 kg point-like mass 0.5 m out along x, turning about y at the origin, and a
 # 1 kg slider on it; the inertias are small boxes about their centres
 ARM = """<?xml version="1.0"?>
@@ -165,3 +167,150 @@ def test_an_mjcf_position_servo_is_geared_squared(tmp_path: Path) -> None:
         18,
         12,
     )
+
+
+# a stick on a foot: a 10 kg body whose centre of mass is 1 m above the ankle (pitch, about y),
+# a yaw joint between them (about z), and a 1 kg foot below the ankle
+STICK = """<?xml version="1.0"?>
+<robot name="stick">
+  <link name="body">
+    <inertial><origin xyz="0 0 0"/><mass value="10"/>
+      <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+  </link>
+  <link name="shin">
+    <inertial><origin xyz="0 0 0"/><mass value="0.001"/>
+      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-6"/></inertial>
+  </link>
+  <link name="foot">
+    <inertial><origin xyz="0 0 -0.05"/><mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+  <joint name="yaw" type="revolute">
+    <parent link="body"/><child link="shin"/><origin xyz="0 0 -0.5"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="100" velocity="2"/>
+  </joint>
+  <joint name="ankle" type="revolute">
+    <parent link="shin"/><child link="foot"/><origin xyz="0 0 -0.5"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="{effort}" velocity="2"/>
+  </joint>
+</robot>
+"""
+
+
+def _stick_loads(tmp_path: Path, feet: tuple[tuple[str, ...], ...]) -> dict:
+    from robospec.authoring.joint_loads import joint_loads
+
+    path = tmp_path / "stick.urdf"
+    path.write_text(STICK.format(effort=1000))
+    source, _ = read_description_file(path)
+    assert source is not None
+    analysis = analyse(source)
+    assert analysis.kinematics is not None
+    qpos = {"yaw": 0.0, "ankle": 0.0}
+    return joint_loads(analysis.kinematics, analysis.inertials, qpos, feet=feet)
+
+
+def test_a_standing_joint_carries_the_robot_above_it_as_an_inverted_pendulum(
+    tmp_path: Path,
+) -> None:
+    standing = _stick_loads(tmp_path, (("foot",),))
+    # the ankle tips the 10 kg body (and the gram of shin) whose centre of mass is 1 m above it:
+    # gravity's torque grows by m g h per radian it gives
+    assert standing["ankle"].topple == pytest.approx(9.81 * 10.001 * 1.0, rel=1e-3)
+    # turning about a vertical axis lifts nothing
+    assert standing["yaw"].topple == pytest.approx(0.0, abs=1e-9)
+    # not standing (on a test stand, a fixed robot), nothing topples
+    assert _stick_loads(tmp_path, ())["ankle"].topple == 0.0
+
+
+def test_gains_add_the_toppling_stiffness_and_never_soften_below_it() -> None:
+    from robospec.authoring.gains import STANCE_MARGIN, analytic_gains
+    from robospec.description.ratings import Rating
+
+    free = analytic_gains("revolute", 0.01, 0.0, 2.0, None)
+    standing = analytic_gains("revolute", 0.01, 0.0, 2.0, None, topple=100.0)
+    # gravity takes the toppling stiffness away: what is left is what the joint needed alone
+    assert standing.stiffness == pytest.approx(free.stiffness + 100.0)
+    # a rating of 5 N m would soften the joint to 50 (5 N m for a 0.1 rad step): never below
+    # the stance's own need
+    rated = analytic_gains("revolute", 0.01, 0.0, 2.0, Rating(5.0, "<limit effort>", 1), 100.0)
+    assert rated.stiffness == pytest.approx(STANCE_MARGIN * 100.0)
+    assert rated.force_limit == 5.0
+
+
+# two joints in a chain, one with a placeholder range of ±10 rad (more than a turn)
+WIDE = """<?xml version="1.0"?>
+<robot name="wide">
+  <link name="base"/>
+  <link name="a"><inertial><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="b"><inertial><origin xyz="0.2 0 0"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+    <limit lower="-10" upper="10" effort="100" velocity="2"/>
+  </joint>
+  <joint name="j2" type="revolute">
+    <parent link="a"/><child link="b"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1.5" effort="100" velocity="2"/>
+  </joint>
+</robot>
+"""
+
+
+def test_a_joint_whose_range_spans_more_than_a_turn_takes_targets_one_turn_about_rest(
+    tmp_path: Path,
+) -> None:
+    data, _ = _scaffold(tmp_path, WIDE)
+    (name,) = [n for n, c in data["controllers"].items() if c.get("type") == "pd_joint_pos"]
+    controller = data["controllers"][name]
+    # one turn about its rest (0) for the wide joint; the other keeps its own limits
+    assert controller["lower"] == {"j1": pytest.approx(-math.pi, abs=1e-5), "j2": -1}
+    assert controller["upper"] == {"j1": pytest.approx(math.pi, abs=1e-5), "j2": 1.5}
+    # and an ordinary robot's targets are its joints' limits (null)
+    (tmp_path / "arm").mkdir()
+    arm, _ = _scaffold(tmp_path / "arm", ARM.format(effort=100))
+    assert arm["controllers"]["arm_pos"]["lower"] is None
+    assert arm["controllers"]["arm_pos"]["upper"] is None
+
+
+def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_path: Path) -> None:
+    from robospec.authoring.frames import from_quaternion
+    from robospec.authoring.joint_loads import joint_loads
+
+    text = (ROOT / "tests" / "data" / "new" / "quadruped.urdf").read_text()
+    # the same robot under a root link whose frame is y-up (graphics' and motion capture's
+    # convention): its legs point along -y of the root
+    turned = text.replace(
+        '<robot name="quad">',
+        '<robot name="quad"><link name="yup"/><joint name="yup_to_body" type="fixed">'
+        '<parent link="yup"/><child link="body"/><origin rpy="-1.5707963267948966 0 0"/>'
+        "</joint>",
+    )
+    found = {}
+    for name, body in (("zup", text), ("yup", turned)):
+        path = tmp_path / f"{name}.urdf"
+        path.write_text(body)
+        source, _ = read_description_file(path)
+        assert source is not None
+        analysis = analyse(source)
+        assert analysis.body.floating and analysis.kinematics is not None
+        qpos = analysis.start_qpos()
+        upright = analysis.upright(qpos)
+        loads = joint_loads(
+            analysis.kinematics,
+            analysis.inertials,
+            qpos,
+            feet=analysis.feet(),
+            upright=from_quaternion(*upright),
+        )
+        found[name] = (upright, loads)
+    assert found["zup"][0] == (1.0, 0.0, 0.0, 0.0)
+    # a quarter turn about x takes its y to z
+    assert found["yup"][0] == pytest.approx((math.sqrt(0.5), math.sqrt(0.5), 0.0, 0.0))
+    # stood upright, each joint carries what it carries written z-up
+    for joint, load in found["zup"][1].items():
+        turned_load = found["yup"][1][joint]
+        assert turned_load.held == pytest.approx(load.held, abs=1e-9), joint
+        assert turned_load.standing == pytest.approx(load.standing, abs=1e-9), joint
+        assert turned_load.topple == pytest.approx(load.topple, abs=1e-9), joint

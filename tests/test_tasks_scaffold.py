@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -149,6 +150,81 @@ def test_bad_task_input_is_a_located_error(tmp_path: Path) -> None:
         r"object, 'cube', lies 0\.6\d m",
         done.stdout,
     )
+
+
+@pytest.mark.slow  # a sweep over the folder's 21 tasks (about 35 s)
+def test_check_task_tabletop_runs_or_explains_every_task_of_the_folder(tmp_path: Path) -> None:
+    from robospec.maniskill.tasks import installed_tasks
+
+    spec = tmp_path / "panda.yaml"
+    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(_assets()))
+    spec.write_text(text.replace("uid: rs_panda", "uid: tabletop_panda"))
+    env = {**os.environ, "ROBOSPEC_CACHE_DIR": str(tmp_path / "cache"), "NO_COLOR": "1"}
+    done = run_robospec(
+        "check", str(spec), "--task", "tabletop", "--steps", "1", env=env, timeout=600
+    )
+    assert "Traceback" not in done.stdout + done.stderr
+    rows = dict(re.findall(r"^  task +- +(\S+) +(pass|skip|FAIL) ", done.stdout, re.M))
+    # every task of the folder was run and reported, each once
+    assert sorted(rows) == sorted(installed_tasks().family("tabletop")), done.stdout
+    assert {"PickCube-v1", "PushCube-v1", "StackCube-v1"} <= {
+        t for t, r in rows.items() if r == "pass"
+    }
+    for task, result in rows.items():
+        if result == "skip":
+            # a task that cannot run here says why: it needs several robots, a download, a
+            # robot of its own or a renderer — never a crash counted against the robot
+            (line,) = re.findall(rf"^  task +- +{re.escape(task)} +skip +(.*)$", done.stdout, re.M)
+            assert line.startswith("not run: it "), line
+    # the Panda runs every task it can: nothing is blamed on it (a task's own needs are skips)
+    assert "FAIL" not in rows.values() and "error[RS527]" not in done.stdout, done.stdout
+    assert done.returncode == 0, done.stdout
+
+
+# a two-joint chain whose `tcp` is a hook that raises (tests/hookmods/crash_hooks.py): the spec
+# has every member PushCube-v1 calls, and the task crashes inside ManiSkill's reset calling it
+CRASHING_SPEC = """robospec: 1
+uid: rs_test_task_crash
+description:
+  urdf: chain.urdf
+hooks:
+  methods: {tcp: "hookmods.crash_hooks:lost_tcp"}
+groups:
+  arm: [j1, j2]
+keyframes:
+  rest: {qpos: {arm: 0.0}}
+controllers:
+  arm_pos: {type: pd_joint_pos, joints: arm, lower: null, upper: null, stiffness: 1000.0,
+            damping: 100.0, force_limit: 100, normalize_action: false}
+control_modes:
+  pd_joint_pos: {arm: arm_pos}
+"""
+
+
+def test_a_task_that_crashes_with_the_robot_is_rs527_at_the_uid_naming_the_raising_frame(
+    tmp_path: Path,
+) -> None:
+    shutil.copy(ROOT / "tests" / "data" / "check" / "chain.urdf", tmp_path / "chain.urdf")
+    spec = tmp_path / "crash.yaml"
+    spec.write_text(CRASHING_SPEC, encoding="utf-8")
+    env = {
+        **os.environ,
+        "ROBOSPEC_CACHE_DIR": str(tmp_path / "cache"),
+        "NO_COLOR": "1",
+        "PYTHONPATH": os.pathsep.join([str(ROOT / "tests"), os.environ.get("PYTHONPATH", "")]),
+    }
+    done = run_robospec(
+        "check", str(spec), "--task", "PushCube-v1", "--steps", "1", env=env, timeout=600
+    )
+    assert done.returncode == 1, done.stdout
+    assert "Traceback" not in done.stdout + done.stderr
+    (line,) = [ln for ln in done.stdout.splitlines() if "error[RS527]" in ln]
+    # located at the uid (line 2), with what raised and where: the spec's own hook, not upstream
+    assert line.startswith(f"{spec}:2:1: error[RS527] PushCube-v1 crashed at "), line
+    assert "_TcpLost: this robot's tcp link was never found" in line
+    assert "hookmods/crash_hooks.py:" in line and "the spec's own code (a hook)" in line
+    assert re.search(r"task +- +PushCube-v1 +FAIL +crashed at ", done.stdout)
+    assert "error[RS528]" not in done.stdout  # the member exists: it is not a missing one
 
 
 def _assets() -> Path:

@@ -170,3 +170,73 @@ def test_tune_write_turns_the_upstream_twin_into_the_shipped_tuned_spec(
     # and the shipped spec is that file (regenerate it with this command when tune changes)
     shipped = (ROOT / "specs" / f"{tuned}.yaml").read_text(encoding="utf-8")
     assert written.splitlines()[1:] == shipped.splitlines()[1:]
+
+
+# A carriage on a prismatic joint (light: 0.05 kg) carries a 2 kg arm on a yaw joint, its mass
+# 0.2 m out along x, so the arm's swing about z pushes the carriage along y (the mass matrix's
+# off-diagonal, 0.4 kg m, against 2.05 kg and 0.09 kg m²: coupling 0.93). The swing's drive is
+# stiff and meets every target (it steps 1 rad, away from its near upper limit); the carriage's
+# 1 cm step is thrown far past its target by the swing's reaction, yet stepped alone it settles.
+# Force limits and ratings are out of reach and the step lies within the limits, so coupling is
+# the one cause left: no gains of the carriage's own (stiffness up to the bound, damping ratio up
+# to its bound) keep a push that large within 5 %.
+COUPLED_URDF = """<?xml version="1.0"?>
+<robot name="coupled_slider">
+  <link name="base">
+    <inertial><mass value="1"/>
+      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+    <collision><geometry><box size="0.1 0.1 0.05"/></geometry></collision>
+  </link>
+  <joint name="slide" type="prismatic">
+    <parent link="base"/><child link="carriage"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>
+    <limit lower="-0.5" upper="0.5" effort="100000" velocity="10"/>
+  </joint>
+  <link name="carriage">
+    <inertial><mass value="0.05"/>
+      <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial>
+  </link>
+  <joint name="swing" type="revolute">
+    <parent link="carriage"/><child link="arm"/><origin xyz="0 0 0.05"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="0.05" effort="100000" velocity="10"/>
+  </joint>
+  <link name="arm">
+    <inertial><origin xyz="0.2 0 0"/><mass value="2"/>
+      <inertia ixx="1e-3" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+</robot>
+"""
+COUPLED_SPEC = """robospec: 1
+uid: tune_coupled_slider
+description: {urdf: coupled.urdf}
+loader: {fix_root_link: true}
+keyframes:
+  rest: {qpos: {slide: 0, swing: 0}}
+controllers:
+  axes: {type: pd_joint_pos, joints: [slide, swing], stiffness: [1000, 8100], damping: [100, 54],
+         force_limit: 100000, lower: -3, upper: 3, normalize_action: false}
+control_modes:
+  pd_joint_pos: {axes: axes}
+checks:
+  step_response: {step: 1.0}
+"""
+
+
+def test_a_joint_its_neighbour_pushes_off_target_is_rs620_naming_coupling_and_the_pusher(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "coupled.urdf").write_text(COUPLED_URDF, encoding="utf-8")
+    spec = tmp_path / "coupled.yaml"
+    spec.write_text(COUPLED_SPEC, encoding="utf-8")
+    result = invoke_robospec("tune", str(spec), "--format", "json")
+    assert result.exit_code == 1, result.output
+    report = json.loads(result.output)
+    (controller,) = report["controllers"]
+    assert controller["status"] == "failed"
+    reasons = {r["joint"]: r["why"] for r in controller["reasons"]}
+    # the carriage, and only it, misses; the cause named is the swing pushing it (not its force
+    # limit, a joint limit or the stiffness bound), and the mend says what to change
+    assert list(reasons) == ["slide"], reasons
+    assert reasons["slide"].startswith("coupling between joints: stepped alone it meets"), reasons
+    assert "(pushed by 'swing')" in reasons["slide"]
+    (error,) = [d for d in report["diagnostics"] if d["code"] == "RS620"]
+    assert "stiffen the joints that push it" in error["hint"]

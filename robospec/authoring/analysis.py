@@ -5,6 +5,7 @@ gains (:mod:`.gains`) and the file's own keyframes. No simulation: that is :mod:
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from robospec.authoring.description_file import DescriptionFile
@@ -16,6 +17,17 @@ from robospec.authoring.mjcf_model import read_mjcf_model
 from robospec.authoring.morphology import Morphology, morphology
 from robospec.description import Joint, RobotDescription
 from robospec.description.numbers import finite_numbers
+
+Quaternion = tuple[float, float, float, float]  # (w, x, y, z)
+IDENTITY_QUATERNION: Quaternion = (1.0, 0.0, 0.0, 0.0)
+_HALF = math.sqrt(0.5)
+# the turn that takes each horizontal principal axis (index, positive?) of a root frame to +z
+_TO_Z_UP: dict[tuple[int, bool], Quaternion] = {
+    (1, True): (_HALF, _HALF, 0.0, 0.0),  # a quarter turn about x: y to z
+    (1, False): (_HALF, -_HALF, 0.0, 0.0),
+    (0, True): (_HALF, 0.0, -_HALF, 0.0),  # a quarter turn about -y: x to z
+    (0, False): (_HALF, 0.0, _HALF, 0.0),
+}
 
 PASSIVE_GROUP = "passive"
 IMMOBILE_GROUP = "immobile"
@@ -60,6 +72,35 @@ class RobotAnalysis:
                 queue.extend(below)
             found.append(links)
         return found
+
+    def upright(self, qpos: Mapping[str, float]) -> Quaternion:
+        """The rotation (w, x, y, z) that stands a floating robot on its feet in ManiSkill's
+        z-up world: identity for a description written z-up; for one written y-up (graphics'
+        and motion capture's convention: pybullet's DeepMimic humanoid), the turn that takes
+        its up axis to z — else its rest keyframe lays it on its side. Its up axis: the
+        principal axis of the root frame nearest the direction from its feet (the frames where
+        its legs end) to its centre of mass, at ``qpos``."""
+        if not self.body.floating or self.kinematics is None:
+            return IDENTITY_QUATERNION
+        poses = self.kinematics.link_poses(qpos)
+        feet = [poses[foot[0]].translation for foot in self.feet() if foot and foot[0] in poses]
+        if not feet:
+            return IDENTITY_QUATERNION
+        mass = 0.0
+        moment = [0.0, 0.0, 0.0]
+        for link, inertial in self.inertials.items():
+            if link in poses and inertial.mass > 0:
+                point = poses[link].point(inertial.com)
+                mass += inertial.mass
+                moment = [moment[i] + inertial.mass * point[i] for i in range(3)]
+        centre = [m / mass for m in moment] if mass > 0 else [0.0, 0.0, 0.0]
+        up = [centre[i] - sum(f[i] for f in feet) / len(feet) for i in range(3)]
+        axis = max(range(3), key=lambda i: abs(up[i]))
+        if axis == 2 or abs(up[axis]) < 2 * max(abs(up[i]) for i in range(3) if i != axis):
+            # z-up, or feet above the body at this pose (Minitaur's legs fold up at 0: a pose,
+            # not a convention), or no clear axis: as written
+            return IDENTITY_QUATERNION
+        return _TO_Z_UP[(axis, up[axis] > 0)]
 
     def start_qpos(self) -> dict[str, float]:
         """0 where the limits allow (or there are none), else mid-range; mimic followers follow

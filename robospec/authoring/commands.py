@@ -128,6 +128,7 @@ def scaffold_text(
             analysis.groups.mimic,
             analysis.body.floating,
             refinement,
+            analysis.upright(start),
         )
     else:
         rest = RestPose(start, unchecked_because="robospec new --no-sim")
@@ -151,10 +152,18 @@ def scaffold_text(
         return to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
 
     text = written(rest)
-    while rest.overlapping and _never_collide_rejected(text, out):
-        # validate would refuse the pairs (no collision-group bit left for them all): the
-        # entry covering the last pair goes, and the rest warnings name it as touching
-        rest = dataclasses.replace(rest, overlapping=rest.overlapping[:-1])
+    depth = {(a, b): d for a, b, d in rest.touching}
+    while rest.never_collide and _never_collide_rejected(text, out):
+        # validate would refuse the pairs (no collision-group bit left for them all): adjacent
+        # pairs go first (the last found), then the shallowest overlapping pair (it was the last
+        # one found: the Shadow hand lost its 24 mm thumb overlap for a 1 mm one), and the rest
+        # warnings name it as touching
+        if rest.adjacent:
+            rest = dataclasses.replace(rest, adjacent=rest.adjacent[:-1])
+        else:
+            shallowest = min(rest.overlapping, key=lambda pair: depth.get(pair, 0.0))
+            kept = tuple(pair for pair in rest.overlapping if pair != shallowest)
+            rest = dataclasses.replace(rest, overlapping=kept)
         text = written(rest)
     return text, [
         *rating_warnings(analysis, gains),
@@ -188,7 +197,7 @@ def _rest_warnings(
     if loaded is None:
         return []
     at = loaded.source.key(("keyframes", "rest"))
-    left = [t for t in rest.touching if (t[0], t[1]) not in rest.overlapping]
+    left = [t for t in rest.touching if (t[0], t[1]) not in rest.never_collide]
     if left:
         pairs = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for a, b, d in left)
         return [

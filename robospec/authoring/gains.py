@@ -102,6 +102,9 @@ HOLD_DRIFT = {"revolute": 0.01, "prismatic": 0.001}
 # robospec check's step sizes (checks.step_response.step, prismatic_step): what a step asks of
 # a drive beyond its load
 STEP = {"revolute": 0.1, "prismatic": 0.01}
+# a standing joint softened to its rating stays this many times stiffer than gravity's toppling
+# stiffness: a little stiffer than that and the robot stands, leaning a long way first
+STANCE_MARGIN = 2.0
 MIN_INERTIA = 1e-6  # kg m² (kg): massless links still take a drive that moves them
 UNBOUNDED_SPAN = math.pi  # rad: a continuous joint's "range" for its force limit
 
@@ -139,18 +142,22 @@ def analytic_gains(
     load: float,
     span: float | None,
     rating: Rating | None,
+    topple: float = 0.0,
 ) -> JointGains:
     """One joint's drive: ``kind`` revolute or prismatic (continuous counts as revolute),
-    ``load`` the gravity torque it holds, ``span`` its range (None: unbounded)."""
+    ``load`` the gravity torque it holds, ``span`` its range (None: unbounded), ``topple`` the
+    toppling stiffness it stands against (:class:`.joint_loads.JointLoad`): gravity takes that
+    much of its stiffness away, so it comes on top of what the joint needs."""
     slide = "prismatic" if kind == "prismatic" else "revolute"
     inertia = max(inertia, MIN_INERTIA)
-    stiffness = max(inertia * NATURAL_FREQUENCY**2, abs(load) / HOLD_DRIFT[slide])
+    stiffness = topple + max(inertia * NATURAL_FREQUENCY**2, abs(load) / HOLD_DRIFT[slide])
     needs = abs(load) + stiffness * STEP[slide]
     if rating is not None and needs > rating.value:
         # a step would saturate the motor: soften the joint to what its rating gives (slower,
         # but a saturated drive brakes too late and overshoots); never below what holds the
-        # load where the rating allows that
-        stiffness = max((rating.value - abs(load)) / STEP[slide], 0.0) or stiffness
+        # load where the rating allows that, nor so soft that the robot topples over its feet
+        softened = max((rating.value - abs(load)) / STEP[slide], 0.0) or stiffness
+        stiffness = max(softened, STANCE_MARGIN * topple)
     stiffness = significant(stiffness)
     damping = significant(2.0 * DAMPING_RATIO * math.sqrt(stiffness * inertia))
     if rating is not None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from robospec.authoring.analysis import RobotAnalysis, immobile_reason
+from robospec.authoring.frames import from_quaternion
 from robospec.authoring.gains import (
     NATURAL_FREQUENCY,
     JointGains,
@@ -48,7 +49,10 @@ def loads(
     if analysis.kinematics is None:
         return {}
     feet = analysis.feet() if gravity and analysis.body.floating else ()
-    found = joint_loads(analysis.kinematics, analysis.inertials, qpos, analysis.armature, feet=feet)
+    upright = from_quaternion(*analysis.upright(qpos))
+    found = joint_loads(
+        analysis.kinematics, analysis.inertials, qpos, analysis.armature, feet, upright
+    )
     if gravity:
         return found
     return {name: JointLoad(load.inertia, 0.0, None) for name, load in found.items()}
@@ -71,7 +75,9 @@ def joint_gains(
             else None
         )
         kind = "prismatic" if joint.type == "prismatic" else "revolute"
-        computed = analytic_gains(kind, load.inertia, load.load, span, rating(analysis, joint))
+        computed = analytic_gains(
+            kind, load.inertia, load.load, span, rating(analysis, joint), load.topple
+        )
         drive = analysis.drives.get(joint.name)
         if drive is not None and drive.stiffness is not None:
             # the model's own servo gains: what it was tuned with

@@ -18,6 +18,11 @@ standing on its feet. :mod:`.gains` turns these into a scaffold's first drive ga
   frame of each leg), the ground carrying its weight split between the feet so that it balances
   (the least-squares split with the centre of mass over them): each leg joint holds the weight
   beyond it and the ground's push on the foot beyond it.
+* **Toppling stiffness, standing**: a leg joint with the foot fixed carries the rest of the
+  robot as an inverted pendulum: turned by ``θ`` about axis ``a`` through pivot ``p``, the rest's
+  centre of mass ``c`` sinks by ``θ²/2 · (r_z - (a·r) a_z)`` (``r = c - p``), so gravity's torque
+  grows by ``m g (r_z - (a·r) a_z)`` per radian — shared between the legs as their feet share
+  the weight.
 
 Plain Python (the core install has no numpy), and approximate on purpose: these are a first
 guess that ``robospec new`` refines in ManiSkill when it is installed.
@@ -51,7 +56,7 @@ from robospec.authoring.mjcf_model import (
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 
-GRAVITY = 9.81  # m/s², along -z of the root frame (the robot upright, as its rest pose stands)
+GRAVITY = 9.81  # m/s², along the world's -z (the root frame turned as its rest pose stands it)
 DENSITY = 1000.0  # kg/m³: PhysX's and MuJoCo's default
 
 
@@ -73,6 +78,12 @@ class JointLoad:
     inertia: float
     held: float
     standing: float | None = None
+    # N m/rad: standing, how much gravity's torque on the joint grows as it gives way — the rest
+    # of the robot above it tipping over its feet like an inverted pendulum (this joint's
+    # share, by the weight its feet carry). Its drive must be stiffer than this or the robot
+    # topples whatever holds the pose: the dm_control humanoid's ankles, at the stiffness
+    # their own feet's inertia asks for, let it fall on its face
+    topple: float = 0.0
 
     @property
     def load(self) -> float:
@@ -331,10 +342,14 @@ def joint_loads(
     qpos: Mapping[str, float],
     armature: Mapping[str, float] | None = None,
     feet: Sequence[Sequence[str]] = (),
+    upright: Matrix = IDENTITY_ROTATION,
 ) -> dict[str, JointLoad]:
     """Every moving joint of ``model`` at ``qpos``. ``feet``: for a robot that stands, the links
-    of each foot (the ground pushes on the lowest frame of each); empty: it does not stand."""
-    poses = model.link_poses(qpos)
+    of each foot (the ground pushes on the lowest frame of each); empty: it does not stand.
+    ``upright``: how the root frame is turned in the world, gravity pulling along the world's
+    -z (a description written y-up stands turned: ``RobotAnalysis.upright``)."""
+    turned = Transform(upright)
+    poses = {link: turned @ pose for link, pose in model.link_poses(qpos).items()}
     children: dict[str, list[str]] = {}
     for joint in model.joints:
         children.setdefault(joint.parent, []).append(joint.child)
@@ -348,6 +363,8 @@ def joint_loads(
                 _rotate(pose.rotation, found.inertia),
             )
     support = _support(poses, world, feet)
+    total_mass = sum(m for m, _, _ in world.values())
+    total_moment = tuple(sum(m * c[i] for m, c, _ in world.values()) for i in range(3))
     armature = armature or {}
     out: dict[str, JointLoad] = {}
     for joint in model.joints:
@@ -376,19 +393,48 @@ def joint_loads(
                 inertia += mass * sum(c * c for c in cross(axis, arm))  # type: ignore[arg-type]
                 torque += _dot(axis, cross(arm, weight))  # type: ignore[arg-type]
         standing = None
+        topple = 0.0
         if support:
             standing = torque
+            carried = 0.0  # the weight on the feet beyond this joint
             for point, force in support:
                 if point[1] not in beyond:
                     continue
+                carried += force
                 push = (0.0, 0.0, force)
                 if joint.type == "prismatic":
                     standing += _dot(axis, push)
                 else:
                     arm = tuple(point[0][i] - pivot[i] for i in range(3))
                     standing += _dot(axis, cross(arm, push))  # type: ignore[arg-type]
-        out[joint.name] = JointLoad(inertia, torque, standing)
+            if carried > 0 and joint.type != "prismatic":
+                topple = _topple(world, beyond, total_mass, total_moment, axis, pivot)
+                topple *= carried / (GRAVITY * total_mass)
+        out[joint.name] = JointLoad(inertia, torque, standing, topple)
     return out
+
+
+def _topple(
+    world: Mapping[str, tuple[float, Vector, Matrix]],
+    beyond: set[str],
+    total_mass: float,
+    total_moment: Sequence[float],
+    axis: Vector,
+    pivot: Vector,
+) -> float:
+    """How fast gravity's torque about a revolute joint grows as it turns (N m/rad), the links
+    ``beyond`` it (a foot) held on the ground and the rest of the robot tipping about it;
+    0 where turning it raises the rest (it hangs below the axis) or the axis is vertical."""
+    mass = total_mass - sum(world[link][0] for link in beyond if link in world)
+    if mass <= 0:
+        return 0.0
+    moment = [
+        total_moment[i] - sum(world[k][0] * world[k][1][i] for k in beyond if k in world)
+        for i in range(3)
+    ]
+    arm = tuple(moment[i] / mass - pivot[i] for i in range(3))
+    height = arm[2] - _dot(axis, arm) * axis[2]  # the arm's part across the axis, upward
+    return max(GRAVITY * mass * height, 0.0)
 
 
 def _subtree(link: str, children: Mapping[str, list[str]]) -> set[str]:

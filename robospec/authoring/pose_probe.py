@@ -51,12 +51,17 @@ class Request:
     # a step of one towards the other (robospec check's step response) goes nowhere
     clearance: float = 0.002
     budget: int = 400  # poses tried at most
+    # (w, x, y, z): how a floating robot stands (its root turned so, for a y-up description)
+    upright: list[float] = field(default_factory=lambda: [1.0, 0.0, 0.0, 0.0])
     # then scaffold the robot at the rest pose found and measure its gains there
     # (robospec.authoring.refine): (the description file, the spec's path, the schema reference)
     refinement: tuple[str, str, str] | None = None
 
 
 Contacts = dict[tuple[str, str], float]
+# m: how far a contact's depth wanders between two loads of the same pose (float32 positions,
+# the settling step): a pair this close to ``min_depth`` counts as touching
+DEPTH_NOISE = 1e-5
 
 
 def better(new: Contacts, old: Contacts) -> bool:
@@ -85,6 +90,7 @@ class Probe:
         self.followers = {follower for follower, _, _, _ in request.mimic}
         self.tried = 0
         self.always: set[tuple[str, str]] | None = None  # the pairs every pose tried touched
+        self._adjacent: list[tuple[str, str]] | None = None  # (adjacent(), once: links stay)
 
     def contacts(self, qpos: list[float]) -> Contacts:
         from robospec.resolve.resolved import ResolvedKeyframe
@@ -192,6 +198,41 @@ class Probe:
                 return trial, touching
         return None
 
+    def adjacent(self) -> list[tuple[str, str]]:
+        """Pairs of links with collision shapes joined only through links without any (the
+        links a spherical joint becomes in SAPIEN, one per axis; an MJCF body's joints after
+        its first): as good as parent and child, whose collisions PhysX leaves out, yet PhysX
+        collides these. DeepMimic's feet, three hinges below the shins, hit them whichever
+        way an ankle turned. Links welded together (fixed joints) count as one body."""
+        if self._adjacent is not None:
+            return self._adjacent
+        links = {link.name: link for link in self.sim.robot.links}
+        body = {name: name for name in links}  # link -> the top link of its welded body
+
+        def top(name: str) -> str:
+            link = links[name]
+            while _fixed(link) and _parent(link) is not None:
+                link = _parent(link)
+            return str(link.name)
+
+        members: dict[str, list[str]] = {}
+        for name in links:
+            body[name] = top(name)
+            if links[name]._objs[0].collision_shapes:
+                members.setdefault(body[name], []).append(name)
+        found = set()
+        for head in members:
+            node, skipped = _parent(links[head]), False
+            while node is not None and body[node.name] not in members:
+                node, skipped = _parent(links[body[node.name]]), True
+            if not skipped or node is None:
+                continue
+            for a in members[head]:
+                for b in members[body[node.name]]:
+                    found.add((min(a, b), max(a, b)))
+        self._adjacent = sorted(found)
+        return self._adjacent
+
     def mount_height(self, qpos: list[float]) -> float | None:
         """For a fixed robot whose moving links reach below the ground at ``qpos`` (its root at
         the origin, where ManiSkill's scenes put it), the height to mount it at so they clear
@@ -210,12 +251,13 @@ class Probe:
 
     def standing_height(self, qpos: list[float]) -> float | None:
         """How far above the ground the root must be for the lowest collision point of the
-        robot, at ``qpos`` and upright, to touch it."""
+        robot, at ``qpos`` and upright (its root turned as ``upright`` says), to touch it."""
         import torch
         from mani_skill.utils.structs.pose import Pose
 
         robot = self.sim.robot
-        robot.set_pose(Pose.create_from_pq(torch.zeros(1, 3), torch.tensor([[1.0, 0, 0, 0]])))
+        turn = torch.tensor([self.request.upright], dtype=torch.float32)
+        robot.set_pose(Pose.create_from_pq(torch.zeros(1, 3), turn))
         robot.set_qpos(torch.tensor([qpos], dtype=torch.float32))
         lowest = math.inf
         for link in robot.links:
@@ -225,23 +267,40 @@ class Probe:
         return None if math.isinf(lowest) else -lowest
 
 
+def _parent(link: Any) -> Any:
+    return link.joint.parent_link if link.joint is not None else None
+
+
+def _fixed(link: Any) -> bool:
+    """Whether ``link`` is welded to its parent (a fixed joint)."""
+    joint = link.joint
+    return joint is not None and joint.parent_link is not None and joint._objs[0].type == "fixed"
+
+
 def run(request: Request) -> dict[str, Any]:
     probe = Probe(request)
     try:
         qpos, contacts = probe.search()
         height = probe.standing_height(qpos) if request.floating else probe.mount_height(qpos)
+        adjacent = probe.adjacent()
     finally:
         probe.sim.close()
     answer: dict[str, Any] = {
         "qpos": qpos,
-        # in contact as robospec check counts it (the search kept a clearance besides)
+        # in contact as robospec check counts it (the search kept a clearance besides), with a
+        # margin: a depth at the threshold itself (TIAGo's 1 mm spheres centred on its hand's
+        # safety box: 0.99999 mm here, 1.00003 mm in check) is on either side by float noise
         "touching": [
-            [a, b, depth] for (a, b), depth in contacts.items() if depth >= request.min_depth
+            [a, b, depth]
+            for (a, b), depth in contacts.items()
+            if depth >= request.min_depth - DEPTH_NOISE
         ],
         "tried": probe.tried,
         # (one pose tried: no joint lies between the pairs touching there, so they always do)
         "always": sorted(probe.always or ()),
         "root_height": height,
+        "upright": list(request.upright),
+        "adjacent": adjacent,
     }
     if request.refinement is not None:
         try:
@@ -299,7 +358,7 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Any:
         keyframe = ResolvedKeyframe(
             "rest",
             (0.0, 0.0, rest.root_height or 0.0),
-            (1.0, 0.0, 0.0, 0.0),
+            rest.upright,
             tuple(rest.qpos[name] for name in request.joints),
             None,
         )

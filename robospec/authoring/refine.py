@@ -7,8 +7,9 @@
    description's ratings) for targets with a margin inside check's thresholds (:func:`targets`:
    half its overshoot and steady-state error, settled within half the step's duration).
    Controllers that meet them keep the analytic gains.
-2. A floating robot is then held at its rest keyframe on a test stand (its root held) and, where
-   its statics say it can stand, standing on the ground, as ``robospec check`` holds it: joints
+2. A floating robot is then held at its rest keyframe on a test stand (its root held clear of
+   the ground) and, where its statics say it can stand, standing on the ground, as
+   ``robospec check`` holds it: joints
    that drift past a fifth of check's ``max_joint_drift`` get stiffer (damping kept at the same
    ratio), a few rounds at most.
 3. Random actions from the rest keyframe, as check sends them (its seed and steps): joints that
@@ -215,7 +216,7 @@ def _drift(
     start = sim.start(keyframe)
     _apply(sim, gains)
     sim.hold_drive_targets()
-    pin = sim.robot.pose if pinned else None
+    pin = sim.test_stand() if pinned else None  # as robospec check's test stand holds it
     drift = np.zeros(len(sim.joint_names))
     for _ in range(steps * (sim.sim_freq // sim.control_freq)):
         sim.sim_step(pin)

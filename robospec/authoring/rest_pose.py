@@ -49,6 +49,19 @@ class RestPose:
     overlapping: tuple[tuple[str, str], ...] = ()
     tried: int = 0  # poses the search tried
     unchecked_because: str | None = None
+    # (w, x, y, z): how a floating robot's root stands at rest (RobotAnalysis.upright: turned
+    # for a description written y-up)
+    upright: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    # pairs joined only through links without collision shapes (pose_probe's ``adjacent``):
+    # adjacent as parent and child are, whose collisions PhysX leaves out; declared
+    # never_collide as MoveIt's setup assistant disables adjacent links
+    adjacent: tuple[tuple[str, str], ...] = ()
+
+    @property
+    def never_collide(self) -> tuple[tuple[str, str], ...]:
+        """What the scaffold declares never_collide: the overlapping pairs, then the adjacent
+        ones not among them."""
+        return self.overlapping + tuple(p for p in self.adjacent if p not in self.overlapping)
 
 
 def maniskill_installed() -> bool:
@@ -83,6 +96,7 @@ def probe_rest_pose(
     mimic: list[MimicLink],
     floating: bool,
     refinement: Refinement | None = None,
+    upright: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0),
 ) -> tuple[RestPose, RefinedGains | str | None]:
     """Search from ``start`` in ManiSkill; ``draft`` is the text of a valid spec of the robot
     whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode. With
@@ -108,6 +122,7 @@ def probe_rest_pose(
         "parents": {link: [joint.parent, joint.name] for link, joint in tree.up.items()},
         "floating": floating,
         "min_depth": MIN_DEPTH,
+        "upright": list(upright),
     }
     if refinement is not None:
         request["refinement"] = [refinement.description, refinement.out, refinement.schema]
@@ -153,6 +168,8 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
         touching=touching,
         overlapping=overlapping,
         tried=tried,
+        adjacent=tuple((str(a), str(b)) for a, b in answer.get("adjacent", [])),
+        upright=tuple(float(v) for v in answer.get("upright", (1.0, 0.0, 0.0, 0.0))),  # type: ignore[arg-type]
     )
 
 

@@ -176,13 +176,13 @@ def scaffold(
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
     data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest)
-    if rest.overlapping:
+    if rest.never_collide:
         # (the header says why: a note here cannot follow the flow list the writer makes)
-        data["never_collide"] = [list(pair) for pair in rest.overlapping]
+        data["never_collide"] = [list(pair) for pair in rest.never_collide]
 
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
-    controllers, modes = controllers_and_modes(analysis, gains)
+    controllers, modes = controllers_and_modes(analysis, gains, rest.qpos)
     data["controllers"] = controllers
     notes[("controllers",)] = _gains_note(analysis, refined)
     data["control_modes"] = modes
@@ -234,7 +234,7 @@ def _keyframes(analysis: RobotAnalysis, rest: RestPose) -> tuple[dict[str, Any],
         keyframes[name] = frame
     if not rest.checked:
         note = "rest: 0 where the limits allow, else mid-range (not contact-checked)"
-    elif len(rest.touching) > len(rest.overlapping):
+    elif any((a, b) not in rest.never_collide for a, b, _ in rest.touching):
         note = "rest: the least self-contact found (see the header)"
     else:
         note = "rest: no two links touch (checked in ManiSkill)"
@@ -253,7 +253,7 @@ def standing_pose(analysis: RobotAnalysis, rest: RestPose) -> Pose | None:
     that link: robospec.resolve.root_pose)."""
     if rest.root_height is None:
         return None
-    return root_body_pose(analysis.description, ((0.0, 0.0, rest.root_height), IDENTITY))
+    return root_body_pose(analysis.description, ((0.0, 0.0, rest.root_height), rest.upright))
 
 
 def _pose(pose: Pose) -> dict[str, Any]:
@@ -336,7 +336,7 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
         if analysis.body.floating:
             text += " Its standing height was not measured: set keyframes.rest.pose.p."
         return text
-    left = [t for t in rest.touching if (t[0], t[1]) not in rest.overlapping]
+    left = [t for t in rest.touching if (t[0], t[1]) not in rest.never_collide]
     if left:
         pairs = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for a, b, d in left)
         text = (
@@ -347,6 +347,14 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
         text = (
             f"rest keyframe: no two links touch (robospec check's test, in ManiSkill; "
             f"{rest.tried} pose(s) tried)."
+        )
+    adjacent = [p for p in rest.adjacent if p not in rest.overlapping]
+    if adjacent:
+        pairs = ", ".join(f"{a} + {b}" for a, b in adjacent)
+        text += (
+            f" These are joined only through links without collision shapes (a joint of "
+            f"several axes), adjacent as a parent and its child are, whose collisions PhysX "
+            f"leaves out; PhysX collides these, and they are declared never_collide: {pairs}."
         )
     if rest.overlapping:
         pairs = ", ".join(f"{a} + {b}" for a, b in rest.overlapping)
@@ -360,6 +368,12 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
             f" Its pose stands the robot {standing[0][2]:.3f} m up: there its lowest collision "
             "point touches the ground."
         )
+        if rest.upright != IDENTITY:
+            text += (
+                " Its description is written with another axis than z up (its feet lie "
+                "sideways of its root frame): the pose's q turns it upright in ManiSkill's "
+                "z-up world."
+            )
     elif standing is not None:
         text += (
             f" Its pose mounts the robot {rest.root_height:.3f} m up: at the origin, where "

@@ -5,7 +5,8 @@ group.
 * position groups (arm, legs, fingers...): ``pd_joint_pos`` and its delta, with each joint's
   gains from :mod:`.joint_gains` (the MJCF actuators' own where it has them, else from the
   joint's effective inertia; force limits from the description's ratings): one number where
-  the group's joints agree, by joint where they differ;
+  the group's joints agree, by joint where they differ; targets within the joints' limits, or
+  one turn about the rest pose for a joint whose limits span more (:func:`target_range`);
 * joints that cannot move (equal limits): one ``passive`` controller
   that leaves them be (gravity compensation stays on: they cannot fall);
 * a planar base: ``pd_base_forward_vel`` when the robot has wheels (they roll forward, not
@@ -32,13 +33,18 @@ ROOT_VELOCITY: dict[str, Any] = {"lower": -1.0, "upper": 1.0, "damping": 1e3, "f
 WHEEL_SPEED = 10.0  # rad/s, when the description gives no velocity limit
 TURN_RATE = 3.14  # rad/s, a planar base's largest turn rate
 DELTA = 0.1
+HALF_TURN = 3.141593  # rad (pi, as a scaffold writes it)
+FULL_TURN = 2 * HALF_TURN
 MODES = ("pd_joint_delta_pos", "pd_joint_pos")
 
 
 def controllers_and_modes(
-    analysis: RobotAnalysis, gains: Mapping[str, JointGains]
+    analysis: RobotAnalysis,
+    gains: Mapping[str, JointGains],
+    rest: Mapping[str, float] | None = None,
 ) -> tuple[dict[str, Any], dict[str, Any]]:
-    """The controllers and the control modes; ``gains`` by joint (:mod:`.joint_gains`)."""
+    """The controllers and the control modes; ``gains`` by joint (:mod:`.joint_gains`),
+    ``rest`` the rest keyframe's joint positions (:func:`target_range`)."""
     groups = analysis.groups
     controllers: dict[str, Any] = {}
     absolute: dict[str, Any] = {}
@@ -66,11 +72,12 @@ def controllers_and_modes(
             }
             absolute[name] = relative[name] = name
         else:
+            lower, upper = target_range(analysis, joints, rest or {})
             controllers[f"{name}_pos"] = {
                 "type": "pd_joint_pos",
                 "joints": name,
-                "lower": None,
-                "upper": None,
+                "lower": lower,
+                "upper": upper,
                 **_gains(gains, joints),
                 "normalize_action": False,
             }
@@ -86,6 +93,44 @@ def controllers_and_modes(
     if unbalanced(analysis):
         absolute["balance_passive_force"] = relative["balance_passive_force"] = False
     return controllers, dict(zip(MODES, (relative, absolute), strict=True))
+
+
+def target_range(
+    analysis: RobotAnalysis, joints: list[str], rest: Mapping[str, float]
+) -> tuple[Any, Any]:
+    """The absolute controller's lower and upper targets: null (the joints' own limits),
+    except where a joint's limits span more than a full turn: its targets then span one turn
+    about its rest position (by joint). One turn reaches every orientation of the joint; a
+    wider range only lets a target wind it round again, and a random target across Solo-12's
+    ±10 rad (a placeholder range) flung its hip 4 rad past its limit."""
+    spans = {}
+    for name in joints:
+        joint = analysis.description.joint(name)
+        if joint is None or joint.type == "prismatic":
+            spans[name] = None
+            continue
+        spans[name] = (joint.lower, joint.upper)
+    wide = [
+        name
+        for name, span in spans.items()
+        if span is not None
+        and span[0] is not None
+        and span[1] is not None
+        and span[1] - span[0] > FULL_TURN
+    ]
+    bounded = all(span is not None and None not in span for span in spans.values())
+    if not wide or not bounded:
+        return None, None
+    lower: dict[str, float | int] = {}
+    upper: dict[str, float | int] = {}
+    for name, span in spans.items():
+        assert span is not None and span[0] is not None and span[1] is not None
+        low, high = span
+        if name in wide:
+            centre = min(max(rest.get(name, 0.0), low + HALF_TURN), high - HALF_TURN)
+            low, high = centre - HALF_TURN, centre + HALF_TURN
+        lower[name], upper[name] = _tidy(low), _tidy(high)
+    return lower, upper
 
 
 def unbalanced(analysis: RobotAnalysis) -> bool:

@@ -167,6 +167,7 @@ _CODES = [
     Code("RS526", "a task's objects lie beyond the robot's reach"),
     Code("RS527", "a task crashed or went NaN with this robot"),
     Code("RS528", "a task calls an agent member the robot does not have"),
+    Code("RS545", "a mimic joint's relation holds it outside its own limits"),
     # -- what the cameras see in the pictures of robospec doc --images (RS560-RS579)
     Code("RS560", "camera covered by its own mount"),
     Code("RS561", "camera covered by the robot"),

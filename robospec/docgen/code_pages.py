@@ -19,6 +19,7 @@ from robospec.physics import (
     gravity,
     ground,
     keyframe_hold,
+    mimic_limits,
     random_actions,
     self_contact,
     step_response,
@@ -27,9 +28,10 @@ from robospec.physics import (
 )
 
 # the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519,
-# RS521-RS527
+# RS521-RS527, RS545
 PHYSICS_CHECKS = (
     keyframe_hold,
+    mimic_limits,
     random_actions,
     step_response,
     self_contact,

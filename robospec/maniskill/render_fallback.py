@@ -62,6 +62,18 @@ class NoRenderMaterial:
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         self.__dict__.update(kwargs)
 
+    def __getattr__(self, name: str) -> Any:
+        # tasks also call the material's setters (PlugCharger-v1: ``mat.set_base_color(...)``):
+        # a setter stores its value under the property's name, as an assignment would
+        if name.startswith("set_") and len(name) > 4:
+            field = name[4:]
+
+            def setter(*args: Any) -> None:
+                self.__dict__[field] = args[0] if len(args) == 1 else args
+
+            return setter
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
     def __repr__(self) -> str:
         return "<stand-in for a SAPIEN render material: no rendering device>"
 

@@ -67,7 +67,7 @@ class RandomActions(StrictModel):
     )
     max_root_speed: PositiveNumber = Field(
         default=20.0,
-        description="The root link speed counted as a runaway, in m/s.",
+        description="The speed of a floating robot's centre of mass counted as a runaway, in m/s.",
         examples=[10],
     )
 

@@ -25,6 +25,7 @@ from robospec.physics import (
     gravity,
     ground,
     keyframe_hold,
+    mimic_limits,
     random_actions,
     render,
     self_contact,
@@ -49,6 +50,7 @@ from robospec.pipeline import CompiledSpec, compile_all, silenced_codes
 CHECKS: tuple[tuple[str, Callable[[CheckRun], list[Finding]]], ...] = (
     (action_layout.NAME, action_layout.check),
     (ground.NAME, ground.check),
+    (mimic_limits.NAME, mimic_limits.check),
     (keyframe_hold.NAME, keyframe_hold.check),
     (gravity.NAME, gravity.check),
     (self_contact.NAME, self_contact.check),

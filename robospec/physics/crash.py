@@ -91,7 +91,7 @@ def from_exception(exc: BaseException) -> Crash:
     """The crash an exception tells of: the exception ManiSkill or SAPIEN raised first (a
     wrapper's re-raise, such as Gymnasium's "was raised from the environment creator", is
     looked through), its innermost ManiSkill/SAPIEN/robospec frame and the element read."""
-    root = _root_cause(exc)
+    root = root_cause(exc)
     frames = list(_walk(root.__traceback__))
     return Crash(_summary(root), _owned_frame(frames), _element(frames))
 
@@ -123,7 +123,8 @@ def signal_name(returncode: int) -> str:
     return f"{number.name} ({description.lower()})" if description else number.name
 
 
-def _root_cause(exc: BaseException) -> BaseException:
+def root_cause(exc: BaseException) -> BaseException:
+    """The exception first raised: ``exc`` followed through its causes and contexts."""
     seen = {id(exc)}
     while True:
         cause = exc.__cause__ or (None if exc.__suppress_context__ else exc.__context__)

@@ -8,8 +8,10 @@ cannot hold the pose: gains too weak for the load, a keyframe pressing against a
 into the robot itself or into the ground. Joints a velocity controller drives (wheels) and
 passive joints are not held to an angle: they are left out of the joint drift.
 
-A robot with a free root is held twice. On a test stand first — its root held where the
-keyframe puts it — which measures its drives alone (RS501 when they cannot hold the pose).
+A robot with a free root is held twice. On a test stand first — its root held clear of the
+ground, the keyframe's pose lifted (``Sim.test_stand``) — which measures its drives alone
+(RS501 when they cannot hold the pose): held where the keyframe stands it, its feet would press
+on the ground with a root that cannot give way.
 Then standing on the ground, but only where its statics say it can stand: its centre of mass
 over the support polygon of its contacts with the ground at the keyframe
 (:mod:`robospec.physics.statics`). There a fall is RS501; a robot whose centre of mass lies
@@ -99,6 +101,8 @@ def _run_hold(
 ) -> _Held:
     settings = run.settings.keyframe_hold
     start = sim.start(keyframe)
+    # on a test stand: lifted clear of the ground, its root held there (Sim.test_stand)
+    pin = sim.test_stand() if pinned and not sim.fixed_root else None
     root_start = sim.root_position()
     action = sim.hold_action(start) if by_action else None
     if action is None:
@@ -107,7 +111,6 @@ def _run_hold(
     joint_drift = np.zeros(len(sim.joint_names))
     root_drift = 0.0
     finite = True
-    pin = sim.robot.pose if pinned and not sim.fixed_root else None
     for _ in range(settings.steps):
         if action is not None:
             sim.step(action, pin)
@@ -183,7 +186,11 @@ def _hold(
             f"it can stand there: its centre of mass is {standing.inside * 100:.3g} cm inside "
             f"the support polygon of its contacts ({', '.join(standing.links)})"
         )
-    where = "on a test stand (its root held)" if pinned and not sim.fixed_root else ""
+    where = (
+        "on a test stand (its root held clear of the ground)"
+        if pinned and not sim.fixed_root
+        else ""
+    )
     diagnostic = run.fail(
         run.keyframe_path(keyframe),
         "RS501",
@@ -192,8 +199,11 @@ def _hold(
         + ": "
         + "; ".join(problems)
         + ground.note(run, keyframe),
-        "stiffen the drives holding it (robospec tune finds gains), move the keyframe off joint "
-        "limits and away from self-contact and the ground, or set "
+        "the description's <mimic> and <limit> disagree (RS545): mend the description; no "
+        "gains or keyframe make the joint follow"
+        if mimic and "(RS545)" in mimic
+        else "stiffen the drives holding it (robospec tune finds gains), move the keyframe off "
+        "joint limits and away from self-contact and the ground, or set "
         "checks.keyframe_hold.max_joint_drift/max_root_drift if the motion is expected",
     )
     return Finding(NAME, sim.mode, subject, Status.FAIL, summary, values, (diagnostic,))
@@ -255,7 +265,10 @@ def support_at(sim: Sim, keyframe: ResolvedKeyframe | None) -> Support:
 def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> str | None:
     """Why mimic joints move off a keyframe: the mode's ``pd_joint_pos_mimic`` controllers hold
     each mimic joint at ``multiplier * control + offset``, whatever the keyframe says."""
+    from robospec.physics.mimic_limits import contradictions
+
     index = {name: i for i, name in enumerate(sim.joint_names)}
+    contradicted = contradictions(run)
     wrong = []
     for group in sim.groups():
         name = run.controller_name(sim.mode, group.name)
@@ -269,6 +282,13 @@ def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> str | None:
                 wrong.append(f"'{joint}' is at {start[index[joint]]:.4g}, held at {held:.4g}")
     if not wrong:
         return None
+    if contradicted:
+        # no keyframe agrees with both: the description's <mimic> and <limit> disagree
+        return "; ".join(c.words() for _, c in sorted(contradicted.items())) + (
+            " (RS545): no keyframe agrees with both the mimic controllers and the limits ("
+            + "; ".join(wrong)
+            + ")"
+        )
     return (
         f"the keyframe disagrees with the mimic controllers, which hold each mimic joint at "
         f"multiplier * control joint + offset ({'; '.join(wrong)})"

@@ -1,6 +1,7 @@
 """RS502: the state goes NaN or infinite under random actions. RS503: a joint goes past its
-limit. RS504: a joint or the root runs away. Each control mode gets ``checks.random_actions.steps``
-uniformly random actions within its action space (bounds of ±1 where a bound is infinite),
+limit. RS504: a joint or the robot (its centre of mass) runs away. Each control mode gets
+``checks.random_actions.steps`` uniformly random actions within its action space (bounds of ±1
+where a bound is infinite),
 once from the state the robot is loaded in (qpos 0, where an environment that sets no keyframe
 leaves it; clamped into the joint limits) and once from the first keyframe.
 
@@ -207,7 +208,8 @@ def _problems(
             run.fail(
                 where,
                 "RS504",
-                f"mode {sim.mode} ({origin}): the root link ran away at {top_root_speed:.3g} m/s "
+                f"mode {sim.mode} ({origin}): the robot ran away: its centre of mass reached "
+                f"{top_root_speed:.3g} m/s "
                 f"(max_root_speed {settings.max_root_speed:g}){buried}",
                 "check the root's mass and the forces the controllers can apply",
             )

@@ -3,8 +3,9 @@ keeps oscillating. RS507: it settles too far from the target.
 
 Each controller of the spec is stepped once, in the first mode that uses it: from the first
 keyframe, with every other drive holding still, its joints' drive targets jump by
-``checks.step_response.step`` (rad, or ``prismatic_step`` m; away from the nearer limit) — or, for
-velocity controllers, its velocity targets do. Every joint's response is timed: rise time
+``checks.step_response.step`` (rad, or ``prismatic_step`` m; away from the nearer limit, or the
+other way where a self-contact blocks that: :func:`step_trace`) — or, for velocity
+controllers, its velocity targets do. Every joint's response is timed: rise time
 (10 % → 90 % of the step), overshoot, settling time (last exit from ``settling_band``) and the
 steady-state error at the end of ``duration``, all measured from where the joint had settled
 after half a second of holding (so a sag under gravity is not counted twice). This measures
@@ -35,7 +36,6 @@ from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "step_response"
 SETTLE_TIME = 0.5  # seconds of holding before the step
-LIFT = 5.0  # metres a floating robot is lifted for its step: feet on the floor would block it
 
 
 class StepSettings(Protocol):
@@ -144,6 +144,8 @@ class StepTrace:
     position: np.ndarray  # (samples, joints): joint positions
     velocity: np.ndarray  # (samples, joints): joint velocities
     responses: tuple[Response, ...]
+    # joints stepped towards their nearer limit: the other way, a self-contact blocked them
+    reversed: tuple[str, ...] = ()
 
 
 def step_trace(
@@ -153,6 +155,7 @@ def step_trace(
     settings: StepSettings,
     drive: Drive | None = None,
     stepped: np.ndarray | None = None,
+    reverse: np.ndarray | None = None,
 ) -> StepTrace:
     """Step controller group ``group_name`` of ``sim`` and time each of its joints: the one
     measurement of ``robospec check`` and ``robospec tune``. From ``keyframe`` in a fresh scene,
@@ -160,7 +163,13 @@ def step_trace(
     clear of the floor), then the group's drive targets jump by ``settings.step`` (rad, or
     ``prismatic_step`` m, away from the nearer limit) and the joints are watched for
     ``settings.duration``. ``drive`` gives the group other gains first (``Sim.set_drive``);
-    ``stepped`` (one bool per joint of the group) steps only some joints, the rest holding."""
+    ``stepped`` (one bool per joint of the group) steps only some joints, the rest holding.
+
+    A joint whose step a self-contact blocks (it stays short of 90 % while a link it moves
+    touches one it does not) is stepped again the other way where its limits leave room
+    (``reverse``, one bool per joint): the step asks how fast the drive is, and a pose whose
+    links just clear each other (a humanoid's feet side by side) blocks a step one way only.
+    The trace that reaches further is the answer; it names the joints it reversed."""
     start = sim.start(keyframe)
     group = sim.group(group_name)  # the controller of the scene start() built
     if drive is not None:
@@ -169,14 +178,15 @@ def step_trace(
     joints = list(group.joint_indices)
     # on a test stand: lifted clear of the ground (a floating root held there), so nothing
     # but the drives shapes the step — an arm mounted on the floor would hit it half the time
-    lifted = sim.lifted_root(LIFT)
-    pin = None if sim.fixed_root else lifted
+    pin = sim.test_stand()
     # settle first: under gravity a holding drive sags to an equilibrium; the step is measured
     # from there, so the sag itself (keyframe_hold's business) is not counted as step error
     for _ in range(round(SETTLE_TIME * sim.sim_freq)):
         sim.sim_step(pin)
     size = np.where(sim.prismatic[joints], settings.prismatic_step, settings.step)
     signed = step_direction(start[joints], sim.limits[joints, 0], sim.limits[joints, 1]) * size
+    if reverse is not None:
+        signed = np.where(reverse, -signed, signed)
     if stepped is not None:
         signed = np.where(stepped, signed, 0.0)
     if group.kind == "position":
@@ -211,7 +221,7 @@ def step_trace(
             fraction[:, k], sim.sim_dt, settings.settling_band
         )
         responses.append(Response(name, rise, overshoot, settling, steady, reached))
-    return StepTrace(
+    trace = StepTrace(
         kind="velocity" if group.kind == "velocity" else "position",
         joints=tuple(sim.joint_names[j] for j in joints),
         dt=sim.sim_dt,
@@ -221,7 +231,40 @@ def step_trace(
         position=position,
         velocity=velocity,
         responses=tuple(responses),
+        reversed=tuple(
+            sim.joint_names[j] for k, j in enumerate(joints) if reverse is not None and reverse[k]
+        ),
     )
+    if reverse is not None or group.kind != "position" or sim.backend.gpu:
+        return trace
+    blocked = _blocked_joints(sim, trace, start[joints], signed)
+    if not blocked.any():
+        return trace
+    again = step_trace(sim, group_name, keyframe, settings, drive, stepped, reverse=blocked)
+    return again if _reached(again) > _reached(trace) else trace
+
+
+def _blocked_joints(
+    sim: Sim, trace: StepTrace, start: np.ndarray, signed: np.ndarray
+) -> np.ndarray:
+    """The joints of ``trace`` (one bool each) short of 90 % of their step with a contact
+    holding them back, that have room for the step the other way."""
+    joints = [sim.joint_names.index(name) for name in trace.joints]
+    lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
+    room = np.where(signed > 0, start - signed >= lower, start - signed <= upper)
+    short = {r.joint for r in trace.responses if not r.reached >= 0.9}
+    return np.array(
+        [
+            name in short and bool(room[k]) and bool(_blocking_contacts(sim, name))
+            for k, name in enumerate(trace.joints)
+        ],
+        dtype=bool,
+    )
+
+
+def _reached(trace: StepTrace) -> float:
+    """How far a trace's joints got, all told (NaN counts as nothing)."""
+    return float(sum(min(np.nan_to_num(r.reached, nan=0.0), 1.0) for r in trace.responses))
 
 
 def step_direction(start: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
@@ -290,6 +333,17 @@ def _finding(
             else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
         )
         cause, hint = _slow_cause(sim, group, trace, slowest.joint, kind)
+        from robospec.physics.mimic_limits import contradiction_words
+
+        contradicted = contradiction_words(run, slowest.joint)
+        if contradicted is not None:  # a mimic joint its relation holds past its limits
+            cause, hint = (
+                contradicted,
+                (
+                    "the description's <mimic> and <limit> of this joint disagree: mend the "
+                    "description; no gains make it follow"
+                ),
+            )
         problems.append(
             run.fail(
                 where,

@@ -14,12 +14,18 @@ is a located diagnostic:
 - RS526: the task's objects lie beyond the robot's reach from where the task loads it;
 - RS527: the task crashed inside ManiSkill or SAPIEN, or its state went NaN.
 
-A task asked for by its folder that needs several robots or a download is skipped, not failed.
+A task that cannot run with any robot robospec registers, in the headless scene check runs
+(``render_backend="none"``), is not counted against the robot: it needs several robots, assets
+ManiSkill has not downloaded (a data group too: TurnFaucet-v1's ``partnet_mobility_faucet``), a
+robot of its own (PickCubeSO100-v1 sets ``robot_uids`` itself), or render bodies a scene without
+rendering lacks (PushT-v1). Asked for by its folder it is skipped with the reason; by name it is
+RS525.
 """
 
 from __future__ import annotations
 
 import math
+import traceback
 from dataclasses import dataclass
 from typing import Any
 
@@ -27,7 +33,7 @@ import numpy as np
 
 from robospec.diagnostics import Location, error
 from robospec.physics.check_run import CheckRun
-from robospec.physics.crash import from_exception
+from robospec.physics.crash import USER, from_exception, root_cause
 from robospec.physics.findings import Finding, Status, metrics
 
 NAME = "task"
@@ -111,21 +117,52 @@ def _cannot(run: CheckRun, request: TaskRequest, why: str, hint: str | None = No
 
 
 def _missing_assets(task: str) -> list[str]:
-    from mani_skill.utils.assets.data import is_data_source_downloaded
     from mani_skill.utils.registration import REGISTERED_ENVS
 
     spec = REGISTERED_ENVS.get(task)
     if spec is None:
         return []
-    missing = []
-    for asset in spec.asset_download_ids or []:
-        try:
-            present = is_data_source_downloaded(asset)
-        except Exception:  # an asset id this ManiSkill does not know: let the task say
-            present = True
-        if not present:
-            missing.append(asset)
-    return missing
+    return [asset for asset in spec.asset_download_ids or [] if not _downloaded(asset)]
+
+
+def _downloaded(asset: str, seen: frozenset[str] = frozenset()) -> bool:
+    """Whether ManiSkill has ``asset``: a data source, or a group of them (TurnFaucet-v1 names
+    the group ``partnet_mobility_faucet``: every source in it)."""
+    from mani_skill.utils.assets.data import DATA_GROUPS, is_data_source_downloaded
+
+    if asset in DATA_GROUPS and asset not in seen:
+        return all(_downloaded(a, seen | {asset}) for a in DATA_GROUPS[asset])
+    try:
+        return bool(is_data_source_downloaded(asset))
+    except Exception:  # an asset id this ManiSkill does not know: let the task say
+        return True
+
+
+def _cannot_run_here(exc: BaseException) -> tuple[str, str | None] | None:
+    """Why a task that raised could never run with a robot robospec registers, in the headless
+    scene check runs (``render_backend="none"``) — the robot is not at fault: the task picks
+    its own robot, asks to download assets, or reads render bodies such a scene has none of.
+    None for any other crash (RS527)."""
+    root = root_cause(exc)
+    text = str(root)
+    if isinstance(root, TypeError) and "multiple values for keyword argument 'robot_uids'" in text:
+        return "it is made for one robot of its own (the task sets robot_uids itself)", (
+            "run the robot in a task that takes robot_uids (PickCube-v1 rather than "
+            "PickCubeSO100-v1)"
+        )
+    files = [frame.filename for frame in traceback.extract_tb(root.__traceback__)]
+    if any(f.replace("\\", "/").endswith("mani_skill/utils/download_asset.py") for f in files):
+        return "it needs assets ManiSkill has not downloaded (it asked to download them)", (
+            "download them (python -m mani_skill.utils.download_asset TASK_ID), then run it again"
+        )
+    if isinstance(root, AttributeError) and "render" in (getattr(root, "name", "") or "").lower():
+        return (
+            "it reads render bodies that a scene without rendering lacks "
+            f"({type(root).__name__}: {text}); robospec check runs tasks headless "
+            '(render_backend="none")',
+            "run it where it renders: gym.make with a render backend on a machine with a GPU",
+        )
+    return None
 
 
 def _run(run: CheckRun, request: TaskRequest) -> Finding:
@@ -171,6 +208,9 @@ def _run(run: CheckRun, request: TaskRequest) -> Finding:
         summary = f"reset and {STEPS} random steps: state finite"
         return Finding(NAME, None, task, Status.PASS, summary, metrics(steps=STEPS))
     except Exception as exc:  # upstream's crash becomes a diagnostic
+        cannot = _cannot_run_here(exc)
+        if cannot is not None:
+            return _cannot(run, request, *cannot)
         return _crashed(run, task, stage, exc)
     finally:
         if env is not None:
@@ -190,15 +230,19 @@ def _crashed(run: CheckRun, task: str, stage: str, exc: Exception) -> Finding:
             "RS528",
             f"{task} calls agent.{member}: {mend(member, run.context.spec)} (at {stage} it raised "
             f"{type(exc).__name__})",
-            f"{crash.frame}" if crash.frame else None,
+            f"raised {crash.where()}" if crash.frame else None,
         )
     else:
+        # the hint follows whose code raised: a hook of the spec's is the user's to mend
+        own = crash.frame is not None and crash.frame.owner == USER
         diagnostic = error(
             _where(run, task),
             "RS527",
-            f"{task} crashed at {stage} with this robot: {crash.what}"
-            + (f" ({crash.frame})" if crash.frame else ""),
-            "the frame named is where ManiSkill or SAPIEN raised",
+            f"{task} crashed at {stage} with this robot: {crash.what}, {crash.where()}",
+            "mend the hook named: the task called it"
+            if own
+            else "the frame named is where ManiSkill or SAPIEN raised; run robospec check "
+            "without --task to see whether the robot alone runs",
         )
     return Finding(NAME, None, task, Status.FAIL, f"crashed at {stage}", {}, (diagnostic,))
 

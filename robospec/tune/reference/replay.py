@@ -20,7 +20,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from robospec.physics.sim import ControllerGroup, Sim
-from robospec.physics.step_response import LIFT
 from robospec.resolve.resolved import ResolvedKeyframe
 from robospec.tune.reference.trajectory import Reference
 
@@ -57,7 +56,7 @@ class Replay:
             self.slots.append(Slot(group.name, group.joint_indices.index(joint), joint))
         self.groups = [g for g in groups.values() if any(s.group == g.name for s in self.slots)]
         sim.hold_drive_targets()
-        self.pin = None if sim.fixed_root else sim.lifted_root(LIFT)
+        self.pin = sim.test_stand()
         self.pose = sim.robot.pose
         qpos = sim.robot.get_qpos().clone()
         for k, slot in enumerate(self.slots):
