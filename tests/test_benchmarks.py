@@ -214,3 +214,43 @@ def test_the_scaffold_benchmark_times_new_per_robot_with_and_without_the_refinem
     cells = [cell.strip() for cell in row.strip("|").split("|")]
     assert cells[1] == "arm" and float(cells[2]) > 0 and cells[3] == "—"
     assert "Median, `--no-sim`:" in section.body
+
+
+JOURNEY_PAGE = """\
+| robot | category | format | inspect | new | validate | check | register | build | check found |
+|---|---|---|---|---|---|---|---|---|---|
+| Rethink Baxter | arm | URDF | ok | ok | ok | ok | ok | ok | *[RS061](codes/RS061.md)* |
+| [PAL TALOS](#erd_talos) | humanoid | URDF | ok | ok | ok | fails | ok | ok | RS505 |
+| [Unitree Go1](#erd_go1) | quadruped | URDF | ok | ok | ok | ok | ok | ok | — |
+"""
+
+
+def test_a_robot_passes_the_journey_only_when_every_step_of_its_row_is_ok() -> None:
+    assert optimize_throughput.journey_passed(JOURNEY_PAGE) == {"Rethink Baxter", "Unitree Go1"}
+
+
+def test_a_journey_table_whose_steps_changed_is_refused_rather_than_misread() -> None:
+    moved = JOURNEY_PAGE.replace("| validate | check |", "| check | validate |")
+    with pytest.raises(ValueError, match="journey table has changed"):
+        optimize_throughput.journey_passed(moved)
+
+
+def test_the_target_takes_every_corpus_urdf_robot_that_passes_the_journey_with_many_links() -> None:
+    from corpus import BY_KEY
+
+    links = {"erd_baxter": 57, "erd_go1": 46, "erd_talos": 60, "rtb_ridgeback": 19}
+    links |= {"dmc_humanoid": 30, "erd_allegro_right": 21, "pb_kuka_iiwa": 8}
+    robots = [BY_KEY[key] for key in links]
+    counted: list[str] = []
+
+    def links_of(robot: object) -> int:
+        counted.append(robot.key)  # type: ignore[attr-defined]
+        return links[robot.key]  # type: ignore[attr-defined]
+
+    passed = {BY_KEY[key].name for key in links} - {BY_KEY["erd_talos"].name}
+    keys = optimize_throughput.selected(robots, passed, links_of, optimize_throughput.MANY_LINKS)
+    # TALOS fails the journey and the dm_control humanoid is MJCF: neither is counted
+    assert keys == ["erd_baxter", "erd_go1", "erd_allegro_right"]
+    assert "erd_talos" not in counted and "dmc_humanoid" not in counted
+    # the bound is the smallest robot the issue names, the Allegro hand: 21 links here
+    assert optimize_throughput.selected(robots, passed, links_of, 22)[-1] == "erd_go1"
