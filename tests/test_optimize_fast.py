@@ -13,8 +13,9 @@ from types import SimpleNamespace
 
 import pytest
 import trimesh
-from conftest import PANDA_SPEC, contact_offsets, invoke_robospec, run_robospec
+from conftest import PANDA_SPEC, ROOT, contact_offsets, invoke_robospec, run_robospec
 
+from robospec.description import load_description
 from robospec.optimize import command as optimize_command
 from robospec.optimize.command import OptimizeOptions, run_optimize
 from robospec.optimize.contacts import (
@@ -127,6 +128,34 @@ def test_the_category_follows_the_root_unless_given() -> None:
     assert category_of(fixed, None) == "manipulation"
     assert category_of(free, None) == "locomotion"
     assert category_of(free, "manipulation") == "manipulation"
+
+
+QUADRUPED_URDF = ROOT / "tests" / "data" / "new" / "quadruped.urdf"
+WHEELED = """<robot name="rover"><link name="chassis"/><link name="left_wheel"/>
+<link name="right_wheel"/><link name="arm"/>
+<joint name="left_wheel_joint" type="continuous"><parent link="chassis"/>
+<child link="left_wheel"/><axis xyz="0 1 0"/><limit effort="10" velocity="12"/></joint>
+<joint name="right_wheel_joint" type="continuous"><parent link="chassis"/>
+<child link="right_wheel"/><axis xyz="0 1 0"/><limit effort="10" velocity="12"/></joint>
+<joint name="shoulder" type="revolute"><parent link="chassis"/><child link="arm"/>
+<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="10" velocity="4"/></joint></robot>"""
+
+
+@pytest.mark.parametrize(
+    ("description", "category"),
+    [(WHEELED, "manipulation"), (QUADRUPED_URDF, "locomotion")],
+    ids=["wheels", "legs"],
+)
+def test_a_free_robot_on_wheels_manipulates_and_one_on_legs_walks(
+    tmp_path: Path, description: str | Path, category: str
+) -> None:
+    path = description if isinstance(description, Path) else tmp_path / "rover.urdf"
+    if isinstance(description, str):
+        path.write_text(description, encoding="utf-8")
+    free = SimpleNamespace(fix_root_link=False)
+    robot, diagnostics = load_description(str(path), "urdf")
+    assert robot is not None, diagnostics
+    assert category_of(free, None, robot) == category
 
 
 def test_the_offset_is_half_the_nearest_gap_within_its_bounds() -> None:

@@ -498,7 +498,7 @@ def optimize(
         typer.Option(
             "--category",
             help="manipulation (15 solver iterations) or locomotion (4) (fast; default: "
-            "locomotion for a robot with a free root)",
+            "locomotion for a robot with a free root, unless it rolls on wheels with no legs)",
         ),
     ] = None,
     format: ReportFormatOpt = ReportFormat.text,

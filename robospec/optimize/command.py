@@ -59,7 +59,7 @@ class OptimizeOptions:
     profile: str = "default"  # PROFILES: "fast" changes how the robot collides, for speed
     max_error: float | None = None  # primitives: how far one may stand off the mesh (m)
     contact_offset: float | None = None  # fast: the robot's shapes' offset (default: measured)
-    category: str | None = None  # fast: manipulation or locomotion (default: by the root)
+    category: str | None = None  # fast: manipulation or locomotion (default: by the body)
     # the command line as given (after the program name): where each option's value stands,
     # for the diagnostics about it
     arguments: tuple[str, ...] = ()

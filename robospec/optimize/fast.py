@@ -8,7 +8,8 @@ how the robot simulates, for speed, and each measured.
   ``simulation.contact_offset``). Measured over sampled configurations: the pairs of the
   robot's links making contacts at ManiSkill's 2 cm and at the profile's offset.
 - **A recommended sim config** for the robot's category (``simulation.category``, from
-  ``--category`` or the root: a robot with a free root walks): 15 solver position iterations
+  ``--category`` or the body: a robot with a free root walks, unless it rolls on wheels and
+  has no legs): 15 solver position iterations
   for manipulation (ManiSkill's default, which its notes call the balance of speed and
   accuracy; stable grasps want 15 or more), 4 for locomotion (ManiSkill's quadruped and
   humanoid control tasks use 4). The built package exposes it as ``sim_config_for(uid)``.
@@ -29,11 +30,24 @@ ITERATIONS = {"manipulation": (15, 1), "locomotion": (4, 1)}
 CONTACT_SAMPLES = 1000
 
 
-def category_of(robot: Any, asked: str | None) -> str:
-    """The category asked for, else by the root: a robot whose root is free stands or walks."""
+def category_of(robot: Any, asked: str | None, description: Any = None) -> str:
+    """The category asked for, else by the body: a robot whose root is free stands or walks
+    (locomotion), unless it rolls on wheels with no legs to stand on — a mobile manipulator
+    such as TIAGo, whose base drives and whose arm grasps, wants manipulation's iterations, as
+    ManiSkill's Fetch tasks keep its default 15 (``description``: the robot's
+    :class:`~robospec.description.RobotDescription`, whose body
+    :mod:`robospec.authoring.morphology` reads)."""
     if asked is not None:
         return asked
-    return "manipulation" if robot.fix_root_link else "locomotion"
+    if robot.fix_root_link:
+        return "manipulation"
+    if description is not None:
+        from robospec.authoring.morphology import morphology
+
+        body = morphology(description, None)
+        if body.rolls and len(body.legs) < 2:
+            return "manipulation"
+    return "locomotion"
 
 
 def fast_simulation(
@@ -44,7 +58,7 @@ def fast_simulation(
     from robospec.optimize.contacts import LARGEST_OFFSET
 
     robot = compiled.robot
-    category = category_of(robot, options.category)
+    category = category_of(robot, options.category, compiled.description)
     positions, velocities = ITERATIONS[category]
     offset = options.contact_offset
     counts: list[dict[str, Any]] = []
