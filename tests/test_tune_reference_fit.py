@@ -113,4 +113,6 @@ def test_mujoco_reference_reports_the_error_before_and_after_and_writes_the_gain
     assert item.robot is not None
     kwargs = dict(next(c for c in item.robot.controllers if c.name == "arm_pos").kwargs)
     fitted = [by_joint[j]["stiffness"]["after"] for j in ("shoulder_yaw", "elbow", "wrist")]
-    assert np.allclose(kwargs["stiffness"], fitted, rtol=1e-3)
+    # --write keeps 3 significant digits (robospec.tune.edits.number): within half a unit of
+    # the third, 0.5 % at most (32.9662 is written 33.0)
+    assert np.allclose(kwargs["stiffness"], fitted, rtol=5e-3, atol=0)
