@@ -11,8 +11,10 @@ The contact test is ``robospec check``'s (:mod:`robospec.physics.self_contact`):
 hold the drives there, one physics step, and every pair of the robot's links deeper in contact
 than ``min_depth``. The search is deterministic: from the starting pose, the smallest move of
 one joint (of those between two touching links, by 10, 20, 35 or 50 % of its range, either way)
-that leaves fewer pairs touching (:func:`better`); when no move helps, random moves of all those
-joints at once, from a fixed seed. A pose changes only to undo a contact, so a contact nothing
+that leaves fewer pairs touching (:func:`better`); when no move helps, a chain of such moves of
+the joints between one touching pair, each leaving links less deep in each other, kept if it ends
+with fewer pairs touching (:meth:`Probe._descend`); then random moves of all those joints at once,
+from a fixed seed. A pose changes only to undo a contact, so a contact nothing
 undoes leaves the starting pose as it was; the answer names the pairs that touched in every pose
 tried.
 """
@@ -31,6 +33,12 @@ STEPS = (0.1, 0.2, 0.35, 0.5)
 FULL_TURN = 2 * math.pi
 FLOATING_LIFT = 10.0  # m: a floating robot is held well above the ground while contacts count
 SEED = 0
+# pose_probe's chain of moves that deepen no contact (Probe._descend): moves at most, and by how
+# much each must leave the pair shallower (m: more than the depth's noise between two loads)
+DESCENT_MOVES = 8
+DESCENT_GAIN = 0.002
+# links this many active joints apart or fewer are neighbours (rest_pose.NEIGHBOURS)
+NEIGHBOURS = 2
 
 
 @dataclass
@@ -50,7 +58,7 @@ class Request:
     # the search keeps links this far apart (m): two links just touching block each other, and
     # a step of one towards the other (robospec check's step response) goes nowhere
     clearance: float = 0.002
-    budget: int = 400  # poses tried at most
+    budget: int = 600  # poses tried at most
     # (w, x, y, z): how a floating robot stands (its root turned so, for a y-up description)
     upright: list[float] = field(default_factory=lambda: [1.0, 0.0, 0.0, 0.0])
     # then scaffold the robot at the rest pose found and measure its gains there
@@ -158,6 +166,8 @@ class Probe:
                 break
             moved = self._greedy(best, best_contacts, candidates)
             if moved is None:
+                moved = self._descend(best, best_contacts)
+            if moved is None:
                 moved = self._random(best, best_contacts, candidates, rng)
             if moved is None:
                 break
@@ -182,6 +192,91 @@ class Probe:
                     if better(touching, contacts):
                         return trial, touching
         return None
+
+    def _descend(
+        self, qpos: list[float], contacts: Contacts
+    ) -> tuple[list[float], Contacts] | None:
+        """Undo a contact no single move undoes, by a chain of moves of the joints between its
+        two links, each leaving the links that are not neighbours less deep in each other in
+        all (:meth:`_intrusion`): iCub's right forearm, 65 mm inside its torso, comes out by
+        turning the shoulder twice, and the first turn leaves as many pairs touching as before
+        (the forearm 5 mm in the torso, 4 mm in the thigh). The pairs whose links are furthest
+        apart go first (a hand in the hip, rather than shapes that overlap where they are
+        joined), then the deepest. The chain is kept only if it ends with fewer pairs touching:
+        a pose changes only to undo a contact."""
+        pairs = sorted(
+            (pair for pair in contacts if self._apart(*pair) > NEIGHBOURS),
+            key=lambda pair: (-self._apart(*pair), -contacts[pair]),
+        )
+        for pair in pairs:
+            joints = self._nearest_first(*pair)
+            here, depth = list(qpos), self._intrusion(contacts, contacts)
+            for _ in range(DESCENT_MOVES):
+                found = self._shallower(here, depth, joints, contacts)
+                if found is None:
+                    break
+                here, touching = found
+                if better(touching, contacts):
+                    return here, touching
+                depth = self._intrusion(touching, contacts)
+            if self.tried >= self.request.budget:
+                return None
+        return None
+
+    def _shallower(
+        self, qpos: list[float], depth: float, joints: list[int], base: Contacts
+    ) -> tuple[list[float], Contacts] | None:
+        """The move of one of ``joints`` that leaves the intrusion least, of the smallest steps
+        that leave it less than ``depth`` by :data:`DESCENT_GAIN` at least: the first move that
+        helps at all would be the wrist's, which slides the forearm from the torso into the
+        thigh, where the shoulder's lifts it out of both."""
+        for step in STEPS:
+            best: tuple[float, list[float], Contacts] | None = None
+            for index in joints:
+                for sign in (1.0, -1.0):
+                    if self.tried >= self.request.budget:
+                        return None
+                    trial = list(qpos)
+                    trial[index] = qpos[index] + sign * step * self.span(index)
+                    trial = self.follow(trial)
+                    if trial == qpos:
+                        continue
+                    touching = self.contacts(trial)
+                    left = self._intrusion(touching, base)
+                    if left < depth - DESCENT_GAIN and (best is None or left < best[0]):
+                        best = left, trial, touching
+            if best is not None:
+                return best[1], best[2]
+        return None
+
+    def _intrusion(self, contacts: Contacts, base: Contacts) -> float:
+        """How deep links are in each other, in all (m, each pair counted from the search's
+        clearance), but for neighbours that touched in ``base`` (where the chain of moves
+        started): their shapes overlap where they are joined, and :func:`better` leaves all
+        depth out for them. A neighbour touching anew counts: a forearm lifted out of the
+        torso by pressing its upper arm into the shoulder is no better off."""
+        return sum(
+            depth + self.request.clearance
+            for pair, depth in contacts.items()
+            if pair not in base or self._apart(*pair) > NEIGHBOURS
+        )
+
+    def _nearest_first(self, a: str, b: str) -> list[int]:
+        """The joints (leaders, by index) between links ``a`` and ``b``, those nearest either
+        link first: the forearm's elbow and shoulder turn before the torso that carries the
+        whole arm (and the head, and the other arm) leans."""
+        path_a, path_b = self._path(a), self._path(b)
+        between = set(path_a) ^ set(path_b)
+        # how far up from its link each joint lies (each joint between them lies on one path)
+        height = {joint: i for path in (path_a, path_b) for i, joint in enumerate(path)}
+        order = sorted(between, key=height.__getitem__)
+        return [
+            self.index[j] for j in order if j in self.index and self.index[j] not in self.followers
+        ]
+
+    def _apart(self, a: str, b: str) -> int:
+        """How many active joints lie between links ``a`` and ``b``."""
+        return len({j for j in set(self._path(a)) ^ set(self._path(b)) if j in self.index})
 
     def _random(
         self, qpos: list[float], contacts: Contacts, joints: list[int], rng: random.Random
