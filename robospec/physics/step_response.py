@@ -247,15 +247,26 @@ def step_trace(
 def _blocked_joints(
     sim: Sim, trace: StepTrace, start: np.ndarray, signed: np.ndarray
 ) -> np.ndarray:
-    """The joints of ``trace`` (one bool each) short of 90 % of their step with a contact
-    holding them back, that have room for the step the other way."""
+    """The joints of ``trace`` (one bool each) that have room for the step the other way and
+    either are short of 90 % of their step with a contact holding them back, or move a link of
+    such a contact: the joints of a group step together, and the one held back is often not
+    the one that drove its link into the other (DeepMimic's right hip turned the leg into the
+    left one, and its ankle came up short: turning the ankle back alone found the leg still
+    pressed against the other whichever way the ankle went)."""
     joints = [sim.joint_names.index(name) for name in trace.joints]
     lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
     room = np.where(signed > 0, start - signed >= lower, start - signed <= upper)
     short = {r.joint for r in trace.responses if not r.reached >= 0.9}
+    held = {name: _blocking_contacts(sim, name) for name in trace.joints if name in short}
+    pairs = {pair for found in held.values() for pair in found}
+
+    def drives_into(name: str) -> bool:
+        moved = sim.moved_by(name)
+        return any((a in moved) != (b in moved) for a, b in pairs)
+
     return np.array(
         [
-            name in short and bool(room[k]) and bool(_blocking_contacts(sim, name))
+            bool(room[k]) and signed[k] != 0 and (bool(held.get(name)) or drives_into(name))
             for k, name in enumerate(trace.joints)
         ],
         dtype=bool,
