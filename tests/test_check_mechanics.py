@@ -48,6 +48,16 @@ def test_a_robot_stands_only_with_its_centre_of_mass_inside_its_support() -> Non
     assert support([], np.zeros(3)).touches is False
 
 
+def test_a_foot_held_above_the_ground_bears_no_weight() -> None:
+    # PhysX reports contacts within its contact offset: one foot on the ground, the other 2 cm
+    # above it (a leg swung forward) is a robot on one foot, however wide the two would stand
+    left = [("left", (x, y, 0.0), 0.0) for x, y in [(0.1, 0.05), (0.1, 0.1), (-0.1, 0.05)]]
+    right = [("right", (x, y, 0.02), -0.02) for x, y in [(0.1, -0.1), (-0.1, -0.1)]]
+    one_foot = support(left + right, np.array([0.0, 0.0, 0.5]))
+    assert one_foot.links == ("left",) and not one_foot.stands
+    assert support(left + [(n, p, -0.001) for n, p, _ in right], np.zeros(3)).stands
+
+
 def test_the_support_polygon_is_the_convex_hull_of_the_contacts() -> None:
     points = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5], [0.5, 0.0]])
     hull = convex_hull(points)

@@ -15,6 +15,11 @@ import numpy as np
 # the centre of mass must lie this far inside the polygon (m): on its edge a robot balances on
 # a knife's edge, and the contacts PhysX reports move by millimetres from step to step
 MARGIN = 0.005
+# a contact bears weight only this close to the ground (m): PhysX reports contact points within
+# its contact offset, centimetres apart (iCub's right foot, its leg swung forward by the rest
+# pose, 13-37 mm above the ground; counted, they made a polygon its centre of mass lay 4.5 cm
+# inside, and the robot, on one foot, fell over)
+TOUCHING = 0.002
 
 
 @dataclass(frozen=True)
@@ -39,9 +44,11 @@ def support(
     contacts: Sequence[tuple[str, tuple[float, float, float], float]], com: np.ndarray
 ) -> Support:
     """The support of ``contacts`` ((link, point, depth), as ``Sim.ground_contacts`` gives
-    them) for a robot whose centre of mass is ``com``."""
-    links = tuple(sorted({link for link, _, _ in contacts}))
-    points = np.array([p[:2] for _, p, _ in contacts], dtype=np.float64).reshape(-1, 2)
+    them) for a robot whose centre of mass is ``com``: the points that touch it (no more than
+    :data:`TOUCHING` above it)."""
+    bearing = [(link, point) for link, point, depth in contacts if depth >= -TOUCHING]
+    links = tuple(sorted({link for link, _ in bearing}))
+    points = np.array([p[:2] for _, p in bearing], dtype=np.float64).reshape(-1, 2)
     hull = convex_hull(points)
     return Support(links, hull, np.asarray(com, dtype=np.float64), inside_distance(hull, com[:2]))
 
