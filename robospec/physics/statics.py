@@ -16,10 +16,12 @@ import numpy as np
 # a knife's edge, and the contacts PhysX reports move by millimetres from step to step
 MARGIN = 0.005
 # a contact bears weight only this close to the ground (m): PhysX reports contact points within
-# its contact offset, centimetres apart (iCub's right foot, its leg swung forward by the rest
-# pose, 13-37 mm above the ground; counted, they made a polygon its centre of mass lay 4.5 cm
-# inside, and the robot, on one foot, fell over)
-TOUCHING = 0.002
+# its contact offset, centimetres apart. A robot settles by millimetres onto its feet as its
+# drives take its weight (the Minitaur's motor housings, 0 to 9 mm up, all bear it); a foot
+# further up is not standing (iCub's right foot, its leg swung forward by the rest pose, 13 to
+# 37 mm up: counted, it made a polygon the centre of mass lay 4.5 cm inside, and the robot, on
+# one foot, fell over)
+TOUCHING = 0.01
 
 
 @dataclass(frozen=True)
