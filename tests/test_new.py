@@ -237,6 +237,19 @@ def test_mimic_chains_collapse_onto_their_leader_and_the_keyframe_keeps_the_rela
     assert qpos == pytest.approx([0.3, 0.7, 2.3])
 
 
+def test_an_mjcf_tendon_coupling_becomes_a_mimic_controller_not_a_loose_joint(
+    tmp_path: Path,
+) -> None:
+    # ManiSkill's loader drops the tendon: without a mimic controller the distal joint, which no
+    # actuator drives, would be passive and flop
+    out = tmp_path / "finger.yaml"
+    data = scaffold(Path(__file__).parent / "data" / "new" / "tendon_finger.xml", out)
+    validate(out)
+    (mimic,) = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos_mimic"]
+    assert mimic["mimic"] == {"j0": {"joint": "j1", "multiplier": 1.14286, "offset": 0}}
+    assert "passive" not in {c.get("type") for c in data["controllers"].values()}
+
+
 def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
     body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
     body += '<parent link="a"/><child link="b"/></joint>\n'
