@@ -250,6 +250,30 @@ def test_an_mjcf_tendon_coupling_becomes_a_mimic_controller_not_a_loose_joint(
     assert "passive" not in {c.get("type") for c in data["controllers"].values()}
 
 
+def test_links_an_mjcf_s_collision_filters_keep_apart_are_declared_never_collide(
+    tmp_path: Path,
+) -> None:
+    # contype 1, conaffinity 0: torso and shin never collide in MuJoCo (ManiSkill would collide
+    # them); the foot's conaffinity 1 lets it collide with every link, so nothing keeps it apart
+    mjcf = tmp_path / "leg.xml"
+    mjcf.write_text(
+        '<mujoco>\n<default><geom contype="1" conaffinity="0"/></default>\n<worldbody>\n'
+        '<body name="torso"><geom size=".1"/>\n'
+        '<body name="thigh" pos="0 0 -.3"><joint name="hip"/><geom size=".1"/>\n'
+        '<body name="shin" pos="0 0 -.3"><joint name="knee"/><geom size=".1"/>\n'
+        '<body name="foot" pos="0 0 -.3"><joint name="ankle"/>'
+        '<geom size=".1" conaffinity="1"/>\n'
+        "</body></body></body></body>\n</worldbody>\n</mujoco>\n"
+    )
+    out = tmp_path / "leg.yaml"
+    data = scaffold(mjcf, out)
+    validate(out)
+    entries = [set(entry) for entry in data["never_collide"]]
+    assert any({"torso", "shin"} <= entry for entry in entries)
+    assert not any("foot" in entry for entry in entries)
+    assert "collision filters keep apart" in out.read_text()
+
+
 def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
     body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
     body += '<parent link="a"/><child link="b"/></joint>\n'

@@ -148,6 +148,9 @@ class RobotDescription:
     # MJCF: pairs of joints its <equality> or fixed <tendon>s tie together (robospec new drives
     # each pair with a pd_joint_pos_mimic controller, as it does a URDF's <mimic>)
     couplings: tuple[Coupling, ...] = ()
+    # MJCF: pairs of links (sorted) whose geoms MuJoCo never lets collide (contype/conaffinity)
+    # and ManiSkill collides (robospec new declares them never_collide where bits allow)
+    filtered_pairs: tuple[tuple[str, str], ...] = ()
     _links_by_name: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
     _joints_by_name: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
 

@@ -50,6 +50,7 @@ from robospec.description.mjcf_constraints import joint_couplings, robot_names
 from robospec.description.mjcf_control import file_actuators, file_keyframes
 from robospec.description.mjcf_frames import IDENTITY_POSE, Unparsable, body_pose
 from robospec.description.mjcf_gaps import loader_gaps
+from robospec.description.mjcf_geoms import filtered_pairs
 from robospec.description.mjcf_loaded import (
     Defaults,
     LoadedBody,
@@ -264,6 +265,7 @@ def parse_mjcf(
                 {j.name: (j.lower, j.upper) for j in joints},
                 frozenset(a.joint for a in actuators if a.joint is not None),
             ),
+            filtered_pairs=filtered_pairs(loaded),
         ),
         diagnostics,
     )
