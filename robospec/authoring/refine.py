@@ -12,7 +12,8 @@
    it stands, a floating one on a test stand (its root held clear of the ground) and, where
    its statics say it can stand, standing on the ground. Joints that drift past a fifth of
    check's ``max_joint_drift`` get stiffer (damping kept at the same ratio), a few rounds at
-   most, never past their rating (a joint left sagging at its rating is RS609's).
+   most; a rated joint's force limit stays its rating (a load past it fails step 1's search
+   first, which says so: RS609).
 3. Random actions from the rest keyframe, as check sends them (its seed and steps): joints that
    run faster than half check's ``max_joint_speed``, or past their limits by more than half
    its ``joint_limit_tolerance``, get more damping (up to a damping ratio of 2), a few rounds at
@@ -179,11 +180,6 @@ def _hold(
         measured = dict(zip(sim.joint_names, (float(v) for v in drift), strict=True))
         for name, old in before.items():
             if not measured[name] < 0.7 * old:  # a sag falls as the stiffness rises
-                k, _, f = found.gains[name]
-                if name in ratings and k * measured[name] >= 0.999 * f:
-                    # the stiffer drive pushed as hard as its rating allows and the joint still
-                    # sagged: the load needs more than the motor gives, which the scaffold says
-                    found.over_rating[name] = (significant(k * measured[name]), f)
                 found.gains[name] = previous[name]
                 stuck.add(name)
         before.clear()
