@@ -12,7 +12,7 @@ import pytest
 
 from robospec.authoring.tree import KinematicTree
 from robospec.description import load_description
-from robospec.description.facts import RobotDescription
+from robospec.description.facts import Mimic, RobotDescription
 from robospec.description.mjcf_frames import (
     maniskill_rotation,
     mujoco_rotation,
@@ -120,6 +120,39 @@ def test_a_tendon_equality_between_two_joints_is_a_mimic_map_too(tmp_path: Path)
     assert "mimic: {right: {joint: left, offset: -0.01}}" in coupling.hint
     # the tendon an equality uses is told there, not again as a lost tendon
     assert "RS071" not in {d.code for d in parse(tmp_path / "tendon.xml")[1]}
+
+
+def test_a_narrow_fixed_tendon_of_two_joints_couples_them_led_by_the_actuated_one() -> None:
+    # 0.007 j0 - 0.008 j1 in [-0.001, 0.001]: j0 = 8/7 j1 within 0.29 rad of its 1.6;
+    # the wide tendon (0.007 j0 + 0.008 j1 in [-0.007, 0.03]) only bounds their sum
+    description, _ = parse(DATA.parent / "new" / "tendon_finger.xml")
+    assert description is not None
+    (coupling,) = description.couplings
+    assert (coupling.follower, coupling.mimic.joint) == ("j0", "j1")  # an actuator drives j1
+    assert coupling.mimic.multiplier == pytest.approx(8 / 7)
+    assert coupling.mimic.offset == 0
+    assert coupling.what == "tendon 'couple'"
+
+
+def test_equality_couplings_of_two_joints_are_couplings_of_the_description(
+    tmp_path: Path,
+) -> None:
+    description, _ = parse(GAPS / "coupling.xml")  # right = -left
+    assert description is not None
+    assert [(c.follower, c.mimic) for c in description.couplings] == [
+        ("right", Mimic("left", -1.0, 0.0))
+    ]
+    text = (GAPS / "coupling.xml").read_text()
+    text = text.replace(
+        '<joint joint1="right" joint2="left" polycoef="0 -1 0 0 0"/>',
+        '<tendon tendon1="grip" polycoef=".01 0 0 0 0"/>',
+    )
+    (tmp_path / "tendon.xml").write_text(text)
+    description, _ = parse(tmp_path / "tendon.xml")  # left - right = 0.01
+    assert description is not None
+    assert [(c.follower, c.mimic) for c in description.couplings] == [
+        ("right", Mimic("left", 1.0, -0.01))
+    ]
 
 
 def test_excluded_contacts_and_filtered_pairs_hint_never_collide() -> None:

@@ -237,6 +237,43 @@ def test_mimic_chains_collapse_onto_their_leader_and_the_keyframe_keeps_the_rela
     assert qpos == pytest.approx([0.3, 0.7, 2.3])
 
 
+def test_an_mjcf_tendon_coupling_becomes_a_mimic_controller_not_a_loose_joint(
+    tmp_path: Path,
+) -> None:
+    # ManiSkill's loader drops the tendon: without a mimic controller the distal joint, which no
+    # actuator drives, would be passive and flop
+    out = tmp_path / "finger.yaml"
+    data = scaffold(Path(__file__).parent / "data" / "new" / "tendon_finger.xml", out)
+    validate(out)
+    (mimic,) = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos_mimic"]
+    assert mimic["mimic"] == {"j0": {"joint": "j1", "multiplier": 1.14286, "offset": 0}}
+    assert "passive" not in {c.get("type") for c in data["controllers"].values()}
+
+
+def test_links_an_mjcf_s_collision_filters_keep_apart_are_declared_never_collide(
+    tmp_path: Path,
+) -> None:
+    # contype 1, conaffinity 0: torso and shin never collide in MuJoCo (ManiSkill would collide
+    # them); the foot's conaffinity 1 lets it collide with every link, so nothing keeps it apart
+    mjcf = tmp_path / "leg.xml"
+    mjcf.write_text(
+        '<mujoco>\n<default><geom contype="1" conaffinity="0"/></default>\n<worldbody>\n'
+        '<body name="torso"><geom size=".1"/>\n'
+        '<body name="thigh" pos="0 0 -.3"><joint name="hip"/><geom size=".1"/>\n'
+        '<body name="shin" pos="0 0 -.3"><joint name="knee"/><geom size=".1"/>\n'
+        '<body name="foot" pos="0 0 -.3"><joint name="ankle"/>'
+        '<geom size=".1" conaffinity="1"/>\n'
+        "</body></body></body></body>\n</worldbody>\n</mujoco>\n"
+    )
+    out = tmp_path / "leg.yaml"
+    data = scaffold(mjcf, out)
+    validate(out)
+    entries = [set(entry) for entry in data["never_collide"]]
+    assert any({"torso", "shin"} <= entry for entry in entries)
+    assert not any("foot" in entry for entry in entries)
+    assert "collision filters keep apart" in out.read_text()
+
+
 def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
     body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
     body += '<parent link="a"/><child link="b"/></joint>\n'

@@ -213,13 +213,14 @@ def test_touching_pairs_reads_only_real_contacts() -> None:
         return SimpleNamespace(bodies=(x, y), points=points)
 
     contacts = [
-        contact(a, b, 0.002, -0.003, -0.001),  # touching: the deepest point counts
-        contact(a, b, 0.0),  # touching, not deeper
+        contact(a, b, 0.002, -0.003, -0.001),  # touching at some points
+        contact(a, b, 0.0),  # touching
         contact(a, other, -0.01),  # another object, not the robot's
         contact(a, a, -0.01),  # one link with itself
     ]
-    assert touching_pairs(contacts, names) == {("link_a", "link_b"): pytest.approx(0.003)}
-    assert touching_pairs([contact(a, b, 0.004)], names) == {}  # only within contact offset
+    assert touching_pairs(contacts, names) == {("link_a", "link_b")}
+    assert touching_pairs([contact(a, b, 0.0)], names) == {("link_a", "link_b")}
+    assert touching_pairs([contact(a, b, 0.004, 0.001)], names) == set()  # within the offset
 
 
 def test_bad_input_is_refused() -> None:

@@ -85,21 +85,26 @@ class Groups:
 
 def mimic_links(description: RobotDescription) -> list[MimicLink]:
     """Mimic relations between active joints, each follower mapped onto the joint leading its
-    chain (a -> b -> c becomes a -> c with the composed multiplier and offset)."""
+    chain (a -> b -> c becomes a -> c with the composed multiplier and offset): a URDF's
+    ``<mimic>``, and the joints an MJCF's equalities and tendons couple (ManiSkill's loader
+    drops those couplings, and the follower would hang loose without a mimic controller)."""
     active = {j.name: j for j in description.active_joints}
+    rules = {j.name: j.mimic for j in description.active_joints if j.mimic is not None}
+    for coupling in description.couplings:
+        rules.setdefault(coupling.follower, coupling.mimic)
     out: list[MimicLink] = []
     for joint in description.active_joints:
         multiplier, offset, leader = 1.0, 0.0, joint
         seen = {joint.name}
-        while leader.mimic is not None and leader.mimic.joint in active:
-            m = leader.mimic
+        while (m := rules.get(leader.name)) is not None and m.joint in active:
             offset = multiplier * m.offset + offset
             multiplier = multiplier * m.multiplier
             leader = active[m.joint]
             if leader.name in seen:  # a mimic cycle: nobody leads it
                 break
             seen.add(leader.name)
-        leads = leader.mimic is None or leader.mimic.joint not in active  # not in a cycle
+        rule = rules.get(leader.name)
+        leads = rule is None or rule.joint not in active  # not in a cycle
         if leader is not joint and leads:
             out.append(MimicLink(joint.name, leader.name, multiplier, offset))
     return out

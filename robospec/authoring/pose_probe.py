@@ -431,7 +431,6 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Any:
     from robospec.output.register import register
     from robospec.physics.sim import Sim
     from robospec.pipeline import compile_spec
-    from robospec.resolve.resolved import ResolvedKeyframe
 
     assert request.refinement is not None
     description, out, schema = request.refinement
@@ -446,17 +445,15 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Any:
         spec = Path(folder) / "refine.yaml"
         spec.write_text(to_yaml(draft, schema), encoding="utf-8")
         item = compile_spec(spec)
-        if not item.ok or item.context is None:
+        if not item.ok or item.context is None or item.robot is None:
             raise ValueError("the scaffold does not compile")
         register(spec)
         ratings = {k: r.value for k, r in joint_ratings(item.context.description).items()}
-        keyframe = ResolvedKeyframe(
-            "rest",
-            (0.0, 0.0, rest.root_height or 0.0),
-            rest.upright,
-            tuple(rest.qpos[name] for name in request.joints),
-            None,
-        )
+        # the rest keyframe as the draft resolves it, so as robospec check will hold it: its
+        # root where the description places the robot (an MJCF wrapper body's turn included:
+        # the Shadow hand's mount turns its wrist across gravity, which sagged 0.073 rad there
+        # and 0.002 rad upright at the origin)
+        keyframe = next(k for k in item.robot.keyframes if k.name == "rest")
         sim = Sim(REFINE_UID, request.mode)
         try:
             return refine(sim, item.context.spec.checks, ratings, keyframe)

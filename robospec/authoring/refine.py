@@ -7,11 +7,13 @@
    description's ratings) for targets with a margin inside check's thresholds (:func:`targets`:
    half its overshoot and steady-state error, settled within half the step's duration).
    Controllers that meet them keep the analytic gains.
-2. A floating robot is then held at its rest keyframe on a test stand (its root held clear of
-   the ground) and, where its statics say it can stand, standing on the ground, as
-   ``robospec check`` holds it: joints
-   that drift past a fifth of check's ``max_joint_drift`` get stiffer (damping kept at the same
-   ratio), a few rounds at most.
+2. The robot is then held at its rest keyframe as ``robospec check`` holds it (the keyframe
+   as the draft resolves it, its root where the description places it): a fixed robot where
+   it stands, a floating one on a test stand (its root held clear of the ground) and, where
+   its statics say it can stand, standing on the ground. Joints that drift past a fifth of
+   check's ``max_joint_drift`` get stiffer (damping kept at the same ratio), a few rounds at
+   most; a rated joint's force limit stays its rating (a load past it fails step 1's search
+   first, which says so: RS609).
 3. Random actions from the rest keyframe, as check sends them (its seed and steps): joints that
    run faster than half check's ``max_joint_speed``, or past their limits by more than half
    its ``joint_limit_tolerance``, get more damping (up to a damping ratio of 2), a few rounds at
@@ -62,8 +64,7 @@ def refine(sim: Sim, checks: Any, ratings: dict[str, float], keyframe: ResolvedK
 
     found = Refined()
     _search(sim, checks, keyframe, ratings, found)
-    if not sim.fixed_root:
-        _hold(sim, checks, keyframe, found, ratings)
+    _hold(sim, checks, keyframe, found, ratings)
     damped = _random(sim, checks, keyframe, found)
     if damped:
         # the damping random actions asked for may leave a joint too slow for check's step:
@@ -160,14 +161,14 @@ def _hold(
     found: Refined,
     ratings: dict[str, float],
 ) -> None:
-    """Stiffen the joints that drift while a floating robot holds its keyframe: on a test stand,
-    and standing where it can stand."""
+    """Stiffen the joints that drift while the robot holds its keyframe: a fixed robot where
+    it is mounted; a floating one on a test stand, and standing where it can stand."""
     from robospec.physics.keyframe_hold import support_at
     from robospec.tune.search import significant
 
     allowed = HOLD_SHARE * float(checks.keyframe_hold.max_joint_drift)
     steps = int(checks.keyframe_hold.steps)
-    standing = support_at(sim, keyframe).stands
+    standing = not sim.fixed_root and support_at(sim, keyframe).stands
     before: dict[str, float] = {}  # joint -> its drift before its last raise
     previous: dict[str, tuple[float, float, float]] = {}
     stuck: set[str] = set()  # joints more stiffness did not help: their drift is not a sag
@@ -216,7 +217,8 @@ def _drift(
     start = sim.start(keyframe)
     _apply(sim, gains)
     sim.hold_drive_targets()
-    pin = sim.test_stand() if pinned else None  # as robospec check's test stand holds it
+    # as robospec check holds it: a floating root on its test stand, a fixed one where it is
+    pin = sim.test_stand() if pinned and not sim.fixed_root else None
     drift = np.zeros(len(sim.joint_names))
     for _ in range(steps * (sim.sim_freq // sim.control_freq)):
         sim.sim_step(pin)

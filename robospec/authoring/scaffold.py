@@ -33,6 +33,7 @@ from typing import Any
 
 from robospec.authoring.analysis import RobotAnalysis, immobile_reason
 from robospec.authoring.description_file import DescriptionFile
+from robospec.authoring.filtered_pairs import filtered_cliques
 from robospec.authoring.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
 from robospec.authoring.joint_gains import joint_gains
 from robospec.authoring.rest_pose import RestPose
@@ -43,6 +44,7 @@ from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
 from robospec.maniskill.installed import registered_uids
 from robospec.model.names import NAME_PATTERN
+from robospec.resolve.collision_packing import clique_pairs
 from robospec.resolve.paths import ASSETS_PLACEHOLDER, maniskill_assets_dir
 from robospec.resolve.root_pose import root_body_pose
 
@@ -176,9 +178,14 @@ def scaffold(
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
     data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest)
-    if rest.never_collide:
+    filtered = filtered_cliques(source.description)
+    kept_apart = {pair for links in filtered for pair in clique_pairs(links)}
+    entries = [list(links) for links in filtered] + [
+        list(pair) for pair in rest.never_collide if tuple(sorted(pair)) not in kept_apart
+    ]
+    if entries:
         # (the header says why: a note here cannot follow the flow list the writer makes)
-        data["never_collide"] = [list(pair) for pair in rest.never_collide]
+        data["never_collide"] = entries
 
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
@@ -319,6 +326,18 @@ def _header(analysis: RobotAnalysis, rest: RestPose) -> tuple[str, ...]:
             "Mobile base: the base moves through its planar joints ("
             + ", ".join(body.planar_base)
             + "), driven by a base controller."
+        )
+    filtered = filtered_cliques(analysis.description)
+    if filtered:
+        paragraphs.append(
+            (
+                "never_collide's first entry"
+                if len(filtered) == 1
+                else f"never_collide's first {len(filtered)} entries"
+            )
+            + f": the {len(analysis.description.filtered_pairs)} pair(s) of links the MJCF's "
+            "collision filters keep apart (their geoms' contype and conaffinity share no bit), "
+            "which ManiSkill would collide."
         )
     paragraphs.append(_rest_paragraph(analysis, rest))
     for paragraph in paragraphs:

@@ -200,7 +200,8 @@ def _mimic_map(analysis: RobotAnalysis, joints: list[str]) -> dict[str, Any]:
         else:
             mimic[joint] = {
                 "joint": link.leader,
-                "multiplier": link.multiplier,
-                "offset": link.offset,
+                # an MJCF tendon's ratio is computed (0.00805 / 0.00705): written as gains are
+                "multiplier": _tidy(link.multiplier),
+                "offset": _tidy(link.offset),
             }
     return mimic

@@ -24,6 +24,18 @@ class Mimic:
 
 
 @dataclass(frozen=True)
+class Coupling:
+    """MJCF: a joint the model ties to another, which ManiSkill's loader lets loose (it reads
+    no ``<equality>`` or ``<tendon>``): ``follower = multiplier * leader + offset``, as a mimic
+    controller holds it. ``line``: the element that ties them."""
+
+    follower: str
+    mimic: Mimic
+    line: int
+    what: str  # "tendon 'T_FFJ1c'", for messages
+
+
+@dataclass(frozen=True)
 class Link:
     name: str
     line: int
@@ -133,6 +145,12 @@ class RobotDescription:
     # MJCF: the model's <key> keyframes and actuators
     keyframes: tuple[FileKeyframe, ...] = ()
     actuators: tuple[Actuator, ...] = ()
+    # MJCF: pairs of joints its <equality> or fixed <tendon>s tie together (robospec new drives
+    # each pair with a pd_joint_pos_mimic controller, as it does a URDF's <mimic>)
+    couplings: tuple[Coupling, ...] = ()
+    # MJCF: pairs of links (sorted) whose geoms MuJoCo never lets collide (contype/conaffinity)
+    # and ManiSkill collides (robospec new declares them never_collide where bits allow)
+    filtered_pairs: tuple[tuple[str, str], ...] = ()
     _links_by_name: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
     _joints_by_name: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
 

@@ -46,9 +46,11 @@ from robospec.description.facts import (
     Link,
     RobotDescription,
 )
+from robospec.description.mjcf_constraints import joint_couplings, robot_names
 from robospec.description.mjcf_control import file_actuators, file_keyframes
 from robospec.description.mjcf_frames import IDENTITY_POSE, Unparsable, body_pose
 from robospec.description.mjcf_gaps import loader_gaps
+from robospec.description.mjcf_geoms import filtered_pairs
 from robospec.description.mjcf_loaded import (
     Defaults,
     LoadedBody,
@@ -237,6 +239,7 @@ def parse_mjcf(
         if joint.type in ACTIVE_JOINT_TYPES:
             active.append(joint.name)
     links = tuple(Link(name, by_name[name].line) for name in order)
+    actuators = file_actuators(loaded)
     try:
         root_pose = body_pose(robot_element.attrib, use_degrees, eulerseq)
     except Unparsable:
@@ -255,7 +258,14 @@ def parse_mjcf(
             root_body_pose=root_pose,
             root_body_offset=root_pose if body is robot_element else IDENTITY_POSE,
             keyframes=file_keyframes(loaded, tuple(active), root_pose),
-            actuators=file_actuators(loaded),
+            actuators=actuators,
+            couplings=joint_couplings(
+                loaded,
+                robot_names(loaded),
+                {j.name: (j.lower, j.upper) for j in joints},
+                frozenset(a.joint for a in actuators if a.joint is not None),
+            ),
+            filtered_pairs=filtered_pairs(loaded),
         ),
         diagnostics,
     )

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from lxml import etree
 
+from robospec.description.facts import Coupling, Mimic
 from robospec.description.mjcf_loaded import LoadedMjcf
 from robospec.description.mjcf_structure import names
 from robospec.diagnostics import Diagnostic, warning
@@ -126,6 +127,81 @@ def _coupling(
         # c_leader q_leader + c_follower q_follower = poly[0]
         entry = _mimic_entry(follower, leader, -c_leader / c_follower, poly[0] / c_follower)
     return what, joints, entry
+
+
+# a fixed tendon of two joints whose limited range lets the follower stray from the ratio its
+# coefficients set by at most this share of the follower's own range is a coupling (the Shadow
+# hand's T_FFJ1c, 0.00705 FFJ0 - 0.00805 FFJ1 in [-0.001, 0.001]: 0.28 rad of 1.57, 18 %);
+# wider ones only bound a sum of angles (its T_FFJ1u: 5.2 rad, more than the whole range)
+TIGHT_TENDON_SHARE = 0.25
+
+
+def _rule(
+    terms: list[tuple[str, float]], value: float, driven: frozenset[str]
+) -> tuple[str, Mimic] | None:
+    """(follower, its mimic rule) for ``c_a q_a + c_b q_b = value``: the joint an actuator
+    drives leads (the other is the one ManiSkill leaves loose), else the first."""
+    (first, c_first), (second, c_second) = terms
+    if first not in driven and second in driven:
+        (first, c_first), (second, c_second) = (second, c_second), (first, c_first)
+    if c_second == 0 or first == second:
+        return None
+    return second, Mimic(first, -c_first / c_second, value / c_second)
+
+
+def joint_couplings(
+    loaded: LoadedMjcf,
+    robot: Robot,
+    limits: dict[str, tuple[float | None, float | None]],
+    driven: frozenset[str],
+) -> tuple[Coupling, ...]:
+    """The pairs of the robot's joints the model ties together, each as a mimic rule: an
+    ``<equality>`` between two joints, or between a tendon of two joints and nothing, and a
+    fixed tendon of two joints whose range holds them to one ratio (:data:`TIGHT_TENDON_SHARE`).
+    ``limits``: each joint's range; ``driven``: the joints an actuator drives."""
+    tendons = _fixed_tendons(loaded)
+    found: dict[str, Coupling] = {}
+
+    def add(element: etree._Element, rule: tuple[str, Mimic] | None, what: str) -> None:
+        if rule is not None and rule[0] not in found and rule[1].joint not in found:
+            found[rule[0]] = Coupling(rule[0], rule[1], loaded.where(element).line, what)
+
+    used: set[str] = set()
+    for section in loaded.sections("equality"):
+        for element in loaded.includes.children(section):
+            poly = (*_floats(element.get("polycoef"), (0.0, 1.0)), 0.0, 0.0, 0.0, 0.0, 0.0)
+            if any(c != 0 for c in poly[2:5]):
+                continue  # not linear: no mimic rule says it
+            if element.tag == "joint":
+                first, second = element.get("joint1", ""), element.get("joint2")
+                if first in robot.joints and second in robot.joints and poly[1] != 0:
+                    # MuJoCo: joint1 = polycoef(joint2)
+                    add(element, (first, Mimic(second, poly[1], poly[0])), f"equality '{first}'")
+            elif element.tag == "tendon" and element.get("tendon2") is None:
+                name = element.get("tendon1", "")
+                used.add(name)
+                terms = tendons.get(name, [])
+                if len(terms) == 2 and all(j in robot.joints for j, _ in terms):
+                    add(element, _rule(terms, poly[0], driven), f"tendon '{name}'")
+    for section in loaded.sections("tendon"):
+        for element in loaded.includes.find_all(section, "fixed"):
+            name = element.get("name", "")
+            terms = tendons.get(name, [])
+            if name in used or len(terms) != 2 or not all(j in robot.joints for j, _ in terms):
+                continue
+            band = _floats(element.get("range"), ())
+            if element.get("limited") == "false" or len(band) != 2 or band[1] < band[0]:
+                continue
+            rule = _rule(terms, (band[0] + band[1]) / 2, driven)
+            if rule is None:
+                continue
+            follower, coefficient = rule[0], dict(terms)[rule[0]]
+            lower, upper = limits.get(follower, (None, None))
+            if lower is None or upper is None or upper <= lower:
+                continue
+            if (band[1] - band[0]) / abs(coefficient) <= TIGHT_TENDON_SHARE * (upper - lower):
+                add(element, rule, f"tendon '{name}'")
+    return tuple(found.values())
 
 
 def equalities(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:

@@ -344,6 +344,15 @@ def collision_filters(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         )
 
 
+def filtered_pairs(loaded: LoadedMjcf) -> tuple[tuple[str, str], ...]:
+    """The pairs of the robot's links (each sorted), both with collision shapes, that MuJoCo
+    never lets collide (their geoms' contype and conaffinity share no bit) and ManiSkill does:
+    RS073's."""
+    geoms = [geom for geom in loaded.geoms() if geom.type in COLLISION_TYPES]
+    added, _ = _collisions_added(loaded, geoms)
+    return tuple(sorted((min(a, b), max(a, b)) for a, b in added))
+
+
 def _int(text: str | None, default: int) -> int:
     try:
         return int(text) if text is not None else default

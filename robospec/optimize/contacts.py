@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from itertools import combinations
 from typing import Any
 
+from robospec.optimize.collision_matrix import posed_contacts
 from robospec.resolve.collision_packing import Pair, pair
 
 MANISKILL_OFFSET = 0.02  # SceneConfig.contact_offset: every shape of ManiSkill's scenes
@@ -72,28 +73,17 @@ def count_contacts_at(
     count, over the configurations ``rows``, the pairs of its links that make contacts (any
     contact point, touching or not), except the pairs in ``skip``; ``never``: the pairs the
     collision matrix found never touching."""
-    import numpy as np
-
-    scene, robot = loaded.scene, loaded.robot
-    links = list(robot.links)  # kept alive: contacts name these very objects
+    links = list(loaded.robot.links)  # kept alive: contacts name these very objects
     names = {id(link): link.name for link in links}
     for link in links:
         for shape in link.collision_shapes:
             shape.set_contact_offset(offset)
-    still = np.zeros(rows.shape[1])
-    origin = robot.get_root_pose()
     total = 0
     near_never: set[Pair] = set()
     nearest: float | None = None
     never_set = set(never)
-    for qpos in rows:
-        robot.set_qpos(qpos)
-        robot.set_qvel(still)
-        robot.set_root_pose(origin)  # as the matrix does: a free root stays where it was
-        robot.set_root_linear_velocity(np.zeros(3))
-        robot.set_root_angular_velocity(np.zeros(3))
-        scene.step()
-        made = _pairs_with_contacts(scene.get_contacts(), names)
+    for contacts in posed_contacts(loaded, rows):
+        made = _pairs_with_contacts(contacts, names)
         made = {key: gap for key, gap in made.items() if key not in skip}
         total += len(made)
         for key, gap in made.items():

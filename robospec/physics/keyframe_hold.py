@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robospec.diagnostics import warning
-from robospec.physics import ground
+from robospec.physics import ground, mimic_limits
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import Sim
@@ -176,7 +176,7 @@ def _hold(
         )
     if not problems:
         return Finding(NAME, sim.mode, subject, Status.PASS, summary, values)
-    mimic = _mimic_mismatch(
+    mimic, contradicted = _mimic_mismatch(
         run, sim, np.asarray(keyframe.qpos) if keyframe and keyframe.qpos else sim.start(keyframe)
     )
     if mimic:
@@ -199,9 +199,8 @@ def _hold(
         + ": "
         + "; ".join(problems)
         + ground.note(run, keyframe),
-        "the description's <mimic> and <limit> disagree (RS545): mend the description; no "
-        "gains or keyframe make the joint follow"
-        if mimic and "(RS545)" in mimic
+        mimic_limits.HINT
+        if contradicted
         else "stiffen the drives holding it (robospec tune finds gains), move the keyframe off "
         "joint limits and away from self-contact and the ground, or set "
         "checks.keyframe_hold.max_joint_drift/max_root_drift if the motion is expected",
@@ -262,13 +261,13 @@ def support_at(sim: Sim, keyframe: ResolvedKeyframe | None) -> Support:
     return support(sim.ground_contacts(), sim.centre_of_mass())
 
 
-def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> str | None:
+def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> tuple[str | None, bool]:
     """Why mimic joints move off a keyframe: the mode's ``pd_joint_pos_mimic`` controllers hold
-    each mimic joint at ``multiplier * control + offset``, whatever the keyframe says."""
-    from robospec.physics.mimic_limits import contradictions
-
+    each mimic joint at ``multiplier * control + offset``, whatever the keyframe says. The
+    flag is whether the description's <mimic> and <limit> contradict each other (RS545), so
+    that no keyframe could agree with both."""
     index = {name: i for i, name in enumerate(sim.joint_names)}
-    contradicted = contradictions(run)
+    contradicted = mimic_limits.contradictions(run)
     wrong = []
     for group in sim.groups():
         name = run.controller_name(sim.mode, group.name)
@@ -281,15 +280,15 @@ def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> str | None:
             if abs(held - start[index[joint]]) > run.settings.keyframe_hold.max_joint_drift:
                 wrong.append(f"'{joint}' is at {start[index[joint]]:.4g}, held at {held:.4g}")
     if not wrong:
-        return None
+        return None, False
     if contradicted:
         # no keyframe agrees with both: the description's <mimic> and <limit> disagree
         return "; ".join(c.words() for _, c in sorted(contradicted.items())) + (
             " (RS545): no keyframe agrees with both the mimic controllers and the limits ("
             + "; ".join(wrong)
             + ")"
-        )
+        ), True
     return (
         f"the keyframe disagrees with the mimic controllers, which hold each mimic joint at "
         f"multiplier * control joint + offset ({'; '.join(wrong)})"
-    )
+    ), False

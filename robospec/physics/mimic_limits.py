@@ -22,6 +22,11 @@ NAME = "mimic_limits"
 # the share of the relation's range that must lie within the joint's limits: below it, the
 # joint can follow only at a point (its limit), not over a range
 MIN_SHARE = 0.01
+# the mend, for RS545 itself and for every check the contradiction makes fail
+HINT = (
+    "the description's <mimic> and <limit> of this joint disagree: mend the description (the "
+    "multiplier's sign, or the limits); no gains or keyframe make the joint follow"
+)
 
 
 @dataclass(frozen=True)
@@ -95,8 +100,7 @@ def check(run: CheckRun) -> list[Finding]:
             "RS545",
             f"{found.words()}: it cannot follow, and stays pressed against its "
             "limit whatever the gains",
-            "the description's <mimic> and <limit> of this joint disagree: mend the "
-            "description (the multiplier's sign, or the limits)",
+            HINT,
         )
         summary = f"held in [{found.held_range[0]:.4g}, {found.held_range[1]:.4g}], limits "
         summary += f"[{found.limits[0]:.4g}, {found.limits[1]:.4g}]"

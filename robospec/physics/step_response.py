@@ -29,6 +29,7 @@ from typing import Protocol
 import numpy as np
 
 from robospec.diagnostics import Diagnostic
+from robospec.physics import mimic_limits
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import ControllerGroup, Sim
@@ -344,17 +345,9 @@ def _finding(
             else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
         )
         cause, hint = _slow_cause(sim, group, trace, slowest.joint, kind)
-        from robospec.physics.mimic_limits import contradiction_words
-
-        contradicted = contradiction_words(run, slowest.joint)
+        contradicted = mimic_limits.contradiction_words(run, slowest.joint)
         if contradicted is not None:  # a mimic joint its relation holds past its limits
-            cause, hint = (
-                contradicted,
-                (
-                    "the description's <mimic> and <limit> of this joint disagree: mend the "
-                    "description; no gains make it follow"
-                ),
-            )
+            cause, hint = contradicted, mimic_limits.HINT
         problems.append(
             run.fail(
                 where,
