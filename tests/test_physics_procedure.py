@@ -2,7 +2,8 @@
 self-contact blocks one way goes the other way; a floating robot's test stand holds it clear of
 the ground; a runaway is the robot's centre of mass moving, not a far-off root link swinging
 round. Each would have failed a corpus robot for the check's procedure, not for a defect. And
-which links ``robospec new`` finds adjacent through shapeless links (pose_probe)."""
+which links ``robospec new`` finds adjacent through shapeless links or a universal joint
+(pose_probe)."""
 
 from __future__ import annotations
 
@@ -79,7 +80,9 @@ STICK = f"""<?xml version="1.0"?>
 
 
 # a foot two hinges below its base through a link without shapes (as a spherical joint becomes
-# three hinges): adjacent; a thigh below a hip whose housing (welded to it) has shapes: not
+# three hinges): adjacent; a thigh below a hip whose housing (welded to it) has shapes, on a hinge
+# whose axis misses the hip's: not; a yoke on a cross with shapes whose two hinges' axes meet (a
+# universal joint, iCub's shoulder): adjacent
 CHAINED = f"""<?xml version="1.0"?>
 <robot name="chained">
   <link name="base">{INERTIAL}<collision>{BOX.format("0.1 0.1 0.1")}</collision></link>
@@ -98,10 +101,17 @@ CHAINED = f"""<?xml version="1.0"?>
     <origin xyz="-0.3 0 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
   <joint name="weld" type="fixed"><parent link="hip"/><child link="housing"/></joint>
   <joint name="d" type="revolute"><parent link="hip"/><child link="thigh"/>
+    <origin xyz="0 0 -0.05"/><axis xyz="0 1 0"/>{LIMIT}</joint>
+  <link name="cross">{INERTIAL}<collision>{BOX.format("0.02 0.02 0.02")}</collision></link>
+  <link name="yoke">{INERTIAL}
+    <collision><origin xyz="0 0 -0.2"/>{BOX.format("0.05 0.05 0.1")}</collision></link>
+  <joint name="e" type="revolute"><parent link="base"/><child link="cross"/>
+    <origin xyz="0 0.3 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
+  <joint name="f" type="revolute"><parent link="cross"/><child link="yoke"/>
     <axis xyz="0 1 0"/>{LIMIT}</joint>
 </robot>
 """
-JOINTS = {"walled": ["turn"], "stick": ["hip"], "chained": ["a", "b", "c", "d"]}
+JOINTS = {"walled": ["turn"], "stick": ["hip"], "chained": ["a", "b", "c", "d", "e", "f"]}
 
 
 def _spec(folder: Path, name: str, urdf: str, floating: bool) -> Path:
@@ -211,21 +221,25 @@ def test_a_runaway_is_the_centre_of_mass_moving_not_a_far_root_link_swinging(
         assert sim.root_speed()[0] == pytest.approx(3.0, rel=0.02)
 
 
-def test_new_finds_links_adjacent_through_links_without_shapes(robots: dict[str, Path]) -> None:
+def test_new_finds_links_adjacent_through_shapeless_links_or_a_universal_joint(
+    robots: dict[str, Path],
+) -> None:
     from robospec.authoring.pose_probe import Probe, Request
 
     request = Request(
         spec=str(robots["chained"]),
         uid="rs_test_chained",
         mode="pd_joint_pos",
-        joints=["a", "b", "c", "d"],
-        start=[0.0] * 4,
-        limits=[(-1.0, 1.0)] * 4,
+        joints=["a", "b", "c", "d", "e", "f"],
+        start=[0.0] * 6,
+        limits=[(-1.0, 1.0)] * 6,
     )
     probe = Probe(request)
     try:
         # the foot hangs from the base through a shapeless link: PhysX, which leaves a parent
-        # and its child alone, collides them; the thigh's parent is the hip with its housing
-        assert probe.adjacent() == [("base", "foot")]
+        # and its child alone, collides them; the thigh's parent is the hip with its housing,
+        # its hinge 5 cm below the hip's; the yoke turns with the cross about the point where
+        # their hinges' axes meet, its shapes nesting round the cross's
+        assert probe.adjacent() == [("base", "foot"), ("base", "yoke")]
     finally:
         probe.sim.close()

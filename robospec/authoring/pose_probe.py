@@ -29,6 +29,8 @@ import sys
 from dataclasses import dataclass, field
 from typing import Any
 
+from robospec.authoring.frames import Vector
+
 STEPS = (0.1, 0.2, 0.35, 0.5)
 FULL_TURN = 2 * math.pi
 FLOATING_LIFT = 10.0  # m: a floating robot is held well above the ground while contacts count
@@ -298,7 +300,8 @@ class Probe:
         links a spherical joint becomes in SAPIEN, one per axis; an MJCF body's joints after
         its first): as good as parent and child, whose collisions PhysX leaves out, yet PhysX
         collides these. DeepMimic's feet, three hinges below the shins, hit them whichever
-        way an ankle turned. Links welded together (fixed joints) count as one body."""
+        way an ankle turned. And the two ends of hinges whose axes meet, a universal joint
+        (below). Links welded together (fixed joints) count as one body."""
         if self._adjacent is not None:
             return self._adjacent
         links = {link.name: link for link in self.sim.robot.links}
@@ -324,6 +327,25 @@ class Probe:
                 continue
             for a in members[head]:
                 for b in members[body[node.name]]:
+                    found.add((min(a, b), max(a, b)))
+        # the yokes of a universal joint: two hinges whose axes meet, the link between them its
+        # cross (iCub's shoulder: pitch, roll and yaw about one centre). The yokes nest round
+        # the cross, millimetres apart, and turn about its centre: PhysX collides them (the
+        # cross has shapes, so the walk above stops at it), and a brush between them under a
+        # random target threw iCub's shoulder at 330 rad/s; as good as adjacent, they are
+        # declared never_collide as MoveIt's setup assistant disables adjacent links
+        for head in members:
+            cross = _parent(links[head])
+            if cross is None or not _hinge(links[head]):
+                continue
+            cross = links[body[cross.name]]
+            above = _parent(cross)
+            if above is None or not _hinge(cross) or body[above.name] not in members:
+                continue
+            if not axes_meet(_axis_line(links[head]), _axis_line(cross)):
+                continue
+            for a in members[head]:
+                for b in members[body[above.name]]:
                     found.add((min(a, b), max(a, b)))
         self._adjacent = sorted(found)
         return self._adjacent
@@ -364,6 +386,37 @@ class Probe:
 
 def _parent(link: Any) -> Any:
     return link.joint.parent_link if link.joint is not None else None
+
+
+def _hinge(link: Any) -> bool:
+    """Whether ``link`` turns about its parent on a revolute joint."""
+    joint = link.joint
+    return joint is not None and str(joint._objs[0].type).startswith("revolute")
+
+
+def _axis_line(link: Any) -> tuple[Vector, Vector]:
+    """The line ``link``'s joint turns about, in the world: (a point on it, its direction);
+    a PhysX joint turns about its frame's x axis."""
+    matrix = link.joint._objs[0].get_global_pose().to_transformation_matrix()
+    point = (float(matrix[0, 3]), float(matrix[1, 3]), float(matrix[2, 3]))
+    return point, (float(matrix[0, 0]), float(matrix[1, 0]), float(matrix[2, 0]))
+
+
+# m: how close two hinge axes pass for them to meet at one point (a spherical joint's axes,
+# written with the same origin, meet to rounding)
+MEET = 1e-4
+
+
+def axes_meet(first: tuple[Vector, Vector], second: tuple[Vector, Vector]) -> bool:
+    """Whether two lines, each (a point, a unit direction), cross at one point: not parallel,
+    and no farther apart than :data:`MEET` where they pass closest."""
+    (p, u), (q, v) = first, second
+    normal = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    size = math.sqrt(sum(c * c for c in normal))
+    if size < 1e-6:
+        return False  # parallel: turning about both moves in one plane, no cross between
+    gap = sum((q[i] - p[i]) * normal[i] for i in range(3)) / size
+    return abs(gap) <= MEET
 
 
 def _fixed(link: Any) -> bool:
