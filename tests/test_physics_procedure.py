@@ -81,8 +81,9 @@ STICK = f"""<?xml version="1.0"?>
 
 # a foot two hinges below its base through a link without shapes (as a spherical joint becomes
 # three hinges): adjacent; a thigh below a hip whose housing (welded to it) has shapes, on a hinge
-# whose axis misses the hip's: not; a yoke on a cross with shapes whose two hinges' axes meet (a
-# universal joint, iCub's shoulder): adjacent
+# whose axis misses the hip's: not. Two universal joints (a cross with shapes between hinges whose
+# axes meet, iCub's shoulder): the yoke nesting 3 mm beside the base is declared, the far one not;
+# nor one 3 mm beside it whose second hinge is 5 cm off the first's axis
 CHAINED = f"""<?xml version="1.0"?>
 <robot name="chained">
   <link name="base">{INERTIAL}<collision>{BOX.format("0.1 0.1 0.1")}</collision></link>
@@ -103,15 +104,27 @@ CHAINED = f"""<?xml version="1.0"?>
   <joint name="d" type="revolute"><parent link="hip"/><child link="thigh"/>
     <origin xyz="0 0 -0.05"/><axis xyz="0 1 0"/>{LIMIT}</joint>
   <link name="cross">{INERTIAL}<collision>{BOX.format("0.02 0.02 0.02")}</collision></link>
-  <link name="yoke">{INERTIAL}
-    <collision><origin xyz="0 0 -0.2"/>{BOX.format("0.05 0.05 0.1")}</collision></link>
+  <link name="yoke">{INERTIAL}<collision>{BOX.format("0.05 0.05 0.05")}</collision></link>
   <joint name="e" type="revolute"><parent link="base"/><child link="cross"/>
-    <origin xyz="0 0.3 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
+    <origin xyz="0 0.078 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
   <joint name="f" type="revolute"><parent link="cross"/><child link="yoke"/>
     <axis xyz="0 1 0"/>{LIMIT}</joint>
+  <link name="far_cross">{INERTIAL}<collision>{BOX.format("0.02 0.02 0.02")}</collision></link>
+  <link name="far_yoke">{INERTIAL}
+    <collision><origin xyz="0 0 -0.2"/>{BOX.format("0.05 0.05 0.1")}</collision></link>
+  <joint name="g" type="revolute"><parent link="base"/><child link="far_cross"/>
+    <origin xyz="0 -0.3 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
+  <joint name="h" type="revolute"><parent link="far_cross"/><child link="far_yoke"/>
+    <axis xyz="0 1 0"/>{LIMIT}</joint>
+  <link name="offset_cross">{INERTIAL}<collision>{BOX.format("0.02 0.02 0.02")}</collision></link>
+  <link name="offset_yoke">{INERTIAL}<collision>{BOX.format("0.05 0.05 0.05")}</collision></link>
+  <joint name="i" type="revolute"><parent link="base"/><child link="offset_cross"/>
+    <origin xyz="0 -0.078 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
+  <joint name="j" type="revolute"><parent link="offset_cross"/><child link="offset_yoke"/>
+    <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/>{LIMIT}</joint>
 </robot>
 """
-JOINTS = {"walled": ["turn"], "stick": ["hip"], "chained": ["a", "b", "c", "d", "e", "f"]}
+JOINTS = {"walled": ["turn"], "stick": ["hip"], "chained": [*"abcdefghij"]}
 
 
 def _spec(folder: Path, name: str, urdf: str, floating: bool) -> Path:
@@ -221,7 +234,7 @@ def test_a_runaway_is_the_centre_of_mass_moving_not_a_far_root_link_swinging(
         assert sim.root_speed()[0] == pytest.approx(3.0, rel=0.02)
 
 
-def test_new_finds_links_adjacent_through_shapeless_links_or_a_universal_joint(
+def test_new_finds_links_adjacent_through_shapeless_links_or_nesting_round_a_universal_joint(
     robots: dict[str, Path],
 ) -> None:
     from robospec.authoring.pose_probe import Probe, Request
@@ -230,16 +243,19 @@ def test_new_finds_links_adjacent_through_shapeless_links_or_a_universal_joint(
         spec=str(robots["chained"]),
         uid="rs_test_chained",
         mode="pd_joint_pos",
-        joints=["a", "b", "c", "d", "e", "f"],
-        start=[0.0] * 6,
-        limits=[(-1.0, 1.0)] * 6,
+        joints=[*"abcdefghij"],
+        start=[0.0] * 10,
+        limits=[(-1.0, 1.0)] * 10,
     )
     probe = Probe(request)
     try:
         # the foot hangs from the base through a shapeless link: PhysX, which leaves a parent
         # and its child alone, collides them; the thigh's parent is the hip with its housing,
-        # its hinge 5 cm below the hip's; the yoke turns with the cross about the point where
-        # their hinges' axes meet, its shapes nesting round the cross's
-        assert probe.adjacent() == [("base", "foot"), ("base", "yoke")]
+        # its hinge 5 cm below the hip's
+        assert probe.adjacent() == [("base", "foot")]
+        # the yoke turns about the point where its cross's hinges meet, 3 mm beside the base:
+        # PhysX reports them in contact; the far yoke is 15 cm from it; the offset one is as
+        # near, but its hinges' axes pass 5 cm apart
+        assert probe.nesting_yokes([0.0] * 10) == [("base", "yoke")]
     finally:
         probe.sim.close()

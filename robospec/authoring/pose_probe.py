@@ -300,8 +300,7 @@ class Probe:
         links a spherical joint becomes in SAPIEN, one per axis; an MJCF body's joints after
         its first): as good as parent and child, whose collisions PhysX leaves out, yet PhysX
         collides these. DeepMimic's feet, three hinges below the shins, hit them whichever
-        way an ankle turned. And the two ends of hinges whose axes meet, a universal joint
-        (below). Links welded together (fixed joints) count as one body."""
+        way an ankle turned. Links welded together (fixed joints) count as one body."""
         if self._adjacent is not None:
             return self._adjacent
         links = {link.name: link for link in self.sim.robot.links}
@@ -328,12 +327,26 @@ class Probe:
             for a in members[head]:
                 for b in members[body[node.name]]:
                     found.add((min(a, b), max(a, b)))
-        # the yokes of a universal joint: two hinges whose axes meet, the link between them its
-        # cross (iCub's shoulder: pitch, roll and yaw about one centre). The yokes nest round
-        # the cross, millimetres apart, and turn about its centre: PhysX collides them (the
-        # cross has shapes, so the walk above stops at it), and a brush between them under a
-        # random target threw iCub's shoulder at 330 rad/s; as good as adjacent, they are
-        # declared never_collide as MoveIt's setup assistant disables adjacent links
+        self._adjacent = sorted(found)
+        return self._adjacent
+
+    def nesting_yokes(self, qpos: list[float]) -> list[tuple[str, str]]:
+        """The two ends of hinges whose axes meet (a universal joint, the link between them its
+        cross: iCub's shoulder, pitch, roll and yaw about one centre) whose shapes PhysX
+        reports in contact at ``qpos``, within its contact offset: they nest round the cross,
+        millimetres apart, and PhysX collides them (the cross has shapes: :meth:`adjacent`'s
+        walk stops at it). A brush between iCub's upper arm and shoulder_1, 2.4 mm apart at
+        rest, took a 1067 N s impulse in one physics step and threw its shoulders to
+        330 rad/s under random actions. Ends that are apart at rest (TALOS's hand and
+        forearm about its wrist) are left colliding: a hand let into the forearm drags its
+        fingers, which still collide, past their limits."""
+        links = {link.name: link for link in self.sim.robot.links}
+        body = {name: _welded_top(links[name]) for name in links}
+        members: dict[str, list[str]] = {}
+        for name in links:
+            if links[name]._objs[0].collision_shapes:
+                members.setdefault(body[name], []).append(name)
+        found: set[tuple[str, str]] = set()
         for head in members:
             cross = _parent(links[head])
             if cross is None or not _hinge(links[head]):
@@ -347,8 +360,23 @@ class Probe:
             for a in members[head]:
                 for b in members[body[above.name]]:
                     found.add((min(a, b), max(a, b)))
-        self._adjacent = sorted(found)
-        return self._adjacent
+        if not found:
+            return []
+        near = self._reported(qpos)
+        return sorted(pair for pair in found if pair in near)
+
+    def _reported(self, qpos: list[float]) -> set[tuple[str, str]]:
+        """The pairs PhysX reports in contact at ``qpos`` (within its contact offset), as
+        :meth:`contacts` poses the robot, without counting the pose as tried."""
+        from robospec.resolve.resolved import ResolvedKeyframe
+
+        lift = FLOATING_LIFT if self.request.floating else 0.0
+        self.sim.start(
+            ResolvedKeyframe("rest", (0.0, 0.0, lift), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
+        )
+        self.sim.hold_drive_targets()
+        self.sim.sim_step()
+        return set(self.sim.self_contacts())
 
     def mount_height(self, qpos: list[float]) -> float | None:
         """For a fixed robot whose moving links reach below the ground at ``qpos`` (its root at
@@ -419,6 +447,13 @@ def axes_meet(first: tuple[Vector, Vector], second: tuple[Vector, Vector]) -> bo
     return abs(gap) <= MEET
 
 
+def _welded_top(link: Any) -> str:
+    """The top link of the welded body ``link`` belongs to (fixed joints up from it)."""
+    while _fixed(link) and _parent(link) is not None:
+        link = _parent(link)
+    return str(link.name)
+
+
 def _fixed(link: Any) -> bool:
     """Whether ``link`` is welded to its parent (a fixed joint)."""
     joint = link.joint
@@ -430,7 +465,10 @@ def run(request: Request) -> dict[str, Any]:
     try:
         qpos, contacts = probe.search()
         height = probe.standing_height(qpos) if request.floating else probe.mount_height(qpos)
-        adjacent = probe.adjacent()
+        # the nesting yokes after the pairs joined through shapeless links (the order of the
+        # scaffold's comment)
+        shapeless = probe.adjacent()
+        adjacent = shapeless + [p for p in probe.nesting_yokes(qpos) if p not in shapeless]
     finally:
         probe.sim.close()
     answer: dict[str, Any] = {

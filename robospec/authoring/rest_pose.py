@@ -52,8 +52,8 @@ class RestPose:
     # (w, x, y, z): how a floating robot's root stands at rest (RobotAnalysis.upright: turned
     # for a description written y-up)
     upright: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
-    # pairs joined only through links without collision shapes, or the ends of two hinges
-    # whose axes meet (pose_probe's ``adjacent``):
+    # pairs joined only through links without collision shapes, or nesting round two hinges
+    # whose axes meet (pose_probe's ``adjacent`` and ``nesting_yokes``):
     # adjacent as parent and child are, whose collisions PhysX leaves out; declared
     # never_collide as MoveIt's setup assistant disables adjacent links
     adjacent: tuple[tuple[str, str], ...] = ()

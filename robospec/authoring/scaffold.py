@@ -372,8 +372,8 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
         pairs = ", ".join(f"{a} + {b}" for a, b in adjacent)
         text += (
             f" These are joined only through links without collision shapes (a joint of "
-            f"several axes), or are the two ends of hinges whose axes meet (a universal "
-            f"joint), adjacent as a parent and its child are, whose collisions PhysX "
+            f"several axes), or nest millimetres apart round a universal joint (two hinges "
+            f"whose axes meet), adjacent as a parent and its child are, whose collisions PhysX "
             f"leaves out; PhysX collides these, and they are declared never_collide: {pairs}."
         )
     if rest.overlapping:
