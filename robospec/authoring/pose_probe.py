@@ -26,6 +26,7 @@ import json
 import math
 import random
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -181,19 +182,28 @@ class Probe:
     ) -> tuple[list[float], Contacts] | None:
         """The smallest move of one joint that undoes a contact (smaller steps first)."""
         for step in STEPS:
-            for index in joints:
-                for sign in (1.0, -1.0):
-                    if self.tried >= self.request.budget:
-                        return None
-                    trial = list(qpos)
-                    trial[index] = qpos[index] + sign * step * self.span(index)
-                    trial = self.follow(trial)
-                    if trial == qpos:
-                        continue
-                    touching = self.contacts(trial)
-                    if better(touching, contacts):
-                        return trial, touching
+            for move in self._moves(qpos, step, joints):
+                if move is None:  # the budget is spent
+                    return None
+                if better(move[1], contacts):
+                    return move
         return None
+
+    def _moves(
+        self, qpos: list[float], step: float, joints: list[int]
+    ) -> Iterator[tuple[list[float], Contacts] | None]:
+        """Each of ``joints`` moved ``step`` of its span each way from ``qpos`` (mimics
+        following), with the contacts there; ``None`` last when the budget runs out first."""
+        for index in joints:
+            for sign in (1.0, -1.0):
+                if self.tried >= self.request.budget:
+                    yield None
+                    return
+                trial = list(qpos)
+                trial[index] = qpos[index] + sign * step * self.span(index)
+                trial = self.follow(trial)
+                if trial != qpos:
+                    yield trial, self.contacts(trial)
 
     def _descend(
         self, qpos: list[float], contacts: Contacts
@@ -234,19 +244,13 @@ class Probe:
         thigh, where the shoulder's lifts it out of both."""
         for step in STEPS:
             best: tuple[float, list[float], Contacts] | None = None
-            for index in joints:
-                for sign in (1.0, -1.0):
-                    if self.tried >= self.request.budget:
-                        return None
-                    trial = list(qpos)
-                    trial[index] = qpos[index] + sign * step * self.span(index)
-                    trial = self.follow(trial)
-                    if trial == qpos:
-                        continue
-                    touching = self.contacts(trial)
-                    left = self._intrusion(touching, base)
-                    if left < depth - DESCENT_GAIN and (best is None or left < best[0]):
-                        best = left, trial, touching
+            for move in self._moves(qpos, step, joints):
+                if move is None:  # the budget is spent
+                    return None
+                trial, touching = move
+                left = self._intrusion(touching, base)
+                if left < depth - DESCENT_GAIN and (best is None or left < best[0]):
+                    best = left, trial, touching
             if best is not None:
                 return best[1], best[2]
         return None
