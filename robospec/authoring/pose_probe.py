@@ -104,18 +104,10 @@ class Probe:
         self._adjacent: list[tuple[str, str]] | None = None  # (adjacent(), once: links stay)
 
     def contacts(self, qpos: list[float]) -> Contacts:
-        from robospec.resolve.resolved import ResolvedKeyframe
-
         self.tried += 1
-        lift = FLOATING_LIFT if self.request.floating else 0.0
-        self.sim.start(
-            ResolvedKeyframe("rest", (0.0, 0.0, lift), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
-        )
-        self.sim.hold_drive_targets()
-        self.sim.sim_step()
         touching = {
             pair: depth
-            for pair, depth in sorted(self.sim.self_contacts().items())
+            for pair, depth in sorted(self._posed(qpos).items())
             if depth >= -self.request.clearance
         }
         self.always = set(touching) if self.always is None else self.always & set(touching)
@@ -307,20 +299,7 @@ class Probe:
         way an ankle turned. Links welded together (fixed joints) count as one body."""
         if self._adjacent is not None:
             return self._adjacent
-        links = {link.name: link for link in self.sim.robot.links}
-        body = {name: name for name in links}  # link -> the top link of its welded body
-
-        def top(name: str) -> str:
-            link = links[name]
-            while _fixed(link) and _parent(link) is not None:
-                link = _parent(link)
-            return str(link.name)
-
-        members: dict[str, list[str]] = {}
-        for name in links:
-            body[name] = top(name)
-            if links[name]._objs[0].collision_shapes:
-                members.setdefault(body[name], []).append(name)
+        links, body, members = self._bodies()
         found = set()
         for head in members:
             node, skipped = _parent(links[head]), False
@@ -334,6 +313,18 @@ class Probe:
         self._adjacent = sorted(found)
         return self._adjacent
 
+    def _bodies(self) -> tuple[dict[str, Any], dict[str, str], dict[str, list[str]]]:
+        """The robot's links by name; each link's welded body (the top link of the links
+        fixed joints hold together); each body's links with collision shapes, for the bodies
+        that have any."""
+        links = {link.name: link for link in self.sim.robot.links}
+        body = {name: _welded_top(links[name]) for name in links}
+        members: dict[str, list[str]] = {}
+        for name in links:
+            if links[name]._objs[0].collision_shapes:
+                members.setdefault(body[name], []).append(name)
+        return links, body, members
+
     def nesting_yokes(self, qpos: list[float]) -> list[tuple[str, str]]:
         """The two ends of hinges whose axes meet (a universal joint, the link between them its
         cross: iCub's shoulder, pitch, roll and yaw about one centre) whose shapes PhysX
@@ -344,12 +335,7 @@ class Probe:
         330 rad/s under random actions. Ends that are apart at rest (TALOS's hand and
         forearm about its wrist) are left colliding: a hand let into the forearm drags its
         fingers, which still collide, past their limits."""
-        links = {link.name: link for link in self.sim.robot.links}
-        body = {name: _welded_top(links[name]) for name in links}
-        members: dict[str, list[str]] = {}
-        for name in links:
-            if links[name]._objs[0].collision_shapes:
-                members.setdefault(body[name], []).append(name)
+        links, body, members = self._bodies()
         found: set[tuple[str, str]] = set()
         for head in members:
             cross = _parent(links[head])
@@ -366,12 +352,12 @@ class Probe:
                     found.add((min(a, b), max(a, b)))
         if not found:
             return []
-        near = self._reported(qpos)
+        near = self._posed(qpos)  # not a pose the search tried
         return sorted(pair for pair in found if pair in near)
 
-    def _reported(self, qpos: list[float]) -> set[tuple[str, str]]:
-        """The pairs PhysX reports in contact at ``qpos`` (within its contact offset), as
-        :meth:`contacts` poses the robot, without counting the pose as tried."""
+    def _posed(self, qpos: list[float]) -> dict[tuple[str, str], float]:
+        """Every pair PhysX reports in contact (within its contact offset) with the robot at
+        ``qpos``, its drives holding it there for one physics step: pair -> depth."""
         from robospec.resolve.resolved import ResolvedKeyframe
 
         lift = FLOATING_LIFT if self.request.floating else 0.0
@@ -380,7 +366,7 @@ class Probe:
         )
         self.sim.hold_drive_targets()
         self.sim.sim_step()
-        return set(self.sim.self_contacts())
+        return dict(self.sim.self_contacts())
 
     def mount_height(self, qpos: list[float]) -> float | None:
         """For a fixed robot whose moving links reach below the ground at ``qpos`` (its root at

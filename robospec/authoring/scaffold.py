@@ -201,7 +201,7 @@ def scaffold(
             "what ManiSkill's tasks call (PickCube-v1: tcp_pose, is_grasping, is_static): "
             "guessed from the gripper, check them"
         )
-    return SpecDoc(data, _header(analysis, rest), notes)
+    return SpecDoc(data, _header(analysis, rest, filtered), notes)
 
 
 def _gains_note(analysis: RobotAnalysis, refined: bool) -> str:
@@ -275,7 +275,9 @@ def _tidy(value: float) -> float:
     return float(round(value, 6)) + 0.0  # +0.0: never write -0.0
 
 
-def _header(analysis: RobotAnalysis, rest: RestPose) -> tuple[str, ...]:
+def _header(
+    analysis: RobotAnalysis, rest: RestPose, filtered: list[tuple[str, ...]]
+) -> tuple[str, ...]:
     source = analysis.source
     body = analysis.body
     lines = [
@@ -327,8 +329,7 @@ def _header(analysis: RobotAnalysis, rest: RestPose) -> tuple[str, ...]:
             + ", ".join(body.planar_base)
             + "), driven by a base controller."
         )
-    filtered = filtered_cliques(analysis.description)
-    if filtered:
+    if filtered:  # never_collide's entries for the MJCF's collision filters
         paragraphs.append(
             (
                 "never_collide's first entry"
