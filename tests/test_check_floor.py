@@ -1,0 +1,69 @@
+"""`robospec check`'s random actions blame the floor, not the robot, for what a joint does while
+the floor presses on a link it moves, unless the robot stands on that link.
+
+The robot is tests/data/check/column_*.urdf: a 20 kg column with a 20 g finger, stood leaning so
+that it topples. With the finger at its top, the column lands on it and the floor pushes the
+finger through its limit, as random actions topple TALOS onto a 26 g fingertip: a warning, and
+the robot passes. With the finger at its foot, the lowest link it leans on, the same push is a
+link the robot stands on giving way: an error.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import ROOT
+
+from robospec.diagnostics import Severity
+from robospec.physics.batch import RobotReport, check_paths
+from robospec.physics.results import Options
+
+pytestmark = pytest.mark.maniskill
+
+DATA = ROOT / "tests" / "data" / "check"
+
+
+@pytest.fixture(scope="module")
+def reports(tmp_path_factory: pytest.TempPathFactory) -> dict[str, RobotReport]:
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+        found, extra = check_paths([DATA / "column_top.yaml", DATA / "column_foot.yaml"], Options())
+    assert extra == []
+    return {Path(r.spec).stem: r for r in found}
+
+
+def _random_actions(report: RobotReport, code: str) -> list:
+    return [
+        d
+        for f in report.findings
+        if f.check == "random_actions" and f.subject == "from leaning"
+        for d in f.diagnostics
+        if d.code == code
+    ]
+
+
+def test_a_free_robot_toppled_onto_a_light_link_passes_with_the_floor_named(
+    reports: dict[str, RobotReport],
+) -> None:
+    report = reports["column_top"]
+    assert not report.failed, [d.format_text() for d in report.all_diagnostics]
+    for code, what in [("RS503", "past its limit"), ("RS504", "ran away at")]:
+        (diagnostic,) = _random_actions(report, code)
+        assert diagnostic.severity is Severity.WARNING
+        assert "joint 'finger_joint'" in diagnostic.message and what in diagnostic.message
+        assert "not one the robot stands on, pressed on the ground" in diagnostic.message
+        assert "random actions toppled the free robot onto it" in diagnostic.message
+        assert diagnostic.hint is not None and "nothing to fix in the robot" in diagnostic.hint
+        assert "mounted" not in diagnostic.message + diagnostic.hint
+
+
+def test_a_link_the_free_robot_stands_on_giving_way_is_its_failure(
+    reports: dict[str, RobotReport],
+) -> None:
+    report = reports["column_foot"]
+    assert report.failed
+    (diagnostic,) = _random_actions(report, "RS503")
+    assert diagnostic.severity is Severity.ERROR
+    assert "joint 'finger_joint'" in diagnostic.message
+    assert "pressed on the ground" not in diagnostic.message
