@@ -83,7 +83,9 @@ STICK = f"""<?xml version="1.0"?>
 # three hinges): adjacent; a thigh below a hip whose housing (welded to it) has shapes, on a hinge
 # whose axis misses the hip's: not. Two universal joints (a cross with shapes between hinges whose
 # axes meet, iCub's shoulder): the yoke nesting 3 mm beside the base is declared, the far one not;
-# nor one 3 mm beside it whose second hinge is 5 cm off the first's axis
+# nor one 3 mm beside it whose second hinge is 5 cm off the first's axis. A flange welded under
+# the base, a plate welded to the flange 5 mm beside the base, and a bar hinged to the base
+# 2.5 cm below the flange: PhysX collides the bar with the flange and the plate with the base
 CHAINED = f"""<?xml version="1.0"?>
 <robot name="chained">
   <link name="base">{INERTIAL}<collision>{BOX.format("0.1 0.1 0.1")}</collision></link>
@@ -122,9 +124,43 @@ CHAINED = f"""<?xml version="1.0"?>
     <origin xyz="0 -0.078 0"/><axis xyz="1 0 0"/>{LIMIT}</joint>
   <joint name="j" type="revolute"><parent link="offset_cross"/><child link="offset_yoke"/>
     <origin xyz="0 0 0.05"/><axis xyz="0 1 0"/>{LIMIT}</joint>
+  <link name="flange">{INERTIAL}<collision>{BOX.format("0.03 0.03 0.03")}</collision></link>
+  <joint name="bolt" type="fixed"><parent link="base"/><child link="flange"/>
+    <origin xyz="0 0 -0.075"/></joint>
+  <link name="plate">{INERTIAL}
+    <collision><origin xyz="0.065 0 0.075"/>{BOX.format("0.02 0.02 0.02")}</collision></link>
+  <joint name="rivet" type="fixed"><parent link="flange"/><child link="plate"/></joint>
+  <link name="bar">{INERTIAL}<collision>{BOX.format("0.05 0.05 0.05")}</collision></link>
+  <joint name="k" type="revolute"><parent link="base"/><child link="bar"/>
+    <origin xyz="0 0 -0.14"/><axis xyz="0 0 1"/>{LIMIT}</joint>
 </robot>
 """
-JOINTS = {"walled": ["turn"], "stick": ["hip"], "chained": [*"abcdefghij"]}
+# two pincers, each a jaw sliding open along y and its mirror (a mimic follower, multiplier -1):
+# closed, the first pincer's jaws are 5 mm apart (the mechanism keeps them so), the second's
+# meet 2 mm deep (they touch closed, as fingers closing on nothing do)
+JAW = BOX.format("0.02 0.02 0.02")
+PINCERS = (
+    f"""<?xml version="1.0"?>
+<robot name="pincers">
+  <link name="base">{INERTIAL}<collision>{BOX.format("0.1 0.1 0.1")}</collision></link>
+"""
+    + "".join(
+        f"""  <link name="{jaw}{k}">{INERTIAL}<collision>{JAW}</collision></link>
+  <joint name="{jaw}{k}" type="prismatic"><parent link="base"/><child link="{jaw}{k}"/>
+    <origin xyz="{x} {side * centre} 0"/><axis xyz="0 {side} 0"/>
+    <limit lower="0" upper="0.05" effort="10" velocity="1"/></joint>
+"""
+        for k, x, centre in [(1, 0.3, 0.0125), (2, -0.3, 0.009)]
+        for jaw, side in [("left", 1), ("right", -1)]
+    )
+    + "</robot>\n"
+)
+JOINTS = {
+    "walled": ["turn"],
+    "stick": ["hip"],
+    "chained": [*"abcdefghijk"],
+    "pincers": ["left1", "right1", "left2", "right2"],
+}
 
 
 def _spec(folder: Path, name: str, urdf: str, floating: bool) -> Path:
@@ -160,6 +196,7 @@ def robots(tmp_path_factory: pytest.TempPathFactory, maniskill: object) -> dict[
         "walled": _spec(folder, "walled", WALLED, floating=False),
         "stick": _spec(folder, "stick", STICK, floating=True),
         "chained": _spec(folder, "chained", CHAINED, floating=False),
+        "pincers": _spec(folder, "pincers", PINCERS, floating=False),
     }
     for spec in specs.values():
         compiled = compile_spec(spec)
@@ -234,7 +271,7 @@ def test_a_runaway_is_the_centre_of_mass_moving_not_a_far_root_link_swinging(
         assert sim.root_speed()[0] == pytest.approx(3.0, rel=0.02)
 
 
-def test_new_finds_links_adjacent_through_shapeless_links_or_nesting_round_a_universal_joint(
+def test_new_finds_links_adjacent_through_shapeless_links_welds_or_a_universal_joint(
     robots: dict[str, Path],
 ) -> None:
     from robospec.authoring.pose_probe import Probe, Request
@@ -243,19 +280,51 @@ def test_new_finds_links_adjacent_through_shapeless_links_or_nesting_round_a_uni
         spec=str(robots["chained"]),
         uid="rs_test_chained",
         mode="pd_joint_pos",
-        joints=[*"abcdefghij"],
-        start=[0.0] * 10,
-        limits=[(-1.0, 1.0)] * 10,
+        joints=[*"abcdefghijk"],
+        start=[0.0] * 11,
+        limits=[(-1.0, 1.0)] * 11,
     )
     probe = Probe(request)
     try:
         # the foot hangs from the base through a shapeless link: PhysX, which leaves a parent
         # and its child alone, collides them; the thigh's parent is the hip with its housing,
         # its hinge 5 cm below the hip's
-        assert probe.adjacent() == [("base", "foot")]
+        # (and through it from what is welded to the base)
+        assert probe.adjacent() == [("base", "foot"), ("flange", "foot"), ("foot", "plate")]
         # the yoke turns about the point where its cross's hinges meet, 3 mm beside the base:
         # PhysX reports them in contact; the far yoke is 15 cm from it; the offset one is as
         # near, but its hinges' axes pass 5 cm apart
-        assert probe.nesting_yokes([0.0] * 10) == [("base", "yoke")]
+        near = probe.posed([0.0] * 11)
+        assert probe.nesting_yokes(near) == [("base", "yoke")]
+        # welded to the base, the flange and the plate are the bar's parent as much as the
+        # base is, and the plate is the base: PhysX leaves out only the base and the bar
+        assert probe.welded_neighbours(near) == [("bar", "flange"), ("base", "plate")]
+    finally:
+        probe.sim.close()
+
+
+def test_new_leaves_out_the_parts_of_a_mechanism_its_coupling_keeps_apart(
+    robots: dict[str, Path],
+) -> None:
+    from robospec.authoring.pose_probe import Probe, Request
+
+    request = Request(
+        spec=str(robots["pincers"]),
+        uid="rs_test_pincers",
+        mode="pd_joint_pos",
+        joints=JOINTS["pincers"],
+        start=[0.0] * 4,
+        limits=[(0.0, 0.05)] * 4,
+        mimic=[(1, 0, -1.0, 0.0), (3, 2, -1.0, 0.0)],
+        parents={jaw: ("base", jaw) for jaw in JOINTS["pincers"]},
+    )
+    probe = Probe(request)
+    try:
+        # within PhysX's contact offsets closed, apart as the pincer opens: left out; the
+        # jaws that meet closed keep colliding
+        assert probe.mechanism_pairs([0.0] * 4) == [("left1", "right1")]
+        # without the coupling, nothing says the jaws stay apart
+        probe.request.mimic = []
+        assert probe.mechanism_pairs([0.0] * 4) == []
     finally:
         probe.sim.close()

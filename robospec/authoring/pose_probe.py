@@ -40,6 +40,9 @@ SEED = 0
 # much each must leave the pair shallower (m: more than the depth's noise between two loads)
 DESCENT_MOVES = 8
 DESCENT_GAIN = 0.002
+# poses of a mimic coupling's leader, evenly over its range, in which its links must not touch
+# to be kept apart by the mechanism (Probe.mechanism_pairs)
+MECHANISM_SAMPLES = 9
 # links this many active joints apart or fewer are neighbours (rest_pose.NEIGHBOURS)
 NEIGHBOURS = 2
 
@@ -107,7 +110,7 @@ class Probe:
         self.tried += 1
         touching = {
             pair: depth
-            for pair, depth in sorted(self._posed(qpos).items())
+            for pair, depth in sorted(self.posed(qpos).items())
             if depth >= -self.request.clearance
         }
         self.always = set(touching) if self.always is None else self.always & set(touching)
@@ -325,7 +328,7 @@ class Probe:
                 members.setdefault(body[name], []).append(name)
         return links, body, members
 
-    def nesting_yokes(self, qpos: list[float]) -> list[tuple[str, str]]:
+    def nesting_yokes(self, near: Contacts) -> list[tuple[str, str]]:
         """The two ends of hinges whose axes meet (a universal joint, the link between them its
         cross: iCub's shoulder, pitch, roll and yaw about one centre) whose shapes PhysX
         reports in contact at ``qpos``, within its contact offset: they nest round the cross,
@@ -350,12 +353,73 @@ class Probe:
             for a in members[head]:
                 for b in members[body[above.name]]:
                     found.add((min(a, b), max(a, b)))
-        if not found:
-            return []
-        near = self._posed(qpos)  # not a pose the search tried
         return sorted(pair for pair in found if pair in near)
 
-    def _posed(self, qpos: list[float]) -> dict[tuple[str, str], float]:
+    def welded_neighbours(self, near: Contacts) -> list[tuple[str, str]]:
+        """Pairs of ``near`` (the contacts PhysX reports at the rest pose, within its contact
+        offset) whose links fixed joints weld into one body, or into a parent body and its
+        child: PhysX leaves out the contacts of a link and its parent only, so a link collides
+        with whatever is welded to its parent, and links welded together collide with each
+        other, though neither pair can ever move apart. TALOS's gripper hangs below three
+        welded links (a force-torque sensor and its tool flange) whose shapes lie within
+        PhysX's contact offsets (2 cm a shape in ManiSkill's scenes) of its bars: their
+        contacts took impulses of hundreds of N s in one physics step and carried a
+        fingertip 0.12 rad past its limit on a test stand, 0.06 rad with them left out."""
+        links, body, _ = self._bodies()
+        found: set[tuple[str, str]] = set()
+        for a, b in near:
+            upper, lower = body[a], body[b]
+            if upper == lower:
+                found.add((a, b))
+                continue
+            for first, second in ((upper, lower), (lower, upper)):
+                parent = _parent(links[second])
+                if parent is not None and body[parent.name] == first:
+                    # the child body's joint joins its top link to one link of the parent body:
+                    # that pair PhysX leaves out itself
+                    if {a, b} != {second, parent.name}:
+                        found.add((a, b))
+        return sorted(found)
+
+    def mechanism_pairs(self, qpos: list[float]) -> list[tuple[str, str]]:
+        """Pairs of links that one mimic coupling moves (its leader's and followers' links)
+        which PhysX reports within its contact offsets yet which never touch as the leader
+        sweeps its range from ``qpos``, the followers following: the mechanism keeps them
+        apart. In the simulation separate drives stand in for the coupling (a closed linkage,
+        which a URDF cannot write, or a tendon), links swing off their coupled poses, and
+        these pairs meet. TALOS's gripper is a parallelogram of four bars a side; its two
+        sides' bars, 3 to 9 mm apart at rest, struck each other at 100 rad/s under random
+        actions and carried a bar 0.14 rad past its limit: left out, no joint passes it."""
+        groups: dict[int, set[int]] = {}
+        for follower, leader, _, _ in self.request.mimic:
+            groups.setdefault(leader, {leader}).add(follower)
+        found: set[tuple[str, str]] = set()
+        for leader, members in sorted(groups.items()):
+            low, high = self.request.limits[leader]
+            if low is None or high is None:
+                continue
+            joints = {self.request.joints[i] for i in members}
+            links = {link for link in self.request.parents if self._driven_by(link) in joints}
+            deepest: Contacts = {}
+            for k in range(MECHANISM_SAMPLES):
+                sample = list(qpos)
+                sample[leader] = low + (high - low) * k / (MECHANISM_SAMPLES - 1)
+                for pair, depth in self.posed(self.follow(sample)).items():
+                    if pair[0] in links and pair[1] in links:
+                        deepest[pair] = max(deepest.get(pair, -math.inf), depth)
+            limit = self.request.min_depth - DEPTH_NOISE
+            found.update(pair for pair, depth in deepest.items() if depth < limit)
+        return sorted(found)
+
+    def _driven_by(self, link: str) -> str | None:
+        """The active joint nearest above ``link`` (None for the root's welded body)."""
+        while link in self.request.parents:
+            link, joint = self.request.parents[link]
+            if joint in self.index:
+                return joint
+        return None
+
+    def posed(self, qpos: list[float]) -> dict[tuple[str, str], float]:
         """Every pair PhysX reports in contact (within its contact offset) with the robot at
         ``qpos``, its drives holding it there for one physics step: pair -> depth."""
         from robospec.resolve.resolved import ResolvedKeyframe
@@ -455,10 +519,14 @@ def run(request: Request) -> dict[str, Any]:
     try:
         qpos, contacts = probe.search()
         height = probe.standing_height(qpos) if request.floating else probe.mount_height(qpos)
-        # the nesting yokes after the pairs joined through shapeless links (the order of the
-        # scaffold's comment)
+        # the nesting yokes, welded neighbours and a mechanism's parts after the pairs joined
+        # through shapeless links (the order of the scaffold's comment)
         shapeless = probe.adjacent()
-        adjacent = shapeless + [p for p in probe.nesting_yokes(qpos) if p not in shapeless]
+        near = probe.posed(qpos)  # the rest pose, within PhysX's contact offset
+        found = (
+            probe.nesting_yokes(near) + probe.welded_neighbours(near) + probe.mechanism_pairs(qpos)
+        )
+        adjacent = shapeless + [pair for pair in dict.fromkeys(found) if pair not in shapeless]
     finally:
         probe.sim.close()
     answer: dict[str, Any] = {

@@ -373,9 +373,12 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
         pairs = ", ".join(f"{a} + {b}" for a, b in adjacent)
         text += (
             f" These are joined only through links without collision shapes (a joint of "
-            f"several axes), or nest millimetres apart round a universal joint (two hinges "
-            f"whose axes meet), adjacent as a parent and its child are, whose collisions PhysX "
-            f"leaves out; PhysX collides these, and they are declared never_collide: {pairs}."
+            f"several axes), nest millimetres apart round a universal joint (two hinges whose "
+            f"axes meet), or are welded (fixed joints) to one another or to a parent and its "
+            f"child, adjacent as a parent and its child are, whose collisions PhysX leaves out; "
+            f"or are parts of one mechanism that its mimic coupling keeps apart over its whole "
+            f"range, which drives standing in for the linkage let meet. PhysX collides these, "
+            f"and they are declared never_collide: {pairs}."
         )
     if rest.overlapping:
         pairs = ", ".join(f"{a} + {b}" for a, b in rest.overlapping)
