@@ -298,7 +298,7 @@ def test_new_finds_links_adjacent_through_shapeless_links_welds_or_a_universal_j
         assert probe.nesting_yokes(near) == [("base", "yoke")]
         # welded to the base, the flange and the plate are the bar's parent as much as the
         # base is, and the plate is the base: PhysX leaves out only the base and the bar
-        assert probe.welded_neighbours(near) == [("bar", "flange"), ("base", "plate")]
+        assert probe.welded_neighbours([0.0] * 11, near) == [("bar", "flange"), ("base", "plate")]
     finally:
         probe.sim.close()
 

@@ -40,8 +40,8 @@ SEED = 0
 # much each must leave the pair shallower (m: more than the depth's noise between two loads)
 DESCENT_MOVES = 8
 DESCENT_GAIN = 0.002
-# poses of a mimic coupling's leader, evenly over its range, in which its links must not touch
-# to be kept apart by the mechanism (Probe.mechanism_pairs)
+# poses of a joint (a mimic coupling's leader), evenly over its range, in which the links it
+# moves must not touch to be kept apart (Probe.mechanism_pairs, Probe.welded_neighbours)
 MECHANISM_SAMPLES = 9
 # links this many active joints apart or fewer are neighbours (rest_pose.NEIGHBOURS)
 NEIGHBOURS = 2
@@ -355,18 +355,21 @@ class Probe:
                     found.add((min(a, b), max(a, b)))
         return sorted(pair for pair in found if pair in near)
 
-    def welded_neighbours(self, near: Contacts) -> list[tuple[str, str]]:
-        """Pairs of ``near`` (the contacts PhysX reports at the rest pose, within its contact
-        offset) whose links fixed joints weld into one body, or into a parent body and its
-        child: PhysX leaves out the contacts of a link and its parent only, so a link collides
-        with whatever is welded to its parent, and links welded together collide with each
-        other, though neither pair can ever move apart. TALOS's gripper hangs below three
-        welded links (a force-torque sensor and its tool flange) whose shapes lie within
-        PhysX's contact offsets (2 cm a shape in ManiSkill's scenes) of its bars: their
-        contacts took impulses of hundreds of N s in one physics step and carried a
-        fingertip 0.12 rad past its limit on a test stand, 0.06 rad with them left out."""
+    def welded_neighbours(self, qpos: list[float], near: Contacts) -> list[tuple[str, str]]:
+        """Pairs of ``near`` (the contacts PhysX reports at ``qpos``, the rest pose, within its
+        contact offsets) whose links fixed joints weld into one body, or into a parent body and
+        its child, and that never touch over the whole range of the joint between them:
+        PhysX leaves out the contacts of a link and its parent only, so a link collides with
+        whatever is welded to its parent, and links welded together collide with each other.
+        TALOS's gripper hangs below three welded links (a force-torque sensor and its tool
+        flange) whose shapes lie within PhysX's contact offsets (2 cm a shape in ManiSkill's
+        scenes) of its bars: their contacts took impulses of hundreds of N s in one physics
+        step and carried a fingertip 0.12 rad past its limit on a test stand, 0.06 rad with
+        them left out. An upper arm that can swing into the pedestal its mount is welded to
+        keeps colliding with it."""
         links, body, _ = self._bodies()
         found: set[tuple[str, str]] = set()
+        across: dict[int, set[tuple[str, str]]] = {}  # joint index -> the pairs it moves apart
         for a, b in near:
             upper, lower = body[a], body[b]
             if upper == lower:
@@ -374,11 +377,24 @@ class Probe:
                 continue
             for first, second in ((upper, lower), (lower, upper)):
                 parent = _parent(links[second])
-                if parent is not None and body[parent.name] == first:
-                    # the child body's joint joins its top link to one link of the parent body:
-                    # that pair PhysX leaves out itself
-                    if {a, b} != {second, parent.name}:
-                        found.add((a, b))
+                joint = links[second].joint
+                # the child body's joint joins its top link to one link of the parent body:
+                # that pair PhysX leaves out itself
+                if parent is None or body[parent.name] != first or {a, b} == {second, parent.name}:
+                    continue
+                if joint is not None and joint.name in self.index:
+                    across.setdefault(self.index[joint.name], set()).add((a, b))
+        limit = self.request.min_depth - DEPTH_NOISE
+        for index, pairs in sorted(across.items()):
+            low, high = self.request.limits[index]
+            if low is None or high is None:
+                low, high = qpos[index] - math.pi, qpos[index] + math.pi
+            for k in range(MECHANISM_SAMPLES):
+                sample = list(qpos)
+                sample[index] = low + (high - low) * k / (MECHANISM_SAMPLES - 1)
+                posed = self.posed(sample)
+                pairs = {pair for pair in pairs if posed.get(pair, -math.inf) < limit}
+            found |= pairs
         return sorted(found)
 
     def mechanism_pairs(self, qpos: list[float]) -> list[tuple[str, str]]:
@@ -524,7 +540,9 @@ def run(request: Request) -> dict[str, Any]:
         shapeless = probe.adjacent()
         near = probe.posed(qpos)  # the rest pose, within PhysX's contact offset
         found = (
-            probe.nesting_yokes(near) + probe.welded_neighbours(near) + probe.mechanism_pairs(qpos)
+            probe.nesting_yokes(near)
+            + probe.welded_neighbours(qpos, near)
+            + probe.mechanism_pairs(qpos)
         )
         adjacent = shapeless + [pair for pair in dict.fromkeys(found) if pair not in shapeless]
     finally:
