@@ -275,3 +275,47 @@ def test_without_maniskill_the_scaffold_says_its_pose_was_not_checked(
     said = header(text)
     assert "rest keyframe: not contact-checked (ManiSkill is not installed)" in said
     assert re.search(r"standing height was not measured", said)
+
+
+def _hand_urdf() -> str:
+    """A wrist of two hinges, a palm, four fingers of three joints (the last mimicking the one
+    before, as a tendon couples them) and a thumb of four: the thumb is the longest chain."""
+    box = '<collision><geometry><box size="0.01 0.01 0.02"/></geometry></collision>'
+    limit = '<limit lower="0" upper="1.5" effort="1" velocity="1"/>'
+    links = ["forearm", "wrist", "palm"]
+    joints = [
+        ("wrist_yaw", "forearm", "wrist", "0 0 0.05", ""),
+        ("wrist_pitch", "wrist", "palm", "0 0 0.05", ""),
+    ]
+    # named as the Shadow hand's are (ffj1...): no gripper words in them
+    fingers = [("ff", 3), ("mf", 3), ("rf", 3), ("lf", 3), ("th", 4)]
+    for k, (finger, count) in enumerate(fingers):
+        parent = "palm"
+        for n in range(1, count + 1):
+            link = f"{finger}{n}"
+            links.append(link)
+            origin = f"{0.02 * k - 0.04} 0 0.05" if n == 1 else "0 0 0.02"
+            mimic = f'<mimic joint="{finger}j{n - 1}"/>' if n == 3 and count == 3 else ""
+            joints.append((f"{finger}j{n}", parent, link, origin, mimic))
+            parent = link
+    body = "".join(f'<link name="{name}">{INERTIAL}{box}</link>' for name in links)
+    body += "".join(
+        f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
+        f'<origin xyz="{origin}"/><axis xyz="1 0 0"/>{limit}{mimic}</joint>'
+        for name, parent, child, origin, mimic in joints
+    )
+    return f'<?xml version="1.0"?><robot name="hand">{body}</robot>'
+
+
+def test_a_hand_whose_thumb_is_its_longest_finger_keeps_the_thumb_out_of_the_arm(
+    tmp_path: Path,
+) -> None:
+    description = tmp_path / "hand.urdf"
+    description.write_text(_hand_urdf())
+    data, _ = scaffold(description, tmp_path / "hand.yaml")
+    groups = data["groups"]
+    # five chains part at the palm: the arm ends at the wrist, and the coupled finger joints
+    # are a hand's, not a gripper's
+    assert groups["arm"] == ["wrist_yaw", "wrist_pitch"]
+    assert "gripper" not in groups and {"ffj2", "ffj3"} <= set(groups["hand"])
+    assert [f"thj{n}" for n in range(1, 5)] in groups.values()

@@ -130,7 +130,11 @@ def guess_groups(description: RobotDescription, body: Morphology | None = None) 
     taken |= {joint for leg in legs for joint in leg.joints}
     gripper = [j.name for j in active if j.name not in taken and _is_gripper(description, j)]
     taken |= set(gripper)
-    arm, trunk = _arm_chain(tree, taken)
+    leader = {m.follower: m.leader for m in mimic}
+    # fingers hang from a palm, coupled or named as a gripper's or not: the chains that are
+    # not legs, wheels or a base
+    palm = bool(_palms(_chains(tree, taken - in_mimic - set(gripper)), leader))
+    arm, trunk = _arm_chain(tree, taken, leader)
     taken |= set(arm)
     rest = [j for j in active if j.name not in taken]
 
@@ -144,7 +148,7 @@ def guess_groups(description: RobotDescription, body: Morphology | None = None) 
     for leg in legs:
         result.add(leg.name, "leg", list(leg.joints))
     result.add("body" if trunk else "arm", "arm", arm)
-    hand = "gripper" if arm and not trunk else "hand"
+    hand = "gripper" if arm and not trunk and not palm else "hand"
     if gripper and in_mimic:
         result.add(hand, "gripper", gripper)
         result.add(f"{hand}_mimic", "mimic", sorted(in_mimic, key=order.__getitem__))
@@ -185,13 +189,37 @@ def _is_gripper(description: RobotDescription, joint: Joint) -> bool:
     return len(siblings) == 1
 
 
-def _arm_chain(tree: KinematicTree, taken: set[str]) -> tuple[list[str], bool]:
-    """The arm's joints, and whether they are only the trunk that tied chains share."""
+# chains parting this many independent ways or more at one joint hang from a palm: fingers (a
+# torso parts three ways, into two arms and a head; a gripper's linkage, however many bars,
+# one way: its bars follow one leader)
+PALM_BRANCHES = 4
+
+
+def _chains(tree: KinematicTree, taken: set[str]) -> list[list[str]]:
+    """Each leaf's active joints from the root, those in ``taken`` left out."""
     chains = [
         [j.name for j in tree.root_path(leaf) if j.is_active and j.name not in taken]
         for leaf in tree.leaves()
     ]
-    chains = [c for c in chains if c]
+    return [c for c in chains if c]
+
+
+def _palms(chains: list[list[str]], leader: dict[str, str]) -> set[tuple[str, ...]]:
+    """The joints above each palm (as a chain's head) where ``chains`` part into
+    :data:`PALM_BRANCHES` or more ways that no mimic coupling joins (``leader``: a follower's
+    leader)."""
+    ways: dict[tuple[str, ...], set[str]] = {}
+    for chain in chains:
+        for k, joint in enumerate(chain):
+            ways.setdefault(tuple(chain[:k]), set()).add(leader.get(joint, joint))
+    return {head for head, nexts in ways.items() if len(nexts) >= PALM_BRANCHES}
+
+
+def _arm_chain(
+    tree: KinematicTree, taken: set[str], leader: dict[str, str]
+) -> tuple[list[str], bool]:
+    """The arm's joints, and whether they are only the trunk that tied chains share."""
+    chains = _chains(tree, taken)
     if not chains:
         return [], False
     longest = max(len(c) for c in chains)
@@ -199,7 +227,11 @@ def _arm_chain(tree: KinematicTree, taken: set[str]) -> tuple[list[str], bool]:
     # identical fingers hanging off one link (a hand): no chain is the arm
     if len({tuple(c) for c in best}) > 1:
         return _common_head(best), True
-    return best[0], False
+    arm = best[0]
+    # a hand whose longest finger is its thumb (the Shadow hand's has five joints, the others
+    # four): the longest chain runs through the palm into the thumb; the arm ends at the palm
+    palms = [len(head) for head in _palms(chains, leader) if tuple(arm[: len(head)]) == head]
+    return (arm[: min(palms)] if palms else arm), False
 
 
 def _common_head(chains: list[list[str]]) -> list[str]:
