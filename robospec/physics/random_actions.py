@@ -76,14 +76,14 @@ def _drive_randomly(
     upper = sim.limits[:, 1] + settings.joint_limit_tolerance
     n_joints = len(sim.joint_names)
     trace = _Trace(
-        0,
-        np.zeros(n_joints),
-        np.zeros(n_joints),
-        0.0,
-        None,
-        [],
-        np.zeros(n_joints, dtype=bool),
-        np.zeros(n_joints, dtype=bool),
+        steps_run=0,
+        past_limit=np.zeros(n_joints),
+        top_speed=np.zeros(n_joints),
+        top_root_speed=0.0,
+        nan_step=None,
+        nan_joints=[],
+        grounded=np.zeros(n_joints, dtype=bool),
+        flung=np.zeros(n_joints, dtype=bool),
     )
     # a mounted robot's random targets drive it into the floor it stands on, and random actions
     # topple a free-standing one onto links never made to carry it: what a joint does while
