@@ -7,7 +7,10 @@ which links ``robospec new`` finds adjacent through shapeless links or a univers
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -271,21 +274,34 @@ def test_a_runaway_is_the_centre_of_mass_moving_not_a_far_root_link_swinging(
         assert sim.root_speed()[0] == pytest.approx(3.0, rel=0.02)
 
 
-def test_new_finds_links_adjacent_through_shapeless_links_welds_or_a_universal_joint(
-    robots: dict[str, Path],
-) -> None:
+@contextmanager
+def _probe(
+    robots: dict[str, Path], name: str, limits: tuple[float, float], **fields: Any
+) -> Iterator[Any]:
+    """``new``'s pose probe of robot ``name``, every joint at 0 and within ``limits``."""
     from robospec.authoring.pose_probe import Probe, Request
 
+    joints = JOINTS[name]
     request = Request(
-        spec=str(robots["chained"]),
-        uid="rs_test_chained",
+        spec=str(robots[name]),
+        uid=f"rs_test_{name}",
         mode="pd_joint_pos",
-        joints=[*"abcdefghijk"],
-        start=[0.0] * 11,
-        limits=[(-1.0, 1.0)] * 11,
+        joints=joints,
+        start=[0.0] * len(joints),
+        limits=[limits] * len(joints),
+        **fields,
     )
     probe = Probe(request)
     try:
+        yield probe
+    finally:
+        probe.sim.close()
+
+
+def test_new_finds_links_adjacent_through_shapeless_links_welds_or_a_universal_joint(
+    robots: dict[str, Path],
+) -> None:
+    with _probe(robots, "chained", (-1.0, 1.0)) as probe:
         # the foot hangs from the base through a shapeless link: PhysX, which leaves a parent
         # and its child alone, collides them; the thigh's parent is the hip with its housing,
         # its hinge 5 cm below the hip's
@@ -299,32 +315,21 @@ def test_new_finds_links_adjacent_through_shapeless_links_welds_or_a_universal_j
         # welded to the base, the flange and the plate are the bar's parent as much as the
         # base is, and the plate is the base: PhysX leaves out only the base and the bar
         assert probe.welded_neighbours([0.0] * 11, near) == [("bar", "flange"), ("base", "plate")]
-    finally:
-        probe.sim.close()
 
 
 def test_new_leaves_out_the_parts_of_a_mechanism_its_coupling_keeps_apart(
     robots: dict[str, Path],
 ) -> None:
-    from robospec.authoring.pose_probe import Probe, Request
-
-    request = Request(
-        spec=str(robots["pincers"]),
-        uid="rs_test_pincers",
-        mode="pd_joint_pos",
-        joints=JOINTS["pincers"],
-        start=[0.0] * 4,
-        limits=[(0.0, 0.05)] * 4,
+    with _probe(
+        robots,
+        "pincers",
+        (0.0, 0.05),
         mimic=[(1, 0, -1.0, 0.0), (3, 2, -1.0, 0.0)],
         parents={jaw: ("base", jaw) for jaw in JOINTS["pincers"]},
-    )
-    probe = Probe(request)
-    try:
+    ) as probe:
         # within PhysX's contact offsets closed, apart as the pincer opens: left out; the
         # jaws that meet closed keep colliding
         assert probe.mechanism_pairs([0.0] * 4) == [("left1", "right1")]
         # without the coupling, nothing says the jaws stay apart
         probe.request.mimic = []
         assert probe.mechanism_pairs([0.0] * 4) == []
-    finally:
-        probe.sim.close()

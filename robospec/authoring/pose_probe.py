@@ -384,17 +384,13 @@ class Probe:
                     continue
                 if joint is not None and joint.name in self.index:
                     across.setdefault(self.index[joint.name], set()).add((a, b))
-        limit = self.request.min_depth - DEPTH_NOISE
         for index, pairs in sorted(across.items()):
             low, high = self.request.limits[index]
             if low is None or high is None:
                 low, high = qpos[index] - math.pi, qpos[index] + math.pi
-            for k in range(MECHANISM_SAMPLES):
-                sample = list(qpos)
-                sample[index] = low + (high - low) * k / (MECHANISM_SAMPLES - 1)
-                posed = self.posed(sample)
-                pairs = {pair for pair in pairs if posed.get(pair, -math.inf) < limit}
-            found |= pairs
+            # (the joint alone: a mimic follower swept with its leader would not move)
+            deepest = self._deepest(qpos, index, low, high, coupled=False)
+            found.update(pair for pair in pairs if deepest.get(pair, -math.inf) < self._touch)
         return sorted(found)
 
     def mechanism_pairs(self, qpos: list[float]) -> list[tuple[str, str]]:
@@ -416,16 +412,32 @@ class Probe:
                 continue
             joints = {self.request.joints[i] for i in members}
             links = {link for link in self.request.parents if self._driven_by(link) in joints}
-            deepest: Contacts = {}
-            for k in range(MECHANISM_SAMPLES):
-                sample = list(qpos)
-                sample[leader] = low + (high - low) * k / (MECHANISM_SAMPLES - 1)
-                for pair, depth in self.posed(self.follow(sample)).items():
-                    if pair[0] in links and pair[1] in links:
-                        deepest[pair] = max(deepest.get(pair, -math.inf), depth)
-            limit = self.request.min_depth - DEPTH_NOISE
-            found.update(pair for pair, depth in deepest.items() if depth < limit)
+            deepest = self._deepest(qpos, leader, low, high, coupled=True)
+            found.update(
+                (a, b)
+                for (a, b), depth in deepest.items()
+                if a in links and b in links and depth < self._touch
+            )
         return sorted(found)
+
+    @property
+    def _touch(self) -> float:
+        """How deep a pair must be to touch, as robospec check counts it (less float noise)."""
+        return self.request.min_depth - DEPTH_NOISE
+
+    def _deepest(
+        self, qpos: list[float], index: int, low: float, high: float, coupled: bool
+    ) -> Contacts:
+        """Each pair PhysX reports, at its deepest, as joint ``index`` sweeps from ``low`` to
+        ``high`` in :data:`MECHANISM_SAMPLES` poses, the rest as in ``qpos`` (``coupled``: its
+        mimic followers following)."""
+        deepest: Contacts = {}
+        for k in range(MECHANISM_SAMPLES):
+            sample = list(qpos)
+            sample[index] = low + (high - low) * k / (MECHANISM_SAMPLES - 1)
+            for pair, depth in self.posed(self.follow(sample) if coupled else sample).items():
+                deepest[pair] = max(deepest.get(pair, -math.inf), depth)
+        return deepest
 
     def _driven_by(self, link: str) -> str | None:
         """The active joint nearest above ``link`` (None for the root's welded body)."""

@@ -182,6 +182,13 @@ def limit_excess(qpos: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.n
     return np.maximum(np.where(np.isfinite(excess), excess, 0.0), 0.0)
 
 
+def _worst(values: np.ndarray, excused: np.ndarray, threshold: float) -> int:
+    """The joint with the largest of ``values``: of those the floor does not excuse, where
+    one of them passes ``threshold`` (the robot's own failure is reported first)."""
+    own = np.where(excused, 0.0, values)
+    return int(np.argmax(own if own.max() > threshold else values))
+
+
 def _floor_warning(run: CheckRun, sim: Sim, code: str, what: str, did: str) -> Diagnostic:
     """``what`` happened to a joint while the floor pressed on a link it moves: a warning that
     says how it came there (random targets drove a mounted robot into its floor, or toppled a
@@ -248,8 +255,7 @@ def _problems(
     # the robot's own failures first: the floor's excuse covers only the joints it moved
     floor_limit = trace.grounded & (not buried)
     floor_speed = trace.flung & (not buried)
-    own = np.where(floor_limit, 0.0, past_limit)
-    worst = int(np.argmax(own if own.max() > 0 else past_limit))
+    worst = _worst(past_limit, floor_limit, 0.0)
     if past_limit[worst] > 0:
         went = (
             f"mode {sim.mode} ({origin}): joint '{sim.joint_names[worst]}' went "
@@ -275,8 +281,7 @@ def _problems(
                     "narrow the controller's lower/upper to the joint's range",
                 )
             )
-    own = np.where(floor_speed, 0.0, top_speed)
-    fastest = int(np.argmax(own if own.max() > settings.max_joint_speed else top_speed))
+    fastest = _worst(top_speed, floor_speed, settings.max_joint_speed)
     if top_speed[fastest] > settings.max_joint_speed:
         ran_away = (
             f"mode {sim.mode} ({origin}): joint '{sim.joint_names[fastest]}' ran away at "
