@@ -10,11 +10,11 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, SpecError
+from robospec.version import __version__
 
 if TYPE_CHECKING:
     from robospec.output.register import register, sim_config_for
 
-__version__ = "0.1.0"
 __all__ = ["Diagnostic", "SpecError", "__version__", "register", "sim_config_for"]
 
 

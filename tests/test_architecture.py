@@ -95,6 +95,89 @@ def test_robospec_has_no_import_cycle() -> None:
     assert cycles(import_graph()) == []
 
 
+# The floors of robospec, lowest first: a package may import only from floors below its own (a
+# module of the package's own, of course). Each name is a package of robospec/ or a module at its
+# top (``files``, ``pipeline``); ``robospec`` is the package's own __init__, the public API.
+LAYERS: tuple[frozenset[str], ...] = tuple(
+    frozenset(floor.split())
+    for floor in (
+        "diagnostics geometry version",  # problems, rotations and poses, the version: no inputs
+        "files reporting",  # the cache folder and atomic writes; diagnostics rendered
+        "load maniskill",  # spec text -> data + positions; where ManiSkill and its assets are
+        "model",  # the spec's models
+        "description",  # URDF/MJCF/xacro/SRDF -> located facts
+        "derive kinematics",  # mends of descriptions; their trees, frames and morphology
+        "compose",  # parts mounted into one description
+        "resolve",  # spec + description -> ResolvedRobot
+        "checks emit",  # semantic rules; the agent module's source
+        "pipeline",  # load -> model -> resolve -> checks
+        "output schema",  # build and register; the JSON Schema
+        "importer pictures",  # import from agent classes; pictures of robots
+        "physics optimize",  # check in SAPIEN; robots that simulate faster
+        "tune",  # gains fitted with check's measures
+        "authoring demo",  # new, inspect, doc; the demo tour and viewer
+        "lsp",  # the language server
+        "cli",  # the commands
+        "docgen",  # the generated docs pages
+        "robospec __main__",  # the public API
+    )
+)
+
+
+def _unit(module: str) -> str:
+    """The layer unit a module belongs to: its package under robospec/, or its own name for a
+    module at robospec/'s top."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else parts[0]
+
+
+def layer_violations(
+    graph: dict[str, set[str]], layers: tuple[frozenset[str], ...] = LAYERS
+) -> list[str]:
+    """Each import from a unit to one on its own floor or above, and each unit no floor names,
+    as ``source -> target`` lines."""
+    floor = {unit: index for index, units in enumerate(layers) for unit in units}
+    found = []
+    for source, targets in graph.items():
+        if _unit(source) not in floor:
+            found.append(f"{source}: on no floor")
+            continue
+        for target in sorted(targets):
+            low, high = _unit(target), _unit(source)
+            if low != high and floor.get(low, len(layers)) >= floor[high]:
+                found.append(f"{source} -> {target}")
+    return sorted(set(found))
+
+
+def test_each_package_imports_only_from_the_floors_below_it() -> None:
+    assert layer_violations(import_graph()) == []
+
+
+def test_the_floor_check_finds_an_import_upwards_a_sideways_one_and_an_unknown_package() -> None:
+    layers = (frozenset({"a"}), frozenset({"b", "c"}), frozenset({"d"}))
+    graph = {
+        "robospec.b.x": {"robospec.a.y"},  # down: allowed
+        "robospec.a.y": {"robospec.d"},  # up
+        "robospec.c": {"robospec.b.x"},  # sideways, on one floor
+        "robospec.e.z": set(),  # on no floor
+        "robospec.d.w": {"robospec.d.v", "robospec.c"},  # its own package; down
+    }
+    assert layer_violations(graph, layers) == [
+        "robospec.a.y -> robospec.d",
+        "robospec.c -> robospec.b.x",
+        "robospec.e.z: on no floor",
+    ]
+
+
+def test_the_version_is_the_package_metadata_s() -> None:
+    import tomllib
+
+    from robospec.version import __version__
+
+    project = tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text(encoding="utf-8"))
+    assert __version__ == project["project"]["version"]
+
+
 def test_the_cycle_finder_finds_a_cycle_through_a_function_level_import() -> None:
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
     assert cycles(graph) == [["a", "b", "c"]]
@@ -165,6 +248,7 @@ def test_each_check_module_is_one_rule_with_its_code_and_examples_and_runs_once(
 # physics, optimize, tune, the authoring commands); tests/test_lsp.py checks the running server.
 LSP_MAY_IMPORT = (
     "robospec.lsp",
+    "robospec.version",
     "robospec.pipeline",
     "robospec.load",
     "robospec.description",
@@ -183,8 +267,7 @@ def test_the_language_server_imports_only_the_validation_stages() -> None:
         for name, targets in graph.items()
         if name.startswith("robospec.lsp")
         for target in targets
-        # `robospec` itself: its __version__ (register is imported only when asked for)
-        if target != "robospec" and not target.startswith(LSP_MAY_IMPORT)
+        if not target.startswith(LSP_MAY_IMPORT)
     }
     assert outside == set()
 

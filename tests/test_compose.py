@@ -19,9 +19,9 @@ from pathlib import Path
 import pytest
 from conftest import CODE_EXAMPLES, SPECS
 
-from robospec.authoring.kinematics import urdf_kinematics
 from robospec.description import load_description
 from robospec.diagnostics import Severity
+from robospec.kinematics.forward import urdf_kinematics
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
 

@@ -28,7 +28,7 @@ def demo(tmp_path_factory: pytest.TempPathFactory) -> subprocess.CompletedProces
         [
             sys.executable,
             "-m",
-            "robospec.maniskill.demo",
+            "robospec.demo.tour",
             *(str(MANISKILL_SPECS / f"{name}.yaml") for name in SPECS),
             "-o",
             str(out),
@@ -116,5 +116,5 @@ def test_sapien_and_maniskill_output_is_told_once_per_message_with_a_count_and_a
 
 def test_scripts_demo_runs_this_module() -> None:
     script = (ROOT / "scripts" / "demo").read_text()
-    assert "python -m robospec.maniskill.demo" in script
+    assert "python -m robospec.demo.tour" in script
     assert Path(ROOT / "scripts" / "demo").stat().st_mode & 0o111

@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-from robospec.authoring.tree import KinematicTree
 from robospec.description import load_description
 from robospec.description.facts import Mimic, RobotDescription
 from robospec.description.mjcf_frames import (
@@ -19,6 +18,7 @@ from robospec.description.mjcf_frames import (
     same_rotation,
 )
 from robospec.diagnostics import Diagnostic
+from robospec.kinematics.tree import KinematicTree
 
 DATA = Path(__file__).parent / "data" / "mjcf"
 GAPS = DATA / "gaps"

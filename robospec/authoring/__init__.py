@@ -2,8 +2,10 @@
 holds), ``robospec new`` (a spec scaffolded from it) and ``robospec doc`` (a Markdown robot card
 of a compiled spec).
 
-One stage per module: :mod:`.source` reads a description file, :mod:`.tree` walks its kinematic
-tree, :mod:`.inspect` reports on it, :mod:`.groups` guesses joint groups, :mod:`.scaffold` writes
-the spec, :mod:`.layout` computes action layouts and :mod:`.card` renders the card. Nothing here
-imports ManiSkill.
+:mod:`.commands` is what each command does apart from argument parsing. :mod:`.description_file`
+reads the description; :mod:`.inspect` reports on it; :mod:`.analysis` reads what ``new`` needs
+(:mod:`.groups`, :mod:`.gains`, :mod:`.joint_loads`); :mod:`.scaffold` writes the spec;
+:mod:`.rest_pose` and :mod:`.refine` measure it in ManiSkill, in the child process of
+:mod:`.pose_probe`; :mod:`.attach` mounts parts; :mod:`.layout` computes action layouts and
+:mod:`.card` renders the card.
 """

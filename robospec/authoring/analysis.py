@@ -12,11 +12,11 @@ from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.gains import Drive, actuator_drives
 from robospec.authoring.groups import Groups, guess_groups
 from robospec.authoring.joint_loads import Inertial, mjcf_inertials, urdf_inertials
-from robospec.authoring.kinematics import KinematicModel, mjcf_kinematics, urdf_kinematics
-from robospec.authoring.mjcf_model import read_mjcf_model
-from robospec.authoring.morphology import Morphology, morphology
 from robospec.description import Joint, RobotDescription
 from robospec.description.numbers import finite_numbers
+from robospec.kinematics.forward import KinematicModel, mjcf_kinematics, urdf_kinematics
+from robospec.kinematics.mjcf_model import read_mjcf_model
+from robospec.kinematics.morphology import Morphology, morphology
 
 Quaternion = tuple[float, float, float, float]  # (w, x, y, z)
 IDENTITY_QUATERNION: Quaternion = (1.0, 0.0, 0.0, 0.0)

@@ -101,7 +101,7 @@ def run_attach(
 
 
 def _bad(attachment: Attachment, message: str, hint: str | None = None) -> Diagnostic:
-    from robospec.cli.uid_option import COMMAND_LINE
+    from robospec.diagnostics.command_line import COMMAND_LINE
 
     return error(Location(COMMAND_LINE), BAD_ATTACH, f"--attach {attachment.text}: {message}", hint)
 

@@ -18,8 +18,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from robospec.authoring.layout import ActionRow, mode_layout
-from robospec.authoring.tree import KinematicTree
 from robospec.description import RobotDescription
+from robospec.kinematics.tree import KinematicTree
 from robospec.resolve.resolved import FileRef, ResolvedRobot
 from robospec.resolve.root_pose import root_body_pose
 

@@ -51,7 +51,7 @@ def run_new(
     (:mod:`robospec.authoring.rest_pose`). ``uid_location`` is where ``uid`` was given (the
     command line's ``--uid``), for the diagnostics about it."""
     if uid is not None:
-        from robospec.cli.uid_option import COMMAND_LINE
+        from robospec.diagnostics.command_line import COMMAND_LINE
 
         problem = _uid_problem(uid, uid_location or Location(COMMAND_LINE))
         if problem is not None:
@@ -222,8 +222,8 @@ def _rest_warnings(
 
 
 def _uid_problem(uid: str, at: Location) -> Diagnostic | None:
-    from robospec.cli.uid_option import invalid_uid
     from robospec.maniskill.installed import registered_uids
+    from robospec.model.uid import invalid_uid
 
     problem = invalid_uid(uid, at)
     if problem is not None:
@@ -284,7 +284,7 @@ def _pictures(
     """Draw and write the card's pictures; the diagnostics say what the cameras see, or why
     nothing could be drawn (then nothing is written)."""
     from robospec.authoring.card import CardPicture
-    from robospec.cli.uid_option import COMMAND_LINE
+    from robospec.diagnostics.command_line import COMMAND_LINE
     from robospec.pictures.album import AlbumOptions, CameraSettings, make_album
     from robospec.pictures.camera_checks import Limits
     from robospec.pictures.gl import RenderUnavailable

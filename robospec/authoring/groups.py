@@ -26,10 +26,10 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-from robospec.authoring.morphology import Morphology, is_wheel, morphology
-from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint, RobotDescription
 from robospec.importer.groups import common_prefix
+from robospec.kinematics.morphology import Morphology, is_wheel, morphology
+from robospec.kinematics.tree import KinematicTree
 from robospec.model.names import NAME_PATTERN
 
 # words that start a name part ("l_gripper_finger_joint", "thumb_q1"), not any substring:

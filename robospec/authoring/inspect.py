@@ -10,8 +10,8 @@ import json
 from typing import Any
 
 from robospec.authoring.description_file import DescriptionFile
-from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint
+from robospec.kinematics.tree import KinematicTree
 
 
 def mimic_text(joint: Joint) -> str:

@@ -15,7 +15,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from robospec.authoring.analysis import RobotAnalysis, immobile_reason
-from robospec.authoring.frames import from_quaternion
 from robospec.authoring.gains import (
     NATURAL_FREQUENCY,
     JointGains,
@@ -26,6 +25,7 @@ from robospec.authoring.joint_loads import JointLoad, joint_loads
 from robospec.description import Joint
 from robospec.description.ratings import Rating, joint_ratings
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.kinematics.frames import from_quaternion
 
 OVER_RATING = "RS609"
 

@@ -36,7 +36,10 @@ from dataclasses import dataclass
 
 from lxml import etree
 
-from robospec.authoring.frames import (
+from robospec.description.numbers import finite_numbers
+from robospec.description.urdf import parse_xml
+from robospec.kinematics.forward import KinematicModel
+from robospec.kinematics.frames import (
     IDENTITY_ROTATION,
     Matrix,
     Transform,
@@ -45,16 +48,13 @@ from robospec.authoring.frames import (
     from_rpy,
     from_z_axis,
 )
-from robospec.authoring.kinematics import KinematicModel
-from robospec.authoring.mjcf_model import (
+from robospec.kinematics.mjcf_model import (
     MjBody,
     MjcfModel,
     attributes_of,
     orientation,
     vector,
 )
-from robospec.description.numbers import finite_numbers
-from robospec.description.urdf import parse_xml
 
 GRAVITY = 9.81  # m/s², along the world's -z (the root frame turned as its rest pose stands it)
 DENSITY = 1000.0  # kg/m³: PhysX's and MuJoCo's default

@@ -19,8 +19,8 @@ from pathlib import Path
 from typing import Any
 
 from robospec.authoring.groups import MimicLink
-from robospec.authoring.tree import KinematicTree
 from robospec.description import RobotDescription
+from robospec.kinematics.tree import KinematicTree
 
 PROBE_UID = "robospec_new_probe"
 REFINE_UID = "robospec_new_refine"  # the scaffold at its rest pose, whose gains are measured

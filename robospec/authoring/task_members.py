@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from robospec.authoring.analysis import RobotAnalysis
-from robospec.authoring.frames import Transform, Vector
+from robospec.kinematics.frames import Transform, Vector
 
 _TCP_NAME = re.compile(r"(tcp|grasp|ee_gripper|tool0|end_?effector|eef)", re.IGNORECASE)
 GRIPPING_KINDS = ("gripper", "mimic")

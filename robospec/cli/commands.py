@@ -319,7 +319,7 @@ def demo(
 
     Example: robospec demo specs/maniskill/panda.yaml -c pd_joint_delta_pos --random-actions
     """
-    from robospec.maniskill.viewer import run_demo
+    from robospec.demo.viewer import run_demo
 
     if random_actions and keyframe_actions:
         raise typer.BadParameter("give at most one of --random-actions and --keyframe-actions")
@@ -419,7 +419,7 @@ def new(
     assert description is not None
     where = None
     if uid is not None:
-        from robospec.cli.uid_option import argument_location
+        from robospec.diagnostics.command_line import argument_location
 
         where = argument_location("--uid", uid, sys.argv[1:])
     written, diagnostics = run_new(description, out, uid, force, not no_sim, where)

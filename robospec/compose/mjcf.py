@@ -40,16 +40,17 @@ from robospec.compose.model import (
     Problem,
 )
 from robospec.compose.order import mount_order
-from robospec.compose.rotations import chain, number
 from robospec.compose.xml import (
     Provenance,
     append_lines,
     comment_text,
+    number,
     parse,
     relative_file,
     written,
 )
 from robospec.description.mjcf_frames import ORIENTATION_ATTRIBUTES, Unparsable, body_pose
+from robospec.geometry import compose
 
 INDENT = "  "
 # sections whose children are merged into the robot's (the elements of each, named or not)
@@ -284,7 +285,7 @@ def _mount(
         own = body_pose(dict(robot_body.attrib), there.degrees, there.eulerseq)
     except (Unparsable, ValueError):
         own = ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0))
-    position, quaternion = chain((part.position, part.quaternion), own)
+    position, quaternion = compose((part.position, part.quaternion), own)
     for attribute in ("pos", *ORIENTATION_ATTRIBUTES):
         robot_body.attrib.pop(attribute, None)
     robot_body.set("pos", " ".join(number(v) for v in position))

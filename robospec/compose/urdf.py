@@ -24,15 +24,16 @@ from robospec.compose.model import (
     Problem,
 )
 from robospec.compose.order import mount_order
-from robospec.compose.rotations import chain, from_rpy, number, quaternion_to_rpy
 from robospec.compose.xml import (
     Provenance,
     append_lines,
     comment_text,
+    number,
     parse,
     relative_file,
     written,
 )
+from robospec.geometry import Pose, compose, from_rpy, to_rpy
 
 INDENT = "  "
 
@@ -122,7 +123,7 @@ def _mount(
         frame, holder_joint, outer = holder
         folded.insert(0, at)
         at = str(holder_joint.find("parent").get("link"))  # type: ignore[union-attr]
-        pose = chain(outer, pose)
+        pose = compose(outer, pose)
         root.remove(frame)
         taken_links.discard(str(frame.get("name")))
     if part.fold_frames and not folded:
@@ -138,7 +139,7 @@ def _mount(
             )
         )
     if inner is not None:
-        pose = chain(pose, inner)
+        pose = compose(pose, inner)
     taken_joints = set(_names(root, "joint"))
     if holder is not None:
         taken_joints.discard(str(holder[1].get("name")))
@@ -166,7 +167,7 @@ def _mount(
         (e for e in tree.iter(etree.Element) if e is not tree), part.shown, path=part.path
     )
     child = link_names.get(root_name, root_name)
-    rpy = part.rpy if part.rpy is not None and not folded else quaternion_to_rpy(pose[1])
+    rpy = part.rpy if part.rpy is not None and not folded else to_rpy(pose[1])
     origin = (pose[0], rpy)
     if holder is not None:
         joint = None
@@ -322,9 +323,6 @@ def _move_files(tree: etree._Element, part: PartSource, base_folder: str) -> Non
         uri = element.get("filename")
         if uri is not None and uri in part.files:
             element.set("filename", relative_file(part.files[uri], base_folder))
-
-
-Pose = tuple[tuple[float, float, float], tuple[float, float, float, float]]
 
 
 def _empty(link: etree._Element) -> bool:

@@ -100,3 +100,9 @@ def append_lines(parent: etree._Element, elements: Iterable[etree._Element], ind
         last = element
     if last is not None:
         last.tail = closing
+
+
+def number(value: float) -> str:
+    """``value`` as the shortest text that reads back as the same float (``1`` for 1.0)."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text

@@ -21,18 +21,51 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-Vector = tuple[float, float, float]
-Quaternion = tuple[float, float, float, float]
-Pose = tuple[Vector, Quaternion]
+from robospec.geometry import (
+    IDENTITY,
+    IDENTITY_POSE,
+    Degenerate,
+    Pose,
+    Quaternion,
+    Vector,
+    about_axis,
+    compose,
+    conjugate,
+    from_columns,
+    inverse,
+    multiply,
+    normalized,
+    rotate,
+)
 
-IDENTITY: Quaternion = (1.0, 0.0, 0.0, 0.0)
-IDENTITY_POSE: Pose = ((0.0, 0.0, 0.0), IDENTITY)
+__all__ = [
+    "IDENTITY",
+    "IDENTITY_POSE",
+    "ORIENTATION_ATTRIBUTES",
+    "Pose",
+    "Quaternion",
+    "Unparsable",
+    "Vector",
+    "body_pose",
+    "compose",
+    "conjugate",
+    "inverse",
+    "maniskill_rotation",
+    "mujoco_rotation",
+    "normalized",
+    "numbers",
+    "orientation_attribute",
+    "rotate",
+    "same_axis",
+    "same_rotation",
+]
 ORIENTATION_ATTRIBUTES = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
 _AXES: dict[str, Vector] = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
 
-class Unparsable(ValueError):
-    """An orientation attribute that is not the numbers it should be."""
+# An orientation attribute that is not the numbers it should be, or numbers that are no
+# rotation (a zero quaternion or axis): one error for both, as callers treat them alike.
+Unparsable = Degenerate
 
 
 def numbers(text: str, count: int) -> tuple[float, ...]:
@@ -43,75 +76,6 @@ def numbers(text: str, count: int) -> tuple[float, ...]:
     if len(values) < count or not all(math.isfinite(v) for v in values[:count]):
         raise Unparsable(text)
     return values[:count]
-
-
-def multiply(a: Quaternion, b: Quaternion) -> Quaternion:
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return (
-        aw * bw - ax * bx - ay * by - az * bz,
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-    )
-
-
-def conjugate(q: Quaternion) -> Quaternion:
-    return (q[0], -q[1], -q[2], -q[3])
-
-
-def normalized(q: Quaternion) -> Quaternion:
-    norm = math.sqrt(sum(c * c for c in q))
-    if norm < 1e-12:
-        raise Unparsable("zero quaternion")
-    return (q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm)
-
-
-def rotate(q: Quaternion, v: Vector) -> Vector:
-    _, x, y, z = multiply(multiply(q, (0.0, *v)), conjugate(q))
-    return (x, y, z)
-
-
-def compose(a: Pose, b: Pose) -> Pose:
-    """``a * b``: the pose ``b`` (given in ``a``'s frame) in ``a``'s parent frame."""
-    moved = rotate(a[1], b[0])
-    return (
-        (a[0][0] + moved[0], a[0][1] + moved[1], a[0][2] + moved[2]),
-        multiply(a[1], b[1]),
-    )
-
-
-def inverse(pose: Pose) -> Pose:
-    back = conjugate(pose[1])
-    p = rotate(back, pose[0])
-    return ((-p[0], -p[1], -p[2]), back)
-
-
-def about_axis(axis: Vector, angle: float) -> Quaternion:
-    norm = math.sqrt(sum(c * c for c in axis))
-    if norm < 1e-12:
-        raise Unparsable("zero axis")
-    s = math.sin(angle / 2) / norm
-    return (math.cos(angle / 2), axis[0] * s, axis[1] * s, axis[2] * s)
-
-
-def from_columns(x: Vector, y: Vector, z: Vector) -> Quaternion:
-    """The quaternion of the rotation matrix with columns x, y, z (orthonormal)."""
-    m00, m11, m22 = x[0], y[1], z[2]
-    trace = m00 + m11 + m22
-    if trace > 0:
-        s = 2 * math.sqrt(trace + 1)
-        q = (s / 4, (y[2] - z[1]) / s, (z[0] - x[2]) / s, (x[1] - y[0]) / s)
-    elif m00 > m11 and m00 > m22:
-        s = 2 * math.sqrt(1 + m00 - m11 - m22)
-        q = ((y[2] - z[1]) / s, s / 4, (y[0] + x[1]) / s, (z[0] + x[2]) / s)
-    elif m11 > m22:
-        s = 2 * math.sqrt(1 + m11 - m00 - m22)
-        q = ((z[0] - x[2]) / s, (y[0] + x[1]) / s, s / 4, (z[1] + y[2]) / s)
-    else:
-        s = 2 * math.sqrt(1 + m22 - m00 - m11)
-        q = ((x[1] - y[0]) / s, (z[0] + x[2]) / s, (z[1] + y[2]) / s, s / 4)
-    return normalized(q)
 
 
 def _unit(v: Vector) -> Vector:

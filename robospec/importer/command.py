@@ -12,7 +12,7 @@ def run_import(
     target: str, uid: str | None, out: Path | None, force: bool
 ) -> tuple[str | None, list[Diagnostic]]:
     """The spec text (also written to ``out`` when given) and the diagnostics."""
-    from robospec.cli.uid_option import invalid_uid
+    from robospec.model.uid import invalid_uid
 
     problem = invalid_uid(uid) if uid is not None else None
     if problem is not None:

@@ -47,7 +47,7 @@ def code_href(code: str) -> str | None:
 
 class RobospecServer(LanguageServer):
     def __init__(self) -> None:
-        from robospec import __version__
+        from robospec.version import __version__
 
         super().__init__("robospec", __version__)
         self.state = Workspace()

@@ -283,7 +283,7 @@ def _option_problems(options: OptimizeOptions, at: Location) -> list[Diagnostic]
     """Every option problem, each located at its value on the command line."""
     import math
 
-    from robospec.cli.uid_option import argument_location
+    from robospec.diagnostics.command_line import argument_location
     from robospec.diagnostics.suggest import did_you_mean
 
     def where(option: str, value: object) -> Location:

@@ -36,13 +36,13 @@ def category_of(robot: Any, asked: str | None, description: Any = None) -> str:
     such as TIAGo, whose base drives and whose arm grasps, wants manipulation's iterations, as
     ManiSkill's Fetch tasks keep its default 15 (``description``: the robot's
     :class:`~robospec.description.RobotDescription`, whose body
-    :mod:`robospec.authoring.morphology` reads)."""
+    :mod:`robospec.kinematics.morphology` reads)."""
     if asked is not None:
         return asked
     if robot.fix_root_link:
         return "manipulation"
     if description is not None:
-        from robospec.authoring.morphology import morphology
+        from robospec.kinematics.morphology import morphology
 
         body = morphology(description, None)
         if body.rolls and len(body.legs) < 2:

@@ -65,7 +65,7 @@ def task_requests(
     RS524 for a name the installed ManiSkill does not register."""
     if not tasks:
         return (), []
-    from robospec.cli.uid_option import argument_location
+    from robospec.diagnostics.command_line import argument_location
     from robospec.diagnostics.suggest import did_you_mean
     from robospec.maniskill.tasks import installed_tasks
 

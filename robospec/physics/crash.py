@@ -19,8 +19,6 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
-import robospec
-
 # top-level module -> who it is, for the frames a crash is told by
 OWNERS = {
     "mani_skill": "ManiSkill",
@@ -30,7 +28,7 @@ OWNERS = {
 }
 UPSTREAM = frozenset({"ManiSkill", "SAPIEN"})
 USER = "user code"  # a module outside every installed package: a hook the spec names
-_ROBOSPEC_ROOT = Path(robospec.__file__).resolve().parent.parent
+_ROBOSPEC_ROOT = Path(__file__).resolve().parents[2]  # the folder robospec/ stands in
 _STANDARD_LIBRARY = tuple(
     Path(sysconfig.get_paths()[key]).resolve() for key in ("stdlib", "platstdlib")
 )

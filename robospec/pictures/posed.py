@@ -2,7 +2,7 @@
 
 A URDF robot: each link's ``<visual>`` and ``<collision>`` geometry (mesh, box, sphere,
 cylinder, capsule — cylinders and capsules along the shape's z, as SAPIEN turns them), put where
-robospec's own forward kinematics (:mod:`robospec.authoring.kinematics`) puts the link, with the
+robospec's own forward kinematics (:mod:`robospec.kinematics.forward`) puts the link, with the
 keyframe's pose on the root link. Colours as SAPIEN's URDF loader takes them: the visual's
 ``<material>`` colour (its own or a top-level one it names) over the mesh's.
 
@@ -24,12 +24,12 @@ from typing import Literal
 
 import numpy as np
 
-from robospec.authoring.frames import Transform, from_rpy
-from robospec.authoring.kinematics import urdf_kinematics
 from robospec.description.facts import RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.kinematics.forward import urdf_kinematics
+from robospec.kinematics.frames import Transform, from_rpy
 from robospec.pictures.gl import import_mujoco
 from robospec.pictures.meshes import MeshError, MeshPart, load_mesh
 from robospec.resolve.resolved import ResolvedRobot

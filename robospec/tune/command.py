@@ -118,7 +118,7 @@ def _unknown_controllers(item: CompiledSpec, names: Sequence[str]) -> list[Diagn
 def _invalid_uid(uid: str | None) -> list[Diagnostic]:
     if uid is None:
         return []
-    from robospec.cli.uid_option import invalid_uid
+    from robospec.model.uid import invalid_uid
 
     found = invalid_uid(uid, Location(COMMAND_LINE))
     return [found] if found is not None else []

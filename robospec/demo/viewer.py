@@ -44,10 +44,10 @@ def run_demo(
         hint = "robospec check runs the same robot headless, with numbers"
         return [error(Location(str(spec)), "RS513", w, hint) for w in wrong]
 
-    import robospec
+    from robospec.output.register import register
 
     try:
-        robospec.register(spec)
+        register(spec)
     except SpecError as exc:
         return list(exc.diagnostics)
     from mani_skill.examples import demo_robot

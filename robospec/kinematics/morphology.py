@@ -42,9 +42,9 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from robospec.authoring.kinematics import KinematicModel
-from robospec.authoring.tree import KinematicTree
 from robospec.description import Joint, RobotDescription
+from robospec.kinematics.forward import KinematicModel
+from robospec.kinematics.tree import KinematicTree
 
 # a leg word may carry one letter of side before it (half_cheetah's "bthigh", "ffoot"): "wheel"
 # is no heel, "ship" no hip

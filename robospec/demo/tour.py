@@ -2,7 +2,7 @@
 the agents, and on a machine without a rendering device makes ManiSkill load them without
 visuals), and run each generated robot in ManiSkill with ``render_backend="none"``.
 
-    python -m robospec.maniskill.demo [SPECS...] [-o OUT] [--steps N]
+    python -m robospec.demo.tour [SPECS...] [-o OUT] [--steps N]
 
 It prints how many warnings the specs have (``robospec validate`` shows them), then a table: per
 robot, what it ran and what became of it. A robot whose state goes NaN gets a note: ManiSkill's

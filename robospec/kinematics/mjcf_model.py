@@ -16,7 +16,9 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
-from robospec.authoring.frames import (
+from robospec.description.numbers import finite_numbers
+from robospec.description.urdf import parse_xml, read_file_bytes
+from robospec.kinematics.frames import (
     IDENTITY_ROTATION,
     Matrix,
     Transform,
@@ -27,8 +29,6 @@ from robospec.authoring.frames import (
     from_quaternion,
     from_z_axis,
 )
-from robospec.description.numbers import finite_numbers
-from robospec.description.urdf import parse_xml, read_file_bytes
 
 MAIN_CLASS = "main"
 

@@ -15,7 +15,9 @@ from dataclasses import dataclass
 
 from lxml import etree
 
-from robospec.authoring.frames import (
+from robospec.description.numbers import finite_numbers
+from robospec.description.urdf import parse_xml
+from robospec.kinematics.frames import (
     ZERO,
     Transform,
     Vector,
@@ -24,9 +26,7 @@ from robospec.authoring.frames import (
     normalized,
     translation,
 )
-from robospec.authoring.mjcf_model import MjBody, MjcfModel, vector
-from robospec.description.numbers import finite_numbers
-from robospec.description.urdf import parse_xml
+from robospec.kinematics.mjcf_model import MjBody, MjcfModel, vector
 
 
 @dataclass(frozen=True)

@@ -1,30 +1,14 @@
-"""A uid given on the command line (``robospec import --uid``, ``robospec new --uid``), checked
-against the spec model's own pattern before anything is written, and where such an argument
-stands in the command line, for the diagnostics about it."""
+"""Where a value given on the command line stands in it (``robospec new --uid X``), so that a
+diagnostic about it points at the argument as one about a spec points at its key."""
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 
-from robospec.diagnostics import Diagnostic, Location, error
-from robospec.model.names import UID_PATTERN
+from robospec.diagnostics import Location
 
 COMMAND_LINE = "<command line>"
 PROGRAM = "robospec"
-
-
-def invalid_uid(uid: str, at: Location | None = None) -> Diagnostic | None:
-    """RS105 when ``uid`` could not be a spec's uid, else None; reported at ``at`` (default:
-    ``<uid>``)."""
-    if re.match(UID_PATTERN, uid):
-        return None
-    return error(
-        at or Location("<uid>"),
-        "RS105",
-        f"invalid uid {uid!r}",
-        "use letters, digits, '_', '-' and '.', starting with a letter or digit",
-    )
 
 
 def argument_location(option: str, value: str, arguments: Sequence[str]) -> Location:
