@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import dataclasses
 import errno
-import math
 import os
 import re
 import stat
@@ -121,40 +120,6 @@ def parse_root(
         )
         return None, diagnostics
     return root, diagnostics
-
-
-def parse_floats(
-    element: etree._Element,
-    attribute: str,
-    count: int,
-    path: str,
-    diagnostics: list[Diagnostic],
-    what: str,
-) -> list[float] | None:
-    """Parse ``count`` finite numbers from an attribute; None (and an RS052) when they are bad.
-
-    A missing attribute returns None without a diagnostic; callers decide whether it is needed.
-    """
-    raw = element.get(attribute)
-    if raw is None:
-        return None
-    parts = raw.split()
-    values: list[float] = []
-    try:
-        values = [float(part) for part in parts]
-    except ValueError:
-        values = []
-    if len(values) != count or not all(math.isfinite(v) for v in values):
-        expected = "a number" if count == 1 else f"{count} numbers"
-        diagnostics.append(
-            error(
-                at(path, element),
-                INVALID_STRUCTURE,
-                f'{what}: {attribute}="{raw}" is not {expected}',
-            )
-        )
-        return None
-    return values
 
 
 def bfs_order(root: str, children: Mapping[str, Sequence[str]]) -> list[str]:

@@ -122,10 +122,6 @@ def soft_block_indent(content: Doc) -> Doc:
     return concat(Indent(concat(SOFT_LINE, content)), SOFT_LINE)
 
 
-def block_indent(content: Doc) -> Doc:
-    return concat(Indent(concat(HARD_LINE, content)), HARD_LINE)
-
-
 def if_group_breaks(content: Doc, group_id: int | None = None) -> IfGroup:
     return IfGroup(content, EXPANDED, group_id)
 

@@ -58,13 +58,6 @@ def _motion(measured: np.ndarray) -> np.ndarray:
     return np.maximum(np.sqrt(np.mean((measured - measured.mean(axis=0)) ** 2, axis=0)), 1e-12)
 
 
-def still_joints(measured: np.ndarray, joints: tuple[str, ...], floor: float = 1e-4) -> list[str]:
-    """Joints whose measured position hardly moves (RMS motion under ``floor``): nothing in
-    their response constrains their gains."""
-    motion = np.sqrt(np.mean((measured - measured.mean(axis=0)) ** 2, axis=0))
-    return [joint for joint, m in zip(joints, motion, strict=True) if m < floor]
-
-
 def second_order(
     t: np.ndarray, target: np.ndarray, qpos: np.ndarray, implicit: bool = False
 ) -> tuple[float, float]:
