@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import time
 import xml.etree.ElementTree as ET
+from collections.abc import Iterable
 from itertools import combinations
 from pathlib import Path
 from types import SimpleNamespace
@@ -27,11 +28,10 @@ from robospec.optimize.collision_matrix import (
     joint_ranges,
     load_for_contacts,
     never_collide_pairs,
-    packing_side_effects,
     sample_collision_matrix,
     touching_pairs,
 )
-from robospec.resolve.collision_packing import Pair, pair
+from robospec.resolve.collision_packing import FREE_BITS, Pair, pack, pair
 from robospec.resolve.paths import maniskill_assets_dir
 
 pytestmark = pytest.mark.maniskill
@@ -173,6 +173,16 @@ def test_fast_enough() -> None:
     sample_collision_matrix(str(PANDA), samples=1000, seed=3)
     # measured 0.15 s of sampling plus 0.1-0.6 s of loading; the brief asks for a few seconds
     assert time.perf_counter() - start < 5
+
+
+def packing_side_effects(
+    matrix: CollisionMatrix, available: Iterable[int] = FREE_BITS
+) -> tuple[Pair, ...]:
+    """Pairs that packing :func:`never_collide_pairs` into the ``available`` group-2 bits would
+    disable though they can collide (bits too few: cliques merged, RS321), sorted."""
+    requested = [(a, b) for a, b in never_collide_pairs(matrix)]
+    packing = pack(requested, free=matrix.adjacent, available=available)
+    return packing.side_effects
 
 
 def test_never_collide_entries_compile_and_pack_as_reported(

@@ -1,6 +1,7 @@
 """Everything ``robospec new`` reads from a robot description before it writes a line: the
-kind of body (:mod:`.morphology`), the groups (:mod:`.groups`), and for MJCF the actuators'
-gains (:mod:`.gains`) and the file's own keyframes. No simulation: that is :mod:`.rest_pose`'s."""
+kind of body (:mod:`robospec.kinematics.morphology`), the groups (:mod:`.groups`), and for MJCF
+the actuators' gains (:mod:`.gains`) and the file's own keyframes. No simulation: that is
+:mod:`.rest_pose`'s."""
 
 from __future__ import annotations
 

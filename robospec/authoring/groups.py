@@ -5,12 +5,14 @@ Rules, in order (each joint lands in exactly one group; every active joint lands
 * **mimic** — URDF ``<mimic>`` pairs between active joints, chains collapsed onto the joint that
   leads them (``q = m·q_leader + o``). They get a ``pd_joint_pos_mimic`` controller: PhysX mimic
   joints go NaN within a few steps, the controller is the stable route.
-* **base** — a planar base (x, y and yaw joints at the root, :mod:`.morphology`): a base
-  controller. Else the active joints that start the tree (before any other active joint) whose
-  names say base/root/odom: a mobile root, driven by joint velocity.
+* **base** — a planar base (x, y and yaw joints at the root,
+  :mod:`robospec.kinematics.morphology`): a base controller. Else the active joints that start
+  the tree (before any other active joint) whose names say base/root/odom: a mobile root,
+  driven by joint velocity.
 * **wheels** — continuous joints named like wheels or casters: joint velocity.
-* **legs** — one group per leg (:mod:`.morphology`), named by its side: ``fl``, ``fr``, ``rl``,
-  ``rr``, ``left_leg``, ``right_leg``, or the side the description's names give.
+* **legs** — one group per leg (:mod:`robospec.kinematics.morphology`), named by its side:
+  ``fl``, ``fr``, ``rl``, ``rr``, ``left_leg``, ``right_leg``, or the side the description's
+  names give.
 * **gripper** — joints named like fingers, grippers, hands or jaws, and prismatic joints that
   come in sibling pairs (two fingers on one link). Without an arm they are the ``hand``.
 * **arm** — the longest serial chain of the remaining joints from the root to a leaf. When the
@@ -111,8 +113,9 @@ def mimic_links(description: RobotDescription) -> list[MimicLink]:
 
 
 def guess_groups(description: RobotDescription, body: Morphology | None = None) -> Groups:
-    """The groups of ``description``; ``body`` is its :func:`~.morphology.morphology` (made
-    without forward kinematics when not given: legs then go by their names only)."""
+    """The groups of ``description``; ``body`` is its
+    :func:`~robospec.kinematics.morphology.morphology` (made without forward kinematics when not
+    given: legs then go by their names only)."""
     body = body if body is not None else morphology(description, None)
     active = list(description.active_joints)
     order = {j.name: i for i, j in enumerate(active)}

@@ -3,8 +3,9 @@
 The spec validates as written, and is meant to be right for the robot, not just valid:
 
 * Body: a floating robot (an MJCF free joint; legs or wheels and nothing fixing it to the world:
-  :mod:`.morphology`) gets ``loader: {fix_root_link: false}``, ``balance_passive_force: false``
-  in every mode and a rest keyframe standing on the ground; a planar base a base controller.
+  :mod:`robospec.kinematics.morphology`) gets ``loader: {fix_root_link: false}``,
+  ``balance_passive_force: false`` in every mode and a rest keyframe standing on the ground; a
+  planar base a base controller.
 * Groups: :mod:`.groups` (legs by side, arm, gripper, ...); controllers:
   :mod:`.scaffold_controllers` (MJCF actuator gains where the description has them).
 * Keyframes: ``rest`` first — searched free of self-contact in ManiSkill when it is installed

@@ -139,10 +139,6 @@ class LoadedMjcf:
                 found.append(element)
         return found
 
-    def body_links(self) -> dict[str, LoadedBody]:
-        """MJCF body name -> the robot body (ManiSkill names the body's link after it)."""
-        return {body.link: body for body in self.robot}
-
 
 def geom_attributes(
     geom: etree._Element, defaults: Defaults, classes: Mapping[str, Defaults]

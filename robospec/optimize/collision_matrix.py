@@ -22,7 +22,7 @@ touching in the all-zero pose ("Default"); here that pose is only a keyframe if 
 
 ``never ∪ always`` become ``never_collide`` entries (:func:`never_collide_pairs`), packed into
 group-2 bits by :func:`robospec.resolve.collision_packing.pack`; when bits run short that packing
-also disables pairs in ``sometimes`` (:func:`packing_side_effects`).
+also disables pairs in ``sometimes`` (its ``side_effects``: RS321).
 
 SAPIEN and numpy are imported inside the functions: importing this module stays cheap.
 """
@@ -37,7 +37,7 @@ from itertools import combinations
 from typing import TYPE_CHECKING, Any
 
 from robospec.maniskill.render_fallback import strip_urdf_visuals
-from robospec.resolve.collision_packing import FREE_BITS, Pair, pack, pair
+from robospec.resolve.collision_packing import Pair, pair
 
 if TYPE_CHECKING:
     import numpy as np
@@ -286,17 +286,3 @@ def never_collide_pairs(matrix: CollisionMatrix) -> list[list[str]]:
     """``never ∪ always`` as the spec's ``never_collide`` entries: ``[link_a, link_b]`` pairs,
     sorted. Adjacent pairs are left out: PhysX already ignores them."""
     return [list(p) for p in sorted(matrix.never | matrix.always)]
-
-
-def packing_side_effects(
-    matrix: CollisionMatrix,
-    *,
-    available: Iterable[int] = FREE_BITS,
-    free: Collection[Pair] = (),
-) -> tuple[Pair, ...]:
-    """Pairs that packing :func:`never_collide_pairs` into the ``available`` group-2 bits would
-    disable though they can collide (bits too few: cliques merged, RS321), sorted. ``free``:
-    pairs already kept apart (loader or spec bits); adjacent pairs count as free."""
-    requested = [(a, b) for a, b in never_collide_pairs(matrix)]
-    packing = pack(requested, free=set(matrix.adjacent) | set(free), available=available)
-    return packing.side_effects

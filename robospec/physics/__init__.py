@@ -1,7 +1,9 @@
 """``robospec check``: headless physics checks of a compiled robot in SAPIEN, on the CPU.
 
-One module per check (``keyframe_hold``, ``random_actions``, ``step_response``,
-``self_contact``, ``action_layout``), each ``check(run) -> list[Finding]``; :mod:`.batch`
-runs them in order (in the worker process of :mod:`.worker`, which :mod:`.isolation` starts),
-:mod:`.report` renders the results. Only :mod:`.sim` talks to ManiSkill.
+One module per check (``action_layout``, ``ground``, ``mimic_limits``, ``keyframe_hold``,
+``gravity``, ``self_contact``, ``step_response``, ``random_actions``: the order of
+``batch.CHECKS``), each ``check(run) -> list[Finding]``; :mod:`.batch` runs them in order (in
+the worker process of :mod:`.worker`, which :mod:`.isolation` starts), with :mod:`.task_run`
+(``--task``) and :mod:`.render` (``--render``) after them; :mod:`.report` renders the results.
+The checks reach ManiSkill only through :mod:`.sim`.
 """

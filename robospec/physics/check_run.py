@@ -101,6 +101,3 @@ class CheckRun:
 
 def keyframe_label(keyframe: ResolvedKeyframe | None) -> str:
     return keyframe.name if keyframe is not None else "(initial)"
-
-
-ProgressCallback = Callable[[str], None]

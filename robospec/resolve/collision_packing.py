@@ -109,12 +109,6 @@ def pack(
     return Packing(cliques, side_effects=tuple(side))
 
 
-def srdf_bit_count(pairs: Iterable[Pair], adjacent: Collection[Pair] = ()) -> int:
-    """Bits SAPIEN's SRDF route spends on ``pairs``: one per pair that is not parent-child."""
-    skip = {pair(a, b) for a, b in adjacent}
-    return sum(1 for a, b in pairs if pair(a, b) not in skip)
-
-
 # -- covering ----------------------------------------------------------------------------------
 
 

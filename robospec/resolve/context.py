@@ -86,6 +86,3 @@ class ResolveContext:
 
     def warn(self, path: KeyPath, code: str, message: str, hint: str | None = None) -> None:
         self.diagnostics.append(warning(self.at_value(path), code, message, hint))
-
-    def error_count(self) -> int:
-        return sum(d.is_error for d in self.diagnostics)

@@ -131,7 +131,6 @@ class Fit:
 
 def fit(replay: Replay, max_replays: int = 600) -> Fit:
     from scipy.optimize import least_squares
-    from scipy.sparse import lil_matrix
 
     began = time.perf_counter()
     measured = replay.reference.qpos
@@ -176,14 +175,6 @@ def fit(replay: Replay, max_replays: int = 600) -> Fit:
             base_d * np.exp(x[n : 2 * n] - OFFSET),
             base.friction if friction is None else friction,
         )
-
-    def sparsity(blocks: int) -> lil_matrix:
-        rows = measured.shape[0]
-        pattern = lil_matrix((rows * n, blocks * n), dtype=int)
-        for joint in range(n):
-            for block in range(blocks):
-                pattern[joint * rows : (joint + 1) * rows, block * n + joint] = 1
-        return pattern
 
     budget = max(max_replays - count, 10)
     gains = least_squares(

@@ -23,8 +23,6 @@ import numpy as np
 from robospec.diagnostics import Diagnostic, Location, error
 
 TIME_COLUMNS = ("t", "time")
-TARGET = "target:"
-QPOS = "qpos:"
 MIN_SAMPLES = 10  # fewer samples cannot show a response
 
 
