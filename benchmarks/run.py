@@ -24,6 +24,8 @@
    on the CPU (benchmarks/pictures.py).
 10. `robospec new`'s time per corpus robot, with and without the simulated refinement of its
     gains (benchmarks/scaffold.py).
+11. The generated modules laid out by robospec's own layout against black and ruff: the same
+    text or not, time per module and import, install size (benchmarks/formatter.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
 """
@@ -39,6 +41,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import first_error
+import formatter
 import lsp_latency
 import optimize_fidelity
 import optimize_gpu
@@ -63,6 +66,7 @@ SECTION_TITLES = (
     lsp_latency.TITLE,
     pictures.TITLE,
     scaffold.TITLE,
+    formatter.TITLE,
 )
 
 
@@ -77,6 +81,7 @@ PARTS = (
     "lsp_latency",
     "pictures",
     "scaffold",
+    "formatter",
 )
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
@@ -107,6 +112,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             "pictures": lambda: pictures.measure(1, only=["panda"]),
             # the analytic gains only: the simulated refinement is new's own, tested there
             "scaffold": lambda: scaffold.measure(1, only=["erd_ur5"], refine=False),
+            "formatter": lambda: formatter.measure(1, random_count=10),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
@@ -119,6 +125,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "lsp_latency": lambda: lsp_latency.measure(40),
         "pictures": lambda: pictures.measure(repeat),
         "scaffold": lambda: scaffold.measure(repeat),
+        "formatter": lambda: formatter.measure(repeat),
     }
 
 
