@@ -29,6 +29,7 @@ import copy
 import difflib
 import importlib.metadata
 import json
+import pickle
 import re
 import statistics
 import subprocess
@@ -239,23 +240,37 @@ def shipped_modules(scratch: Path) -> list[Module]:
 
 
 def random_modules(count: int) -> list[Module]:
-    """``count`` modules of tests/test_layout.py's strategy, the same ones every run."""
+    """``count`` modules of tests/test_layout.py's strategy, the same ones every run: drawn in a
+    fresh process, because Hypothesis also draws from the constants of the modules loaded (in
+    this one, whatever ran before)."""
+    from robospec.emit.layout import format_module
+
+    done = subprocess.run(
+        [PYTHON, "-c", f"import formatter; formatter._draw({count})"],
+        capture_output=True,
+        check=True,
+        cwd=Path(__file__).parent,
+        env=child_env(),
+    )
+    drawn: list[ast.Module] = pickle.loads(done.stdout)
+    return [_module(f"random {i}", tree, (), format_module) for i, tree in enumerate(drawn)]
+
+
+def _draw(count: int) -> None:
+    """Pickle ``count`` modules of the strategy, derandomized, to stdout."""
     from hypothesis import HealthCheck, Phase, given, settings
 
     sys.path.insert(0, str(ROOT / "tests"))
     from test_layout import modules
 
-    from robospec.emit.layout import format_module
-
     drawn: list[ast.Module] = []
-    checks = list(HealthCheck)
     configured = settings(
         max_examples=count,
         derandomize=True,
         database=None,
         deadline=None,
         phases=[Phase.generate],
-        suppress_health_check=checks,
+        suppress_health_check=list(HealthCheck),
     )
 
     @configured
@@ -264,7 +279,7 @@ def random_modules(count: int) -> list[Module]:
         drawn.append(module)
 
     draw()
-    return [_module(f"random {i}", tree, (), format_module) for i, tree in enumerate(drawn)]
+    sys.stdout.buffer.write(pickle.dumps(drawn))
 
 
 def _module(
