@@ -30,7 +30,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from robospec.kinematics.frames import Vector
+from robospec.geometry import IDENTITY, ZERO, Vector, cross
 
 STEPS = (0.1, 0.2, 0.35, 0.5)
 FULL_TURN = 2 * math.pi
@@ -66,7 +66,7 @@ class Request:
     clearance: float = 0.002
     budget: int = 600  # poses tried at most
     # (w, x, y, z): how a floating robot stands (its root turned so, for a y-up description)
-    upright: list[float] = field(default_factory=lambda: [1.0, 0.0, 0.0, 0.0])
+    upright: list[float] = field(default_factory=lambda: list(IDENTITY))
     # then scaffold the robot at the rest pose found and measure its gains there
     # (robospec.authoring.refine): (the description file, the spec's path, the schema reference)
     refinement: tuple[str, str, str] | None = None
@@ -453,9 +453,7 @@ class Probe:
         from robospec.resolve.resolved import ResolvedKeyframe
 
         lift = FLOATING_LIFT if self.request.floating else 0.0
-        self.sim.start(
-            ResolvedKeyframe("rest", (0.0, 0.0, lift), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
-        )
+        self.sim.start(ResolvedKeyframe("rest", (0.0, 0.0, lift), IDENTITY, tuple(qpos), None))
         self.sim.hold_drive_targets()
         self.sim.sim_step()
         return dict(self.sim.self_contacts())
@@ -467,9 +465,7 @@ class Probe:
         from robospec.physics.ground import DEPTH, LIFT_MARGIN
         from robospec.resolve.resolved import ResolvedKeyframe
 
-        self.sim.start(
-            ResolvedKeyframe("rest", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
-        )
+        self.sim.start(ResolvedKeyframe("rest", ZERO, IDENTITY, tuple(qpos), None))
         mounted = self.sim.mounted_links()
         lowest = [z for name, z in self.sim.lowest_points().items() if name not in mounted]
         if not lowest or min(lowest) >= -DEPTH:
@@ -521,7 +517,7 @@ def axes_meet(first: tuple[Vector, Vector], second: tuple[Vector, Vector]) -> bo
     """Whether two lines, each (a point, a unit direction), cross at one point: not parallel,
     and no farther apart than :data:`MEET` where they pass closest."""
     (p, u), (q, v) = first, second
-    normal = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    normal = cross(u, v)
     size = math.sqrt(sum(c * c for c in normal))
     if size < 1e-6:
         return False  # parallel: turning about both moves in one plane, no cross between

@@ -23,15 +23,22 @@ from robospec.derive.mend import CANNOT_MEND
 from robospec.derive.mjcf_tree import childclass, classes, degrees, effective, robot_body, whole
 from robospec.description.mjcf_frames import (
     ORIENTATION_ATTRIBUTES,
-    Pose,
     Unparsable,
     body_pose,
-    compose,
     mujoco_rotation,
     numbers,
-    rotate,
 )
 from robospec.description.mjcf_mujoco import Table
+from robospec.geometry import (
+    IDENTITY,
+    IDENTITY_POSE,
+    Matrix,
+    Pose,
+    Vector,
+    compose,
+    matrix_from_quaternion,
+    turned,
+)
 
 NAME = "bodies"
 KINDS = frozenset({"mjcf"})
@@ -46,9 +53,6 @@ POSED = ("geom", "site", "camera", "light", "body", "frame")  # moved up, their 
 _MOVABLE = frozenset({*POSED, "inertial"})
 # attributes that name a body (contact exclusions, equality constraints, sensors, targets)
 _BODY_REFERENCES = ("body1", "body2", "body", "target")
-
-
-Matrix = tuple[tuple[float, float, float], ...]
 
 
 def apply(document: Document, policy: str) -> None:
@@ -155,8 +159,8 @@ def _place(
     fromto = attributes.get("fromto")
     if fromto is not None and element.tag == "geom":
         values = numbers(fromto, 6)
-        a = compose(pose, ((values[0], values[1], values[2]), (1.0, 0.0, 0.0, 0.0)))[0]
-        b = compose(pose, ((values[3], values[4], values[5]), (1.0, 0.0, 0.0, 0.0)))[0]
+        a = compose(pose, ((values[0], values[1], values[2]), IDENTITY))[0]
+        b = compose(pose, ((values[3], values[4], values[5]), IDENTITY))[0]
         element.set("fromto", _numbers((*a, *b)))
         return
     position = numbers(attributes.get("pos", "0 0 0"), 3)
@@ -184,7 +188,7 @@ def _combine_inertial(
             return  # MuJoCo weighs the parent's geoms; ManiSkill reads no <inertial> at all
         total = moved
     else:
-        here = _inertia_of(existing, ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)), use_degrees, eulerseq)
+        here = _inertia_of(existing, IDENTITY_POSE, use_degrees, eulerseq)
         total = _sum(here, moved)
         parent.remove(existing)
     mass, com, matrix = total
@@ -203,7 +207,7 @@ def _combine_inertial(
 
 def _inertia_of(
     inertial: etree._Element, pose: Pose, use_degrees: bool, eulerseq: str
-) -> tuple[float, tuple[float, float, float], Matrix]:
+) -> tuple[float, Vector, Matrix]:
     """(mass, centre of mass, inertia matrix about it) of an ``<inertial>``, in the frame
     ``pose`` is given in."""
     mass = numbers(inertial.get("mass", "0"), 1)[0]
@@ -211,28 +215,19 @@ def _inertia_of(
     if inertial.get("fullinertia") is not None:
         xx, yy, zz, xy, xz, yz = numbers(inertial.get("fullinertia", ""), 6)
         local: Matrix = ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
-        rotation = (1.0, 0.0, 0.0, 0.0)
+        rotation = IDENTITY
     else:
         diagonal = numbers(inertial.get("diaginertia", "0 0 0"), 3)
         local = ((diagonal[0], 0.0, 0.0), (0.0, diagonal[1], 0.0), (0.0, 0.0, diagonal[2]))
         rotation = mujoco_rotation(inertial.attrib, use_degrees, eulerseq)
     frame = compose(pose, ((position[0], position[1], position[2]), rotation))
-    axes = [rotate(frame[1], e) for e in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))]
-    # R I Rᵀ, R's columns the frame's axes
-    turned = tuple(
-        tuple(
-            sum(axes[a][i] * local[a][b] * axes[b][j] for a in range(3) for b in range(3))
-            for j in range(3)
-        )
-        for i in range(3)
-    )
-    return mass, frame[0], turned  # type: ignore[return-value]
+    return mass, frame[0], turned(matrix_from_quaternion(frame[1]), local)
 
 
 def _sum(
-    a: tuple[float, tuple[float, float, float], Matrix],
-    b: tuple[float, tuple[float, float, float], Matrix],
-) -> tuple[float, tuple[float, float, float], Matrix]:
+    a: tuple[float, Vector, Matrix],
+    b: tuple[float, Vector, Matrix],
+) -> tuple[float, Vector, Matrix]:
     """Two rigid bodies' masses, centres and inertias as one (the parallel axis theorem)."""
     mass = a[0] + b[0]
     if mass <= 0:

@@ -30,6 +30,7 @@ from lxml import etree
 
 from robospec.description.urdf_values import INVALID_STRUCTURE, Findings, at, read_floats
 from robospec.diagnostics import Diagnostic, error, warning
+from robospec.geometry import Matrix, turned
 
 INVALID_INERTIA = "RS059"
 NEGATIVE_MASS = "RS060"
@@ -264,9 +265,6 @@ def impossible(moments: tuple[float, float, float]) -> bool:
     return moments[0] + moments[1] < moments[2] * (1 - _TRIANGLE_SLACK)
 
 
-Matrix = tuple[tuple[float, float, float], ...]
-
-
 def principal_axes(
     xx: float, xy: float, xz: float, yy: float, yz: float, zz: float
 ) -> tuple[tuple[float, float, float], Matrix]:
@@ -301,8 +299,6 @@ def principal_axes(
 
 def from_axes(moments: tuple[float, float, float], axes: Matrix) -> tuple[float, ...]:
     """The inertia ``R diag(moments) R^T`` as (ixx, ixy, ixz, iyy, iyz, izz)."""
-
-    def entry(i: int, j: int) -> float:
-        return sum(axes[i][k] * moments[k] * axes[j][k] for k in range(3))
-
-    return (entry(0, 0), entry(0, 1), entry(0, 2), entry(1, 1), entry(1, 2), entry(2, 2))
+    diagonal = ((moments[0], 0.0, 0.0), (0.0, moments[1], 0.0), (0.0, 0.0, moments[2]))
+    m = turned(axes, diagonal)
+    return (m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2])

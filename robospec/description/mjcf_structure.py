@@ -23,10 +23,11 @@ from collections.abc import Callable, Iterator
 
 from lxml import etree
 
-from robospec.description.mjcf_frames import IDENTITY, Unparsable, body_pose, same_rotation
+from robospec.description.mjcf_frames import Unparsable, body_pose, same_rotation
 from robospec.description.mjcf_loaded import LoadedBody, LoadedMjcf
 from robospec.description.mjcf_mujoco import MAIN_CLASS, Includes
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.geometry import IDENTITY
 
 UNREAD_INCLUDE = "RS082"
 COLLISION_BITS = "RS081"
