@@ -209,6 +209,19 @@ def turned(r: Matrix, tensor: Matrix) -> Matrix:
     return matmul(matmul(r, tensor), transpose(r))
 
 
+def shifted(inertia: Matrix, mass: float, offset: Vector) -> Matrix:
+    """The parallel-axis theorem: a body's ``inertia`` about its centre of mass, taken about a
+    point ``offset`` from that centre (either way round): ``I + m (|d|² E - d dᵀ)``."""
+    square = offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]
+    return tuple(  # type: ignore[return-value]
+        tuple(
+            inertia[i][j] + mass * ((square if i == j else 0.0) - offset[i] * offset[j])
+            for j in range(3)
+        )
+        for i in range(3)
+    )
+
+
 def matrix_from_rpy(roll: float, pitch: float, yaw: float) -> Matrix:
     """The rotation matrix of URDF's roll, pitch, yaw."""
     sr, cr = math.sin(roll), math.cos(roll)

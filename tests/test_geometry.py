@@ -220,6 +220,27 @@ def test_matrix_products_transposes_and_turned_tensors_are_numpys(
     np.testing.assert_allclose(geometry.turned(ra, tensor), na @ tensor @ na.T, atol=ATOL)
 
 
+def _point_inertia(masses: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The inertia of point masses about the origin: Σ m (|r|² E - r rᵀ)."""
+    return sum(
+        m * (np.dot(r, r) * np.eye(3) - np.outer(r, r)) for m, r in zip(masses, points, strict=True)
+    )
+
+
+@given(st.integers(0, 2**32 - 1), positions)
+def test_an_inertia_shifted_off_the_centre_of_mass_is_the_bodys_about_that_point(
+    seed: int, point: geometry.Vector
+) -> None:
+    rng = np.random.default_rng(seed)
+    masses, points = rng.uniform(0.1, 2.0, 5), rng.uniform(-1.0, 1.0, (5, 3))
+    centre = masses @ points / masses.sum()
+    about_centre = _point_inertia(masses, points - centre)
+    offset = tuple(centre - np.asarray(point))
+    expected = _point_inertia(masses, points - np.asarray(point))
+    shifted = geometry.shifted(tuple(map(tuple, about_centre)), float(masses.sum()), offset)
+    np.testing.assert_allclose(shifted, expected, atol=1e-9)
+
+
 @given(vectors, directions)
 def test_dot_cross_and_unit_are_numpys(a: geometry.Vector, b: geometry.Vector) -> None:
     assert math.isclose(geometry.dot(a, b), float(np.dot(a, b)), abs_tol=ATOL)

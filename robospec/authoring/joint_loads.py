@@ -38,7 +38,16 @@ from lxml import etree
 
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
-from robospec.geometry import IDENTITY_MATRIX, Matrix, Vector, cross, dot, matrix_from_rpy, turned
+from robospec.geometry import (
+    IDENTITY_MATRIX,
+    Matrix,
+    Vector,
+    cross,
+    dot,
+    matrix_from_rpy,
+    shifted,
+    turned,
+)
 from robospec.kinematics.forward import KinematicModel
 from robospec.kinematics.frames import Transform, from_z_axis
 from robospec.kinematics.mjcf_model import (
@@ -91,18 +100,6 @@ def _diagonal(x: float, y: float, z: float) -> Matrix:
     return ((x, 0.0, 0.0), (0.0, y, 0.0), (0.0, 0.0, z))
 
 
-def _shifted(inertia: Matrix, mass: float, offset: Vector) -> Matrix:
-    """Parallel axes: ``inertia`` (about the centre of mass) about a point ``offset`` away."""
-    d2 = sum(c * c for c in offset)
-    return tuple(  # type: ignore[return-value]
-        tuple(
-            inertia[i][j] + mass * ((d2 if i == j else 0.0) - offset[i] * offset[j])
-            for j in range(3)
-        )
-        for i in range(3)
-    )
-
-
 def combine(parts: Iterable[tuple[float, Transform, Matrix]]) -> Inertial | None:
     """One body of several parts: (mass, the part's frame in the body's with its centre of
     mass at the origin, its inertia in that frame). None when there is no mass."""
@@ -114,7 +111,7 @@ def combine(parts: Iterable[tuple[float, Transform, Matrix]]) -> Inertial | None
     total = [[0.0] * 3 for _ in range(3)]
     for m, frame, inertia in items:
         offset = tuple(frame.translation[i] - com[i] for i in range(3))
-        about = _shifted(turned(frame.rotation, inertia), m, offset)  # type: ignore[arg-type]
+        about = shifted(turned(frame.rotation, inertia), m, offset)  # type: ignore[arg-type]
         for i in range(3):
             for j in range(3):
                 total[i][j] += about[i][j]

@@ -37,6 +37,7 @@ from robospec.geometry import (
     Vector,
     compose,
     matrix_from_quaternion,
+    shifted,
     turned,
 )
 
@@ -235,11 +236,10 @@ def _sum(
     com = tuple((a[0] * a[1][i] + b[0] * b[1][i]) / mass for i in range(3))
     rows = [[0.0] * 3 for _ in range(3)]
     for m, c, inertia in (a, b):
-        d = [c[i] - com[i] for i in range(3)]
-        squared = sum(v * v for v in d)
+        about = shifted(inertia, m, (c[0] - com[0], c[1] - com[1], c[2] - com[2]))
         for i in range(3):
             for j in range(3):
-                rows[i][j] += inertia[i][j] + m * ((squared if i == j else 0.0) - d[i] * d[j])
+                rows[i][j] += about[i][j]
     return mass, com, tuple(tuple(r) for r in rows)  # type: ignore[return-value]
 
 

@@ -40,6 +40,7 @@ from robospec.geometry import (
     matmul,
     matrix_from_rpy,
     rpy_from_matrix,
+    shifted,
     turned,
 )
 
@@ -393,14 +394,7 @@ def _combined(a: _Body, b: _Body) -> _Body:
 
 def _about(body: _Body, point: Vector) -> Matrix:
     d = (body.centre[0] - point[0], body.centre[1] - point[1], body.centre[2] - point[2])
-    square = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
-    return tuple(  # type: ignore[return-value]
-        tuple(
-            body.inertia[i][j] + body.mass * ((square if i == j else 0.0) - d[i] * d[j])
-            for j in range(3)
-        )
-        for i in range(3)
-    )
+    return shifted(body.inertia, body.mass, d)
 
 
 def _sum(a: Matrix, b: Matrix) -> Matrix:
