@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 from lxml import etree
 
+from robospec.description.inertia import DENSITY  # PhysX's and MuJoCo's default
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 from robospec.geometry import (
@@ -59,7 +60,6 @@ from robospec.kinematics.mjcf_model import (
 )
 
 GRAVITY = 9.81  # m/s², along the world's -z (the root frame turned as its rest pose stands it)
-DENSITY = 1000.0  # kg/m³: PhysX's and MuJoCo's default
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
+from robospec.authoring.rest_pose import NEIGHBOURS
 from robospec.geometry import IDENTITY, ZERO, Vector, cross
+from robospec.model.thresholds import MIN_CONTACT_DEPTH
 
 STEPS = (0.1, 0.2, 0.35, 0.5)
 FULL_TURN = 2 * math.pi
@@ -43,8 +45,6 @@ DESCENT_GAIN = 0.002
 # poses of a joint (a mimic coupling's leader), evenly over its range, in which the links it
 # moves must not touch to be kept apart (Probe.mechanism_pairs, Probe.welded_neighbours)
 MECHANISM_SAMPLES = 9
-# links this many active joints apart or fewer are neighbours (rest_pose.NEIGHBOURS)
-NEIGHBOURS = 2
 
 
 @dataclass
@@ -60,7 +60,7 @@ class Request:
     # link -> (parent link, the joint between them), for every link but the root
     parents: dict[str, tuple[str, str]] = field(default_factory=dict)
     floating: bool = False
-    min_depth: float = 0.001
+    min_depth: float = MIN_CONTACT_DEPTH
     # the search keeps links this far apart (m): two links just touching block each other, and
     # a step of one towards the other (robospec check's step response) goes nowhere
     clearance: float = 0.002

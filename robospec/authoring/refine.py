@@ -33,11 +33,11 @@ from typing import Any
 
 import numpy as np
 
+from robospec.authoring.gains import HOLD_SHARE  # of check's max_joint_drift
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe
 
 HOLD_ROUNDS = 4
-HOLD_SHARE = 0.2  # of check's max_joint_drift: what a refined hold may drift
 RANDOM_ROUNDS = 3
 RANDOM_SHARE = 0.5  # of check's max_joint_speed / max_root_speed: what random actions may reach
 DAMPING_RAISE = 2.0

@@ -22,12 +22,12 @@ from robospec.authoring.groups import MimicLink
 from robospec.description import RobotDescription
 from robospec.geometry import IDENTITY, Quaternion
 from robospec.kinematics.tree import KinematicTree
+from robospec.model.thresholds import MIN_CONTACT_DEPTH
 
 PROBE_UID = "robospec_new_probe"
 REFINE_UID = "robospec_new_refine"  # the scaffold at its rest pose, whose gains are measured
 PROBE_MODE = "pd_joint_pos"
 PROBE_TIMEOUT = 300.0  # s; loading a big robot on a slow CPU takes tens of seconds
-MIN_DEPTH = 0.001  # m: robospec check's default (checks.self_contact.min_depth)
 # links this many active joints apart or fewer are neighbours: a contact between them in every
 # pose is their shapes overlapping at the joint (a housing, a motor inside the body)
 NEIGHBOURS = 2
@@ -123,7 +123,7 @@ def probe_rest_pose(
         ],
         "parents": {link: [joint.parent, joint.name] for link, joint in tree.up.items()},
         "floating": floating,
-        "min_depth": MIN_DEPTH,
+        "min_depth": MIN_CONTACT_DEPTH,
         "upright": list(upright),
     }
     if refinement is not None:

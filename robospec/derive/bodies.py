@@ -40,6 +40,7 @@ from robospec.geometry import (
     shifted,
     turned,
 )
+from robospec.maniskill.scenes import GROUND_BITS
 
 NAME = "bodies"
 KINDS = frozenset({"mjcf"})
@@ -48,7 +49,6 @@ CODE = "RS720"
 FIXES = ("RS081",)
 WHY = "too many bodies for ManiSkill's loader's collision bits: those without joints are merged"
 
-GROUND_BIT = 30  # the bit of collision group 2 ManiSkill's scenes set on the ground
 POSED = ("geom", "site", "camera", "light", "body", "frame")  # moved up, their pose composed
 # what a merged body may hold besides those (and its inertial): anything else keeps it apart
 _MOVABLE = frozenset({*POSED, "inertial"})
@@ -275,6 +275,6 @@ def body_count(root: etree._Element) -> int:
 
 def suggest(document: Document) -> str | None:
     """Only where the loader's bits run out or reach the ground's (31 bodies or more)."""
-    if body_count(whole(document.trial())) <= GROUND_BIT:
+    if body_count(whole(document.trial())) <= GROUND_BITS[0]:
         return None
     return "merge" if document.would_change(apply, "merge") else None

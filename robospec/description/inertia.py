@@ -37,7 +37,12 @@ NEGATIVE_MASS = "RS060"
 IGNORED_INERTIAL = "RS061"
 TRIANGLE_INEQUALITY = "RS062"
 
-_INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")  # URDF's <inertia>, in this order
+# What PhysX makes of a link SAPIEN takes no <inertial> of: its collision shapes at this density
+# (kg/m³; MuJoCo's default and ManiSkill's MJCF loader's too), or without any, this mass (kg,
+# and this inertia, kg·m², about each of its axes).
+DENSITY = 1000.0
+EMPTY_LINK_MASS = 1e-6
 # Below this fraction of the largest principal moment, the smallest is rounding noise.
 _SINGULAR = 1e-14
 # Principal moments read from a file are rounded: a sum short of the largest by less than this
@@ -196,7 +201,7 @@ def _inertia(
             )
         )
         return None
-    missing = [a for a in _INERTIA_ATTRIBUTES if element.get(a) is None]
+    missing = [a for a in INERTIA_ATTRIBUTES if element.get(a) is None]
     if missing:
         diagnostics.append(
             error(
@@ -208,7 +213,7 @@ def _inertia(
         return None
     values = [
         read_floats(element, a, 1, path, diagnostics, f"{what} <inertia>")
-        for a in _INERTIA_ATTRIBUTES
+        for a in INERTIA_ATTRIBUTES
     ]
     if any(v is None for v in values):
         return None

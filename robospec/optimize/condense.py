@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 from lxml import etree
 
+from robospec.description.inertia import EMPTY_LINK_MASS, INERTIA_ATTRIBUTES
 from robospec.geometry import (
     IDENTITY_MATRIX,
     ZERO,
@@ -44,7 +45,6 @@ from robospec.geometry import (
     turned,
 )
 
-_INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 # The top-level elements a condensed robot needs as they are; anything else that names a
 # removed link or joint describes something that is gone.
 _STRUCTURE = ("link", "joint", "material")
@@ -328,11 +328,10 @@ class _Body:
 # SAPIEN's body for a link without a usable <inertial> and without collision shapes (measured
 # by tests/test_optimize_condense.py, which loads one): 1e-6 kg at the link's origin and
 # 1e-6 kg·m² about each of its axes.
-SAPIEN_EMPTY_MASS = 1e-6
 SAPIEN_EMPTY_LINK = _Body(
-    SAPIEN_EMPTY_MASS,
+    EMPTY_LINK_MASS,
     ZERO,
-    ((SAPIEN_EMPTY_MASS, 0.0, 0.0), (0.0, SAPIEN_EMPTY_MASS, 0.0), (0.0, 0.0, SAPIEN_EMPTY_MASS)),
+    ((EMPTY_LINK_MASS, 0.0, 0.0), (0.0, EMPTY_LINK_MASS, 0.0), (0.0, 0.0, EMPTY_LINK_MASS)),
 )
 
 
@@ -348,7 +347,7 @@ def _read_body(link: etree._Element) -> _Body | None:
     tensor = inertial.find("inertia")
     i = {
         key: float(tensor.get(key, "0")) if tensor is not None else 0.0
-        for key in _INERTIA_ATTRIBUTES
+        for key in INERTIA_ATTRIBUTES
     }
     matrix: Matrix = (
         (i["ixx"], i["ixy"], i["ixz"]),
@@ -422,7 +421,7 @@ def _write_inertial(link: etree._Element, body: _Body) -> None:
         {
             key: repr(value + 0.0)
             for key, value in zip(
-                _INERTIA_ATTRIBUTES,
+                INERTIA_ATTRIBUTES,
                 (m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2]),
                 strict=True,
             )
