@@ -25,6 +25,7 @@ from robospec.description import RobotDescription
 from robospec.description.ratings import Rating
 from robospec.model.thresholds import MAX_JOINT_DRIFT, PRISMATIC_STEP
 from robospec.model.thresholds import STEP as CHECK_STEP
+from robospec.physics.findings import significant  # as tune writes gains
 
 
 @dataclass(frozen=True)
@@ -131,13 +132,6 @@ class JointGains:
     @property
     def over_rating(self) -> bool:
         return self.rating is not None and self.needs > self.rating.value * 1.0001
-
-
-def significant(value: float, digits: int = 3) -> float:
-    """``value`` to ``digits`` significant digits: what a scaffold writes."""
-    if value == 0 or not math.isfinite(value):
-        return value
-    return float(f"{value:.{digits}g}")
 
 
 def analytic_gains(
