@@ -12,15 +12,19 @@ tests/test_compose_maniskill.py loads the composed robots in ManiSkill.
 
 from __future__ import annotations
 
+import math
 import random
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import CODE_EXAMPLES, SPECS
+from lxml import etree
 
 from robospec.description import load_description
 from robospec.diagnostics import Severity
+from robospec.geometry import matrix_from_quaternion, matrix_from_rpy, quaternion_from_rpy
 from robospec.kinematics.forward import urdf_kinematics
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
@@ -190,6 +194,22 @@ def test_clashing_names_get_the_parts_prefix_and_only_those(tmp_path: Path) -> N
     # its material 'rubber' is another than the robot's: prefixed, and its link rule follows
     assert robot.urdf_config["link"]["left_finger"]["material"] == "gripper_rubber"
     assert robot.tcp is not None and robot.tcp.link == "left_finger"
+
+
+def test_a_part_turned_into_gimbal_lock_is_mounted_at_its_quaternion(tmp_path: Path) -> None:
+    # pitch π/2 with roll 0.3 and yaw 0.1: only roll - yaw is defined there, and roll and yaw
+    # read off the quaternion are rounding (they were written 2.5° off)
+    q = quaternion_from_rpy(0.3, math.pi / 2, 0.1)
+    pose = ", ".join(repr(v) for v in q)
+    result = _compiled(
+        _arm_and_gripper(tmp_path, f"{{spec: gripper.yaml, at: tool0, pose: {{q: [{pose}]}}}}")
+    )
+    mount = etree.fromstring(result.robot.description.generated_text).find(
+        "joint[@name='gripper_mount']/origin"
+    )
+    rpy = [float(v) for v in mount.get("rpy").split()]
+    written, meant = matrix_from_rpy(*rpy), matrix_from_quaternion(q)
+    np.testing.assert_allclose(written, meant, atol=1e-12)
 
 
 def test_keyframes_merge_by_joint_and_a_parts_own_keyframe_comes_along(tmp_path: Path) -> None:

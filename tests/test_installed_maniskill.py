@@ -1,6 +1,7 @@
 """Facts from the installed ManiSkill, not from a list written for one version: the uids it
 registers itself (read from its source), which distribution and version it is (the nightly's
-``__version__`` says 3.0.1 too), and the register cache's salt that follows from it."""
+``__version__`` says 3.0.1 too), the register cache's salt that follows from it, and what its
+scenes give every robot."""
 
 from __future__ import annotations
 
@@ -149,6 +150,20 @@ def test_the_scan_equals_the_registry_of_the_installed_maniskill() -> None:
     assert scan_registered_uids(found.package_dir) == own == facts.registered_uids()
     if (found.distribution, found.version) == ("mani-skill", "3.0.1"):
         assert own == facts.UIDS_OF_3_0_1  # the stand-in without ManiSkill
+
+
+@pytest.mark.usefixtures("maniskill")
+def test_the_scene_facts_are_the_installed_maniskills() -> None:
+    from mani_skill.agents.robots.fetch.fetch import (
+        FETCH_BASE_COLLISION_BIT,
+        FETCH_WHEELS_COLLISION_BIT,
+    )
+    from mani_skill.utils.structs.types import SceneConfig
+
+    from robospec.maniskill.scenes import CONTACT_OFFSET, GROUND_BITS
+
+    assert GROUND_BITS == (FETCH_WHEELS_COLLISION_BIT, FETCH_BASE_COLLISION_BIT)
+    assert CONTACT_OFFSET == SceneConfig().contact_offset
 
 
 def test_both_distributions_installed_is_a_warning_of_check(

@@ -88,7 +88,7 @@ def test_cheetah_head_is_turned_the_other_way(scene: Any) -> None:
     head = torso._objs[0].collision_shapes[1]  # <geom name="head" euler="0 50 0">
     # MuJoCo tilts the capsule's axis to (sin 50, 0, cos 50); SAPIEN's capsule lies along x
     q = head.local_pose.q
-    from robospec.description.mjcf_frames import rotate
+    from robospec.geometry import rotate
 
     axis = rotate(tuple(q), (1.0, 0.0, 0.0))
     meant = (np.sin(np.radians(50)), 0.0, np.cos(np.radians(50)))

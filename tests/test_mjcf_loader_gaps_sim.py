@@ -14,13 +14,8 @@ import pytest
 from mjcf_scene import parse, scene_fixture  # noqa: F401  (the scene fixture)
 
 from robospec.description import load_description
-from robospec.description.mjcf_frames import (
-    about_axis,
-    maniskill_rotation,
-    mujoco_rotation,
-    rotate,
-    same_rotation,
-)
+from robospec.description.mjcf_frames import maniskill_rotation, mujoco_rotation, same_rotation
+from robospec.geometry import about_axis, rotate
 
 pytestmark = pytest.mark.maniskill
 

@@ -14,6 +14,7 @@ from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
 from robospec.diagnostics import has_errors
+from robospec.model.thresholds import MIN_CONTACT_DEPTH
 from robospec.pipeline import compile_spec
 
 pytestmark = [
@@ -25,7 +26,6 @@ pytestmark = [
 DATA = ROOT / "tests" / "data" / "new"
 STANDING = 0.03  # m: how far a standing robot's root may move in a second ("a few cm")
 LIFT = 0.1  # m: dropped from this much higher, a robot that does not hover lands again
-MIN_DEPTH = 0.001  # m: robospec check's default self_contact.min_depth
 
 
 def scaffold(description: Path, out: Path) -> dict:
@@ -115,7 +115,9 @@ def test_the_rest_pose_search_moves_an_arm_out_of_its_pedestal(tmp_path: Path) -
             sim.start(dataclasses.replace(rest, qpos=qpos))
             sim.hold_drive_targets()
             sim.sim_step()
-            deep = [pair for pair, depth in sim.self_contacts().items() if depth >= MIN_DEPTH]
+            deep = [
+                pair for pair, depth in sim.self_contacts().items() if depth >= MIN_CONTACT_DEPTH
+            ]
             assert bool(deep) is touching
 
 

@@ -15,12 +15,11 @@ from robospec.authoring.groups import Groups, guess_groups
 from robospec.authoring.joint_loads import Inertial, mjcf_inertials, urdf_inertials
 from robospec.description import Joint, RobotDescription
 from robospec.description.numbers import finite_numbers
+from robospec.geometry import IDENTITY, Quaternion
 from robospec.kinematics.forward import KinematicModel, mjcf_kinematics, urdf_kinematics
 from robospec.kinematics.mjcf_model import read_mjcf_model
 from robospec.kinematics.morphology import Morphology, morphology
 
-Quaternion = tuple[float, float, float, float]  # (w, x, y, z)
-IDENTITY_QUATERNION: Quaternion = (1.0, 0.0, 0.0, 0.0)
 _HALF = math.sqrt(0.5)
 # the turn that takes each horizontal principal axis (index, positive?) of a root frame to +z
 _TO_Z_UP: dict[tuple[int, bool], Quaternion] = {
@@ -82,11 +81,11 @@ class RobotAnalysis:
         principal axis of the root frame nearest the direction from its feet (the frames where
         its legs end) to its centre of mass, at ``qpos``."""
         if not self.body.floating or self.kinematics is None:
-            return IDENTITY_QUATERNION
+            return IDENTITY
         poses = self.kinematics.link_poses(qpos)
         feet = [poses[foot[0]].translation for foot in self.feet() if foot and foot[0] in poses]
         if not feet:
-            return IDENTITY_QUATERNION
+            return IDENTITY
         mass = 0.0
         moment = [0.0, 0.0, 0.0]
         for link, inertial in self.inertials.items():
@@ -100,7 +99,7 @@ class RobotAnalysis:
         if axis == 2 or abs(up[axis]) < 2 * max(abs(up[i]) for i in range(3) if i != axis):
             # z-up, or feet above the body at this pose (Minitaur's legs fold up at 0: a pose,
             # not a convention), or no clear axis: as written
-            return IDENTITY_QUATERNION
+            return IDENTITY
         return _TO_Z_UP[(axis, up[axis] > 0)]
 
     def start_qpos(self) -> dict[str, float]:

@@ -23,6 +23,9 @@ from dataclasses import dataclass
 
 from robospec.description import RobotDescription
 from robospec.description.ratings import Rating
+from robospec.model.thresholds import MAX_JOINT_DRIFT, PRISMATIC_STEP
+from robospec.model.thresholds import STEP as CHECK_STEP
+from robospec.physics.findings import significant  # as tune writes gains
 
 
 @dataclass(frozen=True)
@@ -97,11 +100,13 @@ NATURAL_FREQUENCY = 20.0  # rad/s
 DAMPING_RATIO = 1.0
 # Where the joint holds a gravity load (a floating robot, or passive joints turning
 # ManiSkill's gravity compensation off), stiff enough that the load moves it no further than
-# this: a fifth of robospec check's max_joint_drift (rad), a millimetre (m) for a slide.
-HOLD_DRIFT = {"revolute": 0.01, "prismatic": 0.001}
+# this: a share of robospec check's max_joint_drift (rad), a millimetre (m) for a slide. The
+# refinement in ManiSkill (.refine) holds the scaffold to the same share of the spec's.
+HOLD_SHARE = 0.2
+HOLD_DRIFT = {"revolute": HOLD_SHARE * MAX_JOINT_DRIFT, "prismatic": 0.001}
 # robospec check's step sizes (checks.step_response.step, prismatic_step): what a step asks of
 # a drive beyond its load
-STEP = {"revolute": 0.1, "prismatic": 0.01}
+STEP = {"revolute": CHECK_STEP, "prismatic": PRISMATIC_STEP}
 # a standing joint softened to its rating stays this many times stiffer than gravity's toppling
 # stiffness: a little stiffer than that and the robot stands, leaning a long way first
 STANCE_MARGIN = 2.0
@@ -127,13 +132,6 @@ class JointGains:
     @property
     def over_rating(self) -> bool:
         return self.rating is not None and self.needs > self.rating.value * 1.0001
-
-
-def significant(value: float, digits: int = 3) -> float:
-    """``value`` to ``digits`` significant digits: what a scaffold writes."""
-    if value == 0 or not math.isfinite(value):
-        return value
-    return float(f"{value:.{digits}g}")
 
 
 def analytic_gains(

@@ -15,17 +15,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from robospec.authoring.analysis import RobotAnalysis, immobile_reason
-from robospec.authoring.gains import (
-    NATURAL_FREQUENCY,
-    JointGains,
-    analytic_gains,
-    significant,
-)
+from robospec.authoring.gains import NATURAL_FREQUENCY, JointGains, analytic_gains
 from robospec.authoring.joint_loads import JointLoad, joint_loads
 from robospec.description import Joint
 from robospec.description.ratings import Rating, joint_ratings
 from robospec.diagnostics import Diagnostic, Location, warning
-from robospec.kinematics.frames import from_quaternion
+from robospec.geometry import matrix_from_quaternion
+from robospec.physics.findings import significant
 
 OVER_RATING = "RS609"
 
@@ -49,7 +45,7 @@ def loads(
     if analysis.kinematics is None:
         return {}
     feet = analysis.feet() if gravity and analysis.body.floating else ()
-    upright = from_quaternion(*analysis.upright(qpos))
+    upright = matrix_from_quaternion(analysis.upright(qpos))
     found = joint_loads(
         analysis.kinematics, analysis.inertials, qpos, analysis.armature, feet, upright
     )

@@ -36,18 +36,21 @@ from dataclasses import dataclass
 
 from lxml import etree
 
+from robospec.description.inertia import DENSITY  # PhysX's and MuJoCo's default
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
-from robospec.kinematics.forward import KinematicModel
-from robospec.kinematics.frames import (
-    IDENTITY_ROTATION,
+from robospec.geometry import (
+    IDENTITY_MATRIX,
     Matrix,
-    Transform,
     Vector,
     cross,
-    from_rpy,
-    from_z_axis,
+    dot,
+    matrix_from_rpy,
+    shifted,
+    turned,
 )
+from robospec.kinematics.forward import KinematicModel
+from robospec.kinematics.frames import Transform, from_z_axis
 from robospec.kinematics.mjcf_model import (
     MjBody,
     MjcfModel,
@@ -57,7 +60,6 @@ from robospec.kinematics.mjcf_model import (
 )
 
 GRAVITY = 9.81  # m/s², along the world's -z (the root frame turned as its rest pose stands it)
-DENSITY = 1000.0  # kg/m³: PhysX's and MuJoCo's default
 
 
 @dataclass(frozen=True)
@@ -98,26 +100,6 @@ def _diagonal(x: float, y: float, z: float) -> Matrix:
     return ((x, 0.0, 0.0), (0.0, y, 0.0), (0.0, 0.0, z))
 
 
-def _rotate(r: Matrix, inertia: Matrix) -> Matrix:
-    """``r @ inertia @ r.T``."""
-    ri = [[sum(r[i][k] * inertia[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
-    return tuple(  # type: ignore[return-value]
-        tuple(sum(ri[i][k] * r[j][k] for k in range(3)) for j in range(3)) for i in range(3)
-    )
-
-
-def _shifted(inertia: Matrix, mass: float, offset: Vector) -> Matrix:
-    """Parallel axes: ``inertia`` (about the centre of mass) about a point ``offset`` away."""
-    d2 = sum(c * c for c in offset)
-    return tuple(  # type: ignore[return-value]
-        tuple(
-            inertia[i][j] + mass * ((d2 if i == j else 0.0) - offset[i] * offset[j])
-            for j in range(3)
-        )
-        for i in range(3)
-    )
-
-
 def combine(parts: Iterable[tuple[float, Transform, Matrix]]) -> Inertial | None:
     """One body of several parts: (mass, the part's frame in the body's with its centre of
     mass at the origin, its inertia in that frame). None when there is no mass."""
@@ -129,7 +111,7 @@ def combine(parts: Iterable[tuple[float, Transform, Matrix]]) -> Inertial | None
     total = [[0.0] * 3 for _ in range(3)]
     for m, frame, inertia in items:
         offset = tuple(frame.translation[i] - com[i] for i in range(3))
-        about = _shifted(_rotate(frame.rotation, inertia), m, offset)  # type: ignore[arg-type]
+        about = shifted(turned(frame.rotation, inertia), m, offset)  # type: ignore[arg-type]
         for i in range(3):
             for j in range(3):
                 total[i][j] += about[i][j]
@@ -190,7 +172,7 @@ def _origin(element: etree._Element | None) -> Transform:
         return Transform()
     rpy = finite_numbers(element.get("rpy"), 3) or (0.0, 0.0, 0.0)
     xyz = finite_numbers(element.get("xyz"), 3) or (0.0, 0.0, 0.0)
-    return Transform(from_rpy(*rpy), xyz)  # type: ignore[arg-type]
+    return Transform(matrix_from_rpy(*rpy), xyz)  # type: ignore[arg-type]
 
 
 def _urdf_inertial(inertial: etree._Element | None) -> Inertial | None:
@@ -209,7 +191,7 @@ def _urdf_inertial(inertial: etree._Element | None) -> Inertial | None:
     if not any((xx, xy, xz, yy, yz, zz)):
         return None
     frame = _origin(inertial.find("origin"))
-    inertia = _rotate(frame.rotation, ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz)))
+    inertia = turned(frame.rotation, ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz)))
     return Inertial(mass[0], frame.translation, inertia)
 
 
@@ -309,7 +291,7 @@ def _scaled(inertia: Matrix, factor: float) -> Matrix:
 
 def _z_towards(axis: Sequence[float]) -> Matrix:
     if sum(c * c for c in axis) < 1e-24:
-        return IDENTITY_ROTATION
+        return IDENTITY_MATRIX
     return from_z_axis(tuple(axis))  # type: ignore[arg-type]
 
 
@@ -330,7 +312,7 @@ def _mjcf_inertial(model: MjcfModel, body: MjBody) -> Inertial | None:
     else:
         return None
     rotation = orientation(model, dict(element.attrib))
-    return Inertial(mass[0], vector(element.get("pos")), _rotate(rotation, inertia))
+    return Inertial(mass[0], vector(element.get("pos")), turned(rotation, inertia))
 
 
 # -- loads ----------------------------------------------------------------------------------------
@@ -342,14 +324,14 @@ def joint_loads(
     qpos: Mapping[str, float],
     armature: Mapping[str, float] | None = None,
     feet: Sequence[Sequence[str]] = (),
-    upright: Matrix = IDENTITY_ROTATION,
+    upright: Matrix = IDENTITY_MATRIX,
 ) -> dict[str, JointLoad]:
     """Every moving joint of ``model`` at ``qpos``. ``feet``: for a robot that stands, the links
     of each foot (the ground pushes on the lowest frame of each); empty: it does not stand.
     ``upright``: how the root frame is turned in the world, gravity pulling along the world's
     -z (a description written y-up stands turned: ``RobotAnalysis.upright``)."""
-    turned = Transform(upright)
-    poses = {link: turned @ pose for link, pose in model.link_poses(qpos).items()}
+    stood = Transform(upright)
+    poses = {link: stood @ pose for link, pose in model.link_poses(qpos).items()}
     children: dict[str, list[str]] = {}
     for joint in model.joints:
         children.setdefault(joint.parent, []).append(joint.child)
@@ -360,7 +342,7 @@ def joint_loads(
             world[link] = (
                 found.mass,
                 pose.point(found.com),
-                _rotate(pose.rotation, found.inertia),
+                turned(pose.rotation, found.inertia),
             )
     support = _support(poses, world, feet)
     total_mass = sum(m for m, _, _ in world.values())
@@ -383,15 +365,15 @@ def joint_loads(
             if link not in world:
                 continue
             mass, com, about_com = world[link]
-            arm = tuple(com[i] - pivot[i] for i in range(3))
+            arm = (com[0] - pivot[0], com[1] - pivot[1], com[2] - pivot[2])
             weight = (0.0, 0.0, -GRAVITY * mass)
             if joint.type == "prismatic":
                 inertia += mass
-                torque += _dot(axis, weight)
+                torque += dot(axis, weight)
             else:
                 inertia += _quadratic(about_com, axis)
-                inertia += mass * sum(c * c for c in cross(axis, arm))  # type: ignore[arg-type]
-                torque += _dot(axis, cross(arm, weight))  # type: ignore[arg-type]
+                inertia += mass * sum(c * c for c in cross(axis, arm))
+                torque += dot(axis, cross(arm, weight))
         standing = None
         topple = 0.0
         if support:
@@ -403,10 +385,10 @@ def joint_loads(
                 carried += force
                 push = (0.0, 0.0, force)
                 if joint.type == "prismatic":
-                    standing += _dot(axis, push)
+                    standing += dot(axis, push)
                 else:
-                    arm = tuple(point[0][i] - pivot[i] for i in range(3))
-                    standing += _dot(axis, cross(arm, push))  # type: ignore[arg-type]
+                    arm = (point[0][0] - pivot[0], point[0][1] - pivot[1], point[0][2] - pivot[2])
+                    standing += dot(axis, cross(arm, push))
             if carried > 0 and joint.type != "prismatic":
                 topple = _topple(world, beyond, total_mass, total_moment, axis, pivot)
                 topple *= carried / (GRAVITY * total_mass)
@@ -432,8 +414,8 @@ def _topple(
         total_moment[i] - sum(world[k][0] * world[k][1][i] for k in beyond if k in world)
         for i in range(3)
     ]
-    arm = tuple(moment[i] / mass - pivot[i] for i in range(3))
-    height = arm[2] - _dot(axis, arm) * axis[2]  # the arm's part across the axis, upward
+    arm = (moment[0] / mass - pivot[0], moment[1] / mass - pivot[1], moment[2] / mass - pivot[2])
+    height = arm[2] - dot(axis, arm) * axis[2]  # the arm's part across the axis, upward
     return max(GRAVITY * mass * height, 0.0)
 
 
@@ -446,10 +428,6 @@ def _subtree(link: str, children: Mapping[str, list[str]]) -> set[str]:
                 found.add(child)
                 queue.append(child)
     return found
-
-
-def _dot(a: Sequence[float], b: Sequence[float]) -> float:
-    return sum(x * y for x, y in zip(a, b, strict=True))
 
 
 def _quadratic(matrix: Matrix, v: Vector) -> float:

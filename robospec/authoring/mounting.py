@@ -20,6 +20,7 @@ from lxml import etree
 from robospec.authoring.description_file import DescriptionFile
 from robospec.description.facts import RobotDescription
 from robospec.description.mjcf_frames import Unparsable, body_pose
+from robospec.geometry import IDENTITY, IDENTITY_POSE, Pose
 
 # names vendors give a tool flange or an attachment point (whole words of the name)
 FLANGE_NAMES = re.compile(
@@ -27,7 +28,6 @@ FLANGE_NAMES = re.compile(
     r"wrist\w*|hand_mount|gripper_mount)($|_|\d)",
     re.IGNORECASE,
 )
-IDENTITY = ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0))
 MIN_ARM_JOINTS = 4  # a chain this long ends where an arm takes a tool (a finger's does not)
 
 
@@ -36,19 +36,19 @@ class MountingFrame:
     """A place to mount a part: ``at`` (a link) and the ``pose`` there, and why it is one."""
 
     at: str
-    pose: tuple[tuple[float, float, float], tuple[float, float, float, float]]
+    pose: Pose
     why: str
     role: str  # "flange" (a part goes here) or "root" (this robot goes there as a part)
 
     def pose_yaml(self) -> dict[str, list[float]] | None:
         """The pose as a spec writes it, None for the identity."""
-        if self.pose == IDENTITY:
+        if self.pose == IDENTITY_POSE:
             return None
         p, q = self.pose
         out: dict[str, list[float]] = {}
         if any(p):
             out["p"] = [round(v, 9) for v in p]
-        if q != (1.0, 0.0, 0.0, 0.0):
+        if q != IDENTITY:
             out["q"] = [round(v, 9) for v in q]
         return out
 
@@ -86,7 +86,7 @@ def _urdf_flanges(
             why = f"an empty frame fixed to '{joint.parent}'" + (
                 ", named as a tool flange" if named else ""
             )
-            found.append((named, MountingFrame(link, IDENTITY, why, "flange")))
+            found.append((named, MountingFrame(link, IDENTITY_POSE, why, "flange")))
     named = [frame for is_named, frame in found if is_named]
     # an unnamed empty leaf is a flange only when it is the one there is (a hand's fingertip
     # frames are not)
@@ -135,7 +135,9 @@ def _distal(description: RobotDescription, taken: set[str]) -> list[MountingFram
             best, depth = link, moving
     if best is None or best in taken or depth < MIN_ARM_JOINTS:
         return []
-    return [MountingFrame(best, IDENTITY, f"the last link of a chain of {depth} joints", "flange")]
+    return [
+        MountingFrame(best, IDENTITY_POSE, f"the last link of a chain of {depth} joints", "flange")
+    ]
 
 
 def _root(description: RobotDescription, root: etree._Element | None) -> MountingFrame:
@@ -153,4 +155,4 @@ def _root(description: RobotDescription, root: etree._Element | None) -> Mountin
             and below[0].type == "fixed"
         ):
             why += f" (an empty frame over '{below[0].child}': fold_frames leaves it out)"
-    return MountingFrame(link, IDENTITY, why, "root")
+    return MountingFrame(link, IDENTITY_POSE, why, "root")

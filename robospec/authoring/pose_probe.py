@@ -30,7 +30,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from robospec.kinematics.frames import Vector
+from robospec.authoring.rest_pose import NEIGHBOURS
+from robospec.geometry import IDENTITY, ZERO, Vector, cross
+from robospec.model.thresholds import MIN_CONTACT_DEPTH
 
 STEPS = (0.1, 0.2, 0.35, 0.5)
 FULL_TURN = 2 * math.pi
@@ -43,8 +45,6 @@ DESCENT_GAIN = 0.002
 # poses of a joint (a mimic coupling's leader), evenly over its range, in which the links it
 # moves must not touch to be kept apart (Probe.mechanism_pairs, Probe.welded_neighbours)
 MECHANISM_SAMPLES = 9
-# links this many active joints apart or fewer are neighbours (rest_pose.NEIGHBOURS)
-NEIGHBOURS = 2
 
 
 @dataclass
@@ -60,13 +60,13 @@ class Request:
     # link -> (parent link, the joint between them), for every link but the root
     parents: dict[str, tuple[str, str]] = field(default_factory=dict)
     floating: bool = False
-    min_depth: float = 0.001
+    min_depth: float = MIN_CONTACT_DEPTH
     # the search keeps links this far apart (m): two links just touching block each other, and
     # a step of one towards the other (robospec check's step response) goes nowhere
     clearance: float = 0.002
     budget: int = 600  # poses tried at most
     # (w, x, y, z): how a floating robot stands (its root turned so, for a y-up description)
-    upright: list[float] = field(default_factory=lambda: [1.0, 0.0, 0.0, 0.0])
+    upright: list[float] = field(default_factory=lambda: list(IDENTITY))
     # then scaffold the robot at the rest pose found and measure its gains there
     # (robospec.authoring.refine): (the description file, the spec's path, the schema reference)
     refinement: tuple[str, str, str] | None = None
@@ -453,9 +453,7 @@ class Probe:
         from robospec.resolve.resolved import ResolvedKeyframe
 
         lift = FLOATING_LIFT if self.request.floating else 0.0
-        self.sim.start(
-            ResolvedKeyframe("rest", (0.0, 0.0, lift), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
-        )
+        self.sim.start(ResolvedKeyframe("rest", (0.0, 0.0, lift), IDENTITY, tuple(qpos), None))
         self.sim.hold_drive_targets()
         self.sim.sim_step()
         return dict(self.sim.self_contacts())
@@ -467,9 +465,7 @@ class Probe:
         from robospec.physics.ground import DEPTH, LIFT_MARGIN
         from robospec.resolve.resolved import ResolvedKeyframe
 
-        self.sim.start(
-            ResolvedKeyframe("rest", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0), tuple(qpos), None)
-        )
+        self.sim.start(ResolvedKeyframe("rest", ZERO, IDENTITY, tuple(qpos), None))
         mounted = self.sim.mounted_links()
         lowest = [z for name, z in self.sim.lowest_points().items() if name not in mounted]
         if not lowest or min(lowest) >= -DEPTH:
@@ -521,7 +517,7 @@ def axes_meet(first: tuple[Vector, Vector], second: tuple[Vector, Vector]) -> bo
     """Whether two lines, each (a point, a unit direction), cross at one point: not parallel,
     and no farther apart than :data:`MEET` where they pass closest."""
     (p, u), (q, v) = first, second
-    normal = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    normal = cross(u, v)
     size = math.sqrt(sum(c * c for c in normal))
     if size < 1e-6:
         return False  # parallel: turning about both moves in one plane, no cross between

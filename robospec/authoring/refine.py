@@ -33,11 +33,12 @@ from typing import Any
 
 import numpy as np
 
+from robospec.authoring.gains import HOLD_SHARE  # of check's max_joint_drift
+from robospec.physics.findings import significant
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe
 
 HOLD_ROUNDS = 4
-HOLD_SHARE = 0.2  # of check's max_joint_drift: what a refined hold may drift
 RANDOM_ROUNDS = 3
 RANDOM_SHARE = 0.5  # of check's max_joint_speed / max_root_speed: what random actions may reach
 DAMPING_RAISE = 2.0
@@ -84,7 +85,7 @@ def _search(
     """tune's search on each position or velocity controller of ``sim``'s mode (``only``: the
     groups holding these joints, started from their gains in ``found``)."""
     from robospec.tune.results import Gains
-    from robospec.tune.search import Search, significant
+    from robospec.tune.search import Search
 
     for group in sim.groups():
         if group.kind not in ("position", "velocity") or not group.joint_indices:
@@ -164,7 +165,6 @@ def _hold(
     """Stiffen the joints that drift while the robot holds its keyframe: a fixed robot where
     it is mounted; a floating one on a test stand, and standing where it can stand."""
     from robospec.physics.keyframe_hold import support_at
-    from robospec.tune.search import significant
 
     allowed = HOLD_SHARE * float(checks.keyframe_hold.max_joint_drift)
     steps = int(checks.keyframe_hold.steps)
@@ -232,8 +232,6 @@ def _drift(
 def _random(sim: Sim, checks: Any, keyframe: ResolvedKeyframe, found: Refined) -> set[str]:
     """Damp the joints that random actions fling (see the module's doc, 3); the joints it
     damped."""
-    from robospec.tune.search import significant
-
     settings = checks.random_actions
     damped: set[str] = set()
     inertia: dict[str, float] = {}

@@ -20,13 +20,14 @@ from typing import Any
 
 from robospec.authoring.groups import MimicLink
 from robospec.description import RobotDescription
+from robospec.geometry import IDENTITY, Quaternion
 from robospec.kinematics.tree import KinematicTree
+from robospec.model.thresholds import MIN_CONTACT_DEPTH
 
 PROBE_UID = "robospec_new_probe"
 REFINE_UID = "robospec_new_refine"  # the scaffold at its rest pose, whose gains are measured
 PROBE_MODE = "pd_joint_pos"
 PROBE_TIMEOUT = 300.0  # s; loading a big robot on a slow CPU takes tens of seconds
-MIN_DEPTH = 0.001  # m: robospec check's default (checks.self_contact.min_depth)
 # links this many active joints apart or fewer are neighbours: a contact between them in every
 # pose is their shapes overlapping at the joint (a housing, a motor inside the body)
 NEIGHBOURS = 2
@@ -51,7 +52,7 @@ class RestPose:
     unchecked_because: str | None = None
     # (w, x, y, z): how a floating robot's root stands at rest (RobotAnalysis.upright: turned
     # for a description written y-up)
-    upright: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    upright: Quaternion = IDENTITY
     # pairs joined only through links without collision shapes, or nesting round two hinges
     # whose axes meet (pose_probe's ``adjacent`` and ``nesting_yokes``):
     # adjacent as parent and child are, whose collisions PhysX leaves out; declared
@@ -97,7 +98,7 @@ def probe_rest_pose(
     mimic: list[MimicLink],
     floating: bool,
     refinement: Refinement | None = None,
-    upright: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0),
+    upright: Quaternion = IDENTITY,
 ) -> tuple[RestPose, RefinedGains | str | None]:
     """Search from ``start`` in ManiSkill; ``draft`` is the text of a valid spec of the robot
     whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode. With
@@ -122,7 +123,7 @@ def probe_rest_pose(
         ],
         "parents": {link: [joint.parent, joint.name] for link, joint in tree.up.items()},
         "floating": floating,
-        "min_depth": MIN_DEPTH,
+        "min_depth": MIN_CONTACT_DEPTH,
         "upright": list(upright),
     }
     if refinement is not None:
@@ -170,7 +171,7 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
         overlapping=overlapping,
         tried=tried,
         adjacent=tuple((str(a), str(b)) for a, b in answer.get("adjacent", [])),
-        upright=tuple(float(v) for v in answer.get("upright", (1.0, 0.0, 0.0, 0.0))),  # type: ignore[arg-type]
+        upright=tuple(float(v) for v in answer.get("upright", IDENTITY)),  # type: ignore[arg-type]
     )
 
 

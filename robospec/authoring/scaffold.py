@@ -40,7 +40,7 @@ from robospec.authoring.joint_gains import joint_gains
 from robospec.authoring.rest_pose import RestPose
 from robospec.authoring.scaffold_controllers import controllers_and_modes, unbalanced
 from robospec.authoring.task_members import task_members
-from robospec.description.facts import Pose
+from robospec.geometry import IDENTITY, Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
 from robospec.maniskill.installed import registered_uids
@@ -249,9 +249,6 @@ def _keyframes(analysis: RobotAnalysis, rest: RestPose) -> tuple[dict[str, Any],
     if description.keyframes:
         note += "; then the file's own keyframes"
     return keyframes, note
-
-
-IDENTITY = (1.0, 0.0, 0.0, 0.0)
 
 
 def standing_pose(analysis: RobotAnalysis, rest: RestPose) -> Pose | None:

@@ -24,7 +24,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from robospec.authoring.analysis import RobotAnalysis
-from robospec.kinematics.frames import Transform, Vector
+from robospec.geometry import Vector
+from robospec.kinematics.frames import Transform
 
 _TCP_NAME = re.compile(r"(tcp|grasp|ee_gripper|tool0|end_?effector|eef)", re.IGNORECASE)
 GRIPPING_KINDS = ("gripper", "mimic")

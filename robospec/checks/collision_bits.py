@@ -19,13 +19,15 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
+from robospec.maniskill.scenes import GROUND_BITS
 
 RESERVED = {
     29: "bit 29 of group 2 is the one disable_self_collisions sets on every link",
-    30: "bit 30 of group 2 is set on the ground by ManiSkill's scenes: these links will not "
-    "collide with the floor",
-    31: "bit 31 of group 2 is set on the ground by ManiSkill's scenes: these links will not "
-    "collide with the floor",
+    **{
+        bit: f"bit {bit} of group 2 is set on the ground by ManiSkill's scenes: these links will "
+        "not collide with the floor"
+        for bit in GROUND_BITS
+    },
 }
 
 

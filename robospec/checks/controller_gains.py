@@ -16,8 +16,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
-
-MIN_STIFFNESS = 1.0
+from robospec.model.thresholds import MIN_EE_STIFFNESS
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -26,7 +25,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             continue
         stiffness = dict(controller.kwargs).get("stiffness")
         values = stiffness if isinstance(stiffness, list) else [stiffness]
-        low = [v for v in values if isinstance(v, (int, float)) and v < MIN_STIFFNESS]
+        low = [v for v in values if isinstance(v, (int, float)) and v < MIN_EE_STIFFNESS]
         if not low:
             continue
         yield warning(

@@ -21,8 +21,7 @@ from collections.abc import Iterator
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
 from robospec.load.source_map import KeyPath
-
-LIMIT_TOLERANCE = 1e-6
+from robospec.model.thresholds import LIMIT_TOLERANCE
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:

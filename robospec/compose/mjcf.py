@@ -50,7 +50,7 @@ from robospec.compose.xml import (
     written,
 )
 from robospec.description.mjcf_frames import ORIENTATION_ATTRIBUTES, Unparsable, body_pose
-from robospec.geometry import compose
+from robospec.geometry import IDENTITY_POSE, compose
 
 INDENT = "  "
 # sections whose children are merged into the robot's (the elements of each, named or not)
@@ -284,7 +284,7 @@ def _mount(
     try:
         own = body_pose(dict(robot_body.attrib), there.degrees, there.eulerseq)
     except (Unparsable, ValueError):
-        own = ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0))
+        own = IDENTITY_POSE
     position, quaternion = compose((part.position, part.quaternion), own)
     for attribute in ("pos", *ORIENTATION_ATTRIBUTES):
         robot_body.attrib.pop(attribute, None)

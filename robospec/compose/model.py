@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from robospec.diagnostics import Diagnostic, Location
+from robospec.geometry import Quaternion, Vector
 from robospec.load.source_map import KeyPath
 
 Kind = Literal["urdf", "mjcf"]
@@ -46,9 +47,9 @@ class PartSource:
     path: str  # the description file, absolute: relative files are found from its folder
     shown: str  # how diagnostics name it
     at: str  # the link it is mounted on
-    position: tuple[float, float, float]
-    quaternion: tuple[float, float, float, float]  # wxyz
-    rpy: tuple[float, float, float] | None  # the rotation as the spec wrote it, when in rpy
+    position: Vector
+    quaternion: Quaternion  # wxyz
+    rpy: Vector | None  # the rotation as the spec wrote it, when in rpy
     joint: str  # the name of the fixed joint that mounts it
     prefix: str
     # mesh and texture URIs as the part's description writes them -> the file robospec found

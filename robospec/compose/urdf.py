@@ -33,7 +33,7 @@ from robospec.compose.xml import (
     relative_file,
     written,
 )
-from robospec.geometry import Pose, compose, from_rpy, to_rpy
+from robospec.geometry import Pose, compose, quaternion_from_rpy, rpy_from_quaternion
 
 INDENT = "  "
 
@@ -167,7 +167,7 @@ def _mount(
         (e for e in tree.iter(etree.Element) if e is not tree), part.shown, path=part.path
     )
     child = link_names.get(root_name, root_name)
-    rpy = part.rpy if part.rpy is not None and not folded else to_rpy(pose[1])
+    rpy = part.rpy if part.rpy is not None and not folded else rpy_from_quaternion(pose[1])
     origin = (pose[0], rpy)
     if holder is not None:
         joint = None
@@ -346,7 +346,7 @@ def _origin(joint: etree._Element) -> Pose | None:
         return None
     if len(xyz) != 3 or len(rpy) != 3:
         return None
-    return (xyz[0], xyz[1], xyz[2]), from_rpy(rpy[0], rpy[1], rpy[2])
+    return (xyz[0], xyz[1], xyz[2]), quaternion_from_rpy(rpy[0], rpy[1], rpy[2])
 
 
 def _fixed_joints(tree: etree._Element, end: str, name: str) -> list[etree._Element]:

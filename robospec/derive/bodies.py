@@ -23,15 +23,24 @@ from robospec.derive.mend import CANNOT_MEND
 from robospec.derive.mjcf_tree import childclass, classes, degrees, effective, robot_body, whole
 from robospec.description.mjcf_frames import (
     ORIENTATION_ATTRIBUTES,
-    Pose,
     Unparsable,
     body_pose,
-    compose,
     mujoco_rotation,
     numbers,
-    rotate,
 )
 from robospec.description.mjcf_mujoco import Table
+from robospec.geometry import (
+    IDENTITY,
+    IDENTITY_POSE,
+    Matrix,
+    Pose,
+    Vector,
+    compose,
+    matrix_from_quaternion,
+    shifted,
+    turned,
+)
+from robospec.maniskill.scenes import GROUND_BITS
 
 NAME = "bodies"
 KINDS = frozenset({"mjcf"})
@@ -40,15 +49,11 @@ CODE = "RS720"
 FIXES = ("RS081",)
 WHY = "too many bodies for ManiSkill's loader's collision bits: those without joints are merged"
 
-GROUND_BIT = 30  # the bit of collision group 2 ManiSkill's scenes set on the ground
 POSED = ("geom", "site", "camera", "light", "body", "frame")  # moved up, their pose composed
 # what a merged body may hold besides those (and its inertial): anything else keeps it apart
 _MOVABLE = frozenset({*POSED, "inertial"})
 # attributes that name a body (contact exclusions, equality constraints, sensors, targets)
 _BODY_REFERENCES = ("body1", "body2", "body", "target")
-
-
-Matrix = tuple[tuple[float, float, float], ...]
 
 
 def apply(document: Document, policy: str) -> None:
@@ -155,8 +160,8 @@ def _place(
     fromto = attributes.get("fromto")
     if fromto is not None and element.tag == "geom":
         values = numbers(fromto, 6)
-        a = compose(pose, ((values[0], values[1], values[2]), (1.0, 0.0, 0.0, 0.0)))[0]
-        b = compose(pose, ((values[3], values[4], values[5]), (1.0, 0.0, 0.0, 0.0)))[0]
+        a = compose(pose, ((values[0], values[1], values[2]), IDENTITY))[0]
+        b = compose(pose, ((values[3], values[4], values[5]), IDENTITY))[0]
         element.set("fromto", _numbers((*a, *b)))
         return
     position = numbers(attributes.get("pos", "0 0 0"), 3)
@@ -184,7 +189,7 @@ def _combine_inertial(
             return  # MuJoCo weighs the parent's geoms; ManiSkill reads no <inertial> at all
         total = moved
     else:
-        here = _inertia_of(existing, ((0.0, 0.0, 0.0), (1.0, 0.0, 0.0, 0.0)), use_degrees, eulerseq)
+        here = _inertia_of(existing, IDENTITY_POSE, use_degrees, eulerseq)
         total = _sum(here, moved)
         parent.remove(existing)
     mass, com, matrix = total
@@ -203,7 +208,7 @@ def _combine_inertial(
 
 def _inertia_of(
     inertial: etree._Element, pose: Pose, use_degrees: bool, eulerseq: str
-) -> tuple[float, tuple[float, float, float], Matrix]:
+) -> tuple[float, Vector, Matrix]:
     """(mass, centre of mass, inertia matrix about it) of an ``<inertial>``, in the frame
     ``pose`` is given in."""
     mass = numbers(inertial.get("mass", "0"), 1)[0]
@@ -211,28 +216,19 @@ def _inertia_of(
     if inertial.get("fullinertia") is not None:
         xx, yy, zz, xy, xz, yz = numbers(inertial.get("fullinertia", ""), 6)
         local: Matrix = ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
-        rotation = (1.0, 0.0, 0.0, 0.0)
+        rotation = IDENTITY
     else:
         diagonal = numbers(inertial.get("diaginertia", "0 0 0"), 3)
         local = ((diagonal[0], 0.0, 0.0), (0.0, diagonal[1], 0.0), (0.0, 0.0, diagonal[2]))
         rotation = mujoco_rotation(inertial.attrib, use_degrees, eulerseq)
     frame = compose(pose, ((position[0], position[1], position[2]), rotation))
-    axes = [rotate(frame[1], e) for e in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))]
-    # R I Rᵀ, R's columns the frame's axes
-    turned = tuple(
-        tuple(
-            sum(axes[a][i] * local[a][b] * axes[b][j] for a in range(3) for b in range(3))
-            for j in range(3)
-        )
-        for i in range(3)
-    )
-    return mass, frame[0], turned  # type: ignore[return-value]
+    return mass, frame[0], turned(matrix_from_quaternion(frame[1]), local)
 
 
 def _sum(
-    a: tuple[float, tuple[float, float, float], Matrix],
-    b: tuple[float, tuple[float, float, float], Matrix],
-) -> tuple[float, tuple[float, float, float], Matrix]:
+    a: tuple[float, Vector, Matrix],
+    b: tuple[float, Vector, Matrix],
+) -> tuple[float, Vector, Matrix]:
     """Two rigid bodies' masses, centres and inertias as one (the parallel axis theorem)."""
     mass = a[0] + b[0]
     if mass <= 0:
@@ -240,11 +236,10 @@ def _sum(
     com = tuple((a[0] * a[1][i] + b[0] * b[1][i]) / mass for i in range(3))
     rows = [[0.0] * 3 for _ in range(3)]
     for m, c, inertia in (a, b):
-        d = [c[i] - com[i] for i in range(3)]
-        squared = sum(v * v for v in d)
+        about = shifted(inertia, m, (c[0] - com[0], c[1] - com[1], c[2] - com[2]))
         for i in range(3):
             for j in range(3):
-                rows[i][j] += inertia[i][j] + m * ((squared if i == j else 0.0) - d[i] * d[j])
+                rows[i][j] += about[i][j]
     return mass, com, tuple(tuple(r) for r in rows)  # type: ignore[return-value]
 
 
@@ -280,6 +275,6 @@ def body_count(root: etree._Element) -> int:
 
 def suggest(document: Document) -> str | None:
     """Only where the loader's bits run out or reach the ground's (31 bodies or more)."""
-    if body_count(whole(document.trial())) <= GROUND_BIT:
+    if body_count(whole(document.trial())) <= GROUND_BITS[0]:
         return None
     return "merge" if document.would_change(apply, "merge") else None

@@ -32,6 +32,7 @@ from lxml import etree
 from robospec.derive.document import Document
 from robospec.derive.mend import CANNOT_MEND
 from robospec.description.inertia import (
+    INERTIA_ATTRIBUTES,
     from_axes,
     impossible,
     principal_axes,
@@ -47,7 +48,6 @@ CODE = "RS706"
 FIXES = ("RS059", "RS062")
 WHY = "SAPIEN rejects these inertias ('invalid moment of inertia'), or they are far too small"
 
-_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 _GYRATION = 0.002  # m: the bound's radius of gyration about each principal axis
 TOO_SMALL_GYRATION = 1e-4  # m: a radius of gyration no link has (new writes the bound)
 _FLOOR = 1e-12  # kg m^2: the bound of a link whose mass says nothing
@@ -206,13 +206,13 @@ def _values(inertia: etree._Element | None) -> tuple[float, ...] | None:
     if inertia is None:
         return None
     try:
-        return tuple(float(inertia.get(a, "")) for a in _ATTRIBUTES)
+        return tuple(float(inertia.get(a, "")) for a in INERTIA_ATTRIBUTES)
     except ValueError:
         return None
 
 
 def _write(inertia: etree._Element, values: tuple[float, ...]) -> None:
-    for attribute, value in zip(_ATTRIBUTES, values, strict=True):
+    for attribute, value in zip(INERTIA_ATTRIBUTES, values, strict=True):
         inertia.set(attribute, _number(value))
 
 

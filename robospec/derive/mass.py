@@ -13,6 +13,8 @@ from __future__ import annotations
 from typing import Literal
 
 from robospec.derive.document import Document
+from robospec.description.inertia import INERTIA_ATTRIBUTES
+from robospec.description.sanity import TINY
 
 NAME = "mass"
 KINDS = frozenset({"urdf"})
@@ -21,8 +23,7 @@ CODE = "RS707"
 FIXES = ("RS060", "RS061")
 WHY = "links have masses PhysX replaces or SAPIEN ignores"
 
-MINIMUM = 1e-3  # kg
-_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+MINIMUM = TINY  # kg: a gram, under which robospec validate calls a mass tiny (RS090)
 
 
 def apply(document: Document, policy: str) -> None:
@@ -31,7 +32,11 @@ def apply(document: Document, policy: str) -> None:
         inertia = link.find("inertial/inertia")
         try:
             mass = float(element.get("value", "")) if element is not None else None
-            values = [float(inertia.get(a, "")) for a in _ATTRIBUTES] if inertia is not None else []
+            values = (
+                [float(inertia.get(a, "")) for a in INERTIA_ATTRIBUTES]
+                if inertia is not None
+                else []
+            )
         except ValueError:
             continue  # not a number: its own error says so
         if element is None or mass is None or mass >= MINIMUM:
@@ -40,7 +45,7 @@ def apply(document: Document, policy: str) -> None:
             continue  # a massless frame, as URDFs write one
         element.set("value", f"{MINIMUM:g}")
         if mass > 0 and inertia is not None and any(values):
-            for attribute, value in zip(_ATTRIBUTES, values, strict=True):
+            for attribute, value in zip(INERTIA_ATTRIBUTES, values, strict=True):
                 inertia.set(attribute, f"{value * MINIMUM / mass:.12g}")
         scaled = " (its inertia scaled with it)" if mass > 0 and any(values) else ""
         document.changed(

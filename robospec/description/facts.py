@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
+from robospec.geometry import Pose
+
 JointType = Literal[
     "revolute", "continuous", "prismatic", "fixed", "floating", "planar", "free", "ball"
 ]
@@ -71,11 +73,6 @@ class MeshFile:
     path: str | None
     # the file SAPIEN's URDF loader opens for it from the description's folder, or None
     loader_path: str | None
-
-
-Vector3 = tuple[float, float, float]
-# (position, wxyz quaternion), as SAPIEN's Pose takes them
-Pose = tuple[Vector3, tuple[float, float, float, float]]
 
 
 @dataclass(frozen=True)

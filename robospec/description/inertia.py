@@ -30,13 +30,19 @@ from lxml import etree
 
 from robospec.description.urdf_values import INVALID_STRUCTURE, Findings, at, read_floats
 from robospec.diagnostics import Diagnostic, error, warning
+from robospec.geometry import Matrix, turned
 
 INVALID_INERTIA = "RS059"
 NEGATIVE_MASS = "RS060"
 IGNORED_INERTIAL = "RS061"
 TRIANGLE_INEQUALITY = "RS062"
 
-_INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")  # URDF's <inertia>, in this order
+# What PhysX makes of a link SAPIEN takes no <inertial> of: its collision shapes at this density
+# (kg/m³; MuJoCo's default and ManiSkill's MJCF loader's too), or without any, this mass (kg,
+# and this inertia, kg·m², about each of its axes).
+DENSITY = 1000.0
+EMPTY_LINK_MASS = 1e-6
 # Below this fraction of the largest principal moment, the smallest is rounding noise.
 _SINGULAR = 1e-14
 # Principal moments read from a file are rounded: a sum short of the largest by less than this
@@ -195,7 +201,7 @@ def _inertia(
             )
         )
         return None
-    missing = [a for a in _INERTIA_ATTRIBUTES if element.get(a) is None]
+    missing = [a for a in INERTIA_ATTRIBUTES if element.get(a) is None]
     if missing:
         diagnostics.append(
             error(
@@ -207,7 +213,7 @@ def _inertia(
         return None
     values = [
         read_floats(element, a, 1, path, diagnostics, f"{what} <inertia>")
-        for a in _INERTIA_ATTRIBUTES
+        for a in INERTIA_ATTRIBUTES
     ]
     if any(v is None for v in values):
         return None
@@ -264,9 +270,6 @@ def impossible(moments: tuple[float, float, float]) -> bool:
     return moments[0] + moments[1] < moments[2] * (1 - _TRIANGLE_SLACK)
 
 
-Matrix = tuple[tuple[float, float, float], ...]
-
-
 def principal_axes(
     xx: float, xy: float, xz: float, yy: float, yz: float, zz: float
 ) -> tuple[tuple[float, float, float], Matrix]:
@@ -301,8 +304,6 @@ def principal_axes(
 
 def from_axes(moments: tuple[float, float, float], axes: Matrix) -> tuple[float, ...]:
     """The inertia ``R diag(moments) R^T`` as (ixx, ixy, ixz, iyy, iyz, izz)."""
-
-    def entry(i: int, j: int) -> float:
-        return sum(axes[i][k] * moments[k] * axes[j][k] for k in range(3))
-
-    return (entry(0, 0), entry(0, 1), entry(0, 2), entry(1, 1), entry(1, 2), entry(2, 2))
+    diagonal = ((moments[0], 0.0, 0.0), (0.0, moments[1], 0.0), (0.0, 0.0, moments[2]))
+    m = turned(axes, diagonal)
+    return (m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2])

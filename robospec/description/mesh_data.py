@@ -21,7 +21,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
-Vertex = tuple[float, float, float]
+from robospec.geometry import Vector
 
 # a mesh this large is not read for judging (its bounds are not worth seconds of validate)
 MAX_BYTES = 64 << 20
@@ -51,7 +51,7 @@ class MeshData:
         except (ValueError, OverflowError):
             return False
 
-    def bounds(self) -> tuple[Vertex, Vertex] | None:
+    def bounds(self) -> tuple[Vector, Vector] | None:
         """The axis-aligned box of the vertices (NaN left out); None when there are none."""
         if self.vertex_count and self.finite:  # min and max at C speed
             axes_ = [self.coordinates[i::3] for i in range(3)]
@@ -81,7 +81,7 @@ class MeshData:
                 return i
         return None
 
-    def vertex(self, index: int) -> Vertex:
+    def vertex(self, index: int) -> Vector:
         c = self.coordinates
         return (c[3 * index], c[3 * index + 1], c[3 * index + 2])
 
@@ -169,7 +169,7 @@ def _ascii_stl(data: bytes) -> MeshData:
 
 
 def _obj(data: bytes) -> MeshData:
-    vertices: list[Vertex] = []
+    vertices: list[Vector] = []
     triangles: list[tuple[int, int, int]] = []
     for line in data.splitlines():
         parts = line.split()

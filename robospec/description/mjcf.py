@@ -48,7 +48,7 @@ from robospec.description.facts import (
 )
 from robospec.description.mjcf_constraints import joint_couplings, robot_names
 from robospec.description.mjcf_control import file_actuators, file_keyframes
-from robospec.description.mjcf_frames import IDENTITY_POSE, Unparsable, body_pose
+from robospec.description.mjcf_frames import Unparsable, body_pose
 from robospec.description.mjcf_gaps import loader_gaps
 from robospec.description.mjcf_geoms import filtered_pairs
 from robospec.description.mjcf_loaded import (
@@ -72,6 +72,7 @@ from robospec.description.urdf import (
     read_file_bytes,
 )
 from robospec.diagnostics import Diagnostic, Location, error, note, warning
+from robospec.geometry import IDENTITY_POSE
 
 ReadFile = Callable[[str], bytes]
 

@@ -18,11 +18,12 @@ from collections.abc import Iterator
 
 from lxml import etree
 
-from robospec.description.facts import Actuator, FileKeyframe, Pose
-from robospec.description.mjcf_frames import Unparsable, normalized
+from robospec.description.facts import Actuator, FileKeyframe
+from robospec.description.mjcf_frames import Unparsable
 from robospec.description.mjcf_loaded import LoadedMjcf
 from robospec.description.mjcf_mujoco import MAIN_CLASS, Table
 from robospec.description.numbers import finite_numbers
+from robospec.geometry import Pose, normalized
 
 QPOS_WIDTH = {"free": 7, "ball": 4, "hinge": 1, "slide": 1}
 QVEL_WIDTH = {"free": 6, "ball": 3, "hinge": 1, "slide": 1}

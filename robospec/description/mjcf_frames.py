@@ -23,42 +23,21 @@ from collections.abc import Mapping
 
 from robospec.geometry import (
     IDENTITY,
-    IDENTITY_POSE,
     Degenerate,
     Pose,
     Quaternion,
     Vector,
     about_axis,
-    compose,
-    conjugate,
-    from_columns,
-    inverse,
+    cross,
+    dot,
     multiply,
     normalized,
+    quaternion_from_matrix,
     rotate,
+    transpose,
+    unit,
 )
 
-__all__ = [
-    "IDENTITY",
-    "IDENTITY_POSE",
-    "ORIENTATION_ATTRIBUTES",
-    "Pose",
-    "Quaternion",
-    "Unparsable",
-    "Vector",
-    "body_pose",
-    "compose",
-    "conjugate",
-    "inverse",
-    "maniskill_rotation",
-    "mujoco_rotation",
-    "normalized",
-    "numbers",
-    "orientation_attribute",
-    "rotate",
-    "same_axis",
-    "same_rotation",
-]
 ORIENTATION_ATTRIBUTES = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
 _AXES: dict[str, Vector] = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
@@ -76,21 +55,6 @@ def numbers(text: str, count: int) -> tuple[float, ...]:
     if len(values) < count or not all(math.isfinite(v) for v in values[:count]):
         raise Unparsable(text)
     return values[:count]
-
-
-def _unit(v: Vector) -> Vector:
-    norm = math.sqrt(sum(c * c for c in v))
-    if norm < 1e-12:
-        raise Unparsable("zero vector")
-    return (v[0] / norm, v[1] / norm, v[2] / norm)
-
-
-def _cross(a: Vector, b: Vector) -> Vector:
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def _dot(a: Vector, b: Vector) -> float:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 def orientation_attribute(attributes: Mapping[str, str]) -> str | None:
@@ -121,15 +85,15 @@ def mujoco_rotation(attributes: Mapping[str, str], degrees: bool, eulerseq: str)
         return normalized(q)
     if name == "xyaxes":
         values = numbers(text, 6)
-        x = _unit(values[:3])  # type: ignore[arg-type]
+        x = unit(values[:3])  # type: ignore[arg-type]
         y_given: Vector = values[3:]  # type: ignore[assignment]
-        along = _dot(x, y_given)
-        y = _unit((y_given[0] - along * x[0], y_given[1] - along * x[1], y_given[2] - along * x[2]))
-        return from_columns(x, y, _cross(x, y))
-    z = _unit(numbers(text, 3))  # type: ignore[arg-type]
+        along = dot(x, y_given)
+        y = unit((y_given[0] - along * x[0], y_given[1] - along * x[1], y_given[2] - along * x[2]))
+        return quaternion_from_matrix(transpose((x, y, cross(x, y))))
+    z = unit(numbers(text, 3))  # type: ignore[arg-type]
     # the smallest rotation taking (0, 0, 1) onto z
-    axis = _cross((0.0, 0.0, 1.0), z)
-    if math.sqrt(_dot(axis, axis)) < 1e-12:
+    axis = cross((0.0, 0.0, 1.0), z)
+    if math.sqrt(dot(axis, axis)) < 1e-12:
         return IDENTITY if z[2] > 0 else (0.0, 1.0, 0.0, 0.0)
     return about_axis(axis, math.acos(max(-1.0, min(1.0, z[2]))))
 
@@ -150,19 +114,19 @@ def maniskill_rotation(attributes: Mapping[str, str], degrees: bool) -> Quaterni
         return normalized(multiply(multiply(turns[0], turns[1]), turns[2]))
     if name == "xyaxes":
         values = numbers(text, 6)
-        x_norm = math.sqrt(_dot(values[:3], values[:3]))  # type: ignore[arg-type]
+        x_norm = math.sqrt(dot(values[:3], values[:3]))  # type: ignore[arg-type]
         if x_norm < 1e-12:
             raise Unparsable(text)
         x: Vector = tuple(v / x_norm for v in values[:3])  # type: ignore[assignment]
         z: Vector = tuple(v / x_norm for v in values[3:])  # type: ignore[assignment]
-        y = _unit(_cross(z, x))
-        return from_columns(x, y, _unit(z))
-    z = _unit(numbers(text, 3))  # type: ignore[arg-type]
-    x_raw = _cross((0.0, 0.0, 1.0), z)
-    if math.sqrt(_dot(x_raw, x_raw)) < 1e-12:
+        y = unit(cross(z, x))
+        return quaternion_from_matrix(transpose((x, y, unit(z))))
+    z = unit(numbers(text, 3))  # type: ignore[arg-type]
+    x_raw = cross((0.0, 0.0, 1.0), z)
+    if math.sqrt(dot(x_raw, x_raw)) < 1e-12:
         return None
-    x = _unit(x_raw)
-    return from_columns(x, _unit(_cross(z, x)), z)
+    x = unit(x_raw)
+    return quaternion_from_matrix(transpose((x, unit(cross(z, x)), z)))
 
 
 def body_pose(attributes: Mapping[str, str], degrees: bool, eulerseq: str) -> Pose:
@@ -181,4 +145,4 @@ def same_axis(a: Quaternion, b: Quaternion, tolerance: float = 1e-4) -> bool:
     cylinder or any shape round about its z axis depends on)."""
     za = rotate(a, (0.0, 0.0, 1.0))
     zb = rotate(b, (0.0, 0.0, 1.0))
-    return _dot(za, zb) > 1 - tolerance
+    return dot(za, zb) > 1 - tolerance

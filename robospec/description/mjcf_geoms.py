@@ -31,6 +31,7 @@ from itertools import combinations
 
 from lxml import etree
 
+from robospec.description.inertia import DENSITY, EMPTY_LINK_MASS
 from robospec.description.mjcf_frames import (
     Unparsable,
     maniskill_rotation,
@@ -61,8 +62,6 @@ ORIENTATION = "RS080"
 MESH_UNRESOLVED = "RS085"
 MESH_NOT_FOUND = "RS056"
 
-DENSITY = 1000.0  # ManiSkill's default geom density, kg/m³ (MuJoCo's too)
-MINIMUM_MASS = 1e-6  # what SAPIEN gives a link without collision shapes, kg
 CERTAINLY_WRONG = 10.0  # a mesh this many times too large or small is an error
 MANISKILL_VISUAL_GROUPS = (0, 2)
 MUJOCO_VISUAL_GROUPS = (0, 1, 2)
@@ -426,7 +425,7 @@ def _loaded_mass(geoms: list[LoadedGeom]) -> float | None:
             return None
         density = finite_numbers(geom.attributes.get("density")) or (DENSITY,)
         total += density[0] * volume
-    return total if shapes else MINIMUM_MASS
+    return total if shapes else EMPTY_LINK_MASS
 
 
 def _file_mass(
@@ -474,7 +473,7 @@ def masses(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         if loaded_mass is None:
             rows.append((0.0, f"{body.name}: {mass:.4g} kg in the file"))
         elif not math.isclose(mass, loaded_mass, rel_tol=1e-3):
-            ratio = max(mass, loaded_mass) / max(min(mass, loaded_mass), MINIMUM_MASS)
+            ratio = max(mass, loaded_mass) / max(min(mass, loaded_mass), EMPTY_LINK_MASS)
             text = f"{body.name}: {mass:.4g} kg in the file, {loaded_mass:.4g} kg loaded"
             rows.append((ratio, text))
     if first is None:
@@ -529,7 +528,7 @@ def massless_links(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         NO_MASS,
         f"ManiSkill's MJCF loader gives {what} and what hangs below no collision shape"
         + (f" ({'; '.join(reasons)})" if reasons else " (there are no geoms)")
-        + f": a weightless ghost of SAPIEN's minimum mass, {MINIMUM_MASS:g} kg, moves on "
+        + f": a weightless ghost of SAPIEN's minimum mass, {EMPTY_LINK_MASS:g} kg, moves on "
         f"joint(s) {names(joints)} and touches nothing",
         "give each such body a geom the loader makes a collision shape of (sphere, capsule, "
         "cylinder, box or mesh with contype not 0) in a copy of the model",

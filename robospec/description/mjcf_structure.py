@@ -23,10 +23,12 @@ from collections.abc import Callable, Iterator
 
 from lxml import etree
 
-from robospec.description.mjcf_frames import IDENTITY, Unparsable, body_pose, same_rotation
+from robospec.description.mjcf_frames import Unparsable, body_pose, same_rotation
 from robospec.description.mjcf_loaded import LoadedBody, LoadedMjcf
 from robospec.description.mjcf_mujoco import MAIN_CLASS, Includes
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.geometry import IDENTITY
+from robospec.maniskill.scenes import GROUND_BITS
 
 UNREAD_INCLUDE = "RS082"
 COLLISION_BITS = "RS081"
@@ -35,7 +37,7 @@ JOINT_ATTRIBUTES = "RS084"
 REPEATED_ASSET = "RS094"
 NAMED_ASSETS = ("mesh", "texture", "material", "hfield", "skin")
 
-GROUND_BIT = 30  # what ManiSkill's scenes set in group 2 of the ground's shapes
+GROUND_BIT = GROUND_BITS[0]  # the loader gives the 31st body the first of the ground's bits
 GROUP_BITS = 32
 
 

@@ -7,7 +7,6 @@ Primitives are measured from their attributes, meshes from their vertices
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Iterator, Mapping
 
@@ -16,8 +15,9 @@ from lxml import etree
 from robospec.description.mesh_data import read_mesh
 from robospec.description.meshes import locate
 from robospec.description.packages import PackageFinder, find_up
+from robospec.geometry import Matrix, Vector, apply, matrix_from_rpy
 
-Box = tuple[tuple[float, float, float], tuple[float, float, float]]
+Box = tuple[Vector, Vector]  # the least and the greatest corner
 
 
 def collision_box(
@@ -27,15 +27,15 @@ def collision_box(
     (of the URDF at ``path``); None when it has none robospec can measure."""
     base_dir = os.path.dirname(os.path.abspath(path))
     finder = PackageFinder(base_dir, packages)
-    corners: list[tuple[float, float, float]] = []
+    corners: list[Vector] = []
     for collision in link.iterfind("collision"):
         local = _local_box(collision, base_dir, finder)
         if local is None:
             continue
         rotation, offset = _origin(collision)
         for corner in _corners(local):
-            rotated = tuple(sum(rotation[i][k] * corner[k] for k in range(3)) for i in range(3))
-            corners.append(tuple(rotated[i] + offset[i] for i in range(3)))  # type: ignore[misc]
+            rotated = apply(rotation, corner)
+            corners.append((rotated[0] + offset[0], rotated[1] + offset[1], rotated[2] + offset[2]))
     if not corners:
         return None
     low = tuple(min(c[i] for c in corners) for i in range(3))
@@ -93,7 +93,7 @@ def _mesh_box(mesh: etree._Element, base_dir: str, finder: PackageFinder) -> Box
     )
 
 
-def _origin(element: etree._Element) -> tuple[list[list[float]], list[float]]:
+def _origin(element: etree._Element) -> tuple[Matrix, Vector]:
     origin = element.find("origin")
     xyz, rpy = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
     if origin is not None:
@@ -102,24 +102,11 @@ def _origin(element: etree._Element) -> tuple[list[list[float]], list[float]]:
             rpy = [float(v) for v in origin.get("rpy", "0 0 0").split()][:3] or rpy
         except ValueError:
             pass
-    r, p, y = rpy
-    cr, sr, cp, sp, cy, sy = (
-        math.cos(r),
-        math.sin(r),
-        math.cos(p),
-        math.sin(p),
-        math.cos(y),
-        math.sin(y),
-    )
-    rotation = [
-        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-        [-sp, cp * sr, cp * cr],
-    ]
-    return rotation, xyz
+    roll, pitch, yaw = rpy
+    return matrix_from_rpy(roll, pitch, yaw), (xyz[0], xyz[1], xyz[2])
 
 
-def _corners(box: Box) -> Iterator[tuple[float, float, float]]:
+def _corners(box: Box) -> Iterator[Vector]:
     for x in (box[0][0], box[1][0]):
         for y in (box[0][1], box[1][1]):
             for z in (box[0][2], box[1][2]):

@@ -11,6 +11,8 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from robospec.geometry import Quaternion, Vector
+
 ALL_JOINTS = "*"
 """Stands for "every active joint" when the description is not installed, so the joints an
 agent takes from ``self.robot.active_joints`` cannot be named."""
@@ -58,8 +60,8 @@ class ModeRecord:
 @dataclass(frozen=True)
 class KeyframeRecord:
     name: str
-    p: tuple[float, float, float]
-    q: tuple[float, float, float, float]
+    p: Vector
+    q: Quaternion
     qpos: tuple[float, ...] | None
     qvel: tuple[float, ...] | None
 
@@ -68,8 +70,8 @@ class KeyframeRecord:
 class CameraRecord:
     uid: str
     mount: str | None
-    p: tuple[float, float, float]
-    q: tuple[float, float, float, float]
+    p: Vector
+    q: Quaternion
     width: int
     height: int
     fov: float | None

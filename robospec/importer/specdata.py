@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.geometry import IDENTITY
 from robospec.importer.controllers import ControllerPlan, listify, plan_controllers
 from robospec.importer.groups import (
     GroupPlan,
@@ -30,7 +31,6 @@ from robospec.importer.records import (
 from robospec.importer.upstream import Findings, find_upstream_mistakes
 
 KeyPath = tuple[str | int, ...]
-IDENTITY_Q = (1.0, 0.0, 0.0, 0.0)
 COMMENT_WIDTH = 98
 
 
@@ -315,7 +315,7 @@ def _pose(p: tuple[float, ...], q: tuple[float, ...], *, keep_p: bool) -> dict[s
     pose: dict[str, Any] = {}
     if keep_p or any(v != 0 for v in p):
         pose["p"] = list(p)
-    if tuple(q) != IDENTITY_Q:
+    if tuple(q) != IDENTITY:
         pose["q"] = list(q)
     return pose
 

@@ -28,9 +28,9 @@ from robospec.importer.records import (
     JointFacts,
     SourceRef,
 )
+from robospec.model.thresholds import LIMIT_TOLERANCE, MIN_EE_STIFFNESS
 
 LINK_FIELDS = ("ee_link", "root_link_name")
-LIMIT_TOLERANCE = 1e-6  # as robospec validate
 BOUND_FIELDS = ("pos_lower", "pos_upper", "rot_lower", "rot_upper")
 
 
@@ -306,7 +306,7 @@ def _positional_gains(
     stiffness = controller.get("stiffness")
     if not isinstance(stiffness, (int, float)) or isinstance(stiffness, bool):
         return
-    if not 0 < stiffness < 1:
+    if not 0 < stiffness < MIN_EE_STIFFNESS:
         return
     for name in BOUND_FIELDS:
         bound = controller.get(name)

@@ -13,6 +13,7 @@ from pydantic import Field
 from robospec.model.common import Number, StrictModel
 from robospec.model.refs import ControllerName, ControlModeName
 from robospec.model.rules import StepResponseBehaviour
+from robospec.model.thresholds import MAX_JOINT_DRIFT, MIN_CONTACT_DEPTH, PRISMATIC_STEP, STEP
 
 PositiveNumber = Annotated[Number, Field(gt=0)]
 Fraction = Annotated[Number, Field(ge=0)]
@@ -26,7 +27,7 @@ class KeyframeHold(StrictModel):
         default=50, description="Control steps to hold each keyframe for.", examples=[100]
     )
     max_joint_drift: PositiveNumber = Field(
-        default=0.05,
+        default=MAX_JOINT_DRIFT,
         description="The largest joint drift allowed, in rad (or m for prismatic joints).",
         examples=[0.1],
     )
@@ -106,12 +107,12 @@ class StepResponse(StrictModel, StepResponseBehaviour):
     response of each of its joints."""
 
     step: PositiveNumber = Field(
-        default=0.1,
+        default=STEP,
         description="The commanded step for revolute joints, in rad (or rad/s).",
         examples=[0.05],
     )
     prismatic_step: PositiveNumber = Field(
-        default=0.01,
+        default=PRISMATIC_STEP,
         description="The commanded step for prismatic joints, in m (or m/s).",
         examples=[0.005],
     )
@@ -214,7 +215,7 @@ class SelfContact(StrictModel):
     """At each keyframe, links of the robot that touch each other."""
 
     min_depth: Fraction = Field(
-        default=0.001,
+        default=MIN_CONTACT_DEPTH,
         description="The penetration depth below which a touch is not reported, in m.",
         examples=[0.002],
     )

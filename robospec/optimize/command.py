@@ -33,6 +33,7 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
+from robospec.maniskill.scenes import CONTACT_OFFSET
 
 # the first line of every file robospec optimize writes: what it may overwrite
 MARK = "written by robospec optimize"
@@ -44,7 +45,7 @@ MAX_ERROR_RANGE = (0.0, 0.05)  # exclusive, inclusive; m
 DEFAULT_MAX_ERROR = 0.005
 # --contact-offset: above ManiSkill's own 2 cm it is no profile for speed; below 0.1 mm PhysX
 # sees contacts only once shapes touch
-CONTACT_OFFSET_RANGE = (0.0001, 0.02)  # inclusive; m
+CONTACT_OFFSET_RANGE = (0.0001, CONTACT_OFFSET)  # inclusive; m
 FINAL_URDF = ".final.urdf"  # in the staging folder: the URDF as it is named from OUT's folder
 
 

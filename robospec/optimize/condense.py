@@ -19,24 +19,32 @@ fixed joint that a ``<mimic>`` names. Top-level elements that name a removed lin
 ``<material>`` definitions and everything else stay as written. Numbers are written with
 ``repr`` (exact round trip), so the output is deterministic and loses no precision.
 
-Plain Python (no numpy): robospec's core does not depend on it, and 3×3 matrices need little.
+Plain Python (no numpy): robospec's core does not depend on it, and robospec.geometry's 3×3
+matrices do.
 """
 
 from __future__ import annotations
 
 import copy
-import math
 from collections.abc import Collection, Iterator
 from dataclasses import dataclass
 
 from lxml import etree
 
-Vector = tuple[float, float, float]
-Matrix = tuple[Vector, Vector, Vector]
+from robospec.description.inertia import EMPTY_LINK_MASS, INERTIA_ATTRIBUTES
+from robospec.geometry import (
+    IDENTITY_MATRIX,
+    ZERO,
+    Matrix,
+    Vector,
+    apply,
+    matmul,
+    matrix_from_rpy,
+    rpy_from_matrix,
+    shifted,
+    turned,
+)
 
-_IDENTITY: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
-_ZERO: Vector = (0.0, 0.0, 0.0)
-_INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 # The top-level elements a condensed robot needs as they are; anything else that names a
 # removed link or joint describes something that is gone.
 _STRUCTURE = ("link", "joint", "material")
@@ -255,7 +263,7 @@ def _read_origin(element: etree._Element) -> tuple[Vector, Vector]:
     """(xyz, rpy) of an element's ``<origin>`` (zeros where absent)."""
     origin = element.find("origin")
     if origin is None:
-        return _ZERO, _ZERO
+        return ZERO, ZERO
     xyz = _floats(origin.get("xyz"), 3)
     rpy = _floats(origin.get("rpy"), 3)
     return (xyz[0], xyz[1], xyz[2]), (rpy[0], rpy[1], rpy[2])
@@ -266,12 +274,12 @@ def _compose(outer: tuple[Vector, Vector], inner: tuple[Vector, Vector]) -> tupl
     written (no trip through a matrix, so no rounding)."""
     (p1, rpy1), (p2, rpy2) = outer, inner
     r1 = _rotation(rpy1)
-    shifted = _add(p1, _apply(r1, p2))
-    if rpy2 == _ZERO:
+    shifted = _add(p1, apply(r1, p2))
+    if rpy2 == ZERO:
         return shifted, rpy1
-    if rpy1 == _ZERO:
+    if rpy1 == ZERO:
         return shifted, rpy2
-    return shifted, _rpy(_matmul(r1, _rotation(rpy2)))
+    return shifted, rpy_from_matrix(matmul(r1, _rotation(rpy2)))
 
 
 def _set_origin(element: etree._Element, origin: tuple[Vector, Vector]) -> None:
@@ -291,47 +299,9 @@ def _numbers(values: Collection[float]) -> str:
 
 
 def _rotation(rpy: Vector) -> Matrix:
-    """URDF's fixed-axis roll, pitch, yaw: Rz(yaw) @ Ry(pitch) @ Rx(roll)."""
-    if rpy == _ZERO:
-        return _IDENTITY
-    sr, cr = math.sin(rpy[0]), math.cos(rpy[0])
-    sp, cp = math.sin(rpy[1]), math.cos(rpy[1])
-    sy, cy = math.sin(rpy[2]), math.cos(rpy[2])
-    return (
-        (cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
-        (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
-        (-sp, cp * sr, cp * cr),
-    )
-
-
-def _rpy(r: Matrix) -> Vector:
-    """The roll, pitch, yaw of a rotation. Yaw first, then pitch and roll from Rz(yaw)ᵀ R:
-    unlike reading roll off the last row, this stays exact near pitch ±π/2 (gimbal lock,
-    where roll and yaw are not separately defined and any consistent pair is right)."""
-    yaw = math.atan2(r[1][0], r[0][0])
-    sy, cy = math.sin(yaw), math.cos(yaw)
-    pitch = math.atan2(-r[2][0], cy * r[0][0] + sy * r[1][0])
-    roll = math.atan2(sy * r[0][2] - cy * r[1][2], cy * r[1][1] - sy * r[0][1])
-    return roll, pitch, yaw
-
-
-def _matmul(a: Matrix, b: Matrix) -> Matrix:
-    rows = tuple(
-        tuple(sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)) for i in (0, 1, 2)
-    )
-    return rows  # type: ignore[return-value]
-
-
-def _transpose(a: Matrix) -> Matrix:
-    return tuple(tuple(a[i][j] for i in range(3)) for j in range(3))  # type: ignore[return-value]
-
-
-def _apply(r: Matrix, v: Vector) -> Vector:
-    return (
-        r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2],
-        r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2],
-        r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2],
-    )
+    """The rotation of an origin's rpy; the identity itself for none, which :func:`_rotated`
+    passes by."""
+    return IDENTITY_MATRIX if rpy == ZERO else matrix_from_rpy(*rpy)
 
 
 def _add(a: Vector, b: Vector) -> Vector:
@@ -358,11 +328,10 @@ class _Body:
 # SAPIEN's body for a link without a usable <inertial> and without collision shapes (measured
 # by tests/test_optimize_condense.py, which loads one): 1e-6 kg at the link's origin and
 # 1e-6 kg·m² about each of its axes.
-SAPIEN_EMPTY_MASS = 1e-6
 SAPIEN_EMPTY_LINK = _Body(
-    SAPIEN_EMPTY_MASS,
-    _ZERO,
-    ((SAPIEN_EMPTY_MASS, 0.0, 0.0), (0.0, SAPIEN_EMPTY_MASS, 0.0), (0.0, 0.0, SAPIEN_EMPTY_MASS)),
+    EMPTY_LINK_MASS,
+    ZERO,
+    ((EMPTY_LINK_MASS, 0.0, 0.0), (0.0, EMPTY_LINK_MASS, 0.0), (0.0, 0.0, EMPTY_LINK_MASS)),
 )
 
 
@@ -378,7 +347,7 @@ def _read_body(link: etree._Element) -> _Body | None:
     tensor = inertial.find("inertia")
     i = {
         key: float(tensor.get(key, "0")) if tensor is not None else 0.0
-        for key in _INERTIA_ATTRIBUTES
+        for key in INERTIA_ATTRIBUTES
     }
     matrix: Matrix = (
         (i["ixx"], i["ixy"], i["ixz"]),
@@ -401,16 +370,16 @@ def _simulated_body(link: etree._Element) -> _Body:
 
 def _rotated(r: Matrix, inertia: Matrix) -> Matrix:
     """R I Rᵀ: an inertia tensor expressed in the axes ``r`` maps it into."""
-    if r is _IDENTITY:
+    if r is IDENTITY_MATRIX:
         return inertia
-    return _matmul(_matmul(r, inertia), _transpose(r))
+    return turned(r, inertia)
 
 
 def _moved(body: _Body, origin: tuple[Vector, Vector]) -> _Body:
     """``body`` seen from the frame that ``origin`` places its link in."""
     xyz, rpy = origin
     r = _rotation(rpy)
-    return _Body(body.mass, _add(xyz, _apply(r, body.centre)), _rotated(r, body.inertia))
+    return _Body(body.mass, _add(xyz, apply(r, body.centre)), _rotated(r, body.inertia))
 
 
 def _combined(a: _Body, b: _Body) -> _Body:
@@ -424,14 +393,7 @@ def _combined(a: _Body, b: _Body) -> _Body:
 
 def _about(body: _Body, point: Vector) -> Matrix:
     d = (body.centre[0] - point[0], body.centre[1] - point[1], body.centre[2] - point[2])
-    square = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
-    return tuple(  # type: ignore[return-value]
-        tuple(
-            body.inertia[i][j] + body.mass * ((square if i == j else 0.0) - d[i] * d[j])
-            for j in range(3)
-        )
-        for i in range(3)
-    )
+    return shifted(body.inertia, body.mass, d)
 
 
 def _sum(a: Matrix, b: Matrix) -> Matrix:
@@ -459,7 +421,7 @@ def _write_inertial(link: etree._Element, body: _Body) -> None:
         {
             key: repr(value + 0.0)
             for key, value in zip(
-                _INERTIA_ATTRIBUTES,
+                INERTIA_ATTRIBUTES,
                 (m[0][0], m[0][1], m[0][2], m[1][1], m[1][2], m[2][2]),
                 strict=True,
             )

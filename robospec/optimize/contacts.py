@@ -25,7 +25,6 @@ from typing import Any
 from robospec.optimize.collision_matrix import posed_contacts
 from robospec.resolve.collision_packing import Pair, pair
 
-MANISKILL_OFFSET = 0.02  # SceneConfig.contact_offset: every shape of ManiSkill's scenes
 # the profile's offset: at most 1 mm (measured, optimized robots under random actions: from
 # 2 cm to 2 mm the G1 and the Allegro hand step about 1.5x as fast, 5 mm gives no more, and
 # Baxter, whose arms really touch its torso, gains another tenth from 2 mm to 1 mm; contacts

@@ -44,6 +44,7 @@ from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
+from robospec.geometry import matrix_from_rpy, rpy_from_matrix
 from robospec.optimize.condense import mass_from_shapes
 
 if TYPE_CHECKING:
@@ -732,12 +733,13 @@ def _sphere(hull: trimesh.Trimesh, bounds: tuple[np.ndarray, np.ndarray]) -> _Fi
 
 
 def _origin_matrix(collision: etree._Element) -> np.ndarray:
-    import trimesh
+    import numpy as np
 
     origin = collision.find("origin")
     xyz = _read(origin, "xyz")
-    rpy = _read(origin, "rpy")
-    matrix = trimesh.transformations.euler_matrix(*rpy, axes="sxyz")
+    roll, pitch, yaw = _read(origin, "rpy")
+    matrix = np.eye(4)
+    matrix[:3, :3] = matrix_from_rpy(roll, pitch, yaw)
     matrix[:3, 3] = xyz
     return matrix
 
@@ -748,13 +750,12 @@ def _read(origin: etree._Element | None, key: str) -> list[float]:
 
 
 def _set_origin(collision: etree._Element, matrix: np.ndarray) -> None:
-    import trimesh
-
     origin = collision.find("origin")
     if origin is None:
         origin = etree.Element("origin")
         collision.insert(0, origin)
-    rpy = trimesh.transformations.euler_from_matrix(matrix, axes="sxyz")
+    rows = matrix[:3, :3].tolist()
+    rpy = rpy_from_matrix((tuple(rows[0]), tuple(rows[1]), tuple(rows[2])))
     origin.set("xyz", _floats(matrix[:3, 3]))
     origin.set("rpy", _floats(rpy))
 

@@ -8,6 +8,7 @@ change. Metrics are plain numbers and strings, rounded when reported, so JSON ou
 from __future__ import annotations
 
 import enum
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -41,13 +42,20 @@ class Finding:
         )
 
 
-def rounded(value: float, digits: int = 6) -> float:
-    """``value`` to ``digits`` significant digits, so JSON output does not flicker in the last
-    bits of a float."""
-    if value == 0 or value != value or value in (float("inf"), float("-inf")):
+# significant digits of a number robospec reports or writes: a metric in check's output (so JSON
+# does not flicker in the last bits of a float), a gain that new and tune write into a spec
+METRIC_DIGITS = 6
+GAIN_DIGITS = 3
+
+
+def significant(value: float, digits: int = GAIN_DIGITS) -> float:
+    """``value`` to ``digits`` significant digits (0, infinities and NaN as they are)."""
+    if value == 0 or not math.isfinite(value):
         return value
     return float(f"{value:.{digits}g}")
 
 
 def metrics(**values: Metric) -> dict[str, Metric]:
-    return {k: rounded(v) if isinstance(v, float) else v for k, v in values.items()}
+    return {
+        k: significant(v, METRIC_DIGITS) if isinstance(v, float) else v for k, v in values.items()
+    }

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from robospec.geometry import Vector
 from robospec.maniskill.headless import headless_loading, make_empty_env
 from robospec.resolve.resolved import ResolvedKeyframe
 
@@ -473,7 +474,7 @@ class Sim:
                 found[link.name] = float(body.compute_global_aabb_tight()[0][2])
         return found
 
-    def ground_contacts(self) -> list[tuple[str, tuple[float, float, float], float]]:
+    def ground_contacts(self) -> list[tuple[str, Vector, float]]:
         """The robot's contacts with the ground now: (link, point, depth in m). CPU only."""
         links = {id(link._objs[0]): link.name for link in self.robot.links}
         ground = {id(body) for body in self.ground._bodies} if self.ground is not None else set()

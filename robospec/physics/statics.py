@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from robospec.geometry import Vector
+
 # the centre of mass must lie this far inside the polygon (m): on its edge a robot balances on
 # a knife's edge, and the contacts PhysX reports move by millimetres from step to step
 MARGIN = 0.005
@@ -42,9 +44,7 @@ class Support:
         return self.touches and self.inside >= MARGIN
 
 
-def support(
-    contacts: Sequence[tuple[str, tuple[float, float, float], float]], com: np.ndarray
-) -> Support:
+def support(contacts: Sequence[tuple[str, Vector, float]], com: np.ndarray) -> Support:
     """The support of ``contacts`` ((link, point, depth), as ``Sim.ground_contacts`` gives
     them) for a robot whose centre of mass is ``com``: the points that touch it (no more than
     :data:`TOUCHING` above it)."""

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from robospec.geometry import Quaternion, Vector, from_rpy
+from robospec.geometry import IDENTITY, Quaternion, Vector, quaternion_from_rpy
 from robospec.model.frozen import Pose
 
 
@@ -12,7 +12,7 @@ def position_and_quaternion(pose: Pose) -> tuple[Vector, Quaternion]:
     if pose.q is not None:
         q = (pose.q[0], pose.q[1], pose.q[2], pose.q[3])
     elif pose.rpy is not None:
-        q = from_rpy(*pose.rpy)
+        q = quaternion_from_rpy(*pose.rpy)
     else:
-        q = (1.0, 0.0, 0.0, 0.0)
+        q = IDENTITY
     return p, q

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from robospec.geometry import Pose, Quaternion, Vector
 from robospec.load.source_map import KeyPath
 from robospec.resolve.paths import ASSETS_PLACEHOLDER, DATA_PLACEHOLDER
 
@@ -101,8 +102,8 @@ class ResolvedMode:
 @dataclass(frozen=True)
 class ResolvedKeyframe:
     name: str
-    p: tuple[float, float, float]
-    q: tuple[float, float, float, float]
+    p: Vector
+    q: Quaternion
     qpos: tuple[float, ...] | None
     qvel: tuple[float, ...] | None
 
@@ -111,8 +112,8 @@ class ResolvedKeyframe:
 class ResolvedCamera:
     uid: str
     mount: str
-    p: tuple[float, float, float]
-    q: tuple[float, float, float, float]
+    p: Vector
+    q: Quaternion
     width: int
     height: int
     fov: float | None
@@ -226,9 +227,9 @@ class ResolvedLinkState:
 @dataclass(frozen=True)
 class ResolvedDrive:
     parent: str
-    parent_pose: tuple[tuple[float, float, float], tuple[float, float, float, float]]
+    parent_pose: Pose
     child: str
-    child_pose: tuple[tuple[float, float, float], tuple[float, float, float, float]]
+    child_pose: Pose
     limits: tuple[tuple[str, float, float], ...]  # ("x", lower, upper), ...
 
 
@@ -249,8 +250,8 @@ class ResolvedPart:
     at: str  # the link the spec mounts it on (before fold_frames)
     joint: str  # the fixed joint that mounts it ("" for an MJCF body, welded to its parent)
     root: str  # its root link
-    p: tuple[float, float, float]
-    q: tuple[float, float, float, float]
+    p: Vector
+    q: Quaternion
     links: tuple[str, ...]
     joints: tuple[str, ...]
     # (link | joint | material, name in the part's file, name here) for every prefixed name

@@ -12,8 +12,8 @@ times the inverse of that offset. A keyframe pose of ``{p: [0, 0, 1.3]}`` thus p
 
 from __future__ import annotations
 
-from robospec.description.facts import Pose, RobotDescription
-from robospec.description.mjcf_frames import IDENTITY_POSE, compose, inverse
+from robospec.description.facts import RobotDescription
+from robospec.geometry import IDENTITY_POSE, Pose, compose, inverse
 
 
 def root_link_pose(description: RobotDescription, pose: Pose | None) -> Pose:

@@ -7,8 +7,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from robospec.physics.findings import significant
 from robospec.tune.results import ControllerTuning
-from robospec.tune.search import significant
 
 FIELDS = ("stiffness", "damping", "force_limit")
 WIDTH = 100  # a flow list longer than this is wrapped

@@ -36,6 +36,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from robospec.physics.findings import significant
 from robospec.physics.sim import Sim
 from robospec.physics.step_response import Drive, Response, StepSettings, StepTrace, step_trace
 from robospec.resolve.resolved import ResolvedKeyframe
@@ -51,13 +52,6 @@ FORCE_MARGIN = 1.5  # a raised force_limit: this much above the largest torque a
 UNLIMITED = 1e9  # a force_limit at or above this is no limit (ManiSkill's default is 1e10)
 # |M_ij| / sqrt(M_ii M_jj) at or above this: stepping joint j pushes joint i
 COUPLED = 0.2
-
-
-def significant(value: float, digits: int = 3) -> float:
-    """``value`` rounded to ``digits`` significant digits (what ``--write`` writes)."""
-    if value == 0 or not math.isfinite(value):
-        return value
-    return float(f"{value:.{digits}g}")
 
 
 def _round(values: np.ndarray) -> np.ndarray:

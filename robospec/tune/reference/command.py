@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, Location, Severity, error, has_errors, warning
+from robospec.physics.findings import significant
 from robospec.pipeline import CompiledSpec, compile_spec
 from robospec.tune.reference.plan import Plan, plan
 from robospec.tune.reference.trajectory import Reference, read_reference
@@ -26,6 +27,7 @@ from robospec.tune.reference.worker import Outcome, Request
 COMMAND_LINE = "<command line>"
 MUJOCO = "mujoco"
 MATCH = 0.1  # normalized error (RMS error over RMS motion) a fit must reach to match
+FIT_DIGITS = 4  # significant digits: what a fit from a recording can claim
 STILL = 1e-4  # a joint whose measured motion is below this (rad or m, RMS) shows no gains
 # what a position trajectory cannot show, said in every report
 ARMATURE_NOTE = (
@@ -255,8 +257,8 @@ def _write(item: CompiledSpec, outcome: Outcome, uid: str | None) -> tuple[bool,
         stiffness, damping = list(before.stiffness), list(before.damping)
         for k, joint in enumerate(outcome.plan.joints):
             if outcome.plan.controllers[k] == name and joint in joints:
-                stiffness[joints.index(joint)] = _significant(fitted.after.stiffness[k])
-                damping[joints.index(joint)] = _significant(fitted.after.damping[k])
+                stiffness[joints.index(joint)] = significant(fitted.after.stiffness[k], FIT_DIGITS)
+                damping[joints.index(joint)] = significant(fitted.after.damping[k], FIT_DIGITS)
         group = outcome.plan.groups[outcome.plan.controllers.index(name)]
         after = Gains(tuple(stiffness), tuple(damping), before.force_limit)
         tunings.append(
@@ -271,11 +273,6 @@ def _per_joint(value: object, n: int) -> tuple[float, ...]:
     if isinstance(value, list | tuple):
         return tuple(float(v) for v in value)
     return (float(value),) * n if value is not None else (0.0,) * n
-
-
-def _significant(value: float) -> float:
-    """Four significant digits: what a fit from a recording can claim."""
-    return float(f"{value:.4g}")
 
 
 # -- the worker process --------------------------------------------------------------------

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-STEP = 0.1  # rad, as check's step response
-PRISMATIC_STEP = 0.01  # m
+from robospec.model.thresholds import PRISMATIC_STEP, STEP  # check's step response's
+
 DURATION = 2.0  # s
 
 
