@@ -22,7 +22,7 @@ MIN_STIFFNESS = 1.0
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     for controller in context.robot.controllers:
-        if controller.type not in ("pd_ee_pos", "pd_ee_pose"):
+        if not controller.kind.end_effector:
             continue
         stiffness = dict(controller.kwargs).get("stiffness")
         values = stiffness if isinstance(stiffness, list) else [stiffness]

@@ -11,6 +11,8 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from robospec.model.controller_kinds import ControllerKind, controller_kind
+
 ALL_JOINTS = "*"
 """Stands for "every active joint" when the description is not installed, so the joints an
 agent takes from ``self.robot.active_joints`` cannot be named."""
@@ -36,6 +38,11 @@ class ControllerRecord:
 
     def get(self, name: str) -> Any:
         return dict(self.fields).get(name)
+
+    @property
+    def kind(self) -> ControllerKind:
+        """What its ``type`` is (:mod:`robospec.model.controller_kinds`)."""
+        return controller_kind(self.type)
 
     @property
     def key(self) -> str:
