@@ -2,8 +2,9 @@
 ManiSkill import): which action index drives which joint or dimension, its bounds, and whether
 the action is normalized to [-1, 1] (then ``low``/``high`` are what -1 and 1 mean).
 
-It restates how ManiSkill's controllers build their action spaces (``_initialize_action_space``
-and ``normalize_action`` of each config class); a maniskill-marked test proves it equal to what
+It follows each controller kind's action parts (:mod:`robospec.model.controller_kinds`), which
+restate how ManiSkill's controllers build their action spaces (``_initialize_action_space`` and
+``normalize_action`` of each config class); a maniskill-marked test proves it equal to what
 :mod:`robospec.physics.action_layout` reads from live controllers.
 """
 

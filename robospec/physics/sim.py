@@ -4,7 +4,8 @@ checks touch ManiSkill, SAPIEN and torch.
 Everything a check reads comes back as numpy arrays shaped ``(num_envs, ...)``: one row on the
 CPU, one row per parallel environment on ``physx_cuda``. Controllers are looked at through what
 ManiSkill's own classes expose (``single_action_space``, ``active_joint_indices``, the mimic
-controller's ``control_joint_indices``), so the checks see exactly what a task would drive.
+controller's ``control_joint_indices``), so the checks see exactly what a task would drive; what
+kind each is comes from its config's class (:mod:`robospec.model.controller_kinds`).
 """
 
 from __future__ import annotations
