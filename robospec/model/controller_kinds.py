@@ -82,7 +82,7 @@ class ControllerKind:
 
     name: str  # the spec's ``type``
     config_class: str  # ManiSkill's config dataclass, in CONFIG_MODULE
-    # the config's fields but joint_names, in ManiSkill 3.0.1's order
+    # the config's fields but joint_names (in 3.0.1's order; the nightly's differs)
     fields: tuple[str, ...]
     # ManiSkill's defaults of the fields robospec reads when a spec leaves them out
     defaults: Mapping[str, object]
@@ -129,8 +129,9 @@ class ControllerKind:
 
     @property
     def axis_names(self) -> tuple[str, ...]:
-        """What its action dimensions stand for, when they are not one per joint (an end
-        effector's x, y, z, ...); empty otherwise."""
+        """What its action dimensions stand for where they are not joints (an end effector's
+        x, y, z, ...) or where its joints stand for axes (a base's vx, vy, wz); empty
+        otherwise."""
         return tuple(axis for part in self.action for axis in part.axes)
 
     def axes_bounded_by(self, field_name: str) -> tuple[str, ...]:
