@@ -188,9 +188,22 @@ def test_doc_without_out_writes_the_card_named_after_the_spec_where_it_is_run(
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::UserWarning")
 @pytest.mark.parametrize(
-    "spec", ["panda.yaml", "fetch.yaml", "allegro_hand_right.yaml", "fixed_inspire_hand_right.yaml"]
+    "spec",
+    [
+        *(
+            MANISKILL_SPECS / name
+            for name in (
+                "panda.yaml",
+                "fetch.yaml",
+                "allegro_hand_right.yaml",
+                "fixed_inspire_hand_right.yaml",
+            )
+        ),
+        ROOT / "docs/examples/tutorial/my_mobile_base.yaml",  # pd_base_vel: base.vx, vy, wz
+    ],
+    ids=lambda path: path.name,
 )
-def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: str) -> None:
+def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: Path) -> None:
     import numpy as np
 
     from robospec import register
@@ -198,17 +211,17 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
     from robospec.physics.check_run import CheckRun
     from robospec.physics.findings import rounded
 
-    compiled = compile_spec(MANISKILL_SPECS / spec)
+    compiled = compile_spec(spec)
     assert compiled.robot is not None and compiled.context is not None
     assert compiled.description is not None
-    register(MANISKILL_SPECS / spec)
+    register(spec)
     run = CheckRun(compiled.robot.uid, compiled.context, compiled.context.spec.checks)
     try:
         broken = run.open_modes()  # modes this ManiSkill cannot build leave the run
         live = {f.mode: f.details for f in action_layout.check(run)}
     finally:
         run.close()
-    assert set(broken) == CRASHING_MODES.get(spec.removesuffix(".yaml"), frozenset())
+    assert set(broken) == CRASHING_MODES.get(spec.stem, frozenset())
     assert set(live) == {m.name for m in compiled.robot.modes} - set(broken)
     for mode in (m for m in compiled.robot.modes if m.name in live):
         static = [
@@ -227,6 +240,9 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
             for d in live[mode.name]
         ]
         assert static == actual, mode.name
+    if spec.stem == "my_mobile_base":  # a base's velocities are labelled, not its joints
+        first = mode_layout(compiled.robot, compiled.description, compiled.robot.modes[0])
+        assert [row.target for row in first[:3]] == ["base.vx", "base.vy", "base.wz"]
 
 
 @pytest.mark.slow  # over a second: CI runs it, the fast loop does not

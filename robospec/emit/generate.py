@@ -16,7 +16,6 @@ from pathlib import Path
 
 from robospec.emit import members as helpers
 from robospec.emit.controllers import (
-    CONFIG_CLASSES,
     class_attributes,
     generate_controller_configs,
     property_method,
@@ -39,10 +38,9 @@ from robospec.resolve.resolved import FileRef, ResolvedCamera, ResolvedKeyframe,
 
 __all__ = ["RESERVED_NAMES", "UnsafeIdentifier", "emit_module", "safe_identifier"]
 
-# names the generated module defines or imports: a controller variable must not shadow them
-RESERVED_NAMES = frozenset(
-    {"self", "HERE", "link_name", "property", *IMPORTABLE, *CONFIG_CLASSES.values()}
-)
+# names the generated module defines or imports (the config classes among them): a controller
+# variable must not shadow them
+RESERVED_NAMES = frozenset({"self", "HERE", "link_name", "property", *IMPORTABLE})
 # what the class itself defines: no derived attribute name may take one of these
 CLASS_ATTRIBUTES = frozenset(
     {

@@ -4,7 +4,8 @@ checks touch ManiSkill, SAPIEN and torch.
 Everything a check reads comes back as numpy arrays shaped ``(num_envs, ...)``: one row on the
 CPU, one row per parallel environment on ``physx_cuda``. Controllers are looked at through what
 ManiSkill's own classes expose (``single_action_space``, ``active_joint_indices``, the mimic
-controller's ``control_joint_indices``), so the checks see exactly what a task would drive.
+controller's ``control_joint_indices``), so the checks see exactly what a task would drive; what
+kind each is comes from its config's class (:mod:`robospec.model.controller_kinds`).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 
 from robospec.geometry import Vector
 from robospec.maniskill.headless import headless_loading, make_empty_env
+from robospec.model.controller_kinds import ControllerKind, kind_of_config
 from robospec.resolve.resolved import ResolvedKeyframe
 
 # m: how far a floating robot is lifted for a test stand (its root held there): clear of the
@@ -48,39 +50,37 @@ class ControllerGroup:
     joint_indices: tuple[int, ...]  # into the robot's active joints, in controller order
 
     @property
-    def kind(self) -> str:
-        """``position``, ``velocity``, ``passive`` or ``other``, from ManiSkill's classes."""
-        from mani_skill.agents.controllers.passive_controller import PassiveController
-        from mani_skill.agents.controllers.pd_joint_pos import PDJointPosController
-        from mani_skill.agents.controllers.pd_joint_vel import PDJointVelController
+    def controller_kind(self) -> ControllerKind | None:
+        """Which kind its config is, or None for a config no spec can name."""
+        return kind_of_config(type(self.controller.config).__name__)
 
-        if isinstance(self.controller, PDJointPosController):
+    @property
+    def kind(self) -> str:
+        """``position``, ``velocity``, ``passive`` or ``other``: the drive targets it sets
+        (an end effector's are joint positions too)."""
+        kind = self.controller_kind
+        if kind is None:
+            return "other"
+        if kind.sets_target_qpos:
             return "position"
-        if isinstance(self.controller, PDJointVelController):
-            return "velocity"
-        if isinstance(self.controller, PassiveController):
-            return "passive"
-        return "other"
+        return "velocity" if kind.sets_target_qvel else "passive"
 
     @property
     def absolute_position(self) -> bool:
         """Whether its action is a joint-position target (``pd_joint_pos``, mimic, pos_vel)."""
-        from mani_skill.agents.controllers.pd_ee_pose import PDEEPosController
-
-        config = self.controller.config
+        kind = self.controller_kind
         return (
-            self.kind == "position"
-            and not isinstance(self.controller, PDEEPosController)
-            and not getattr(config, "use_delta", False)
+            kind is not None
+            and kind.joint_position_targets
+            and not getattr(self.controller.config, "use_delta", False)
         )
 
     @property
     def with_velocities(self) -> bool:
         """Whether its action is joint positions followed by joint velocities
         (``pd_joint_pos_vel``)."""
-        from mani_skill.agents.controllers.pd_joint_pos_vel import PDJointPosVelController
-
-        return isinstance(self.controller, PDJointPosVelController)
+        kind = self.controller_kind
+        return kind is not None and kind.sets_target_qpos and kind.sets_target_qvel
 
     @property
     def action_joint_indices(self) -> tuple[int, ...]:

@@ -12,6 +12,7 @@ from typing import Any, Literal
 
 from robospec.geometry import Pose, Quaternion, Vector
 from robospec.load.source_map import KeyPath
+from robospec.model.controller_kinds import ControllerKind, controller_kind
 from robospec.resolve.paths import ASSETS_PLACEHOLDER, DATA_PLACEHOLDER
 
 
@@ -88,6 +89,11 @@ class ResolvedController:
     @property
     def joint_names(self) -> tuple[str, ...]:
         return tuple(dict(self.kwargs)["joint_names"])
+
+    @property
+    def kind(self) -> ControllerKind:
+        """What its ``type`` is (:mod:`robospec.model.controller_kinds`)."""
+        return controller_kind(self.type)
 
 
 @dataclass(frozen=True)
