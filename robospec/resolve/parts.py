@@ -115,12 +115,8 @@ def _report(context: ResolveContext, problem: Problem) -> None:
 
 
 def _text(ref: FileRef) -> bytes | None:
-    if ref.generated_text is not None:
-        return ref.generated_text.encode("utf-8")
-    from robospec.description.urdf import read_file_bytes
-
     try:
-        return read_file_bytes(str(ref.absolute))
+        return ref.read_bytes()
     except OSError:
         return None  # the description's own load says why
 

@@ -64,6 +64,20 @@ class FileRef:
         """Whether the generated package carries its own copy of this file."""
         return self.generated_text is not None or bool(self.mesh_paths)
 
+    def read_text(self) -> str:
+        """The description's text: robospec's own (an expansion, a derived or combined copy),
+        else the file's. OSError when the file cannot be read."""
+        return self.generated_text if self.generated_text is not None else self.absolute.read_text()
+
+    def read_bytes(self) -> bytes:
+        """:meth:`read_text` as bytes, the file's as they are (a regular file only: a FIFO
+        would block the read)."""
+        if self.generated_text is not None:
+            return self.generated_text.encode("utf-8")
+        from robospec.description.urdf import read_file_bytes
+
+        return read_file_bytes(str(self.absolute))
+
     @property
     def placeholder_text(self) -> str | None:
         """How a spec writes a file in ManiSkill's folders (``{maniskill_assets}/...``); None
