@@ -342,6 +342,30 @@ def test_build_carries_a_composed_mjcf_standalone(tmp_path: Path) -> None:
     )
 
 
+def test_a_parts_named_link_link_state_and_camera_the_robot_also_names_get_its_prefix(
+    tmp_path: Path,
+) -> None:
+    spec = _arm_and_gripper(
+        tmp_path,
+        "{spec: gripper.yaml, at: tool0}",
+        "named_links: {finger: upper_arm}\nlink_states: {tip: {link: finger}}\n"
+        "cameras: {cam: {mount: upper_arm, width: 8, height: 8, fov: 1.0}}\n",
+        "named_links: {finger: left_finger}\nlink_states: {tip: {link: finger}}\n"
+        "cameras: {cam: {mount: left_finger, width: 8, height: 8, fov: 1.0}}\n",
+    )
+    robot = _compiled(spec).robot
+    assert robot.named_links == (("finger", "upper_arm"), ("gripper_finger", "left_finger"))
+    # the part's link state names the part's named link, by its new name
+    assert [(s.name, s.links) for s in robot.link_states] == [
+        ("tip", ("finger",)),
+        ("gripper_tip", ("gripper_finger",)),
+    ]
+    assert [(c.uid, c.mount) for c in robot.cameras] == [
+        ("cam", "upper_arm"),
+        ("gripper_cam", "left_finger"),
+    ]
+
+
 def test_a_material_the_robot_has_alike_is_shared_and_one_it_has_unlike_is_prefixed(
     tmp_path: Path,
 ) -> None:

@@ -155,27 +155,13 @@ def _spec_names(
     robot = given.robot
     assert robot is not None
     names: dict[str, dict[str, str]] = {}
-
-    def add(section: str, name: str) -> None:
+    for section, name in robot.defined_names():
         found = names.setdefault(section, {})
         if name in found:
-            return
+            continue
         found[name] = new = taken.take(section, prefix, name)
-        if given.locate is not None:
+        if given.locate is not None:  # a report on it points into the part's spec
             context.origins[(section, new)] = (given.locate, (section, name))
-
-    for controller in robot.controllers:  # each group once: the emitter names joint lists so
-        add("controllers", controller.name)
-        if controller.joints_group is not None:
-            add("groups", controller.joints_group)
-    for attribute, _ in robot.named_links:
-        add("named_links", attribute)
-    for check in robot.grasping:
-        add("grasping", check.method)
-    for state in robot.link_states:
-        add("link_states", state.name)
-    for camera in robot.cameras:
-        add("cameras", camera.uid)
     names["materials"] = taken.materials_of(robot.urdf_config, prefix)
     names["mode_keys"] = taken.mode_keys_of(mode, prefix)
     return names

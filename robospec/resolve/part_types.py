@@ -1,6 +1,7 @@
 """The parts of a spec as the resolve stage holds them: each part's own compilation
-(:class:`PartInput`), and each part renamed into the robot (:class:`CarriedPart`). Plain data;
-:mod:`robospec.resolve.parts` fills it."""
+(:class:`PartInput`: :mod:`robospec.pipeline` and :mod:`robospec.resolve.parts` fill it), and
+each part renamed into the robot (:class:`CarriedPart`: :mod:`robospec.resolve.part_renaming`).
+Plain data."""
 
 from __future__ import annotations
 

@@ -13,7 +13,7 @@ dm_control's ``attach`` scopes an attached model's names
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -476,6 +476,19 @@ class ResolvedRobot:
         """The spec's collision rules, without the group-2 bits ``never_collide`` packed."""
         packed = len(self.never_collide.bits) if self.never_collide is not None else 0
         return self.collision_rules[: len(self.collision_rules) - packed]
+
+    def defined_names(self) -> Iterator[tuple[str, str]]:
+        """``(section, name)`` for each name this robot's spec defines that a renaming maps
+        (besides links, joints, materials and mode keys), in the order defined; a group once
+        per controller that names it."""
+        for controller in self.controllers:
+            yield "controllers", controller.name
+            if controller.joints_group is not None:
+                yield "groups", controller.joints_group
+        yield from (("named_links", attribute) for attribute, _ in self.named_links)
+        yield from (("grasping", check.method) for check in self.grasping)
+        yield from (("link_states", state.name) for state in self.link_states)
+        yield from (("cameras", camera.uid) for camera in self.cameras)
 
     def renamed(self, r: Renaming) -> ResolvedRobot:
         """This robot with every joint, link, controller, group, ... it names mapped through
