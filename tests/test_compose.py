@@ -366,6 +366,32 @@ def test_a_parts_named_link_link_state_and_camera_the_robot_also_names_get_its_p
     ]
 
 
+def test_a_joint_the_parts_spec_leaves_passive_needs_no_controller_in_the_robots_modes(
+    tmp_path: Path,
+) -> None:
+    two_fingers = (
+        (EXAMPLES / "gripper.urdf")
+        .read_text()
+        .replace(
+            "</robot>",
+            '<link name="right_finger"/><joint name="right" type="prismatic"><parent link='
+            '"base_link"/><child link="right_finger"/><axis xyz="0 1 0"/><limit lower="0" '
+            'upper="0.03" effort="10" velocity="1"/></joint></robot>',
+        )
+    )
+    (tmp_path / "two.urdf").write_text(two_fingers)
+    (tmp_path / "two.yaml").write_text(
+        "robospec: 1\nuid: two_fingers\ndescription: {urdf: two.urdf}\n"
+        "passive_joints: [right]\nkeyframes: {rest: {qpos: [0, 0]}}\ncontrollers:\n"
+        "  left: {type: pd_joint_pos, joints: [left], lower: 0, upper: 0.03, stiffness: 100,"
+        " damping: 10, normalize_action: false}\n"
+        "control_modes: {pd_joint_pos: {fingers: left}}\n"
+    )
+    spec = _arm_and_gripper(tmp_path, "{spec: two.yaml, at: tool0}")
+    result = _compiled(spec)  # no RS302 for 'right', which no controller drives
+    assert result.context.part_passive_joints == {"right"}
+
+
 def test_a_material_the_robot_has_alike_is_shared_and_one_it_has_unlike_is_prefixed(
     tmp_path: Path,
 ) -> None:

@@ -107,6 +107,8 @@ def _carried(
     given: PartInput,
     description: FileRef,
 ) -> CarriedPart:
+    """Part ``entry`` (its name and spec entry) renamed: its robot, when it has a spec, and its
+    joints, passive joints and SRDF pairs."""
     name, part = entry
     links, joints = _description_names(mounted)
     robot, mode = given.robot, None
@@ -126,7 +128,7 @@ def _carried(
         joints=tuple(map(renaming.joint, active)),
         robot=robot.renamed(renaming) if robot is not None else None,
         mode=(mode.renamed(renaming).groups or ()) if mode is not None else (),
-        passive_joints=tuple(map(renaming.joint, given.passive_joints)) if robot else (),
+        passive_joints=tuple(map(renaming.joint, given.passive_joints)),
         loader_pairs=tuple(tuple(map(renaming.link, links)) for _, links in pairs),
         locate=given.locate,
     )
