@@ -26,9 +26,9 @@ from robospec.maniskill.installed import registered_uids
 from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult, build_spec
 from robospec.resolve import resolve
+from robospec.resolve.carried import filled_joints, passive_joints
 from robospec.resolve.description_files import shown_path
 from robospec.resolve.part_types import Locator, PartInput
-from robospec.resolve.parts import filled_joints
 from robospec.resolve.resolved import ResolvedRobot
 
 if TYPE_CHECKING:
@@ -180,9 +180,7 @@ def _compile_into(
         locate_key=resolution.at_key,
         description_origins=resolution.composed.origins if resolution.composed else None,
         filled_by_parts=filled_joints(resolution),
-        part_passive_joints=frozenset(
-            resolution.part_plan.passive_joints if resolution.part_plan else ()
-        ),
+        part_passive_joints=passive_joints(resolution),
     )
     result.diagnostics.extend(run_checks(BINDING_CHECKS, context))
     if not has_errors(result.diagnostics):

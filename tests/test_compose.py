@@ -12,6 +12,7 @@ tests/test_compose_maniskill.py loads the composed robots in ManiSkill.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import random
 import re
@@ -359,6 +360,184 @@ def test_build_carries_a_composed_mjcf_standalone(tmp_path: Path) -> None:
         'mjcf_path = os.path.join(HERE, "jaco_with_hand.xml")'
         in (out / "jaco_with_hand.py").read_text()
     )
+
+
+def test_a_parts_named_link_link_state_and_camera_the_robot_also_names_get_its_prefix(
+    tmp_path: Path,
+) -> None:
+    spec = _arm_and_gripper(
+        tmp_path,
+        "{spec: gripper.yaml, at: tool0}",
+        "named_links: {finger: upper_arm}\nlink_states: {tip: {link: finger}}\n"
+        "cameras: {cam: {mount: upper_arm, width: 8, height: 8, fov: 1.0}}\n",
+        "named_links: {finger: left_finger}\nlink_states: {tip: {link: finger}}\n"
+        "cameras: {cam: {mount: left_finger, width: 8, height: 8, fov: 1.0}}\n",
+    )
+    robot = _compiled(spec).robot
+    assert robot.named_links == (("finger", "upper_arm"), ("gripper_finger", "left_finger"))
+    # the part's link state names the part's named link, by its new name
+    assert [(s.name, s.links) for s in robot.link_states] == [
+        ("tip", ("finger",)),
+        ("gripper_tip", ("gripper_finger",)),
+    ]
+    assert [(c.uid, c.mount) for c in robot.cameras] == [
+        ("cam", "upper_arm"),
+        ("gripper_cam", "left_finger"),
+    ]
+
+
+def test_a_joint_the_parts_spec_leaves_passive_needs_no_controller_in_the_robots_modes(
+    tmp_path: Path,
+) -> None:
+    two_fingers = (
+        (EXAMPLES / "gripper.urdf")
+        .read_text()
+        .replace(
+            "</robot>",
+            '<link name="right_finger"/><joint name="right" type="prismatic"><parent link='
+            '"base_link"/><child link="right_finger"/><axis xyz="0 1 0"/><limit lower="0" '
+            'upper="0.03" effort="10" velocity="1"/></joint></robot>',
+        )
+    )
+    (tmp_path / "two.urdf").write_text(two_fingers)
+    (tmp_path / "two.yaml").write_text(
+        "robospec: 1\nuid: two_fingers\ndescription: {urdf: two.urdf}\n"
+        "passive_joints: [right]\nkeyframes: {rest: {qpos: [0, 0]}}\ncontrollers:\n"
+        "  left: {type: pd_joint_pos, joints: [left], lower: 0, upper: 0.03, stiffness: 100,"
+        " damping: 10, normalize_action: false}\n"
+        "control_modes: {pd_joint_pos: {fingers: left}}\n"
+    )
+    spec = _arm_and_gripper(tmp_path, "{spec: two.yaml, at: tool0}")
+    result = _compiled(spec)  # no RS302 for 'right', which no controller drives
+    assert result.context.part_passive_joints == {"right"}
+
+
+def test_a_material_the_robot_has_alike_is_shared_and_one_it_has_unlike_is_prefixed(
+    tmp_path: Path,
+) -> None:
+    spec = _arm_and_gripper(tmp_path, "{spec: gripper.yaml, at: tool0}")
+    unlike = _compiled(spec).robot.urdf_config
+    # the part's materials come first, the robot's after them
+    assert list(unlike["_materials"]) == ["gripper_rubber", "rubber"]
+    text = spec.read_text()
+    spec.write_text(
+        text.replace("friction: 2, dynamic_friction: 2", "friction: 1, dynamic_friction: 1")
+    )
+    alike = _compiled(spec).robot.urdf_config
+    assert list(alike["_materials"]) == ["rubber"]
+    assert alike["link"]["left_finger"]["material"] == "rubber"
+
+
+def test_the_robots_own_tcp_replaces_the_parts_and_its_problem_is_reported_in_its_spec(
+    tmp_path: Path,
+) -> None:
+    # the gripper's spec gives a tcp too (left_finger)
+    spec = _arm_and_gripper(tmp_path, "{spec: gripper.yaml, at: tool0}", "tcp: tool0\n")
+    robot = _compiled(spec).robot
+    assert robot.tcp is not None and robot.tcp.link == "tool0"
+    spec.write_text(spec.read_text().replace("tcp: tool0", "tcp: no_such_link"))
+    (found,) = [d for d in compile_spec(spec).diagnostics if d.code == "RS202"]
+    assert (found.location.file, found.location.line) == (str(spec), 12)
+
+
+def test_the_srdf_pairs_beside_the_robots_urdf_stay_apart_with_a_part_mounted(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "gripper.urdf").write_text((EXAMPLES / "gripper.urdf").read_text())
+    spec = tmp_path / "panda.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: panda_gripper\n"
+        "description: {urdf: '{maniskill_assets}/robots/panda/panda_v2.urdf'}\n"
+        "parts: {gripper: {description: {urdf: gripper.urdf}, at: panda_hand}}\n"
+        "controllers:\n  all: {type: pd_joint_pos, joints: '*', lower: null, upper: null,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes: {pd_joint_pos: all}\n"
+    )
+    robot = _compiled(spec).robot
+    panda, _ = load_description(str(_assets() / "robots/panda/panda_v2.urdf"), "urdf")
+    assert panda is not None and panda.loader_collision_bits  # SAPIEN reads them beside it
+    kept = {frozenset(entry) for entry in robot.never_collide.entries}
+    assert {frozenset(links) for _, links in panda.loader_collision_bits} <= kept
+
+
+# a part's spec with every section that names something: renamed, none of its names is left
+EVERY_NAME = """robospec: 1
+uid: named_panda
+description: {urdf: "{maniskill_assets}/robots/panda/panda_v2.urdf"}
+groups: {arm: "panda_joint[1-7]", gripper: "panda_finger_joint*"}
+materials: {grip: {static_friction: 2, dynamic_friction: 2, restitution: 0}}
+links: {"panda_*finger": {material: grip}}
+controllers:
+  arm: {type: pd_joint_pos, joints: arm, lower: null, upper: null, stiffness: 1e3, damping: 1e2}
+  ee: {type: pd_ee_pose, joints: arm, ee_link: panda_hand_tcp, pos_lower: -0.1, pos_upper: 0.1,
+       rot_lower: -0.1, rot_upper: 0.1, stiffness: 1e3, damping: 1e2, force_limit: 100}
+  gripper: {type: pd_joint_pos_mimic, joints: gripper, lower: -0.01, upper: 0.04, stiffness: 1e3,
+            damping: 1e2}
+control_modes:
+  pd_joint_pos: {arm: arm, gripper: gripper}
+  pd_ee_pose: {arm: ee, gripper: gripper}
+named_links: {finger1_link: panda_leftfinger, finger2_link: panda_rightfinger,
+              tip_links: [panda_leftfinger_pad, panda_rightfinger_pad]}
+tcp: {link: panda_hand_tcp, midpoint: [finger1_link, finger2_link], orientation: panda_hand}
+grasping:
+  is_grasping: {fingers: [{link: finger1_link, opening: +y}, {link: finger2_link, opening: -y}]}
+is_fallen: {contact: {links: [panda_link0], force_above: 1}}
+link_states:
+  tip_poses: {links: tip_links, quantity: pose, stack_dim: -2}
+  hand_pose: {link: panda_hand}
+proprioception: [hand_pose, tip_poses]
+disable_gravity: [panda_hand]
+drives: [{parent: panda_leftfinger, child: panda_rightfinger, limit: {x: [-0.1, 0.1]}}]
+cameras: {hand_camera: {mount: panda_hand, width: 16, height: 16, fov: 1.0}}
+collision_rules: [{links: [panda_link0], group: 2, bit: 29}]
+never_collide: [[panda_link5, panda_hand]]
+"""
+# what names nothing (types, kinds, the description and the spec's own file, values)
+NAMES_NOTHING = {
+    "uid", "class_name", "spec_path", "description", "keyframes", "is_static", "is_standing",
+    "hooks", "base", "declared", "download_ids", "parts", "simulation",
+}  # fmt: skip
+
+
+def _strings(value: object, skip: frozenset[str] = frozenset()) -> list[str]:
+    """Every string in ``value`` (dataclass fields but those in ``skip``, items, keys)."""
+    from robospec.resolve.resolved import FileRef
+
+    if isinstance(value, str):
+        return [value]
+    if dataclasses.is_dataclass(value) and not isinstance(value, FileRef | type):
+        fields = [f.name for f in dataclasses.fields(value) if f.name not in skip]
+        return [s for f in fields for s in _strings(getattr(value, f))]
+    if isinstance(value, dict):
+        return [s for k, v in value.items() for s in (*_strings(k), *_strings(v))]
+    if isinstance(value, tuple | list):
+        return [s for item in value for s in _strings(item)]
+    return []
+
+
+def test_renaming_a_robot_renames_every_joint_link_and_name_it_refers_to(tmp_path: Path) -> None:
+    from robospec.resolve.resolved import Renaming
+
+    (tmp_path / "named.yaml").write_text(EVERY_NAME)
+    result = _compiled(tmp_path / "named.yaml")
+    robot, description, spec = result.robot, result.description, result.context.spec
+    sections = {
+        "controllers": spec.controllers, "groups": spec.groups, "named_links": spec.named_links,
+        "grasping": spec.grasping, "link_states": spec.link_states, "cameras": spec.cameras,
+        "materials": spec.materials, "mode_keys": ("arm", "gripper"),
+    }  # fmt: skip
+    names = {section: {n: "p_" + n for n in given} for section, given in sections.items()}
+    joints = {j.name: "p_" + j.name for j in description.joints}
+    links = {n: "p_" + n for n in description.link_names}
+    combined = dataclasses.replace(robot.description, relative="combined.urdf")
+    renaming = Renaming(links, joints, names, ((robot.description, combined),))
+    renamed = robot.renamed(renaming)
+    old = {*links, *joints, *(n for given in names.values() for n in given)}
+    assert old & set(_strings(robot, frozenset(NAMES_NOTHING)))  # it names them before
+    assert old.isdisjoint(_strings(renamed, frozenset(NAMES_NOTHING)))
+    ee = next(c for c in renamed.controllers if c.name == "p_ee")
+    assert dict(ee.kwargs)["urdf_path"] == combined  # its IK chain runs in the combined one
+    assert renamed.tcp is not None and renamed.tcp.midpoint == ("p_finger1_link", "p_finger2_link")
 
 
 # -- what cannot be composed ----------------------------------------------------------------------

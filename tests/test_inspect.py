@@ -114,6 +114,21 @@ def test_mjcf_files_are_inspected() -> None:
     assert "right_knee" in [j["name"] for j in report["active_joints"]]
 
 
+def test_a_file_is_named_as_given_and_a_xacros_problem_as_its_expansion(tmp_path: Path) -> None:
+    # read as validate reads a spec's description: a ManiSkill folder by its placeholder, a
+    # problem found in a xacro's expansion at the expansion's line, named so
+    from robospec.authoring.description_file import read_description_file
+
+    missing = Path("{maniskill_assets}/robots/nowhere.urdf")
+    _, (problem,) = read_description_file(missing)
+    assert (problem.code, problem.location.file) == ("RS050", str(missing))
+    path = tmp_path / "bad.urdf.xacro"
+    robot(path, f'<link name="a"/>\n<link name="b"/>\n<joint name="j" type="revolute">'
+          f'<parent link="nowhere"/><child link="b"/>{LIMIT}</joint>\n')  # fmt: skip
+    _, found = read_description_file(path)
+    assert [(d.code, d.location.file) for d in found] == [("RS052", f"{path} (expanded)")]
+
+
 MALFORMED = {
     "bad_xml": ('<link name="a">\n', "RS051", 4),
     "unknown_parent": (

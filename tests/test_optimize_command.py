@@ -151,12 +151,12 @@ def _urdf_specs() -> list[Path]:
 
 @pytest.mark.parametrize("spec", _urdf_specs(), ids=lambda p: p.stem)
 def test_no_link_a_shipped_spec_names_is_lost(spec: Path) -> None:
-    from robospec.optimize.command import _absolute_meshes, _description_text, _links_to_keep
+    from robospec.optimize.command import _absolute_meshes, _links_to_keep
     from robospec.optimize.condense import condense
 
     compiled = compile_spec(spec)
     assert compiled.ok and compiled.robot is not None and compiled.context is not None
-    urdf = _absolute_meshes(_description_text(compiled.robot.description), compiled.description)
+    urdf = _absolute_meshes(compiled.robot.description.read_text(), compiled.description)
     keep = _links_to_keep(compiled, urdf, OptimizeOptions())
     condensed = condense(urdf, keep)
     left = {link.get("name") for link in condensed.robot.iter("link")}

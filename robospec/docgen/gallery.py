@@ -39,8 +39,7 @@ def render_inputs(compiled: CompiledSpec) -> str:
     robot, description = compiled.robot, compiled.description
     assert robot is not None and description is not None
     digest = hashlib.sha256(f"robospec-gallery {RENDER_VERSION} {GALLERY_VIEW}\n".encode())
-    ref = robot.description
-    text = ref.generated_text.encode() if ref.generated_text else ref.absolute.read_bytes()
+    text = robot.description.read_bytes()
     digest.update(robot.description_kind.encode() + b"\n" + text)
     for mesh in sorted(description.mesh_files, key=lambda m: (m.uri, m.role)):
         if mesh.role == "visual" and mesh.path is not None:

@@ -436,7 +436,7 @@ def _optimize_into(
 
     robot = compiled.robot
     description = compiled.description
-    urdf = _absolute_meshes(_description_text(robot.description), description)
+    urdf = _absolute_meshes(robot.description.read_text(), description)
     keep = _links_to_keep(compiled, urdf, options)
     unknown = [name for name in options.keep if description.link(name) is None]
     if unknown:
@@ -579,10 +579,6 @@ def _packing_problems(spec: Path) -> bool:
     packed = compile_spec(spec).robot
     record = packed.never_collide if packed is not None else None
     return record is not None and bool(record.side_effects or record.uncovered)
-
-
-def _description_text(ref: Any) -> str:
-    return ref.generated_text if ref.generated_text is not None else ref.absolute.read_text()
 
 
 def _absolute_meshes(text: str, description: Any) -> Any:

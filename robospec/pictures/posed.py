@@ -506,11 +506,6 @@ def posed_robots(
     if robot.description_kind == "mjcf":
         source = MjcfShapes(str(robot.description.absolute), description, layers)
     else:
-        ref = robot.description
-        text = (
-            ref.generated_text.encode("utf-8")
-            if ref.generated_text is not None
-            else ref.absolute.read_bytes()
-        )
+        text = robot.description.read_bytes()
         source = UrdfShapes(text, description.path, urdf_mesh_paths(robot, description), layers)
     return [source.posed(k) for k in keyframes], list(source.problems)

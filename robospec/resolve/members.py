@@ -13,9 +13,9 @@ from typing import Any
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import HeightBand
+from robospec.resolve.carried import part_named_link
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.keyframes import NEEDS_DOWNLOAD
-from robospec.resolve.parts import part_named_link
 from robospec.resolve.poses import position_and_quaternion
 from robospec.resolve.python_refs import RefKind, check_ref
 from robospec.resolve.resolved import (
