@@ -112,3 +112,13 @@ def to_rpy(q: Quaternion) -> Vector:
     pitch = math.asin(max(-1.0, min(1.0, 2 * (w * y - z * x))))
     yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
     return roll, pitch, yaw
+
+
+def rotation_matrix(q: Quaternion) -> tuple[Vector, Vector, Vector]:
+    """The rows of the rotation matrix of the unit quaternion ``q`` (``R v == rotate(q, v)``)."""
+    w, x, y, z = q
+    return (
+        (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
+        (2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
+        (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
+    )

@@ -276,7 +276,7 @@ def test_a_joint_whose_range_spans_more_than_a_turn_takes_targets_one_turn_about
 
 def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_path: Path) -> None:
     from robospec.authoring.joint_loads import joint_loads
-    from robospec.kinematics.frames import from_quaternion
+    from robospec.geometry import rotation_matrix
 
     text = (ROOT / "tests" / "data" / "new" / "quadruped.urdf").read_text()
     # the same robot under a root link whose frame is y-up (graphics' and motion capture's
@@ -302,7 +302,7 @@ def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_pat
             analysis.inertials,
             qpos,
             feet=analysis.feet(),
-            upright=from_quaternion(*upright),
+            upright=rotation_matrix(upright),
         )
         found[name] = (upright, loads)
     assert found["zup"][0] == (1.0, 0.0, 0.0, 0.0)

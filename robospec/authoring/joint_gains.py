@@ -25,7 +25,7 @@ from robospec.authoring.joint_loads import JointLoad, joint_loads
 from robospec.description import Joint
 from robospec.description.ratings import Rating, joint_ratings
 from robospec.diagnostics import Diagnostic, Location, warning
-from robospec.kinematics.frames import from_quaternion
+from robospec.geometry import rotation_matrix
 
 OVER_RATING = "RS609"
 
@@ -49,7 +49,7 @@ def loads(
     if analysis.kinematics is None:
         return {}
     feet = analysis.feet() if gravity and analysis.body.floating else ()
-    upright = from_quaternion(*analysis.upright(qpos))
+    upright = rotation_matrix(analysis.upright(qpos))
     found = joint_loads(
         analysis.kinematics, analysis.inertials, qpos, analysis.armature, feet, upright
     )

@@ -24,8 +24,10 @@ standing on its feet. :mod:`.gains` turns these into a scaffold's first drive ga
   grows by ``m g (r_z - (a·r) a_z)`` per radian — shared between the legs as their feet share
   the weight.
 
-Plain Python (the core install has no numpy), and approximate on purpose: these are a first
-guess that ``robospec new`` refines in ManiSkill when it is installed.
+The links' poses and the joints' axes come from the robot's forward kinematics
+(:mod:`robospec.kinematics.forward`: yourdfpy, MuJoCo); the sums here are plain Python, and
+approximate on purpose: these are a first guess that ``robospec new`` refines in ManiSkill
+when it is installed.
 """
 
 from __future__ import annotations
@@ -33,28 +35,37 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
-from robospec.kinematics.forward import KinematicModel
-from robospec.kinematics.frames import (
-    IDENTITY_ROTATION,
-    Matrix,
-    Transform,
-    Vector,
-    cross,
-    from_rpy,
-    from_z_axis,
-)
-from robospec.kinematics.mjcf_model import (
-    MjBody,
-    MjcfModel,
-    attributes_of,
-    orientation,
-    vector,
-)
+from robospec.geometry import Quaternion, about_axis, from_rpy, rotation_matrix
+from robospec.kinematics.mjcf_model import MjBody, MjcfModel
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from robospec.kinematics.forward import KinematicModel
+
+Vector = tuple[float, float, float]
+Matrix = tuple[Vector, Vector, Vector]  # rows
+IDENTITY_ROTATION: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+ZERO: Vector = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Frame:
+    """Where a part (a geom, an inertial) sits in its link: ``x -> rotation @ x + translation``."""
+
+    rotation: Matrix = IDENTITY_ROTATION
+    translation: Vector = ZERO
+
+    @staticmethod
+    def of(q: Quaternion, p: Sequence[float]) -> Frame:
+        return Frame(rotation_matrix(q), (float(p[0]), float(p[1]), float(p[2])))
+
 
 GRAVITY = 9.81  # m/s², along the world's -z (the root frame turned as its rest pose stands it)
 DENSITY = 1000.0  # kg/m³: PhysX's and MuJoCo's default
@@ -118,7 +129,7 @@ def _shifted(inertia: Matrix, mass: float, offset: Vector) -> Matrix:
     )
 
 
-def combine(parts: Iterable[tuple[float, Transform, Matrix]]) -> Inertial | None:
+def combine(parts: Iterable[tuple[float, Frame, Matrix]]) -> Inertial | None:
     """One body of several parts: (mass, the part's frame in the body's with its centre of
     mass at the origin, its inertia in that frame). None when there is no mass."""
     items = [(m, frame, inertia) for m, frame, inertia in parts if m > 0]
@@ -185,12 +196,12 @@ def urdf_inertials(text: bytes | str) -> dict[str, Inertial]:
     return out
 
 
-def _origin(element: etree._Element | None) -> Transform:
+def _origin(element: etree._Element | None) -> Frame:
     if element is None:
-        return Transform()
+        return Frame()
     rpy = finite_numbers(element.get("rpy"), 3) or (0.0, 0.0, 0.0)
     xyz = finite_numbers(element.get("xyz"), 3) or (0.0, 0.0, 0.0)
-    return Transform(from_rpy(*rpy), xyz)  # type: ignore[arg-type]
+    return Frame.of(from_rpy(*rpy), xyz)
 
 
 def _urdf_inertial(inertial: etree._Element | None) -> Inertial | None:
@@ -244,23 +255,16 @@ def _urdf_shapes(link: etree._Element) -> Inertial | None:
 def mjcf_inertials(model: MjcfModel) -> dict[str, Inertial]:
     """Body name -> its inertial as ManiSkill's MJCF loader makes it: from the geoms."""
     out: dict[str, Inertial] = {}
-
-    def walk(body: MjBody) -> None:
+    for body in model.walk():
         found = _mjcf_geoms(model, body) or _mjcf_inertial(model, body)
         if found is not None:
             out[body.name] = found
-        for child in body.children:
-            walk(child)
-
-    for body in model.bodies:
-        walk(body)
     return out
 
 
 def _mjcf_geoms(model: MjcfModel, body: MjBody) -> Inertial | None:
     parts = []
-    for element in body.element.iterfind("geom"):
-        attributes = attributes_of(model, element, "geom", body.childclass)
+    for attributes in body.geoms:
         shape = _mjcf_shape(model, attributes)
         if shape is not None:
             parts.append(shape)
@@ -269,12 +273,12 @@ def _mjcf_geoms(model: MjcfModel, body: MjBody) -> Inertial | None:
 
 def _mjcf_shape(
     model: MjcfModel, attributes: Mapping[str, str]
-) -> tuple[float, Transform, Matrix] | None:
+) -> tuple[float, Frame, Matrix] | None:
     kind = attributes.get("type", "sphere")
     size = finite_numbers(attributes.get("size"), None) or ()
     given_mass = finite_numbers(attributes.get("mass"), 1)
     density = (finite_numbers(attributes.get("density"), 1) or (DENSITY,))[0]
-    frame = Transform(orientation(model, dict(attributes)), vector(attributes.get("pos")))
+    frame = Frame.of(model.rotation(dict(attributes)), _position(attributes.get("pos")))
     fromto = finite_numbers(attributes.get("fromto"), 6)
     half_length = size[1] if len(size) > 1 else 0.0
     if fromto is not None and kind in ("capsule", "cylinder", "box", "ellipsoid"):
@@ -282,7 +286,7 @@ def _mjcf_shape(
         axis = tuple(b[i] - a[i] for i in range(3))
         half_length = math.sqrt(sum(c * c for c in axis)) / 2
         centre = tuple((a[i] + b[i]) / 2 for i in range(3))
-        frame = Transform(_z_towards(axis), centre)  # type: ignore[arg-type]
+        frame = Frame(_z_towards(axis), centre)  # type: ignore[arg-type]
     if not size:
         return None
     if kind == "sphere":
@@ -308,13 +312,25 @@ def _scaled(inertia: Matrix, factor: float) -> Matrix:
 
 
 def _z_towards(axis: Sequence[float]) -> Matrix:
-    if sum(c * c for c in axis) < 1e-24:
+    """The shortest rotation taking (0, 0, 1) to ``axis`` (MuJoCo's ``fromto``)."""
+    norm = math.sqrt(sum(c * c for c in axis))
+    if norm < 1e-12:
         return IDENTITY_ROTATION
-    return from_z_axis(tuple(axis))  # type: ignore[arg-type]
+    z: Vector = (axis[0] / norm, axis[1] / norm, axis[2] / norm)
+    turn = cross((0.0, 0.0, 1.0), z)
+    sine = math.sqrt(sum(c * c for c in turn))
+    if sine < 1e-12:
+        return IDENTITY_ROTATION if z[2] > 0 else rotation_matrix(about_axis((1.0, 0, 0), math.pi))
+    return rotation_matrix(about_axis(turn, math.atan2(sine, z[2])))
+
+
+def _position(text: str | None) -> Vector:
+    values = finite_numbers(text, 3)
+    return values if values is not None else ZERO  # type: ignore[return-value]
 
 
 def _mjcf_inertial(model: MjcfModel, body: MjBody) -> Inertial | None:
-    element = body.element.find("inertial")
+    element = body.inertial
     if element is None:
         return None
     mass = finite_numbers(element.get("mass"), 1)
@@ -329,8 +345,8 @@ def _mjcf_inertial(model: MjcfModel, body: MjBody) -> Inertial | None:
         inertia = ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
     else:
         return None
-    rotation = orientation(model, dict(element.attrib))
-    return Inertial(mass[0], vector(element.get("pos")), _rotate(rotation, inertia))
+    rotation = rotation_matrix(model.rotation(element))
+    return Inertial(mass[0], _position(element.get("pos")), _rotate(rotation, inertia))
 
 
 # -- loads ----------------------------------------------------------------------------------------
@@ -348,8 +364,8 @@ def joint_loads(
     of each foot (the ground pushes on the lowest frame of each); empty: it does not stand.
     ``upright``: how the root frame is turned in the world, gravity pulling along the world's
     -z (a description written y-up stands turned: ``RobotAnalysis.upright``)."""
-    turned = Transform(upright)
-    poses = {link: turned @ pose for link, pose in model.link_poses(qpos).items()}
+    placed = model.at(qpos)
+    poses = {link: _turned(upright, pose) for link, pose in placed.links.items()}
     children: dict[str, list[str]] = {}
     for joint in model.joints:
         children.setdefault(joint.parent, []).append(joint.child)
@@ -359,7 +375,7 @@ def joint_loads(
         if found is not None:
             world[link] = (
                 found.mass,
-                pose.point(found.com),
+                _apply(pose.rotation, found.com, pose.translation),
                 _rotate(pose.rotation, found.inertia),
             )
     support = _support(poses, world, feet)
@@ -370,12 +386,11 @@ def joint_loads(
     for joint in model.joints:
         if joint.type not in ("revolute", "continuous", "prismatic"):
             continue
-        frame = poses.get(joint.parent)
-        if frame is None:
+        placed_axis = placed.axes.get(joint.name)
+        if placed_axis is None:
             continue
-        frame = frame @ joint.origin
-        axis = frame.direction(joint.axis)
-        pivot = frame.point(joint.pivot)
+        axis = _apply(upright, tuple(placed_axis.direction.tolist()))
+        pivot = _apply(upright, tuple(placed_axis.anchor.tolist()))
         beyond = _subtree(joint.child, children)
         inertia = armature.get(joint.name, 0.0)
         torque = 0.0
@@ -437,6 +452,24 @@ def _topple(
     return max(GRAVITY * mass * height, 0.0)
 
 
+def _turned(upright: Matrix, pose: np.ndarray) -> Frame:
+    """A link's pose (4x4, root frame) in the world, the root frame turned by ``upright``."""
+    rows = pose[:3, :3].tolist()
+    rotation = tuple(
+        tuple(sum(upright[i][k] * rows[k][j] for k in range(3)) for j in range(3)) for i in range(3)
+    )
+    return Frame(rotation, _apply(upright, tuple(pose[:3, 3].tolist())))  # type: ignore[arg-type]
+
+
+def _apply(r: Matrix, v: Sequence[float], shift: Sequence[float] = ZERO) -> Vector:
+    """``r @ v + shift``."""
+    return tuple(sum(r[i][k] * v[k] for k in range(3)) + shift[i] for i in range(3))  # type: ignore[return-value]
+
+
+def cross(a: Sequence[float], b: Sequence[float]) -> Vector:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
 def _subtree(link: str, children: Mapping[str, list[str]]) -> set[str]:
     found = {link}
     queue = [link]
@@ -457,7 +490,7 @@ def _quadratic(matrix: Matrix, v: Vector) -> float:
 
 
 def _support(
-    poses: Mapping[str, Transform],
+    poses: Mapping[str, Frame],
     world: Mapping[str, tuple[float, Vector, Matrix]],
     feet: Sequence[Sequence[str]],
 ) -> list[tuple[tuple[Vector, str], float]]:

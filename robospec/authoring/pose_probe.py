@@ -30,7 +30,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from robospec.kinematics.frames import Vector
+from robospec.geometry import Vector
 
 STEPS = (0.1, 0.2, 0.35, 0.5)
 FULL_TURN = 2 * math.pi
