@@ -114,7 +114,10 @@ def to_rpy(q: Quaternion) -> Vector:
     return roll, pitch, yaw
 
 
-def rotation_matrix(q: Quaternion) -> tuple[Vector, Vector, Vector]:
+Matrix = tuple[Vector, Vector, Vector]  # a 3x3 matrix's rows
+
+
+def rotation_matrix(q: Quaternion) -> Matrix:
     """The rows of the rotation matrix of the unit quaternion ``q`` (``R v == rotate(q, v)``)."""
     w, x, y, z = q
     return (

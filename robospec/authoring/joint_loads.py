@@ -41,7 +41,7 @@ from lxml import etree
 
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
-from robospec.geometry import Quaternion, about_axis, from_rpy, rotation_matrix
+from robospec.geometry import Matrix, Quaternion, Vector, about_axis, from_rpy, rotation_matrix
 from robospec.kinematics.mjcf_model import MjBody, MjcfModel
 
 if TYPE_CHECKING:
@@ -49,8 +49,6 @@ if TYPE_CHECKING:
 
     from robospec.kinematics.forward import KinematicModel
 
-Vector = tuple[float, float, float]
-Matrix = tuple[Vector, Vector, Vector]  # rows
 IDENTITY_ROTATION: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 ZERO: Vector = (0.0, 0.0, 0.0)
 
