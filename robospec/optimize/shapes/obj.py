@@ -6,10 +6,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any
 
+from robospec.optimize.outputs import MARK
+
 if TYPE_CHECKING:
     import numpy as np
 
-HEADER = "# written by robospec optimize\n"
+HEADER = f"# {MARK}\n"
 
 
 def point_obj(points: np.ndarray) -> tuple[str, int]:
