@@ -113,6 +113,18 @@ def test_a_shapes_method_named_in_python_is_the_cli_s_choice() -> None:
         OptimizeOptions(shapes="bogus")  # type: ignore[arg-type]
 
 
+def test_a_refused_run_in_json_is_its_diagnostics_alone(tmp_path: Path) -> None:
+    result = invoke_robospec(
+        "optimize", str(PANDA_SPEC), "-o", str(tmp_path / "p.yaml"), "--profile", "fsat",
+        "--format", "json",
+    )  # fmt: skip
+    assert result.exit_code == 1
+    data = json.loads(result.output)
+    assert list(data) == ["diagnostics"]
+    assert [d["code"] for d in data["diagnostics"]] == ["RS670"]
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_the_json_report_says_what_changed(tmp_path: Path) -> None:
     result = invoke_robospec(
         "optimize", str(PANDA_SPEC), "-o", str(tmp_path / "p.yaml"), "--shapes", "keep",
