@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from lxml import etree
 
 from robospec.optimize.condense import mass_from_shapes
+from robospec.optimize.options import ShapeMethod
 from robospec.optimize.shapes.decompose import coacd_hulls, import_coacd
 from robospec.optimize.shapes.elements import Result, as_meshes, replace_element
 from robospec.optimize.shapes.hull import capped_hull
@@ -23,7 +24,8 @@ from robospec.optimize.shapes.primitives import fit_primitives
 if TYPE_CHECKING:
     import numpy as np
 
-METHODS = ("convert", "hull", "coacd", "primitives")
+# what optimize_collisions does: every shapes method but keep, which does nothing
+METHODS = tuple(m.value for m in ShapeMethod if m is not ShapeMethod.keep)
 
 
 @dataclass(frozen=True)
