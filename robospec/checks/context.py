@@ -67,4 +67,11 @@ class CheckContext:
 
     @property
     def passive_joints(self) -> frozenset[str]:
-        return frozenset(self.passive_joints_bound) | self.part_passive_joints
+        """The joints no control mode needs to drive: the spec's and its parts' passive
+        joints, and the joints its mechanisms move (closed loops, wheels under a planar
+        base)."""
+        return (
+            frozenset(self.passive_joints_bound)
+            | self.part_passive_joints
+            | self.robot.mechanism_passive_joints
+        )

@@ -36,13 +36,14 @@ from dataclasses import dataclass, field
 
 from robospec.derive.document import Change, Document, Source, fold_changes
 from robospec.derive.mend import CANNOT_MEND, NOT_FOR_KIND, STALE, MendClass, Policy
-from robospec.derive.registry import MENDS, mend_class
+from robospec.derive.registry import MENDS, ORDER, SECTIONS, mend_class
 from robospec.diagnostics import Diagnostic, Location, note
 
 __all__ = [
     "CANNOT_MEND",
     "MENDS",
     "NOT_FOR_KIND",
+    "SECTIONS",
     "STALE",
     "Derived",
     "Outcome",
@@ -109,16 +110,20 @@ class Derived:
         return self.unexplained(out)
 
 
-def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
-    """Apply the ``requested`` mends (class name -> policy) to ``source``, in the order of
-    :data:`~robospec.derive.registry.MENDS`."""
+def derive(
+    source: Source, requested: Mapping[str, Policy], sections: Mapping[str, Policy] | None = None
+) -> Derived:
+    """Apply the ``requested`` mends (class name -> policy) and the transformations the spec's
+    ``sections`` ask for (section -> its settings: :data:`~robospec.derive.registry.SECTIONS`)
+    to ``source``, in the order of :data:`~robospec.derive.registry.ORDER`."""
     document = Document(source)
     outcomes: list[Outcome] = []
     notes: list[Diagnostic] = []
     explained: set[tuple[int, str]] = set()
     parsed = False
-    for mend in MENDS:
-        if mend.NAME not in requested:
+    asked = {**requested, **{SECTIONS[k].NAME: v for k, v in (sections or {}).items()}}
+    for mend in ORDER:
+        if mend.NAME not in asked:
             continue
         if source.kind not in mend.KINDS:
             outcomes.append(Outcome(mend.NAME, "not_for_kind"))
@@ -128,7 +133,7 @@ def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
             if not document.parse():
                 break  # still not XML: the description's own parse says where
         before_changes, before_refusals = len(document.changes), len(document.refusals)
-        mend.apply(document, requested[mend.NAME])
+        mend.apply(document, asked[mend.NAME])
         changes = tuple(document.changes[before_changes:])
         refused = len(document.refusals) > before_refusals
         for refusal in document.refusals[before_refusals:]:
@@ -136,7 +141,8 @@ def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
         if changes:
             notes.append(_note(document, mend, list(changes)))
         status = "applied" if changes else ("refused" if refused else "stale")
-        outcomes.append(Outcome(mend.NAME, status, changes))
+        if mend.NAME in requested:  # a section's transformation is judged by its checks
+            outcomes.append(Outcome(mend.NAME, status, changes))
     if not parsed and any(o.status == "applied" for o in outcomes):
         document.parse()  # text mends only: written back as the tree, like every derived text
     text = (
@@ -156,10 +162,12 @@ def derive(source: Source, requested: Mapping[str, Policy]) -> Derived:
 def _note(document: Document, mend: MendClass, changes: list[Change]) -> Diagnostic:
     first = min(changes, key=lambda c: c.line)
     ordered = [first, *(c for c in changes if c is not first)]
+    section = next((key for key, m in SECTIONS.items() if m is mend), None)
+    label = f"{section}:" if section is not None else f"mend '{mend.NAME}':"
     return note(
         document.location_in(first.file, first.line, first.tag),
         mend.CODE,
-        f"mend '{mend.NAME}': {fold_changes(ordered)}",
+        f"{label} {fold_changes(ordered)}",
     )
 
 

@@ -23,6 +23,7 @@ import robospec.derive.mirrors as mirrors
 import robospec.derive.namespaces as namespaces
 import robospec.derive.orientations as orientations
 import robospec.derive.packages as packages
+import robospec.derive.planar_base as planar_base
 import robospec.derive.spherical as spherical
 import robospec.derive.substitutions as substitutions
 import robospec.derive.textures as textures
@@ -56,6 +57,18 @@ MENDS: tuple[MendClass, ...] = cast(
         spherical,
         mimic,
     ),
+)
+
+
+# Transformations a spec asks for in a section of its own (not ``description.mend``), each a
+# module of the same interface, run in this order among the mends: the planar base after the
+# mends that make the file loadable, before those that read joint types (it welds wheels'
+# ball joints, which `spherical` would otherwise turn into hinges)
+SECTIONS: dict[str, MendClass] = {"mobile_base": cast("MendClass", planar_base)}
+ORDER: tuple[MendClass, ...] = (
+    *MENDS[: MENDS.index(cast("MendClass", limits)) + 1],
+    cast("MendClass", planar_base),
+    *MENDS[MENDS.index(cast("MendClass", limits)) + 1 :],
 )
 
 

@@ -14,6 +14,7 @@ import ast
 import os
 from pathlib import Path
 
+from robospec.emit import mechanisms
 from robospec.emit import members as helpers
 from robospec.emit.controllers import (
     class_attributes,
@@ -208,13 +209,17 @@ def member_names(robot: ResolvedRobot) -> list[str]:
     names += [state.name for state in robot.link_states]
     names += [method for method, _ in robot.hooks.methods]
     names += ["is_static", "is_standing", "is_fallen"]
+    if robot.touch is not None:
+        names += mechanisms.TOUCH_MEMBERS
     return names
 
 
 def generate_members(robot: ResolvedRobot, python: PythonNames) -> list[ast.stmt]:
     """Hooks and task-facing helpers, after the data ManiSkill reads."""
     body: list[ast.stmt] = []
-    loading = helpers.generate_after_loading_articulation(robot, python)
+    loading = helpers.generate_after_loading_articulation(
+        robot, python, mechanisms.loop_statements(robot)
+    )
     if loading is not None:
         body.append(loading)
     after_init = generate_after_init(robot, python)
@@ -229,7 +234,8 @@ def generate_members(robot: ResolvedRobot, python: PythonNames) -> list[ast.stmt
     if robot.is_fallen is not None:
         body.append(helpers.generate_is_fallen(robot.is_fallen))
     body.extend(helpers.generate_link_state(state, robot) for state in robot.link_states)
-    proprioception = helpers.generate_proprioception(robot)
+    body.extend(mechanisms.touch_methods(robot))
+    proprioception = helpers.generate_proprioception(robot, mechanisms.touch_reading(robot))
     if proprioception is not None:
         body.append(proprioception)
     for method, ref in robot.hooks.methods:
@@ -276,6 +282,7 @@ def generate_sensor_configs(cameras: tuple[ResolvedCamera, ...]) -> ast.Function
 
 def generate_after_init(robot: ResolvedRobot, python: PythonNames) -> ast.FunctionDef | None:
     body: list[ast.stmt] = helpers.generate_after_init_helpers(robot)
+    body += mechanisms.touch_after_init(robot)
     for rule in robot.collision_rules:
         link = ast.Subscript(name("self.robot.links_map"), name("link_name"), ast.Load())
         set_bit = ast.Call(

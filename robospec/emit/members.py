@@ -329,8 +329,12 @@ def generate_link_state(state: ResolvedLinkState, robot: ResolvedRobot) -> ast.F
     return node if state.method else as_property(node)
 
 
-def generate_proprioception(robot: ResolvedRobot) -> ast.FunctionDef | None:
-    if not robot.proprioception:
+def generate_proprioception(
+    robot: ResolvedRobot, touch: tuple[ast.expr, ast.expr] | None = None
+) -> ast.FunctionDef | None:
+    """``get_proprioception`` with the declared link states and the ``touch`` reading
+    (key, value)."""
+    if not robot.proprioception and touch is None:
         return None
     states = {s.name: s for s in robot.link_states}
     keys: list[ast.expr | None] = []
@@ -356,11 +360,14 @@ def generate_proprioception(robot: ResolvedRobot) -> ast.FunctionDef | None:
             value = stmt.value
         keys.append(ast.Constant(name))
         values.append(value)
+    if touch is not None:
+        keys.append(touch[0])
+        values.append(touch[1])
     return function(
         "get_proprioception",
         '''
         def get_proprioception(self):
-            """The default proprioception plus the declared link states."""
+            """The default proprioception plus the declared link states and touch readings."""
             obs = super().get_proprioception()
             obs.update(STATES)
             return obs
@@ -370,8 +377,10 @@ def generate_proprioception(robot: ResolvedRobot) -> ast.FunctionDef | None:
 
 
 def generate_after_loading_articulation(
-    robot: ResolvedRobot, python: PythonNames
+    robot: ResolvedRobot, python: PythonNames, mechanisms: list[ast.stmt] | None = None
 ) -> ast.FunctionDef | None:
+    """The method that sets what loading left to do: contact offsets, drives, the statements
+    of the robot's ``mechanisms`` (its closed loops), the hook."""
     body: list[ast.stmt] = []
     offset = robot.simulation.contact_offset
     if offset is not None:
@@ -406,6 +415,7 @@ def generate_after_loading_articulation(
                 LOWER=constant(lower),
                 UPPER=constant(upper),
             )
+    body += mechanisms or []
     if robot.hooks.after_loading_articulation is not None:
         body += template("HOOK(self)", HOOK=python.expr(robot.hooks.after_loading_articulation))
     if not body:

@@ -16,6 +16,7 @@ IMPORTABLE: dict[str, tuple[str | None, str]] = {
     "os": (None, "os"),
     "importlib": (None, "importlib"),
     "inspect": (None, "inspect"),
+    "itertools": (None, "itertools"),
     "np": (None, "numpy"),
     "sapien": (None, "sapien"),
     "torch": (None, "torch"),
@@ -28,6 +29,7 @@ IMPORTABLE: dict[str, tuple[str | None, str]] = {
     "register_agent": ("mani_skill.agents.registration", "register_agent"),
     "CameraConfig": ("mani_skill.sensors.camera", "CameraConfig"),
     "common": ("mani_skill.utils", "common"),
+    "sapien_utils": ("mani_skill.utils", "sapien_utils"),
     "Pose": ("mani_skill.utils.structs.pose", "Pose"),
     "vectorize_pose": ("mani_skill.utils.structs.pose", "vectorize_pose"),
 }

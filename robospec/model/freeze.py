@@ -42,6 +42,7 @@ MODEL_MODULES = (
     "robospec.model.members",
     "robospec.model.check_settings",
     "robospec.model.mends",
+    "robospec.model.mechanisms",
     "robospec.model.spec",
 )
 _DROPPED_KEYS = frozenset({"metadata", "serialization"})

@@ -131,7 +131,8 @@ def one_part_source(part: Any) -> Any:
 def description_or_base(spec: Any) -> Any:
     if spec.extends is None and spec.description is None:
         raise ValueError("give a description (or extend a Python agent class)")
-    if spec.extends is None and not spec.control_modes:
+    # a mobile base brings a mode of its own: a platform with nothing else to control drives
+    if spec.extends is None and not spec.control_modes and spec.mobile_base is None:
         raise ValueError("give at least one control mode")
     return spec
 

@@ -23,6 +23,7 @@ from robospec.model.common import (
     Vector3,
 )
 from robospec.model.controllers import ControllerConfig
+from robospec.model.mechanisms import Loop, MobileBase, Touch
 from robospec.model.members import (
     Drive,
     Grasping,
@@ -401,6 +402,10 @@ _GRASP = {
     "max_angle": 85,
 }
 _TIP_POSES = {"links": "tip_links", "quantity": "pose", "stack_dim": -2}
+_LOOP = {
+    "links": ["left_inner_knuckle", "left_inner_finger"],
+    "at": [[0, 0.0376, 0.043], [0, -0.0179, 0.0065]],
+}
 # examples from the Panda spec (specs/maniskill/panda.yaml) and the zoo, shown by editors
 
 
@@ -669,6 +674,35 @@ class Spec(StrictModel):
         description="Drives that close kinematic loops between two links (e.g. a Robotiq "
         "gripper's linkage).",
         examples=[[{"parent": "left_outer_finger", "child": "left_inner_finger_pad"}]],
+    )
+    loops: dict[
+        Name,
+        Annotated[
+            Loop,
+            Field(
+                description="A closed loop by name: two links and where they meet.",
+                examples=[_LOOP],
+            ),
+        ],
+    ] = Field(
+        default_factory=dict,
+        description="Closed kinematic loops (a four-bar gripper's linkages, MJCF `connect` "
+        "and `weld` equalities), each closed by a drive after loading; the loops' joints no "
+        "controller drives are passive.",
+        examples=[{"left_linkage": _LOOP}],
+    )
+    mobile_base: MobileBase | None = Field(
+        default=None,
+        description="A drivable planar base: x and y slides and a z hinge added above the base "
+        "link in a derived copy of the description, a `pd_base_vel` controller in every "
+        "control mode, the wheels out of the floor's collisions.",
+        examples=[{"link": "base_link", "wheels": "*_wheel_link"}],
+    )
+    touch: Touch | None = Field(
+        default=None,
+        description="Force-sensing links: defines `get_fsr_impulse()` and "
+        "`get_fsr_obj_impulse(obj)`, and optionally adds the readings to the proprioception.",
+        examples=[{"links": ["link_base_fsr", "link_3.0_tip_fsr"], "proprioception": True}],
     )
     hooks: Hooks = Field(
         default_factory=Hooks,

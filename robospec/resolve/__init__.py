@@ -16,7 +16,7 @@ from pathlib import Path
 from robospec.diagnostics import error
 from robospec.load.source_map import LoadedSpec
 from robospec.model.validate import SpecModelResult
-from robospec.resolve import carried, members, parts
+from robospec.resolve import carried, mechanisms, members, parts
 from robospec.resolve.cameras import resolve_camera
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.controllers import resolve_controller
@@ -79,9 +79,15 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         resolve_controller(context, name, config, description_ref)
         for name, config in spec.controllers.items()
     )
-    modes = resolve_modes(context)
+    modes = tuple(resolve_modes(context))
+    base = mechanisms.mobile_base(context)
+    if base is not None:
+        controllers = (*controllers, mechanisms.base_controller(base, spec.mobile_base))
+        modes = mechanisms.with_base_controller(modes, controllers, base)
     cameras = tuple(resolve_camera(context, uid, cam) for uid, cam in spec.cameras.items())
-    rules, never_collide = _collision_rules(context, description_ref)
+    rules, never_collide = _collision_rules(
+        context, description_ref, mechanisms.floor_rule(base) if base is not None else ()
+    )
     robot = ResolvedRobot(
         uid=spec.uid,
         class_name=spec.class_name or class_name_for(spec.uid),
@@ -94,7 +100,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         urdf_config=urdf_config,
         keyframes=keyframes,
         controllers=controllers,
-        modes=tuple(modes),
+        modes=modes,
         cameras=cameras,
         collision_rules=rules,
         tcp=members.tcp(context),
@@ -112,6 +118,9 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         proprioception=tuple(spec.proprioception),
         disable_gravity=members.disable_gravity(context),
         drives=members.drives(context),
+        loops=mechanisms.loops(context),
+        touch=mechanisms.touch(context),
+        mobile_base=base,
         hooks=members.hooks(context),
         never_collide=never_collide,
         simulation=members.simulation(context),
@@ -138,10 +147,12 @@ def _resolve_groups(context: ResolveContext) -> None:
 
 
 def _collision_rules(
-    context: ResolveContext, description_ref: FileRef
+    context: ResolveContext,
+    description_ref: FileRef,
+    mechanism_rules: tuple[ResolvedCollisionRule, ...] = (),
 ) -> tuple[tuple[ResolvedCollisionRule, ...], ResolvedNeverCollide | None]:
-    """The spec's collision rules and the parts', then the bits ``never_collide`` (the
-    spec's and the parts') is packed into."""
+    """The spec's collision rules, its mechanisms' (the wheels off the floor) and the parts',
+    then the bits ``never_collide`` (the spec's and the parts') is packed into."""
     rules = tuple(
         ResolvedCollisionRule(
             tuple(select_links(context, rule.links, ("collision_rules", i, "links"))),
@@ -151,7 +162,7 @@ def _collision_rules(
         )
         for i, rule in enumerate(context.spec.collision_rules)
     )
-    rules += carried.collision_rules(context)
+    rules += mechanism_rules + carried.collision_rules(context)
     packed, never_collide = resolve_never_collide(
         context, rules, carried.never_collide_entries(context, description_ref)
     )

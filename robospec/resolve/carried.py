@@ -11,7 +11,7 @@ values), then concatenated with the robot's own (:func:`with_parts`):
 - materials and link rules (``urdf_config``), collision rules and ``never_collide`` (packed
   with the robot's into one set of bits), the SRDF pairs SAPIEN would have read beside the
   robot's and each part's URDF, named links, grasp checks, link states, cameras, drives,
-  gravity;
+  closed loops, gravity;
 - the tcp, unless the robot's spec gives one.
 """
 
@@ -41,6 +41,7 @@ CONCATENATED = (
     "link_states",
     "proprioception",
     "drives",
+    "loops",
 )
 
 

@@ -63,7 +63,7 @@ def load_spec_description(context: ResolveContext, mount: Mount | None = None) -
     desc = context.spec.description
     assert desc is not None
     read = reader(context, ("description",))
-    prepared = prepare(read, DescriptionEntry.of(desc))
+    prepared = prepare(read, DescriptionEntry.of(desc, context.spec))
     if prepared is None:
         return None
     if isinstance(prepared, FileRef):  # not downloaded: names are assumed

@@ -53,16 +53,39 @@ class DescriptionEntry:
     # mend class -> policy, as declared (robospec.derive); None: the mends it needs to load
     mends: Mapping[str, Any] | None = field(default_factory=dict)
     download: tuple[str, ...] = ()  # ManiSkill's download ids: the file may not be there yet
+    # what the spec's other sections change in the derived copy (robospec.derive.SECTIONS):
+    # section -> its settings
+    sections: Mapping[str, Any] = field(default_factory=dict)
 
     @classmethod
-    def of(cls, desc: Any) -> DescriptionEntry:
-        """The entry a spec's ``description`` (robospec.model.spec.Description) gives."""
+    def of(cls, desc: Any, spec: Any = None) -> DescriptionEntry:
+        """The entry a spec's ``description`` (robospec.model.spec.Description) gives, with
+        what ``spec``'s own sections change in its derived copy (a planar base)."""
         mends = desc.mend.model_dump(exclude_none=True) if desc.mend is not None else {}
-        return cls(desc.path, desc.kind, desc.args, desc.packages, mends, tuple(desc.download))
+        sections = derived_sections(spec) if spec is not None else {}
+        return cls(
+            desc.path, desc.kind, desc.args, desc.packages, mends, tuple(desc.download), sections
+        )
 
     @property
     def parsed_kind(self) -> ParsedKind:
         return "mjcf" if self.kind == "mjcf" else "urdf"
+
+
+def derived_sections(spec: Any) -> dict[str, Any]:
+    """The spec's sections that change its description's derived copy, as settings."""
+    base = getattr(spec, "mobile_base", None)
+    if base is None:
+        return {}
+    wheels = base.wheels if isinstance(base.wheels, list) else [base.wheels]
+    return {
+        "mobile_base": {
+            "link": base.link,
+            "joints": list(base.joints),
+            "wheels": list(wheels),
+            "wheel_joints": base.wheel_joints,
+        }
+    }
 
 
 @dataclass
@@ -226,13 +249,17 @@ def prepare(reader: Reader, entry: DescriptionEntry) -> Prepared | FileRef | Non
         shown += EXPANDED
         ref = dataclasses.replace(ref, generated_text=text, has_srdf_beside=False)
     prepared = Prepared(ref, entry.parsed_kind, shown, packages)
-    if entry.mends is None or entry.mends:
-        return _mended(reader, prepared, entry.mends, (entry.kind,))
+    if entry.mends is None or entry.mends or entry.sections:
+        return _mended(reader, prepared, entry.mends, (entry.kind,), entry.sections)
     return prepared
 
 
 def _mended(
-    reader: Reader, prepared: Prepared, declared: Mapping[str, Any] | None, where: KeyPath
+    reader: Reader,
+    prepared: Prepared,
+    declared: Mapping[str, Any] | None,
+    where: KeyPath,
+    sections: Mapping[str, Any] | None = None,
 ) -> Prepared | None:
     """``prepared`` with the ``declared`` mends applied to a copy (robospec.derive), or with
     those it needs when ``declared`` is None: the notes of what changed, in the description;
@@ -256,7 +283,7 @@ def _mended(
         if not mends:
             return prepared
     else:
-        mends, derived = dict(declared), derive(source, declared)
+        mends, derived = dict(declared), derive(source, declared, sections)
     reader.diagnostics.extend(derived.notes)
     reader.diagnostics.extend(derived.refusals)
     if declared is not None:

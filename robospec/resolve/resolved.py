@@ -382,6 +382,58 @@ class ResolvedDrive:
 
 
 @dataclass(frozen=True)
+class ResolvedLoop:
+    """A closed loop (``loops``): the drive that closes it after loading, and the joints of
+    the cycle it closes (the tree's path between its two links), which no controller needs
+    to drive."""
+
+    name: str
+    links: tuple[str, str]
+    poses: tuple[Pose, Pose]  # where they meet, in each link's frame
+    weld: bool
+    joints: tuple[str, ...]
+
+    def renamed(self, r: Renaming) -> ResolvedLoop:
+        first, second = self.links
+        return dataclasses.replace(
+            self, links=(r.link(first), r.link(second)), joints=tuple(map(r.joint, self.joints))
+        )
+
+
+@dataclass(frozen=True)
+class ResolvedTouch:
+    """Force-sensing links (``touch``), in the order their readings come."""
+
+    links: tuple[str, ...]
+    proprioception: bool
+
+    def renamed(self, r: Renaming) -> ResolvedTouch:
+        return dataclasses.replace(self, links=tuple(map(r.link, self.links)))
+
+
+@dataclass(frozen=True)
+class ResolvedMobileBase:
+    """A planar base (``mobile_base``): the joints the derived copy added, the controller
+    that drives them, the links kept off the floor and the wheel joints left passive."""
+
+    link: str
+    joints: tuple[str, ...]  # x slide, y slide, z hinge
+    controller: str
+    wheels: tuple[str, ...]
+    wheel_joints: tuple[str, ...]
+
+    def renamed(self, r: Renaming) -> ResolvedMobileBase:
+        return dataclasses.replace(
+            self,
+            link=r.link(self.link),
+            joints=tuple(map(r.joint, self.joints)),
+            controller=r.name("controllers", self.controller),
+            wheels=tuple(map(r.link, self.wheels)),
+            wheel_joints=tuple(map(r.joint, self.wheel_joints)),
+        )
+
+
+@dataclass(frozen=True)
 class ResolvedHooks:
     after_loading_articulation: PythonRef | None = None
     after_init: PythonRef | None = None
@@ -472,11 +524,21 @@ class ResolvedRobot:
     proprioception: tuple[str, ...] = ()
     disable_gravity: tuple[str, ...] = ()
     drives: tuple[ResolvedDrive, ...] = ()
+    loops: tuple[ResolvedLoop, ...] = ()
+    touch: ResolvedTouch | None = None
+    mobile_base: ResolvedMobileBase | None = None
     hooks: ResolvedHooks = ResolvedHooks()
     never_collide: ResolvedNeverCollide | None = None
     # the robots mounted on this one (their links and joints are in the description)
     parts: tuple[ResolvedPart, ...] = ()
     simulation: ResolvedSimulation = ResolvedSimulation()
+
+    @property
+    def mechanism_passive_joints(self) -> frozenset[str]:
+        """The joints the robot's mechanisms move, which no control mode needs to drive: the
+        joints of its closed loops and its wheels' joints under a planar base."""
+        wheels = self.mobile_base.wheel_joints if self.mobile_base is not None else ()
+        return frozenset((*(j for loop in self.loops for j in loop.joints), *wheels))
 
     @property
     def own_collision_rules(self) -> tuple[ResolvedCollisionRule, ...]:
@@ -530,6 +592,9 @@ class ResolvedRobot:
             proprioception=tuple(r.name("link_states", n) for n in self.proprioception),
             disable_gravity=tuple(map(r.link, self.disable_gravity)),
             drives=each(self.drives),
+            loops=each(self.loops),
+            touch=optional(self.touch),
+            mobile_base=optional(self.mobile_base),
             never_collide=optional(self.never_collide),
         )
 

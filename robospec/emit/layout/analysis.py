@@ -82,6 +82,8 @@ def needs_parentheses(node: ast.expr, parenthesized: IsParenthesized) -> str:
         return NEVER_NEEDS
     if isinstance(node, (ast.BinOp, ast.Compare, ast.BoolOp, ast.Slice)):
         return MULTILINE
+    if isinstance(node, ast.Starred):
+        return needs_parentheses(node.value, parenthesized)
     if isinstance(node, ast.UnaryOp):
         if parenthesized(node.operand):
             return NEVER_NEEDS

@@ -218,6 +218,8 @@ class ExpressionLayout:
             return concat(operator, self.expression(operand, ALWAYS if pow_operand else PRESERVE))
         if isinstance(node, ast.Slice):
             return self.slice(node)
+        if isinstance(node, ast.Starred):
+            return concat(Text("*"), self.expression(node.value))
         raise TypeError(f"the emitter does not write {type(node).__name__} expressions")
 
     def sequence(self, left: str, elements: list[ast.expr], right: str) -> Doc:

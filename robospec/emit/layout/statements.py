@@ -110,6 +110,14 @@ class _Statements:
                 layout.maybe_parenthesize(node.iter, IF_BREAKS),
             )
             return self.clause(header, node.body, BLOCK, depth)
+        if isinstance(node, ast.If):
+            header = concat(Text("if "), layout.maybe_parenthesize(node.test, IF_BREAKS))
+            clause = self.clause(header, node.body, BLOCK, depth)
+            if not node.orelse:
+                return clause
+            if len(node.orelse) == 1 and isinstance(node.orelse[0], ast.If):
+                raise TypeError("the emitter does not write elif")
+            return concat(clause, HARD_LINE, self.clause(Text("else"), node.orelse, BLOCK, depth))
         if isinstance(node, ast.FunctionDef):
             return self.function(node, depth)
         if isinstance(node, ast.ClassDef):
