@@ -29,11 +29,13 @@ from robospec.checks import (
     keyframe_length,
     keyframe_limits,
     link_rule_material,
+    loops,
     member_names,
     member_references,
     mimic_joints,
     mimic_map,
     mjcf_link_rules,
+    mobile_base,
     mode_coverage,
     never_collide_bits,
     never_collide_entries,
@@ -65,6 +67,8 @@ BINDING_CHECKS: tuple[Check, ...] = (
     never_collide_no_free_bit.check,  # RS323
     mjcf_link_rules.check,  # RS324
     ee_controller_urdf.check,  # RS325
+    loops.check,  # RS340
+    mobile_base.check,  # RS341, RS342
 )
 
 ROBOT_CHECKS: tuple[Check, ...] = (

@@ -44,6 +44,7 @@ WHY = "a drivable planar base: x and y slides and a z hinge above the base link"
 _REPLACED = frozenset({"planar", "floating", "fixed"})
 _BALL = frozenset({"spherical", "ball", "floating"})
 _TRAVEL = "100"  # metres each slide may travel: far beyond any scene
+ADDED_ROOT = "base_root"  # the root a base link that was the root gets (URDF)
 
 
 def apply(document: Document, policy: Mapping[str, Any]) -> None:
@@ -83,7 +84,7 @@ def _apply_urdf(document: Document, policy: Mapping[str, Any]) -> None:
         )
         return
     if hanging is None:  # the base is the root: a new root holds the chain
-        top = _unique("base_root", taken)
+        top = _unique(ADDED_ROOT, taken)
         anchor = links[base]
         added = [_massless(top), _massless(x_link)]
         first = _joint(x_name, "prismatic", top, x_link, "1 0 0")

@@ -122,6 +122,10 @@ _CODES = [
     Code("RS325", "end-effector controller without a URDF for its IK"),
     Code("RS330", "a task calls an agent member the spec does not define"),
     Code("RS331", "unknown ManiSkill task"),
+    # -- mechanisms: closed loops, planar bases, touch sensors (RS340-RS349)
+    Code("RS340", "closed loop between links that cannot move against each other"),
+    Code("RS341", "planar base on a robot with nothing that drives"),
+    Code("RS342", "planar base on a robot whose root floats"),
     # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
     Code("RS400", "import target is not module:Class"),
     Code("RS401", "import target module cannot be imported"),
@@ -167,6 +171,8 @@ _CODES = [
     Code("RS526", "a task's objects lie beyond the robot's reach"),
     Code("RS527", "a task crashed or went NaN with this robot"),
     Code("RS528", "a task calls an agent member the robot does not have"),
+    Code("RS530", "a closed loop's two points are apart at rest"),
+    Code("RS531", "a closed loop pulls apart while the robot moves"),
     Code("RS545", "a mimic joint's relation holds it outside its own limits"),
     # -- what the cameras see in the pictures of robospec doc --images (RS560-RS579)
     Code("RS560", "camera covered by its own mount"),
@@ -228,6 +234,9 @@ _CODES = [
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),
+    # -- what the spec's own sections change in the derived copy (RS780-RS789)
+    Code("RS780", "derived: a planar base added above the base link"),
+    Code("RS781", "a planar base cannot be added where it is asked"),
     # -- parts: robots mounted on the spec's robot, composed into one description (RS730-RS759)
     Code("RS730", "part mounted on a link no one has"),
     Code("RS731", "part that is not one tree fixed at its root"),

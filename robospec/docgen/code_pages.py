@@ -19,6 +19,7 @@ from robospec.physics import (
     gravity,
     ground,
     keyframe_hold,
+    loops,
     mimic_limits,
     random_actions,
     self_contact,
@@ -28,9 +29,10 @@ from robospec.physics import (
 )
 
 # the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519,
-# RS521-RS527, RS545
+# RS521-RS527, RS530, RS531, RS545
 PHYSICS_CHECKS = (
     keyframe_hold,
+    loops,
     mimic_limits,
     random_actions,
     step_response,

@@ -221,6 +221,24 @@ class SelfContact(StrictModel):
     )
 
 
+class Loops(StrictModel):
+    """The closed loops (``loops``): their two points together at rest, and while the robot
+    moves."""
+
+    max_gap_at_rest: Fraction = Field(
+        default=0.005,
+        description="The largest distance between a loop's two points at each keyframe (and "
+        "as loaded), before anything moves, in m: farther, the points do not meet.",
+        examples=[0.002],
+    )
+    max_gap: Fraction = Field(
+        default=0.001,
+        description="The largest distance between a loop's two points under random actions, "
+        "in m: farther, the loop pulls apart.",
+        examples=[0.002],
+    )
+
+
 class CameraViews(StrictModel):
     """What each camera sees in the pictures of ``robospec doc --images``: a segmentation
     picture from the camera's mount at every keyframe, of the robot alone and at a table."""
@@ -279,6 +297,11 @@ class Checks(StrictModel):
         default_factory=SelfContact,
         description="Links touching each other at the keyframes.",
         examples=[{"min_depth": 0.002}],
+    )
+    loops: Loops = Field(
+        default_factory=Loops,
+        description="Closed loops staying closed.",
+        examples=[{"max_gap": 0.002}],
     )
     tune: Tune = Field(
         default_factory=Tune,

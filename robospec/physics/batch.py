@@ -25,6 +25,7 @@ from robospec.physics import (
     gravity,
     ground,
     keyframe_hold,
+    loops,
     mimic_limits,
     random_actions,
     render,
@@ -54,6 +55,7 @@ CHECKS: tuple[tuple[str, Callable[[CheckRun], list[Finding]]], ...] = (
     (keyframe_hold.NAME, keyframe_hold.check),
     (gravity.NAME, gravity.check),
     (self_contact.NAME, self_contact.check),
+    (loops.NAME, loops.check),
     (step_response.NAME, step_response.check),
     (random_actions.NAME, random_actions.check),
 )

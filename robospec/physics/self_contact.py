@@ -12,6 +12,9 @@ A touching pair at rest pushes the robot away from its keyframe from the first s
 contact is meant (a closed hand, a finger resting on the palm), declare it in the spec; else the
 keyframe needs another pose.
 
+Links a closed loop joins (``loops:``, with the links welded to them) are not reported: the
+loop's drive holds them together where they meet.
+
 A pair with one link in a mounted part (``parts:``) and the other outside it is the part's
 pose pushing it into the robot: RS734, at the part's ``pose``, at the first keyframe it happens.
 
@@ -28,6 +31,7 @@ from robospec.diagnostics import Diagnostic, warning
 from robospec.physics import ground
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
+from robospec.resolve.mechanisms import loop_joined
 
 NAME = "self_contact"
 
@@ -43,12 +47,15 @@ def check(run: CheckRun) -> list[Finding]:
     if run.robot.keyframes:
         findings.append(_load(run))
     reported: set[str] = set()  # parts already said to be inside the robot
+    joined = loop_joined(run.context.description, run.robot.loops)
     for keyframe in run.keyframes:
         sim.start(keyframe)
         sim.hold_drive_targets()
         sim.sim_step()
         touching = {
-            pair: depth for pair, depth in sorted(sim.self_contacts().items()) if depth >= min_depth
+            pair: depth
+            for pair, depth in sorted(sim.self_contacts().items())
+            if depth >= min_depth and frozenset(pair) not in joined
         }
         label = keyframe_label(keyframe)
         details = tuple(metrics(link_a=a, link_b=b, depth=d) for (a, b), d in touching.items())
@@ -99,7 +106,12 @@ def check(run: CheckRun) -> list[Finding]:
 
 def _load(run: CheckRun) -> Finding:
     # a pair across a mounted part's seam is the part's pose, which RS734 says at the keyframes
-    touching = {p: d for p, d in ground.load_contacts(run).items() if not _across(run, p)}
+    joined = loop_joined(run.context.description, run.robot.loops)
+    touching = {
+        p: d
+        for p, d in ground.load_contacts(run).items()
+        if not _across(run, p) and frozenset(p) not in joined
+    }
     if not touching:
         return Finding(NAME, None, "load", Status.PASS, "no links touch", metrics(pairs=0))
     listed = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for (a, b), d in touching.items())

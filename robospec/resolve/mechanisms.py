@@ -8,7 +8,6 @@ robot the description fixes to the world) is judged by the checks (RS340-RS343).
 
 from __future__ import annotations
 
-import fnmatch
 from typing import Any
 
 from robospec.description.facts import RobotDescription
@@ -79,6 +78,35 @@ def cycle_joints(description: RobotDescription, first: str, second: str) -> tupl
     description's joint order."""
     on_path = set(tree_path(description, first, second))
     return tuple(j for j in description.active_joint_names if j in on_path)
+
+
+def rigid_bodies(description: RobotDescription) -> dict[str, str]:
+    """Each link -> the first link of the rigid body it belongs to (links welded by fixed
+    joints move as one)."""
+    parent_joint = {j.child: j for j in description.joints}
+    out: dict[str, str] = {}
+    for name in description.link_names:
+        top = name
+        while (joint := parent_joint.get(top)) is not None and not joint.is_active:
+            top = joint.parent
+        out[name] = top
+    return out
+
+
+def loop_joined(
+    description: RobotDescription, loops: tuple[ResolvedLoop, ...]
+) -> set[frozenset[str]]:
+    """The pairs of links the robot's loops join: each loop's two links, and every link welded
+    to one of them with every link welded to the other (a pad on a finger)."""
+    body = rigid_bodies(description)
+    members: dict[str, list[str]] = {}
+    for name, top in body.items():
+        members.setdefault(top, []).append(name)
+    pairs: set[frozenset[str]] = set()
+    for loop in loops:
+        first, second = (members.get(body.get(n, n), [n]) for n in loop.links)
+        pairs.update(frozenset((a, b)) for a in first for b in second if a != b)
+    return pairs
 
 
 def touch(context: ResolveContext) -> ResolvedTouch | None:
@@ -181,9 +209,3 @@ def floor_rule(base: ResolvedMobileBase) -> tuple[ResolvedCollisionRule, ...]:
     if not base.wheels:
         return ()
     return (ResolvedCollisionRule(base.wheels, FLOOR_GROUP, FLOOR_BIT, 1),)
-
-
-def matches(patterns: Any, name: str) -> bool:
-    """Whether a link pattern (a name, a glob or a list of them) selects ``name``."""
-    items = patterns if isinstance(patterns, list) else [patterns]
-    return any(fnmatch.fnmatchcase(name, str(p)) for p in items)
