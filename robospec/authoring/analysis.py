@@ -5,14 +5,16 @@ the actuators' gains (:mod:`.gains`) and the file's own keyframes. No simulation
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.gains import Drive, actuator_drives
-from robospec.authoring.groups import Groups, guess_groups
+from robospec.authoring.groups import Groups, MimicLink, guess_groups
 from robospec.authoring.joint_loads import Inertial, mjcf_inertials, urdf_inertials
+from robospec.authoring.linkages import FoundLoop, find_loops
 from robospec.description import Joint, RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.geometry import IDENTITY, Quaternion
@@ -31,6 +33,8 @@ _TO_Z_UP: dict[tuple[int, bool], Quaternion] = {
 
 PASSIVE_GROUP = "passive"
 IMMOBILE_GROUP = "immobile"
+LINKAGE_GROUP = "linkage"  # a closed loop's followers: passive, the loop moves them
+GRIPPER_GROUP = "gripper"
 
 
 @dataclass(frozen=True)
@@ -42,6 +46,10 @@ class RobotAnalysis:
     kinematics: KinematicModel | None = None
     inertials: dict[str, Inertial] = field(default_factory=dict)  # by link, as SAPIEN loads them
     armature: dict[str, float] = field(default_factory=dict)  # MJCF joints' armature, by joint
+    loops: tuple[FoundLoop, ...] = ()  # the closed loops the description shows (.linkages)
+    # the <mimic> rules of the loops' followers, which the loops stand in for: what sets them
+    # with their drivers at rest
+    linkage_mimic: tuple[MimicLink, ...] = ()
 
     @property
     def description(self) -> RobotDescription:
@@ -102,11 +110,31 @@ class RobotAnalysis:
             return IDENTITY
         return _TO_Z_UP[(axis, up[axis] > 0)]
 
+    def loop_joined_pairs(self) -> tuple[tuple[str, str], ...]:
+        """The pairs of links the loops join (with the links welded to them), sorted."""
+        from robospec.resolve.mechanisms import loop_joined
+
+        pairs = loop_joined(self.description, [loop.links for loop in self.loops])
+        return tuple(sorted(tuple(sorted(pair)) for pair in pairs))  # type: ignore[misc]
+
+    def probe_mimic(self, start: Mapping[str, float]) -> list[MimicLink]:
+        """The joint couplings the rest-pose search keeps: the mimic groups', the loops'
+        followers with their drivers where the description relates them, and every other
+        joint of a loop held where it starts (the search must not open a loop)."""
+        links = [*self.groups.mimic, *self.linkage_mimic]
+        related = {m.follower for m in links}
+        for loop in self.loops:
+            for joint in loop.joints:
+                if joint not in related and (joint != loop.driver or not self.linkage_mimic):
+                    links.append(MimicLink(joint, joint, 0.0, start.get(joint, 0.0)))
+                    related.add(joint)
+        return links
+
     def start_qpos(self) -> dict[str, float]:
         """0 where the limits allow (or there are none), else mid-range; mimic followers follow
         their leader, clamped into their limits."""
         qpos = {j.name: safe_position(j.lower, j.upper) for j in self.description.active_joints}
-        for link in self.groups.mimic:
+        for link in (*self.groups.mimic, *self.linkage_mimic):
             joint = self.description.joint(link.follower)
             assert joint is not None
             value = qpos[link.leader] * link.multiplier + link.offset
@@ -146,7 +174,44 @@ def analyse(source: DescriptionFile) -> RobotAnalysis:
     if drives and not indirect:
         _set_apart_passive(groups, set(drives))
     _set_apart_immobile(groups, source.description)
-    return RobotAnalysis(source, body, groups, drives, kinematics, inertials, armature)
+    analysis = RobotAnalysis(source, body, groups, drives, kinematics, inertials, armature)
+    loops = find_loops(analysis, analysis.start_qpos())
+    if not loops:
+        return analysis
+    kept = _set_apart_linkage(groups, loops)
+    if source.kind != "mjcf" and any(j.mimic for j in source.description.joints):
+        # the loops' followers follow the linkage, not a <mimic> PhysX would simulate alone
+        source = dataclasses.replace(source, mends={**source.mends, "mimic": "controller"})
+    return dataclasses.replace(analysis, source=source, loops=loops, linkage_mimic=kept)
+
+
+def _set_apart_linkage(groups: Groups, loops: tuple[FoundLoop, ...]) -> tuple[MimicLink, ...]:
+    """The loops' followers leave their groups for one ``linkage`` group (passive: the loop
+    moves them); the loops' drivers make the gripper, one mimic controller where the model
+    couples them (both sides of a Robotiq), as ManiSkill's Robotiq agents drive it. Returns
+    the followers' mimic rules, which no controller keeps any more."""
+    drivers = list(dict.fromkeys(loop.driver for loop in loops))
+    followers = {j for loop in loops for j in loop.joints} - set(drivers)
+    moved = followers | set(drivers)
+    order = [j for joints in groups.groups.values() for j in joints]
+    for name in list(groups.groups):
+        kept = [j for j in groups.groups[name] if j not in moved]
+        if kept:
+            groups.groups[name] = kept
+        else:
+            del groups.groups[name]
+            del groups.kinds[name]
+    linkage = tuple(m for m in groups.mimic if m.follower in followers)
+    groups.mimic[:] = [m for m in groups.mimic if m.follower in drivers and m.leader in drivers] + [
+        m for m in groups.mimic if m.follower not in moved and m.leader not in moved
+    ]
+    coupled = any(m.follower in drivers for m in groups.mimic)
+    name = GRIPPER_GROUP
+    while name in groups.groups:
+        name += "_"
+    groups.add(name, "mimic" if coupled else "gripper", sorted(drivers, key=order.index))
+    groups.add(LINKAGE_GROUP, "linkage", sorted(followers, key=order.index))
+    return linkage
 
 
 def _set_apart_passive(groups: Groups, driven: set[str]) -> None:

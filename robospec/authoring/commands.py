@@ -125,10 +125,11 @@ def scaffold_text(
             to_yaml(draft, schema),
             analysis.description,
             start,
-            analysis.groups.mimic,
+            analysis.probe_mimic(start),
             analysis.body.floating,
             refinement,
             analysis.upright(start),
+            analysis.loop_joined_pairs(),
         )
     else:
         rest = RestPose(start, unchecked_because="robospec new --no-sim")

@@ -67,6 +67,8 @@ class Request:
     budget: int = 600  # poses tried at most
     # (w, x, y, z): how a floating robot stands (its root turned so, for a y-up description)
     upright: list[float] = field(default_factory=lambda: list(IDENTITY))
+    # pairs of links a closed loop joins: they meet where the loop closes, and no pose parts them
+    joined: list[tuple[str, str]] = field(default_factory=list)
     # then scaffold the robot at the rest pose found and measure its gains there
     # (robospec.authoring.refine): (the description file, the spec's path, the schema reference)
     refinement: tuple[str, str, str] | None = None
@@ -108,10 +110,11 @@ class Probe:
 
     def contacts(self, qpos: list[float]) -> Contacts:
         self.tried += 1
+        joined = {frozenset(pair) for pair in self.request.joined}
         touching = {
             pair: depth
             for pair, depth in sorted(self.posed(qpos).items())
-            if depth >= -self.request.clearance
+            if depth >= -self.request.clearance and frozenset(pair) not in joined
         }
         self.always = set(touching) if self.always is None else self.always & set(touching)
         return touching
@@ -640,6 +643,7 @@ def main() -> int:
     raw = json.loads(sys.stdin.read())
     raw["limits"] = [tuple(pair) for pair in raw["limits"]]
     raw["mimic"] = [tuple(item) for item in raw.get("mimic", [])]
+    raw["joined"] = [tuple(pair) for pair in raw.get("joined", [])]
     raw["parents"] = {k: tuple(v) for k, v in raw.get("parents", {}).items()}
     if raw.get("refinement") is not None:
         raw["refinement"] = tuple(raw["refinement"])

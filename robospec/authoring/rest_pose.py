@@ -99,10 +99,12 @@ def probe_rest_pose(
     floating: bool,
     refinement: Refinement | None = None,
     upright: Quaternion = IDENTITY,
+    joined: tuple[tuple[str, str], ...] = (),
 ) -> tuple[RestPose, RefinedGains | str | None]:
     """Search from ``start`` in ManiSkill; ``draft`` is the text of a valid spec of the robot
     whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode. With
-    ``refinement``, the scaffold at the pose found is then measured too: its refined gains
+    ``refinement``, the scaffold at the pose found is then measured too (``joined``: pairs
+    of links closed loops join, which may touch): its refined gains
     (a string when they could not be measured; None without ``refinement``)."""
     unchecked = RestPose(dict(start))
     if not maniskill_installed():
@@ -125,6 +127,7 @@ def probe_rest_pose(
         "floating": floating,
         "min_depth": MIN_CONTACT_DEPTH,
         "upright": list(upright),
+        "joined": [list(pair) for pair in joined],
     }
     if refinement is not None:
         request["refinement"] = [refinement.description, refinement.out, refinement.schema]

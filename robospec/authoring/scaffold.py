@@ -188,6 +188,17 @@ def scaffold(
         # (the header says why: a note here cannot follow the flow list the writer makes)
         data["never_collide"] = entries
 
+    if analysis.loops:
+        data["loops"] = {
+            loop.name: {
+                "links": list(loop.links),
+                "at": [[_tidy(v) for v in point] for point in loop.at],
+                **({"weld": True} if loop.weld else {}),
+            }
+            for loop in analysis.loops
+        }
+        notes[("loops",)] = "closed by a drive after loading; their other joints follow"
+
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
     controllers, modes = controllers_and_modes(analysis, gains, rest.qpos)
@@ -326,6 +337,18 @@ def _header(
             "Mobile base: the base moves through its planar joints ("
             + ", ".join(body.planar_base)
             + "), driven by a base controller."
+        )
+    if analysis.loops:
+        found = "; ".join(
+            f"{loop.name}: {loop.links[0]} meets {loop.links[1]} ({loop.source})"
+            for loop in analysis.loops
+        )
+        paragraphs.append(
+            f"Closed loops ({found}): a PhysX articulation is a tree, so each loop is closed "
+            "after loading by a drive between the two links where they meet (loops:), as "
+            "ManiSkill's Robotiq agents close their four-bars. The loops' drivers make the "
+            "gripper controller; their other joints are passive (group linkage): the linkage "
+            "moves them."
         )
     if filtered:  # never_collide's entries for the MJCF's collision filters
         paragraphs.append(

@@ -14,6 +14,9 @@ group.
 * wheels and a mobile root without planar joints: ``pd_joint_vel`` (±the wheels' velocity limit,
   else ±10 rad/s for wheels, ±1 for a root);
 * joints no MJCF actuator drives: ``passive``;
+* a closed loop's followers (:mod:`.linkages`): ``passive`` with no damping and no friction,
+  the loop's drivers one ``pd_joint_pos_mimic`` (or ``pd_joint_pos``) gripper controller, as
+  ManiSkill's Robotiq agents have them;
 * a floating robot, or one with passive joints: ``balance_passive_force: false`` in every mode
   (ManiSkill's default cancels gravity on every joint: a free robot would hover, a passive joint
   float).
@@ -59,6 +62,11 @@ def controllers_and_modes(
             absolute[name] = relative[name] = f"{name}_vel"
         elif kind in ("passive", "immobile"):
             controllers[name] = {"type": "passive", "joints": name, "damping": 0.0}
+            absolute[name] = relative[name] = name
+        elif (
+            kind == "linkage"
+        ):  # a closed loop moves them: free, as ManiSkill's Robotiq leaves them
+            controllers[name] = {"type": "passive", "joints": name, "damping": 0, "friction": 0}
             absolute[name] = relative[name] = name
         elif kind == "mimic":
             controllers[name] = {

@@ -2,7 +2,8 @@
 recognises: ``tcp``, ``grasping`` (``is_grasping``) and ``is_static`` over the arm, so that a
 scaffolded arm with a gripper runs ``PickCube-v1`` as written.
 
-* **Fingers.** In a gripper or hand group (or a mimic group), two joints that hang from the same
+* **Fingers.** Of a linkage gripper (two closed loops), the fingertip of each loop's finger.
+  In a gripper or hand group (or a mimic group), two joints that hang from the same
   link are two fingers; of several such pairs, the two whose fingers lie farthest apart (a
   three-finger hand: the most opposed). A gripper of one moving jaw closes it against the link
   it hangs from (SO-101's fixed jaw). A hand of finger chains (``finger1``, ``finger2``...) uses
@@ -79,9 +80,51 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
     return out
 
 
+def _loop_fingers(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]) -> Fingers | None:
+    """A linkage gripper's fingers: of each of two closed loops, the link that carries more
+    below it (the finger, not the knuckle that holds it parallel), as its fingertip: the link
+    at the end of its welded chain (a pad)."""
+    model = analysis.kinematics
+    assert model is not None
+    children: dict[str, list[str]] = {}
+    welded: dict[str, list[str]] = {}
+    for joint in model.joints:
+        children.setdefault(joint.parent, []).append(joint.child)
+        if joint.type == "fixed":
+            welded.setdefault(joint.parent, []).append(joint.child)
+
+    def size(link: str) -> int:
+        return 1 + sum(size(child) for child in children.get(link, []))
+
+    tips = []
+    for loop in analysis.loops[:2]:
+        finger = max(loop.links, key=size)
+        while len(welded.get(finger, [])) == 1:
+            finger = welded[finger][0]
+        tips.append(finger)
+    if len(tips) < 2:
+        return None
+    above = {joint.child: joint.parent for joint in model.joints}
+
+    def ancestors(link: str) -> list[str]:
+        out = []
+        while link in above:
+            link = above[link]
+            out.append(link)
+        return out
+
+    parent = next((n for n in ancestors(tips[0]) if n in set(ancestors(tips[1]))), model.root)
+    a, b = tips
+    return Fingers(
+        (a, b), parent, (_opening(analysis, poses, a, b), _opening(analysis, poses, b, a))
+    )
+
+
 def _fingers(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]) -> Fingers | None:
     model = analysis.kinematics
     assert model is not None
+    if len(analysis.loops) >= 2:
+        return _loop_fingers(analysis, poses)
     joints = {j.name: j for j in model.joints}
     gripping = [
         [joints[n] for n in analysis.groups.groups[name] if n in joints]

@@ -38,6 +38,21 @@ class Coupling:
 
 
 @dataclass(frozen=True)
+class Closure:
+    """MJCF: a closed loop the model states as an ``<equality>`` between two bodies, which
+    ManiSkill's loader leaves open (a PhysX articulation is a tree). ``connect``: a point of
+    ``first`` (``anchor``, in its frame) held on ``second`` where it is at the model's initial
+    pose; ``weld``: the two frames held as they are there (``anchor`` in ``second``'s frame, as
+    MuJoCo reads it). A site names its body and the point. ``line``: the element."""
+
+    kind: Literal["connect", "weld"]
+    first: str
+    second: str
+    anchor: tuple[float, float, float]
+    line: int
+
+
+@dataclass(frozen=True)
 class Link:
     name: str
     line: int
@@ -145,6 +160,8 @@ class RobotDescription:
     # MJCF: pairs of joints its <equality> or fixed <tendon>s tie together (robospec new drives
     # each pair with a pd_joint_pos_mimic controller, as it does a URDF's <mimic>)
     couplings: tuple[Coupling, ...] = ()
+    # MJCF: the closed loops its <equality connect/weld> state (robospec new writes `loops`)
+    closures: tuple[Closure, ...] = ()
     # MJCF: pairs of links (sorted) whose geoms MuJoCo never lets collide (contype/conaffinity)
     # and ManiSkill collides (robospec new declares them never_collide where bits allow)
     filtered_pairs: tuple[tuple[str, str], ...] = ()

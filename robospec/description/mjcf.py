@@ -46,7 +46,7 @@ from robospec.description.facts import (
     Link,
     RobotDescription,
 )
-from robospec.description.mjcf_constraints import joint_couplings, robot_names
+from robospec.description.mjcf_constraints import closures, joint_couplings, robot_names
 from robospec.description.mjcf_control import file_actuators, file_keyframes
 from robospec.description.mjcf_frames import Unparsable, body_pose
 from robospec.description.mjcf_gaps import loader_gaps
@@ -245,6 +245,7 @@ def parse_mjcf(
         root_pose = body_pose(robot_element.attrib, use_degrees, eulerseq)
     except Unparsable:
         root_pose = IDENTITY_POSE  # the orientation report says what is wrong with it
+    names = robot_names(loaded)
     return (
         RobotDescription(
             kind="mjcf",
@@ -262,10 +263,11 @@ def parse_mjcf(
             actuators=actuators,
             couplings=joint_couplings(
                 loaded,
-                robot_names(loaded),
+                names,
                 {j.name: (j.lower, j.upper) for j in joints},
                 frozenset(a.joint for a in actuators if a.joint is not None),
             ),
+            closures=closures(loaded, names),
             filtered_pairs=filtered_pairs(loaded),
         ),
         diagnostics,

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from lxml import etree
 
-from robospec.description.facts import Coupling, Mimic
+from robospec.description.facts import Closure, Coupling, Mimic
 from robospec.description.mjcf_loaded import LoadedMjcf
 from robospec.description.mjcf_structure import names
 from robospec.diagnostics import Diagnostic, warning
@@ -250,6 +250,33 @@ def equalities(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
             "a PhysX articulation is a tree: close the loop with a pd_joint_pos_mimic "
             "controller where its joints move together, or leave the linkage passive",
         )
+
+
+def closures(loaded: LoadedMjcf, robot: Robot) -> tuple[Closure, ...]:
+    """The robot's closed loops: each ``<connect>`` and ``<weld>`` between two of its bodies
+    (or sites on them; a site's position is its point)."""
+    sites = {
+        site.get("name", ""): _floats(site.get("pos"), (0.0, 0.0, 0.0))
+        for body in loaded.robot
+        for site in body.element.findall("site")
+    }
+    found: list[Closure] = []
+    for section in loaded.sections("equality"):
+        for element in loaded.includes.children(section):
+            if element.tag not in ("connect", "weld"):
+                continue
+            first, second = element.get("body1"), element.get("body2")
+            anchor = _floats(element.get("anchor"), (0.0, 0.0, 0.0))
+            if first is None and element.get("site1") is not None:
+                first = robot.sites.get(element.get("site1", ""))
+                second = robot.sites.get(element.get("site2", ""))
+                anchor = sites.get(element.get("site1", ""), anchor)
+            if first not in robot.bodies or second not in robot.bodies or len(anchor) != 3:
+                continue
+            point = (anchor[0], anchor[1], anchor[2])
+            kind = "connect" if element.tag == "connect" else "weld"
+            found.append(Closure(kind, first, second, point, loaded.where(element).line))
+    return tuple(found)
 
 
 def _loop_bodies(element: etree._Element, robot: Robot) -> list[str]:

@@ -47,7 +47,7 @@ def check(run: CheckRun) -> list[Finding]:
     if run.robot.keyframes:
         findings.append(_load(run))
     reported: set[str] = set()  # parts already said to be inside the robot
-    joined = loop_joined(run.context.description, run.robot.loops)
+    joined = loop_joined(run.context.description, [loop.links for loop in run.robot.loops])
     for keyframe in run.keyframes:
         sim.start(keyframe)
         sim.hold_drive_targets()
@@ -106,7 +106,7 @@ def check(run: CheckRun) -> list[Finding]:
 
 def _load(run: CheckRun) -> Finding:
     # a pair across a mounted part's seam is the part's pose, which RS734 says at the keyframes
-    joined = loop_joined(run.context.description, run.robot.loops)
+    joined = loop_joined(run.context.description, [loop.links for loop in run.robot.loops])
     touching = {
         p: d
         for p, d in ground.load_contacts(run).items()

@@ -8,6 +8,7 @@ robot the description fixes to the world) is judged by the checks (RS340-RS343).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 from robospec.description.facts import RobotDescription
@@ -94,17 +95,17 @@ def rigid_bodies(description: RobotDescription) -> dict[str, str]:
 
 
 def loop_joined(
-    description: RobotDescription, loops: tuple[ResolvedLoop, ...]
+    description: RobotDescription, links: Iterable[tuple[str, str]]
 ) -> set[frozenset[str]]:
-    """The pairs of links the robot's loops join: each loop's two links, and every link welded
-    to one of them with every link welded to the other (a pad on a finger)."""
+    """The pairs of links closed loops join, given each loop's two ``links``: the two, and
+    every link welded to one of them with every link welded to the other (a pad on a finger)."""
     body = rigid_bodies(description)
     members: dict[str, list[str]] = {}
     for name, top in body.items():
         members.setdefault(top, []).append(name)
     pairs: set[frozenset[str]] = set()
-    for loop in loops:
-        first, second = (members.get(body.get(n, n), [n]) for n in loop.links)
+    for pair in links:
+        first, second = (members.get(body.get(n, n), [n]) for n in pair)
         pairs.update(frozenset((a, b)) for a in first for b in second if a != b)
     return pairs
 
