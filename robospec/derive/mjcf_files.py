@@ -6,7 +6,8 @@ MuJoCo takes a mesh, height field or skin ``file`` relative to ``<compiler meshd
 ``assetdir``), a texture's relative to ``texturedir`` (else ``assetdir``), each relative to the
 model's folder. ManiSkill's loader takes every one relative to ``meshdir``. A carried model has
 its includes written in place, every file named relative to where it is carried (or by the name
-of its copy there) and no directories in its ``<compiler>``: both read it the same way.
+of its copy there), every mesh by the name it had, and no directories in its ``<compiler>``:
+both read it the same way.
 """
 
 from __future__ import annotations
@@ -52,6 +53,11 @@ def carried_text(text: str, model: str, name_of: Callable[[str], str]) -> str:
     inline_all(document, note=False)
     root = document.tree
     for element, path in named_files(root, model):
+        if element.tag == "mesh" and element.get("name") is None:
+            # an unnamed mesh is named after its file, without folders (MuJoCo) or with them
+            # (ManiSkill's loader): named here as both named it where it was, before its file
+            # moves folders away and the geoms' mesh= no longer find it
+            element.set("name", os.path.splitext(os.path.basename(element.get("file", "")))[0])
         element.set("file", name_of(path))
     for compiler in root.iter("compiler"):
         for attribute in _DIRECTORIES:

@@ -247,8 +247,8 @@ def equalities(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
             + "; ".join(what for _, what in loops[:6])
             + ("; ..." if len(loops) > 6 else "")
             + ")",
-            "a PhysX articulation is a tree: close the loop with a pd_joint_pos_mimic "
-            "controller where its joints move together, or leave the linkage passive",
+            "a PhysX articulation is a tree: close each loop with the spec's loops: (robospec "
+            "new writes them from these equalities), its other joints passive",
         )
 
 
