@@ -259,6 +259,11 @@ _CODES = [
     Code("RS674", "collision meshes fit no primitive within the bound"),
     Code("RS675", "unknown robot category"),
     Code("RS676", "an option that applies only to another profile or shapes method"),
+    # -- robospec solve: ManiSkill's solutions with robospec's planner
+    Code("RS680", "no ManiSkill solution robospec runs for the task"),
+    Code("RS681", "the robot has no two-finger gripper"),
+    Code("RS682", "the solver cannot drive the robot's arm or gripper"),
+    Code("RS683", "fewer episodes succeeded than --min-success asks"),
     # -- internal
     Code("RS900", "internal error"),
 ]

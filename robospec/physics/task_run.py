@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Location, error
+from robospec.maniskill.reach import chain_reach
 from robospec.physics.check_run import CheckRun
 from robospec.physics.crash import USER, from_exception, root_cause
 from robospec.physics.findings import Finding, Status, metrics
@@ -276,7 +277,7 @@ def _reach(run: CheckRun, env: Any, request: TaskRequest) -> Finding | None:
     base = env.unwrapped
     robot = base.agent.robot
     root = robot.pose.p[0].cpu().numpy()
-    reach = _chain_reach(robot)
+    reach = chain_reach(robot)
     objects = []
     for name, actor in base.scene.actors.items():
         body = actor._objs[0] if actor._objs else None
@@ -301,35 +302,3 @@ def _reach(run: CheckRun, env: Any, request: TaskRequest) -> Finding | None:
     )
     summary = f"'{nearest[0]}' {nearest[1]:.2f} m away, reach {reach:.2f} m"
     return Finding(NAME, None, request.id, Status.FAIL, summary, {}, (diagnostic,))
-
-
-def _chain_reach(robot: Any) -> float | None:
-    """The length of the robot's longest chain of links: from the root, each link's distance
-    from its parent link (joint frames and link origins), summed; plus the farthest point of
-    the last link's collision shapes."""
-    lengths: dict[str, float] = {}
-    links = {link.name: link for link in robot.links}
-    pose = {name: link.pose.p[0].cpu().numpy() for name, link in links.items()}
-
-    def length(name: str) -> float:
-        if name in lengths:
-            return lengths[name]
-        link = links[name]
-        parent = link.joint.parent_link if link.joint is not None else None
-        if parent is None:
-            lengths[name] = 0.0
-        else:
-            step = float(np.linalg.norm(pose[name] - pose[parent.name]))
-            lengths[name] = length(parent.name) + step
-        return lengths[name]
-
-    best = 0.0
-    for name, link in links.items():
-        extent = 0.0
-        body = link._objs[0]
-        if body.collision_shapes:
-            low, high = body.compute_global_aabb_tight()
-            corners = np.array([low, high], dtype=np.float64)
-            extent = float(np.max(np.linalg.norm(corners - pose[name], axis=1)))
-        best = max(best, length(name) + extent)
-    return best

@@ -4,7 +4,7 @@ ManiSkill's solutions (``mani_skill.examples.motionplanning.panda.solutions``) b
 ``PandaArmMotionPlanningSolver`` and call ``move_to_pose_with_screw``, ``open_gripper`` and
 ``close_gripper`` on it. Upstream's solver plans with mplib, which needs numpy 1 (mplib 0.1.1,
 which ManiSkill 3.0.1 pins, and 0.2.1 alike segfault building a planner under numpy 2:
-docs/demos.md). :class:`GripperArmSolver` has the same methods and the same screw motion, with
+docs/solve.md). :class:`GripperArmSolver` has the same methods and the same screw motion, with
 the kinematics SAPIEN itself builds from the loaded articulation (its Pinocchio model: no URDF
 needed, so MJCF robots plan too): from the current joints, steps of 0.1 rad along the
 pseudo-inverse of the tcp's Jacobian until the tcp's twist to the target is used up, within the
@@ -13,7 +13,7 @@ joint limits; then time-optimal parametrisation by TOPP-RA under 0.9 rad/s and 0
 this does not: collision checks against the robot itself and point clouds, which the pick, push
 and stack solutions never set.
 
-The robot's facts come from :class:`~robospec.demonstrations.gripper.GripperFacts`: which joints
+The robot's facts come from :class:`~robospec.solve.gripper.GripperFacts`: which joints
 the arm moves, the action layout of ``pd_joint_pos``, the gripper's open and closed actions, and
 the fixed turn from the solutions' grasp frame to the tcp link's.
 """
@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from robospec.demonstrations.gripper import GripperFacts
+from robospec.solve.gripper import GripperFacts
 
 QPOS_STEP = 0.1  # rad per screw step (mplib's qpos_step)
 # mplib's default joint limits, 1 rad/s and 1 rad/s², which ManiSkill's solvers scale by 0.9

@@ -15,7 +15,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-SOURCE = "robospec demos: ManiSkill's motion-planning solution, robospec's planner"
+SOURCE = "robospec solve: ManiSkill's motion-planning solution, robospec's planner"
 
 
 @dataclass(frozen=True)
@@ -62,9 +62,9 @@ def record(
     """Solve and record ``seeds``; the trajectory file written (``folder/name.h5``)."""
     from mani_skill.utils.wrappers.record import RecordEpisode
 
-    from robospec.demonstrations.gripper import read_facts
-    from robospec.demonstrations.planner import solver_class
-    from robospec.demonstrations.solutions import lend_grasp_pose, solution
+    from robospec.solve.gripper import read_facts
+    from robospec.solve.planner import solver_class
+    from robospec.solve.solutions import lend_grasp_pose, solution
 
     env = make_env(uid, task)
     env = RecordEpisode(
