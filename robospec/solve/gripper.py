@@ -142,8 +142,12 @@ def _ancestor_joints(link: Any) -> set[str]:
 
 
 def _raw_ends(gripper: Any) -> tuple[float, float]:
-    low = np.atleast_1d(gripper.config.lower).astype(np.float64)
-    high = np.atleast_1d(gripper.config.upper).astype(np.float64)
+    """The gripper controller's raw action range: its bounds, or (given as null) the limits of
+    the joints its action sets, as ManiSkill's controller takes them."""
+    limits = np.asarray(gripper._get_joint_limits(), dtype=np.float64).reshape(-1, 2)
+    config = gripper.config
+    low = limits[:, 0] if config.lower is None else np.atleast_1d(config.lower).astype(np.float64)
+    high = limits[:, 1] if config.upper is None else np.atleast_1d(config.upper).astype(np.float64)
     if low.size != 1 and not (np.all(low == low[0]) and np.all(high == high[0])):
         raise NotSolvable(
             "the gripper controller's range differs between its joints: one action value "
@@ -159,13 +163,11 @@ def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: float) -> np.ndarray:
     followers included; the other joints as in ``qpos``."""
     config = gripper.config
     indices = gripper.active_joint_indices.cpu().numpy()
-    low = np.broadcast_to(np.asarray(config.lower, dtype=np.float64), (len(indices),))
-    high = np.broadcast_to(np.asarray(config.upper, dtype=np.float64), (len(indices),))
-    raw = (
-        low + (action + 1) / 2 * (high - low)
-        if config.normalize_action
-        else np.full_like(low, action)
-    )
+    if config.normalize_action:
+        low, high = _raw_ends(gripper)
+        raw = np.full(len(indices), low + (action + 1) / 2 * (high - low))
+    else:
+        raw = np.full(len(indices), float(action))
     targets = raw.copy()
     followers = getattr(gripper, "mimic_joint_indices", None)
     if followers is not None and len(followers):
