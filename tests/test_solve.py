@@ -94,3 +94,20 @@ def test_min_success_fails_a_report_below_it_and_passes_one_at_it() -> None:
     short = below_min_success(report, 0.9, ["solve", "x.yaml", "--min-success", "0.9"])
     assert short is not None and short.code == "RS683"
     assert below_min_success(report, 0.5, []) is None
+
+
+def test_check_solve_asks_each_task_for_its_episodes() -> None:
+    from robospec.physics.command import task_requests
+
+    (request,), problems = task_requests(["PickCube-v1"], ["check", "x.yaml"], solve=3)
+    assert not problems and request.solve == 3
+
+
+@pytest.mark.slow
+def test_check_solve_reports_the_success_of_the_tasks_solution() -> None:
+    """About two minutes: the whole of check, then two episodes."""
+    from conftest import run_robospec
+
+    done = run_robospec("check", str(PANDA), "--task", "PickCube-v1", "--solve", "2", timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert re.search(r"solve .* PickCube-v1 +pass +ManiSkill's solution: 2 of 2", done.stdout)

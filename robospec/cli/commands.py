@@ -278,6 +278,15 @@ def check(
             "of tasks (tabletop) runs each; repeat for several",
         ),
     ] = None,
+    solve: Annotated[
+        int,
+        typer.Option(
+            "--solve",
+            min=0,
+            help="with --task: also run ManiSkill's solution of each task for N episodes "
+            "(robospec solve); fails under 90% success",
+        ),
+    ] = 0,
     silence: SilenceOpt = None,
 ) -> None:
     """Run headless physics checks on each robot (exit 1 when a check fails).
@@ -288,12 +297,23 @@ def check(
 
     Example: robospec check specs/maniskill/panda.yaml --steps 100 --format json
     Example: robospec check specs/my_arm.yaml --task PickCube-v1 --task PushCube-v1
+    Example: robospec check specs/my_arm.yaml --task PickCube-v1 --solve 5
     """
     from robospec.physics.command import run_check
 
     codes = _silenced_codes(silence)
     code, text = run_check(
-        paths, steps, format.value, gpu, num_envs, render, plot, task or [], sys.argv[1:], codes
+        paths,
+        steps,
+        format.value,
+        gpu,
+        num_envs,
+        render,
+        plot,
+        task or [],
+        sys.argv[1:],
+        codes,
+        solve,
     )
     typer.echo(text)
     raise typer.Exit(code)

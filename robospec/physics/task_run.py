@@ -38,6 +38,8 @@ from robospec.physics.crash import USER, from_exception, root_cause
 from robospec.physics.findings import Finding, Status, metrics
 
 NAME = "task"
+SOLVE = "solve"  # check --solve: the finding of a task's solution
+MIN_SUCCESS = 0.9  # check --solve fails a task solved in fewer of its episodes
 STEPS = 50
 SEVERAL_ROBOTS = "agents"
 
@@ -50,13 +52,42 @@ class TaskRequest:
     id: str
     at: Location
     explicit: bool = True
+    solve: int = 0  # check --solve N: episodes of ManiSkill's solution after the random steps
 
 
 def check(run: CheckRun, tasks: tuple[TaskRequest, ...]) -> list[Finding]:
     from robospec.maniskill.tasks import installed_tasks
 
     scan = installed_tasks()
-    return [_task(run, request, scan) for request in tasks]
+    findings = []
+    for request in tasks:
+        found = _task(run, request, scan)
+        findings.append(found)
+        if request.solve and found.status == Status.PASS:
+            findings.append(_solve(run, request))
+    return findings
+
+
+def _solve(run: CheckRun, request: TaskRequest) -> Finding:
+    """``check --solve N``: N episodes of ManiSkill's solution (``robospec solve``); a FAIL
+    under :data:`MIN_SUCCESS`, or where the solution cannot apply (its reason)."""
+    from pathlib import Path
+
+    from robospec.solve.command import below_min_success, run_solve
+
+    run.phase(f"solving {request.id}")
+    report = run_solve(
+        Path(run.context.robot.spec_path), request.id, request.solve, None, 1, 0, progress=False
+    )
+    short = below_min_success(report, MIN_SUCCESS, ())
+    diagnostics = tuple(report.diagnostics) + ((short,) if short is not None else ())
+    if not report.episodes:
+        return Finding(SOLVE, None, request.id, Status.FAIL, "not solvable", {}, diagnostics)
+    successes = sum(e.success for e in report.episodes)
+    summary = f"ManiSkill's solution: {successes} of {len(report.episodes)} episodes succeeded"
+    status = Status.FAIL if short is not None else Status.PASS
+    values = metrics(success_rate=report.success_rate, episodes=len(report.episodes))
+    return Finding(SOLVE, None, request.id, status, summary, values, diagnostics)
 
 
 def _where(run: CheckRun, task: str) -> Location:
