@@ -235,7 +235,7 @@ def _assets() -> Path:
     return found
 
 
-def test_new_reads_each_fingers_opening_from_its_joint_on_maniskills_panda(
+def test_new_reads_each_fingers_opening_from_its_joint_and_grips_by_its_rating(
     tmp_path: Path,
 ) -> None:
     """panda_v2.urdf rests closed (both fingers at 0): the fingers' centres coincide and say
@@ -252,3 +252,5 @@ def test_new_reads_each_fingers_opening_from_its_joint_on_maniskills_panda(
     text = out.read_text()
     assert "{link: panda_leftfinger, opening: +y}" in text
     assert "{link: panda_rightfinger, opening: -y}" in text
+    # the gripper squeezes with its 100 N rating across its 4 cm stroke (robospec.authoring.grip)
+    assert "stiffness: 2500,\n     damping: 250, force_limit: 100" in text
