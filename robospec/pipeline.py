@@ -8,7 +8,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import (
     Diagnostic,
@@ -32,6 +31,7 @@ from robospec.resolve.part_types import Locator, PartInput
 from robospec.resolve.resolved import ResolvedRobot
 
 if TYPE_CHECKING:
+    from robospec.checks import CheckContext
     from robospec.compose.model import Composed
 
 
@@ -110,10 +110,12 @@ def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
     """Drop the warnings whose codes the spec's ``silence`` list or the command line's
     ``--silence`` name; errors stay, whatever the list says. A listed code robospec does not
     have is an error (RS107)."""
+    listed = result.loaded.data.get("silence") if result.loaded is not None else None
+    if not silence and not isinstance(listed, list):
+        return  # nothing to silence, as in most specs: the catalogue of codes is not read
     from robospec.diagnostics.codes import CODES
 
     codes = set(silenced_codes(result, silence))
-    listed = result.loaded.data.get("silence") if result.loaded is not None else None
     problems: list[Diagnostic] = []
     if isinstance(listed, list) and result.loaded is not None:
         for index, code in enumerate(listed):
@@ -170,6 +172,9 @@ def _compile_into(
     robot = resolution.robot
     if robot is None or resolution.loaded_description is None:
         return
+    # the checks, only for a robot to check: a first error in resolve needs none of them
+    from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
+
     context = CheckContext(
         spec=spec,
         robot=robot,
