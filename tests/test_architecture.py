@@ -106,7 +106,8 @@ LAYERS: tuple[frozenset[str], ...] = tuple(
         "load maniskill",  # spec text -> data + positions; where ManiSkill and its assets are
         "model",  # the spec's models
         "description",  # URDF/MJCF/xacro/SRDF -> located facts
-        "derive kinematics",  # mends of descriptions; their trees, frames and morphology
+        "derive",  # mends of descriptions
+        "kinematics",  # their trees, link poses (of the derived copy) and morphology
         "compose",  # parts mounted into one description
         "resolve",  # spec + description -> ResolvedRobot
         "checks emit",  # semantic rules; the agent module's source

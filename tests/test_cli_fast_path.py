@@ -167,3 +167,19 @@ def test_plain_validate_imports_no_typer_click_or_rich() -> None:
     )
     stdout, _, _ = _run(["-c", probe], [], dict(os.environ))
     assert stdout.strip().endswith("EXIT 1 LOADED []")
+
+
+def test_plain_validate_imports_no_forward_kinematics_numpy_or_meshes() -> None:
+    # a URDF and an MJCF robot: the libraries that place links (yourdfpy, MuJoCo) and what they
+    # bring are for the tools that place them, never validate's path
+    probe = (
+        "import sys\n"
+        f"sys.argv = ['robospec', 'validate', {GOOD!r}, 'specs/maniskill/humanoid.yaml']\n"
+        "from robospec.cli import main\n"
+        "try:\n    main()\nexcept SystemExit as exit:\n    code = exit.code\n"
+        "heavy = ('numpy', 'yourdfpy', 'trimesh', 'mujoco', 'scipy')\n"
+        "loaded = sorted(m for m in sys.modules if m.split('.')[0] in heavy)\n"
+        "print('EXIT', code, 'LOADED', loaded)\n"
+    )
+    stdout, _, _ = _run(["-c", probe], [], dict(os.environ))
+    assert stdout.strip().endswith("EXIT 0 LOADED []")

@@ -26,7 +26,7 @@ from lxml import etree
 from robospec.description import load_description
 from robospec.diagnostics import Severity
 from robospec.geometry import matrix_from_quaternion, matrix_from_rpy, quaternion_from_rpy
-from robospec.kinematics.forward import urdf_kinematics
+from robospec.kinematics.forward import kinematics_of
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
 
@@ -82,27 +82,21 @@ def _masses(text: str) -> dict[str, float]:
 
 def test_composed_xarm7_ability_puts_every_link_where_maniskills_file_does() -> None:
     result = _compiled(COMPOSED)
-    ours = urdf_kinematics(result.robot.description.generated_text)
-    theirs = urdf_kinematics(_combined_file().read_bytes())
+    text = result.robot.description.generated_text
+    ours = kinematics_of(result.description, text.encode(), str(COMPOSED))
+    combined = _combined_file()
+    theirs_description, _ = load_description(str(combined), "urdf")
+    assert theirs_description is not None
+    theirs = kinematics_of(theirs_description, combined.read_bytes(), str(combined))
     assert ours is not None and theirs is not None
     joints = result.description.active_joints
     rng = random.Random(25)
     for _ in range(20):
         qpos = {j.name: rng.uniform(j.lower or -3.0, j.upper or 3.0) for j in joints}
-        a, b = ours.link_poses(qpos), theirs.link_poses(qpos)
+        a, b = ours.at(qpos).links, theirs.at(qpos).links
         assert a.keys() == b.keys()
         for link in a:
-            assert _distance(a[link], b[link]) < 1e-6, link
-
-
-def _distance(a: object, b: object) -> float:
-    rows = [*a.rotation, a.translation]  # type: ignore[attr-defined]
-    other = [*b.rotation, b.translation]  # type: ignore[attr-defined]
-    return max(
-        abs(x - y)
-        for row, row2 in zip(rows, other, strict=True)
-        for x, y in zip(row, row2, strict=True)
-    )
+            assert abs(a[link] - b[link]).max() < 1e-6, link
 
 
 def test_the_parts_controller_joins_every_mode_and_its_keyframe_merges_by_joint() -> None:
@@ -651,7 +645,8 @@ def test_a_parts_mends_apply_to_its_description_before_it_is_mounted(tmp_path: P
 
 
 def test_optimize_stops_at_a_robot_with_parts_at_its_parts_line(tmp_path: Path) -> None:
-    from robospec.optimize.command import OptimizeOptions, run_optimize
+    from robospec.optimize.command import run_optimize
+    from robospec.optimize.options import OptimizeOptions
 
     spec = SPECS / "composed" / "xarm7_ability.yaml"
     report, diagnostics = run_optimize(spec, tmp_path / "out.yaml", OptimizeOptions())

@@ -24,9 +24,11 @@ from corpus import (
     CorpusMissing,
     distribution_version,
     locate,
+    picture_path,
 )
 from corpus_journey import FAILED, PASSED, Journey, Step, run_corpus
 from corpus_page import render_page
+from picture_truth import picture_faults, placement_errors, sapien_truth
 
 pytestmark = pytest.mark.minutes  # the journeys: a quarter of an hour of CI
 
@@ -70,10 +72,16 @@ def test_each_robot_is_found_where_its_package_installs_it(key: str) -> None:
 
 
 @pytest.fixture(scope="module")
-def journeys(maniskill: object, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Journey]:
+def corpus_work(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Where the journeys run: ``<key>/<key>.yaml`` is the spec ``robospec new`` wrote."""
+    return tmp_path_factory.mktemp("corpus")
+
+
+@pytest.fixture(scope="module")
+def journeys(maniskill: object, corpus_work: Path) -> dict[str, Journey]:
     """Every robot's journey, run once for the module."""
     try:
-        done = run_corpus(list(CORPUS), tmp_path_factory.mktemp("corpus"))
+        done = run_corpus(list(CORPUS), corpus_work)
     except CorpusMissing as missing:
         pytest.fail(str(missing), pytrace=False)
     return {journey.robot.key: journey for journey in done}
@@ -128,6 +136,44 @@ def test_a_robot_that_passes_check_registers_runs_and_builds(
         return  # stopped: the tests above judge how
     for name in LOADING_STEPS:
         assert journey.step(name).outcome == PASSED, _says(journey.step(name))
+
+
+# robots whose picture — the description as MuJoCo reads it — shows them otherwise than
+# ManiSkill loads them, each with why: their picture test must fail (strict) until robospec
+# mends or reports the difference, and then says to take the robot off this list
+PICTURED_OTHERWISE = {
+    "dmc_jaco_arm": "its joints give no axis: ManiSkill 3.0.1's MJCF loader turns them about "
+    "x, MuJoCo (and so the picture) about z, its default",
+}
+
+
+@pytest.mark.parametrize(
+    "key",
+    [
+        pytest.param(key, marks=pytest.mark.xfail(strict=True, reason=PICTURED_OTHERWISE[key]))
+        if key in PICTURED_OTHERWISE
+        else key
+        for key in ROBOT_KEYS
+    ],
+)
+def test_each_robots_picture_shows_it_where_sapien_puts_it(
+    journeys: dict[str, Journey], corpus_work: Path, key: str
+) -> None:
+    """docs/images/robots/<key>.png, drawn from the scaffold at its rest keyframe (tests/corpus.py
+    --write), shows every link where SAPIEN puts it: the robot's pixels lie where each of its
+    links' origins lands (tests/picture_truth.py). A robot ManiSkill cannot load has no truth
+    to hold its picture to; one whose scaffold does not validate has no picture."""
+    journey = journeys[key]
+    picture = picture_path(key)
+    if journey.step("validate").outcome != PASSED:
+        assert not picture.is_file(), f"{picture.name}: drawn from a spec that does not validate"
+        return
+    assert picture.is_file(), f"no {picture.name}: run {WRITE_COMMAND}"
+    if journey.step("register").outcome != PASSED:
+        return
+    truth = sapien_truth(corpus_work / key / f"{key}.yaml")
+    assert placement_errors(truth) == {}
+    assert picture_faults(truth, picture) == []
 
 
 def test_the_robots_page_shows_what_the_journeys_did(journeys: dict[str, Journey]) -> None:

@@ -319,3 +319,36 @@ def test_a_hand_whose_thumb_is_its_longest_finger_keeps_the_thumb_out_of_the_arm
     assert groups["arm"] == ["wrist_yaw", "wrist_pitch"]
     assert "gripper" not in groups and {"ffj2", "ffj3"} <= set(groups["hand"])
     assert [f"thj{n}" for n in range(1, 5)] in groups.values()
+
+
+def _gripper(side: str, wrist_y: float, finger_y: str) -> str:
+    s = side[0]
+    limit = '<limit lower="0" upper="0.04" effort="10" velocity="1"/>'
+    return (
+        f'<link name="{side}_hand"/><link name="{s}_finger_l"/><link name="{s}_finger_r"/>'
+        f'<joint name="{side}_wrist" type="revolute"><parent link="base"/>'
+        f'<child link="{side}_hand"/><origin xyz="0 {wrist_y} 0"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint>'
+        f'<joint name="{s}_finger_l_joint" type="prismatic"><parent link="{side}_hand"/>'
+        f'<child link="{s}_finger_l"/><origin xyz="0 {finger_y} 0.1"/><axis xyz="0 1 0"/>'
+        f"{limit}</joint>"
+        f'<joint name="{s}_finger_r_joint" type="prismatic"><parent link="{side}_hand"/>'
+        f'<child link="{s}_finger_r"/><origin xyz="0 -0.0015 0.1"/><axis xyz="0 -1 0"/>'
+        f"{limit}</joint>"
+    )
+
+
+def test_of_two_grippers_equally_wide_the_first_in_the_tree_holds_the_tcp(
+    tmp_path: Path,
+) -> None:
+    # the left gripper's fingers lie 1e-13 m farther apart: rounding noise, as Baxter's
+    # mirrored grippers differ by in its forward kinematics; the right one comes first
+    urdf = tmp_path / "two_grippers.urdf"
+    urdf.write_text(
+        '<robot name="two_grippers"><link name="base"/>'
+        + _gripper("right", -0.3, "0.0015")
+        + _gripper("left", 0.3, "0.0015000000001")
+        + "</robot>"
+    )
+    data, _ = scaffold(urdf, tmp_path / "two_grippers.yaml")
+    assert data["tcp"]["link"] == "right_hand"

@@ -310,6 +310,40 @@ def test_an_mjcf_robot_is_drawn_as_mujoco_places_it(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow
+def test_a_robot_with_nothing_sapien_would_draw_is_pictured_by_its_collision_shapes(
+    tmp_path: Path,
+) -> None:
+    from PIL import Image
+
+    def coloured_share(visual: str) -> float:
+        folder = tmp_path / ("with_visual" if visual else "without")
+        folder.mkdir()
+        (folder / "arm.urdf").write_text(
+            f'<robot name="arm"><link name="base">{visual}<collision><geometry>'
+            '<sphere radius="0.1"/></geometry></collision></link>'
+            '<link name="tip"><collision><geometry><box size="0.05 0.05 0.3"/></geometry>'
+            "</collision></link>"
+            '<joint name="j" type="revolute"><parent link="base"/><child link="tip"/>'
+            '<origin xyz="0 0 0.25"/><axis xyz="0 0 1"/>'
+            '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
+        )
+        spec = folder / "arm.yaml"
+        written, _ = run_new(folder / "arm.urdf", spec, None, force=False, simulate=False)
+        assert written is not None
+        diagnostics = run_doc(spec, folder / "arm.md", images=True)
+        assert not has_errors(diagnostics), [d.format_text() for d in diagnostics]
+        picture = sorted(images_folder(folder / "arm.md").rglob("*.png"))[0]
+        image = np.asarray(Image.open(picture).convert("RGB")).astype(int)
+        # collision shapes are drawn one colour per link; the ground, the sky and a visual
+        # shape without a colour of its own are grey
+        return float(((image.max(axis=2) - image.min(axis=2)) > 40).mean())
+
+    assert coloured_share("") > 0.03  # no visual at all: the collision shapes
+    grey_box = '<visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual>'
+    assert coloured_share(grey_box) < 0.001  # a visual: it alone
+
+
+@pytest.mark.slow
 def test_a_mesh_that_cannot_be_read_is_left_out_with_rs662(tmp_path: Path) -> None:
     (tmp_path / "broken.stl").write_bytes(b"solid nothing\nendsolid\n")
     (tmp_path / "arm.urdf").write_text(

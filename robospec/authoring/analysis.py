@@ -16,7 +16,7 @@ from robospec.authoring.joint_loads import Inertial, mjcf_inertials, urdf_inerti
 from robospec.description import Joint, RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.geometry import IDENTITY, Quaternion
-from robospec.kinematics.forward import KinematicModel, mjcf_kinematics, urdf_kinematics
+from robospec.kinematics.forward import KinematicModel, kinematics_of
 from robospec.kinematics.mjcf_model import read_mjcf_model
 from robospec.kinematics.morphology import Morphology, morphology
 
@@ -82,15 +82,15 @@ class RobotAnalysis:
         its legs end) to its centre of mass, at ``qpos``."""
         if not self.body.floating or self.kinematics is None:
             return IDENTITY
-        poses = self.kinematics.link_poses(qpos)
-        feet = [poses[foot[0]].translation for foot in self.feet() if foot and foot[0] in poses]
+        poses = self.kinematics.at(qpos).links
+        feet = [poses[foot[0]][:3, 3].tolist() for foot in self.feet() if foot and foot[0] in poses]
         if not feet:
             return IDENTITY
         mass = 0.0
         moment = [0.0, 0.0, 0.0]
         for link, inertial in self.inertials.items():
             if link in poses and inertial.mass > 0:
-                point = poses[link].point(inertial.com)
+                point = (poses[link][:3, :3] @ inertial.com + poses[link][:3, 3]).tolist()
                 mass += inertial.mass
                 moment = [moment[i] + inertial.mass * point[i] for i in range(3)]
         centre = [m / mass for m in moment] if mass > 0 else [0.0, 0.0, 0.0]
@@ -123,14 +123,12 @@ def safe_position(lower: float | None, upper: float | None) -> float:
 
 
 def analyse(source: DescriptionFile) -> RobotAnalysis:
-    kinematics: KinematicModel | None
     drives: dict[str, Drive] = {}
     inertials: dict[str, Inertial] = {}
     armature: dict[str, float] = {}
     indirect = False
     if source.kind == "mjcf":
         model = read_mjcf_model(source.text, str(source.path))
-        kinematics = mjcf_kinematics(model) if model is not None else None
         if model is not None:
             attributes = {joint.name: joint.attributes for joint, _ in model.joints()}
             drives, indirect = actuator_drives(source.description, attributes)
@@ -141,8 +139,8 @@ def analyse(source: DescriptionFile) -> RobotAnalysis:
                 if (value := finite_numbers(values.get("armature"), 1))
             }
     else:
-        kinematics = urdf_kinematics(source.text)
         inertials = urdf_inertials(source.text)
+    kinematics = kinematics_of(source.description, source.text, str(source.path))
     body = morphology(source.description, kinematics)
     groups = guess_groups(source.description, body)
     if drives and not indirect:

@@ -15,7 +15,11 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from robospec.authoring.analysis import RobotAnalysis, immobile_reason
-from robospec.authoring.gains import NATURAL_FREQUENCY, JointGains, analytic_gains
+from robospec.authoring.gains import (
+    NATURAL_FREQUENCY,
+    JointGains,
+    analytic_gains,
+)
 from robospec.authoring.joint_loads import JointLoad, joint_loads
 from robospec.description import Joint
 from robospec.description.ratings import Rating, joint_ratings

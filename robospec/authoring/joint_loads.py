@@ -24,8 +24,10 @@ standing on its feet. :mod:`.gains` turns these into a scaffold's first drive ga
   grows by ``m g (r_z - (a·r) a_z)`` per radian — shared between the legs as their feet share
   the weight.
 
-Plain Python (the core install has no numpy), and approximate on purpose: these are a first
-guess that ``robospec new`` refines in ManiSkill when it is installed.
+The links' poses and the joints' axes come from the robot's forward kinematics
+(:mod:`robospec.kinematics.forward`: yourdfpy, MuJoCo); the sums here are plain Python, and
+approximate on purpose: these are a first guess that ``robospec new`` refines in ManiSkill
+when it is installed.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
@@ -41,23 +44,37 @@ from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 from robospec.geometry import (
     IDENTITY_MATRIX,
+    ZERO,
     Matrix,
+    Quaternion,
     Vector,
     cross,
     dot,
-    matrix_from_rpy,
+    matrix_from_quaternion,
+    quaternion_from_rpy,
     shifted,
     turned,
+    z_towards,
 )
-from robospec.kinematics.forward import KinematicModel
-from robospec.kinematics.frames import Transform, from_z_axis
-from robospec.kinematics.mjcf_model import (
-    MjBody,
-    MjcfModel,
-    attributes_of,
-    orientation,
-    vector,
-)
+from robospec.kinematics.mjcf_model import MjBody, MjcfModel
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from robospec.kinematics.forward import KinematicModel
+
+
+@dataclass(frozen=True)
+class Frame:
+    """Where a part (a geom, an inertial) sits in its link: ``x -> rotation @ x + translation``."""
+
+    rotation: Matrix = IDENTITY_MATRIX
+    translation: Vector = ZERO
+
+    @staticmethod
+    def of(q: Quaternion, p: Sequence[float]) -> Frame:
+        return Frame(matrix_from_quaternion(q), (float(p[0]), float(p[1]), float(p[2])))
+
 
 GRAVITY = 9.81  # m/s², along the world's -z (the root frame turned as its rest pose stands it)
 
@@ -100,7 +117,7 @@ def _diagonal(x: float, y: float, z: float) -> Matrix:
     return ((x, 0.0, 0.0), (0.0, y, 0.0), (0.0, 0.0, z))
 
 
-def combine(parts: Iterable[tuple[float, Transform, Matrix]]) -> Inertial | None:
+def combine(parts: Iterable[tuple[float, Frame, Matrix]]) -> Inertial | None:
     """One body of several parts: (mass, the part's frame in the body's with its centre of
     mass at the origin, its inertia in that frame). None when there is no mass."""
     items = [(m, frame, inertia) for m, frame, inertia in parts if m > 0]
@@ -167,12 +184,12 @@ def urdf_inertials(text: bytes | str) -> dict[str, Inertial]:
     return out
 
 
-def _origin(element: etree._Element | None) -> Transform:
+def _origin(element: etree._Element | None) -> Frame:
     if element is None:
-        return Transform()
+        return Frame()
     rpy = finite_numbers(element.get("rpy"), 3) or (0.0, 0.0, 0.0)
     xyz = finite_numbers(element.get("xyz"), 3) or (0.0, 0.0, 0.0)
-    return Transform(matrix_from_rpy(*rpy), xyz)  # type: ignore[arg-type]
+    return Frame.of(quaternion_from_rpy(*rpy), xyz)
 
 
 def _urdf_inertial(inertial: etree._Element | None) -> Inertial | None:
@@ -226,23 +243,16 @@ def _urdf_shapes(link: etree._Element) -> Inertial | None:
 def mjcf_inertials(model: MjcfModel) -> dict[str, Inertial]:
     """Body name -> its inertial as ManiSkill's MJCF loader makes it: from the geoms."""
     out: dict[str, Inertial] = {}
-
-    def walk(body: MjBody) -> None:
+    for body in model.walk():
         found = _mjcf_geoms(model, body) or _mjcf_inertial(model, body)
         if found is not None:
             out[body.name] = found
-        for child in body.children:
-            walk(child)
-
-    for body in model.bodies:
-        walk(body)
     return out
 
 
 def _mjcf_geoms(model: MjcfModel, body: MjBody) -> Inertial | None:
     parts = []
-    for element in body.element.iterfind("geom"):
-        attributes = attributes_of(model, element, "geom", body.childclass)
+    for attributes in body.geoms:
         shape = _mjcf_shape(model, attributes)
         if shape is not None:
             parts.append(shape)
@@ -251,12 +261,12 @@ def _mjcf_geoms(model: MjcfModel, body: MjBody) -> Inertial | None:
 
 def _mjcf_shape(
     model: MjcfModel, attributes: Mapping[str, str]
-) -> tuple[float, Transform, Matrix] | None:
+) -> tuple[float, Frame, Matrix] | None:
     kind = attributes.get("type", "sphere")
     size = finite_numbers(attributes.get("size"), None) or ()
     given_mass = finite_numbers(attributes.get("mass"), 1)
     density = (finite_numbers(attributes.get("density"), 1) or (DENSITY,))[0]
-    frame = Transform(orientation(model, dict(attributes)), vector(attributes.get("pos")))
+    frame = Frame.of(model.rotation(dict(attributes)), _position(attributes.get("pos")))
     fromto = finite_numbers(attributes.get("fromto"), 6)
     half_length = size[1] if len(size) > 1 else 0.0
     if fromto is not None and kind in ("capsule", "cylinder", "box", "ellipsoid"):
@@ -264,7 +274,7 @@ def _mjcf_shape(
         axis = tuple(b[i] - a[i] for i in range(3))
         half_length = math.sqrt(sum(c * c for c in axis)) / 2
         centre = tuple((a[i] + b[i]) / 2 for i in range(3))
-        frame = Transform(_z_towards(axis), centre)  # type: ignore[arg-type]
+        frame = Frame(_z_towards(axis), centre)  # type: ignore[arg-type]
     if not size:
         return None
     if kind == "sphere":
@@ -290,13 +300,20 @@ def _scaled(inertia: Matrix, factor: float) -> Matrix:
 
 
 def _z_towards(axis: Sequence[float]) -> Matrix:
-    if sum(c * c for c in axis) < 1e-24:
+    """The shortest rotation taking (0, 0, 1) to ``axis`` (MuJoCo's ``fromto``)."""
+    norm = math.sqrt(sum(c * c for c in axis))
+    if norm < 1e-12:
         return IDENTITY_MATRIX
-    return from_z_axis(tuple(axis))  # type: ignore[arg-type]
+    return matrix_from_quaternion(z_towards((axis[0] / norm, axis[1] / norm, axis[2] / norm)))
+
+
+def _position(text: str | None) -> Vector:
+    values = finite_numbers(text, 3)
+    return values if values is not None else ZERO  # type: ignore[return-value]
 
 
 def _mjcf_inertial(model: MjcfModel, body: MjBody) -> Inertial | None:
-    element = body.element.find("inertial")
+    element = body.inertial
     if element is None:
         return None
     mass = finite_numbers(element.get("mass"), 1)
@@ -311,8 +328,8 @@ def _mjcf_inertial(model: MjcfModel, body: MjBody) -> Inertial | None:
         inertia = ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
     else:
         return None
-    rotation = orientation(model, dict(element.attrib))
-    return Inertial(mass[0], vector(element.get("pos")), turned(rotation, inertia))
+    rotation = matrix_from_quaternion(model.rotation(element))
+    return Inertial(mass[0], _position(element.get("pos")), turned(rotation, inertia))
 
 
 # -- loads ----------------------------------------------------------------------------------------
@@ -330,8 +347,8 @@ def joint_loads(
     of each foot (the ground pushes on the lowest frame of each); empty: it does not stand.
     ``upright``: how the root frame is turned in the world, gravity pulling along the world's
     -z (a description written y-up stands turned: ``RobotAnalysis.upright``)."""
-    stood = Transform(upright)
-    poses = {link: stood @ pose for link, pose in model.link_poses(qpos).items()}
+    placed = model.at(qpos)
+    poses = {link: _turned(upright, pose) for link, pose in placed.links.items()}
     children: dict[str, list[str]] = {}
     for joint in model.joints:
         children.setdefault(joint.parent, []).append(joint.child)
@@ -341,7 +358,7 @@ def joint_loads(
         if found is not None:
             world[link] = (
                 found.mass,
-                pose.point(found.com),
+                _apply(pose.rotation, found.com, pose.translation),
                 turned(pose.rotation, found.inertia),
             )
     support = _support(poses, world, feet)
@@ -352,12 +369,11 @@ def joint_loads(
     for joint in model.joints:
         if joint.type not in ("revolute", "continuous", "prismatic"):
             continue
-        frame = poses.get(joint.parent)
-        if frame is None:
+        placed_axis = placed.axes.get(joint.name)
+        if placed_axis is None:
             continue
-        frame = frame @ joint.origin
-        axis = frame.direction(joint.axis)
-        pivot = frame.point(joint.pivot)
+        axis = _apply(upright, tuple(placed_axis.direction.tolist()))
+        pivot = _apply(upright, tuple(placed_axis.anchor.tolist()))
         beyond = _subtree(joint.child, children)
         inertia = armature.get(joint.name, 0.0)
         torque = 0.0
@@ -365,15 +381,15 @@ def joint_loads(
             if link not in world:
                 continue
             mass, com, about_com = world[link]
-            arm = (com[0] - pivot[0], com[1] - pivot[1], com[2] - pivot[2])
+            arm = tuple(com[i] - pivot[i] for i in range(3))
             weight = (0.0, 0.0, -GRAVITY * mass)
             if joint.type == "prismatic":
                 inertia += mass
                 torque += dot(axis, weight)
             else:
                 inertia += _quadratic(about_com, axis)
-                inertia += mass * sum(c * c for c in cross(axis, arm))
-                torque += dot(axis, cross(arm, weight))
+                inertia += mass * sum(c * c for c in cross(axis, arm))  # type: ignore[arg-type]
+                torque += dot(axis, cross(arm, weight))  # type: ignore[arg-type]
         standing = None
         topple = 0.0
         if support:
@@ -387,8 +403,8 @@ def joint_loads(
                 if joint.type == "prismatic":
                     standing += dot(axis, push)
                 else:
-                    arm = (point[0][0] - pivot[0], point[0][1] - pivot[1], point[0][2] - pivot[2])
-                    standing += dot(axis, cross(arm, push))
+                    arm = tuple(point[0][i] - pivot[i] for i in range(3))
+                    standing += dot(axis, cross(arm, push))  # type: ignore[arg-type]
             if carried > 0 and joint.type != "prismatic":
                 topple = _topple(world, beyond, total_mass, total_moment, axis, pivot)
                 topple *= carried / (GRAVITY * total_mass)
@@ -414,9 +430,23 @@ def _topple(
         total_moment[i] - sum(world[k][0] * world[k][1][i] for k in beyond if k in world)
         for i in range(3)
     ]
-    arm = (moment[0] / mass - pivot[0], moment[1] / mass - pivot[1], moment[2] / mass - pivot[2])
+    arm = tuple(moment[i] / mass - pivot[i] for i in range(3))
     height = arm[2] - dot(axis, arm) * axis[2]  # the arm's part across the axis, upward
     return max(GRAVITY * mass * height, 0.0)
+
+
+def _turned(upright: Matrix, pose: np.ndarray) -> Frame:
+    """A link's pose (4x4, root frame) in the world, the root frame turned by ``upright``."""
+    rows = pose[:3, :3].tolist()
+    rotation = tuple(
+        tuple(sum(upright[i][k] * rows[k][j] for k in range(3)) for j in range(3)) for i in range(3)
+    )
+    return Frame(rotation, _apply(upright, tuple(pose[:3, 3].tolist())))  # type: ignore[arg-type]
+
+
+def _apply(r: Matrix, v: Sequence[float], shift: Sequence[float] = ZERO) -> Vector:
+    """``r @ v + shift``."""
+    return tuple(sum(r[i][k] * v[k] for k in range(3)) + shift[i] for i in range(3))  # type: ignore[return-value]
 
 
 def _subtree(link: str, children: Mapping[str, list[str]]) -> set[str]:
@@ -435,7 +465,7 @@ def _quadratic(matrix: Matrix, v: Vector) -> float:
 
 
 def _support(
-    poses: Mapping[str, Transform],
+    poses: Mapping[str, Frame],
     world: Mapping[str, tuple[float, Vector, Matrix]],
     feet: Sequence[Sequence[str]],
 ) -> list[tuple[tuple[Vector, str], float]]:

@@ -21,16 +21,18 @@ import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.authoring.analysis import RobotAnalysis
-from robospec.geometry import Vector
-from robospec.kinematics.frames import Transform
+
+if TYPE_CHECKING:
+    import numpy as np
 
 _TCP_NAME = re.compile(r"(tcp|grasp|ee_gripper|tool0|end_?effector|eef)", re.IGNORECASE)
 GRIPPING_KINDS = ("gripper", "mimic")
 ARM_KINDS = ("arm",)
 AXES = ("+x", "-x", "+y", "-y", "+z", "-z")
+DISTANCE_DIGITS = 9  # metres: distances between fingers are compared to a nanometre
 
 
 @dataclass(frozen=True)
@@ -46,7 +48,7 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
     model = analysis.kinematics
     if model is None:
         return {}
-    poses = model.link_poses(qpos)
+    poses = model.at(qpos).links
     fingers = _fingers(analysis, poses)
     out: dict[str, Any] = {}
     if fingers is None:
@@ -77,7 +79,7 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
     return out
 
 
-def _fingers(analysis: RobotAnalysis, poses: Mapping[str, Transform]) -> Fingers | None:
+def _fingers(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]) -> Fingers | None:
     model = analysis.kinematics
     assert model is not None
     joints = {j.name: j for j in model.joints}
@@ -109,7 +111,7 @@ def _fingers(analysis: RobotAnalysis, poses: Mapping[str, Transform]) -> Fingers
 
 
 def _finger_tips(
-    analysis: RobotAnalysis, poses: Mapping[str, Transform]
+    analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]
 ) -> tuple[str, str, str] | None:
     """A hand of finger chains: the tips of the two chains farthest apart, and the link the
     chains hang from (its palm)."""
@@ -145,28 +147,27 @@ def _finger_tips(
     return best[0][0], best[1][0], best[0][1]
 
 
-def _centre(analysis: RobotAnalysis, poses: Mapping[str, Transform], link: str) -> Vector:
+def _centre(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], link: str) -> np.ndarray:
     """A link's centre of mass at rest (its frame's origin when it has no inertial)."""
-    pose = poses.get(link, Transform())
+    pose = poses[link]
     found = analysis.inertials.get(link)
-    return pose.point(found.com) if found is not None else pose.translation
+    return pose[:3, :3] @ found.com + pose[:3, 3] if found is not None else pose[:3, 3]
 
 
-def _distance(analysis: RobotAnalysis, poses: Mapping[str, Transform], a: str, b: str) -> float:
+def _distance(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], a: str, b: str) -> float:
+    """How far apart two links' centres are, to a nanometre: the two hands of a symmetric robot
+    (Baxter's grippers) are equally far apart, and the first in the tree's order is taken, not
+    the one that rounding puts a femtometre ahead."""
     pa, pb = _centre(analysis, poses, a), _centre(analysis, poses, b)
-    return math.dist(pa, pb)
+    return round(math.dist(pa.tolist(), pb.tolist()), DISTANCE_DIGITS)
 
 
-def _opening(analysis: RobotAnalysis, poses: Mapping[str, Transform], link: str, other: str) -> str:
+def _opening(
+    analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], link: str, other: str
+) -> str:
     """The axis of ``link``'s frame nearest the direction from ``other`` to ``link``."""
-    away = [
-        x - y
-        for x, y in zip(
-            _centre(analysis, poses, link), _centre(analysis, poses, other), strict=True
-        )
-    ]
-    frame = poses.get(link, Transform()).inverse()
-    local = frame.direction(tuple(away))  # type: ignore[arg-type]
+    away = _centre(analysis, poses, link) - _centre(analysis, poses, other)
+    local = (poses[link][:3, :3].T @ away).tolist()
     index = max(range(3), key=lambda i: abs(local[i]))
     return AXES[2 * index + (0 if local[index] >= 0 else 1)]
 

@@ -16,6 +16,7 @@ import typer
 
 from robospec.cli.help_style import App
 from robospec.diagnostics import Diagnostic, has_errors
+from robospec.optimize.options import ShapeMethod
 from robospec.reporting import Format as DiagnosticFormat
 from robospec.reporting import render
 from robospec.reporting.color import ColorChoice as Color
@@ -449,9 +450,10 @@ def optimize(
         typer.Option("--keep", help="a link to keep although the spec does not name it"),
     ] = None,
     shapes: Annotated[
-        str | None,
+        ShapeMethod | None,
         typer.Option(
             "--shapes",
+            metavar="METHOD",
             help="collision meshes: keep, convert (STL to what SAPIEN simulates, no warning; "
             "the default), hull, coacd (convex decomposition) or primitives (the fast "
             "profile's)",
@@ -513,12 +515,13 @@ def optimize(
 
     Example: robospec optimize specs/maniskill/fetch.yaml -o out/fetch_fast.yaml
     """
-    from robospec.optimize.command import OptimizeOptions, render, run_optimize
+    from robospec.optimize.command import run_optimize
+    from robospec.optimize.options import OptimizeOptions
 
     options = OptimizeOptions(
         keep=tuple(keep or ()),
         uid=uid,
-        shapes=shapes or "",
+        shapes=shapes,
         max_vertices=max_vertices,
         samples=samples,
         profile=profile,
@@ -527,9 +530,9 @@ def optimize(
         category=category,
         arguments=tuple(sys.argv[1:]),
     )
-    report, diagnostics = run_optimize(spec, out, options)
-    typer.echo(render(report, diagnostics, format.value))
-    raise typer.Exit(1 if report is None or has_errors(diagnostics) else 0)
+    result = run_optimize(spec, out, options)
+    typer.echo(result.render(format.value))
+    raise typer.Exit(result.exit_code)
 
 
 @app.command(needs=("maniskill",))
