@@ -209,7 +209,7 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: Pa
     from robospec import register
     from robospec.physics import action_layout
     from robospec.physics.check_run import CheckRun
-    from robospec.physics.findings import rounded
+    from robospec.physics.findings import METRIC_DIGITS, significant
 
     compiled = compile_spec(spec)
     assert compiled.robot is not None and compiled.context is not None
@@ -229,8 +229,8 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: Pa
                 r.index,
                 r.group,
                 r.target,
-                rounded(float(np.float32(r.low))),
-                rounded(float(np.float32(r.high))),
+                significant(float(np.float32(r.low)), METRIC_DIGITS),
+                significant(float(np.float32(r.high)), METRIC_DIGITS),
                 r.normalized,
             )
             for r in mode_layout(compiled.robot, compiled.description, mode)

@@ -180,6 +180,10 @@ def scaffold(
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
     data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest)
+    data["reset"] = {"keyframe": "rest"}
+    notes[("reset",)] = (
+        "every episode starts at rest (ManiSkill's tasks reset only the robots they know)"
+    )
     filtered = filtered_cliques(source.description)
     kept_apart = {pair for links in filtered for pair in clique_pairs(links)}
     entries = [list(links) for links in filtered] + [
