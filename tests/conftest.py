@@ -23,6 +23,7 @@ from __future__ import annotations
 import ast
 import atexit
 import builtins
+import importlib.util
 import os
 import random
 import shutil
@@ -87,6 +88,18 @@ MANISKILL_MARK = "maniskill"
 INSTALL_MANISKILL = (
     "the maniskill extra is not installed: run scripts/setup (pip install -e '.[maniskill]')"
 )
+
+
+def maniskill_assets() -> Path:
+    """ManiSkill's bundled assets, ``mani_skill/assets`` (the robots ``{maniskill_assets}``
+    names), found here by the tests themselves (``find_spec`` imports nothing), not by
+    robospec's ``maniskill_assets_dir``, the code under test: a lookup that breaks fails the
+    tests that read the assets instead of skipping them. Without ManiSkill, a failure naming
+    the extra (the maniskill extra installs them, and CI has it)."""
+    spec = importlib.util.find_spec("mani_skill")
+    if spec is None or not spec.submodule_search_locations:
+        pytest.fail(INSTALL_MANISKILL, pytrace=False)
+    return Path(next(iter(spec.submodule_search_locations))) / "assets"
 
 
 # -- the robospec command line
@@ -368,6 +381,7 @@ __all__ = [
     "TWOLINK_XACRO",
     "extends_python",
     "invoke_robospec",
+    "maniskill_assets",
     "run_robospec",
     "sample_fast",
     "spec_params",

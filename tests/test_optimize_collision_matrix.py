@@ -19,7 +19,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
-from conftest import PANDA_SPEC
+from conftest import PANDA_SPEC, maniskill_assets
 
 from robospec.optimize.collision_matrix import (
     CollisionMatrix,
@@ -32,11 +32,10 @@ from robospec.optimize.collision_matrix import (
     touching_pairs,
 )
 from robospec.resolve.collision_packing import FREE_BITS, Pair, pack, pair
-from robospec.resolve.paths import maniskill_assets_dir
 
 pytestmark = pytest.mark.maniskill
 
-ROBOTS = (maniskill_assets_dir() or Path("missing")) / "robots"
+ROBOTS = maniskill_assets() / "robots"
 PANDA = ROBOTS / "panda" / "panda_v2.urdf"
 FETCH = ROBOTS / "fetch" / "fetch.urdf"
 ABILITY_HAND = ROBOTS / "ability_hand" / "ability_hand_right.urdf"

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DOCS, PANDA_SPEC, ROOT, fast_first, run_robospec
+from conftest import DOCS, PANDA_SPEC, ROOT, fast_first, maniskill_assets, run_robospec
 from corpus import BY_KEY, CorpusMissing, locate
 
 from robospec.authoring.commands import run_new
@@ -91,7 +91,7 @@ def test_the_tutorials_robot_runs_pickcube_headless_as_the_tutorial_shows(tmp_pa
 
 def test_check_task_says_what_the_task_calls_and_the_spec_lacks(tmp_path: Path) -> None:
     spec = tmp_path / "panda.yaml"
-    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(_assets()))
+    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(maniskill_assets()))
     # without its grasp check, PickCube-v1 fails at reset upstream: check says why, with the
     # mend, at the uid (line 4)
     text = re.sub(r"\ngrasping:\n(  .*\n)+", "\n", text).replace("uid: rs_panda", "uid: no_grasp")
@@ -157,7 +157,7 @@ def test_check_task_tabletop_runs_or_explains_every_task_of_the_folder(tmp_path:
     from robospec.maniskill.tasks import installed_tasks
 
     spec = tmp_path / "panda.yaml"
-    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(_assets()))
+    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(maniskill_assets()))
     spec.write_text(text.replace("uid: rs_panda", "uid: tabletop_panda"))
     env = {**os.environ, "ROBOSPEC_CACHE_DIR": str(tmp_path / "cache"), "NO_COLOR": "1"}
     done = run_robospec(
@@ -225,11 +225,3 @@ def test_a_task_that_crashes_with_the_robot_is_rs527_at_the_uid_naming_the_raisi
     assert "hookmods/crash_hooks.py:" in line and "the spec's own code (a hook)" in line
     assert re.search(r"task +- +PushCube-v1 +FAIL +crashed at ", done.stdout)
     assert "error[RS528]" not in done.stdout  # the member exists: it is not a missing one
-
-
-def _assets() -> Path:
-    from robospec.resolve.paths import maniskill_assets_dir
-
-    found = maniskill_assets_dir()
-    assert found is not None
-    return found
