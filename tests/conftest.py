@@ -243,9 +243,17 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
         if MANISKILL_MARK in getattr(item, "fixturenames", ()):
             item.add_marker(MANISKILL_MARK)
     # the modules of minutes first (a stable sort: each module's tests keep their order):
-    # xdist hands out whole modules in this order (--dist loadfile), and one of them started
-    # last would keep one worker busy alone at the end
+    # xdist hands out whole modules in this order (--dist loadfile; _keep_module_order), and
+    # one of them started last would keep one worker busy alone at the end
     items.sort(key=lambda item: item.get_closest_marker("minutes") is None)
+
+
+def _keep_module_order(config: pytest.Config) -> None:
+    """pytest-xdist's --dist loadfile hands out the modules with the most tests first unless
+    told not to (--no-loadscope-reorder): a module of two tests and eleven minutes then
+    started last, alone, while the other worker sat idle. The order is the collection's."""
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
 
 
 @pytest.hookimpl(wrapper=True)
@@ -327,6 +335,7 @@ HYPOTHESIS_SEED_ENV = "ROBOSPEC_HYPOTHESIS_SEED"
 
 @pytest.hookimpl(tryfirst=True)  # before Hypothesis's plugin reads --hypothesis-seed
 def pytest_configure(config: pytest.Config) -> None:
+    _keep_module_order(config)
     if config.getoption("hypothesis_seed", None) is None:
         seed = os.environ.get(HYPOTHESIS_SEED_ENV) or str(random.SystemRandom().randrange(2**32))
         config.option.hypothesis_seed = seed
