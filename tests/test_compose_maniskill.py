@@ -28,6 +28,7 @@ from pathlib import Path
 import pytest
 
 pytestmark = [
+    pytest.mark.minutes,
     pytest.mark.maniskill,
     pytest.mark.filterwarnings("ignore:__array_wrap__ must accept context:DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),

@@ -21,7 +21,7 @@ from corpus import BY_KEY, CorpusMissing, locate
 from robospec.authoring.commands import run_new
 from robospec.diagnostics import has_errors
 
-pytestmark = pytest.mark.maniskill
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 TASKS = ("PickCube-v1", "PushCube-v1", "StackCube-v1")
 # the corpus arms with a gripper new recognises: two fingers on one link, a mimic pair, a jaw
