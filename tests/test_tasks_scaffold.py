@@ -24,8 +24,11 @@ from robospec.diagnostics import has_errors
 pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 TASKS = ("PickCube-v1", "PushCube-v1", "StackCube-v1")
-# the corpus arms with a gripper new recognises: two fingers on one link, a mimic pair, a jaw
-GRIPPER_ARMS = ("rtb_wx250s", "pb_panda", "rtb_panda", "rtb_px100", "erd_so101")
+# the corpus arms with a gripper new recognises, one per scaffold it writes: two fingers on one
+# link (a tcp link the description names), a mimic pair with a named tcp and with a tcp between
+# the fingers, a jaw (rtb_px100 is scaffolded exactly as rtb_wx250s, its Interbotix sibling:
+# the same groups, tcp and fingers)
+GRIPPER_ARMS = ("rtb_wx250s", "pb_panda", "rtb_panda", "erd_so101")
 STEPS = 50
 
 
