@@ -24,10 +24,10 @@ from robospec.diagnostics import has_errors
 pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 TASKS = ("PickCube-v1", "PushCube-v1", "StackCube-v1")
-# the corpus arms with a gripper new recognises, one per scaffold it writes: two fingers on one
-# link (a tcp link the description names), a mimic pair with a named tcp and with a tcp between
-# the fingers, a jaw (rtb_px100 is scaffolded exactly as rtb_wx250s, its Interbotix sibling:
-# the same groups, tcp and fingers)
+# the corpus arms with a gripper new recognises: two fingers on one link, a mimic pair (with the
+# tcp link the description names, and with a tcp new places between the fingers), a jaw; one
+# arm per scaffold (rtb_px100 left: new scaffolds it exactly as rtb_wx250s, its Interbotix
+# sibling, with the same groups, tcp and fingers)
 GRIPPER_ARMS = ("rtb_wx250s", "pb_panda", "rtb_panda", "erd_so101")
 STEPS = 50
 
