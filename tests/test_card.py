@@ -17,6 +17,8 @@ from robospec.authoring.layout import mode_layout
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 
+pytestmark = pytest.mark.minutes  # CI starts it first (tests/conftest.py)
+
 
 def card(spec: Path, out: Path) -> str:
     diagnostics = run_doc(spec, out)

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CODE_EXAMPLES, SPECS
+from conftest import CODE_EXAMPLES, SPECS, maniskill_assets
 from lxml import etree
 
 from robospec.description import load_description
@@ -28,21 +28,14 @@ from robospec.diagnostics import Severity
 from robospec.geometry import matrix_from_quaternion, matrix_from_rpy, quaternion_from_rpy
 from robospec.kinematics.forward import kinematics_of
 from robospec.pipeline import compile_spec
-from robospec.resolve.paths import maniskill_assets_dir
 
 COMPOSED = SPECS / "composed" / "xarm7_ability.yaml"
 HAND = SPECS / "composed" / "ability_hand_right.yaml"
 EXAMPLES = CODE_EXAMPLES / "RS736"  # an arm and a gripper, small enough to write variants of
 
 
-def _assets() -> Path:
-    assets = maniskill_assets_dir()
-    assert assets is not None, "ManiSkill's assets are part of the maniskill extra"
-    return assets
-
-
 def _combined_file() -> Path:
-    return _assets() / "robots" / "xarm7" / "xarm7_ability_right_hand.urdf"
+    return maniskill_assets() / "robots" / "xarm7" / "xarm7_ability_right_hand.urdf"
 
 
 def _compiled(path: Path) -> object:
@@ -131,9 +124,10 @@ def test_the_hands_description_problems_point_into_the_hands_file() -> None:
         d.location.file == "{maniskill_assets}/robots/ability_hand/ability_hand_right.urdf"
         for d in mimics
     )
-    hand = (_assets() / "robots/ability_hand/ability_hand_right.urdf").read_text().splitlines()
+    hand = maniskill_assets() / "robots/ability_hand/ability_hand_right.urdf"
+    lines = hand.read_text().splitlines()
     for d in mimics:  # the line of the joint the warning names
-        assert re.search(rf'joint name="{d.message.split(chr(39))[1]}"', hand[d.location.line - 1])
+        assert re.search(rf'joint name="{d.message.split(chr(39))[1]}"', lines[d.location.line - 1])
 
 
 def test_fold_frames_leaves_out_the_arms_flange_and_the_hands_root_frame() -> None:
@@ -448,7 +442,7 @@ def test_the_srdf_pairs_beside_the_robots_urdf_stay_apart_with_a_part_mounted(
         "control_modes: {pd_joint_pos: all}\n"
     )
     robot = _compiled(spec).robot
-    panda, _ = load_description(str(_assets() / "robots/panda/panda_v2.urdf"), "urdf")
+    panda, _ = load_description(str(maniskill_assets() / "robots/panda/panda_v2.urdf"), "urdf")
     assert panda is not None and panda.loader_collision_bits  # SAPIEN reads them beside it
     kept = {frozenset(entry) for entry in robot.never_collide.entries}
     assert {frozenset(links) for _, links in panda.loader_collision_bits} <= kept
@@ -562,7 +556,7 @@ def test_inspect_names_the_arms_flange_frame_and_the_hands_root() -> None:
 
     from conftest import invoke_robospec
 
-    robots = _assets() / "robots"
+    robots = maniskill_assets() / "robots"
     arm = invoke_robospec("inspect", str(robots / "xarm7" / "xarm7.urdf"), "--format", "json")
     frames = json.loads(arm.stdout)["mounting_frames"]
     assert [(f["at"], f["role"]) for f in frames] == [

@@ -28,6 +28,7 @@ from pathlib import Path
 import pytest
 
 pytestmark = [
+    pytest.mark.minutes,
     pytest.mark.maniskill,
     pytest.mark.filterwarnings("ignore:__array_wrap__ must accept context:DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
@@ -36,12 +37,11 @@ pytest.importorskip("mani_skill")
 
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
-from conftest import MANISKILL_VERSION, SPECS  # noqa: E402
+from conftest import MANISKILL_VERSION, SPECS, maniskill_assets  # noqa: E402
 from corpus import BY_KEY, locate  # noqa: E402
 from maniskill_compare import make_env, random_actions, rollout  # noqa: E402
 
 import robospec  # noqa: E402
-from robospec.resolve.paths import maniskill_assets_dir  # noqa: E402
 
 COMPOSED = SPECS / "composed"
 MODES = ("pd_joint_delta_pos", "pd_joint_pos", "pd_ee_delta_pose", "pd_ee_target_delta_pose")
@@ -166,8 +166,7 @@ def without_mimics(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[st
             "spec: ability_hand_right.yaml", "spec: hand.yaml"
         )
     )
-    assets = maniskill_assets_dir()
-    assert assets is not None
+    assets = maniskill_assets()
     original = assets / "robots" / "xarm7" / "xarm7_ability_right_hand.urdf"
     text = re.sub(r"<mimic[^>]*/>", "", original.read_text())
     text = re.sub(
@@ -398,8 +397,7 @@ def test_new_attach_declares_the_seam_the_collision_matrix_finds(tmp_path: Path)
     from robospec.authoring.commands import run_new
     from robospec.pipeline import compile_spec
 
-    assets = maniskill_assets_dir()
-    assert assets is not None
+    assets = maniskill_assets()
     arm = assets / "robots" / "xarm7" / "xarm7.urdf"
     shutil.copy(COMPOSED / "ability_hand_right.yaml", tmp_path / "hand.yaml")
     out = tmp_path / "xarm7_hand.yaml"

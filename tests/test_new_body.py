@@ -10,20 +10,17 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, maniskill_assets
 from ruamel.yaml import YAML
 
 from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
-from robospec.resolve.paths import maniskill_assets_dir
 
 DATA = ROOT / "tests" / "data" / "new"
 QUADRUPED_URDF = DATA / "quadruped.urdf"
 QUADRUPED_MJCF = DATA / "quadruped.xml"
-ASSETS = maniskill_assets_dir()
-needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
 INERTIAL = (
     '<inertial><mass value="1"/>'
     '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
@@ -248,7 +245,6 @@ def test_legs_fixed_to_a_world_link_do_not_float(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow  # over a second: CI runs it, the fast loop does not
-@needs_assets
 @pytest.mark.parametrize(
     ("robot", "floating", "groups"),
     [
@@ -260,8 +256,7 @@ def test_legs_fixed_to_a_world_link_do_not_float(tmp_path: Path) -> None:
 def test_maniskills_own_robots_get_the_body_they_have(
     tmp_path: Path, robot: str, floating: bool, groups: set[str]
 ) -> None:
-    assert ASSETS is not None
-    data, _ = scaffold(ASSETS / "robots" / robot, tmp_path / "spec.yaml")
+    data, _ = scaffold(maniskill_assets() / "robots" / robot, tmp_path / "spec.yaml")
     assert ("loader" in data) is floating
     assert groups <= set(data["groups"])
 

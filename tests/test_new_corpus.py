@@ -19,7 +19,8 @@ from robospec.authoring.commands import run_new
 from robospec.diagnostics import Diagnostic, has_errors
 from robospec.pipeline import compile_spec
 
-pytestmark = pytest.mark.maniskill  # new searches each rest pose in ManiSkill
+# new searches each rest pose in ManiSkill
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 
 # TALOS as example-robot-data reduces it: robospec reads it, but ManiSkill cannot load it

@@ -18,6 +18,7 @@ from robospec.model.thresholds import MIN_CONTACT_DEPTH
 from robospec.pipeline import compile_spec
 
 pytestmark = [
+    pytest.mark.minutes,
     pytest.mark.maniskill,  # the scaffold is searched, registered and stood up in ManiSkill
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::UserWarning"),
