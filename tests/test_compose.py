@@ -345,6 +345,60 @@ def test_an_mjcf_hand_on_an_mjcf_arm_keeps_its_defaults_and_shares_alike_assets(
     assert not any(d.code == "RS736" for d in result.diagnostics)
 
 
+MOUNTED_ARM = """<mujoco model="arm"><compiler angle="radian"/>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size=".1 .1 .02"/>
+      <body name="link1" pos="0 0 .1">
+        <joint name="j1" axis="0 0 1" range="-1 1"/>
+        <geom type="capsule" size=".02 .1" pos="0 0 .1"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+# the part's root body stands 5 cm along x of its model's frame, turned 90° about x
+MOUNTED_GRIPPER = """<mujoco model="gripper"><compiler angle="radian"/>
+  <default><geom rgba=".5 .5 .5 1"/></default>
+  <worldbody>
+    <body name="palm" pos="0.05 0 0" quat="0.7071067811865476 0.7071067811865476 0 0">
+      <geom type="box" size="0.02 0.04 0.02" mass="0.3"/>
+      <body name="left_finger" pos="0 0.02 0.04">
+        <joint name="left" type="slide" axis="0 1 0" range="0 0.03"/>
+        <geom type="box" size="0.005 0.005 0.025" mass="0.05"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_an_mjcf_parts_root_is_posed_by_the_mount_pose_then_by_its_own(tmp_path: Path) -> None:
+    (tmp_path / "arm.xml").write_text(MOUNTED_ARM)
+    (tmp_path / "gripper.xml").write_text(MOUNTED_GRIPPER)
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: mounted_arm\ndescription: {mjcf: arm.xml}\n"
+        "parts:\n  gripper: {description: {mjcf: gripper.xml}, at: link1,"
+        " pose: {p: [0, 0, 0.1], rpy: [0, 0, pi/2]}}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: [j1], lower: -1, upper: 1,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "  fingers: {type: pd_joint_pos, joints: [left], lower: 0, upper: 0.03,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm, gripper: fingers}\n"
+    )
+    text = _compiled(spec).robot.description.generated_text
+    palm = next(b for b in etree.fromstring(text).iter("body") if b.get("name") == "palm")
+    # in link1's frame: the mount pose, then the root's own pose within it (turned 90° about
+    # z, the root's 5 cm along x become 5 cm along y)
+    position = [float(v) for v in palm.get("pos").split()]
+    np.testing.assert_allclose(position, [0, 0.05, 0.1], atol=1e-9)
+    about_z = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    about_x = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
+    quaternion = [float(v) for v in palm.get("quat").split()]
+    np.testing.assert_allclose(matrix_from_quaternion(quaternion), about_z @ about_x, atol=1e-9)
+
+
 def test_build_carries_a_composed_mjcf_standalone(tmp_path: Path) -> None:
     from conftest import invoke_robospec
 

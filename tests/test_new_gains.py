@@ -238,6 +238,45 @@ def test_gains_add_the_toppling_stiffness_and_never_soften_below_it() -> None:
     assert rated.force_limit == 5.0
 
 
+def test_a_rated_joint_holding_a_load_is_softened_to_what_the_rating_leaves_beyond_it() -> None:
+    from robospec.authoring.gains import HOLD_DRIFT, STEP, analytic_gains
+    from robospec.description.ratings import Rating
+
+    rating = Rating(5.0, "<limit effort>", 1)
+    # 2 N m of load held within 0.01 rad asks for 200 N m/rad, 22 N m with a 0.1 rad step: the
+    # rating's 5 N m less the load's 2 leave 3 N m for the step, 30 N m/rad
+    assert HOLD_DRIFT["revolute"] == pytest.approx(0.01) and STEP["revolute"] == 0.1
+    rated = analytic_gains("revolute", 0.01, 2.0, 2.0, rating)
+    assert rated.needs == pytest.approx(22.0)
+    assert rated.stiffness == pytest.approx(30.0)
+    assert rated.force_limit == 5.0 and rated.load == 2.0 and rated.over_rating
+    # the load's sign (which way gravity turns the joint) changes nothing
+    assert analytic_gains("revolute", 0.01, -2.0, 2.0, rating).stiffness == pytest.approx(30.0)
+    # a slide: 20 N held within a millimetre (20 000 N/m) and a 1 cm step; its 50 N rating
+    # leaves 30 N for the step: 3000 N/m
+    slide = analytic_gains("prismatic", 1.0, 20.0, 0.2, Rating(50.0, "<limit effort>", 1))
+    assert slide.stiffness == pytest.approx(3000.0)
+    # a load the rating cannot hold at all: nothing to soften to, the joint keeps the stiffness
+    # that holds the load (RS609 says it cannot hold the rest pose)
+    beyond = analytic_gains("revolute", 0.01, 6.0, 2.0, rating)
+    assert beyond.stiffness == pytest.approx(600.0)
+    # within its rating, a joint keeps its natural frequency: I w²
+    free = analytic_gains("revolute", 0.01, 0.0, 2.0, Rating(50.0, "<limit effort>", 1))
+    assert free.stiffness == pytest.approx(4.0) and not free.over_rating
+
+
+def test_an_unrated_joints_force_limit_spans_its_range_on_top_of_its_load() -> None:
+    from robospec.authoring.gains import UNBOUNDED_SPAN, analytic_gains
+
+    # 2 N m of load, 200 N m/rad across a 1.5 rad range: the limit never clips the drive
+    assert analytic_gains("revolute", 0.01, 2.0, 1.5, None).force_limit == pytest.approx(302.0)
+    # unbounded (continuous): half a turn either way
+    unbounded = analytic_gains("revolute", 0.01, 2.0, None, None).force_limit
+    assert unbounded == pytest.approx(2.0 + 200.0 * UNBOUNDED_SPAN, rel=1e-3)
+    # a range shorter than check's step: the step's reach
+    assert analytic_gains("revolute", 0.01, 0.0, 0.01, None).force_limit == pytest.approx(0.4)
+
+
 # two joints in a chain, one with a placeholder range of ±10 rad (more than a turn)
 WIDE = """<?xml version="1.0"?>
 <robot name="wide">
