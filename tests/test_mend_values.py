@@ -83,6 +83,27 @@ def test_the_bound_raises_each_principal_moment_below_a_2_mm_radius_of_gyration_
     # a moment at a radius of gyration above the bound (3 mm) needs nothing
     sound = _urdf(tmp_path, "2", (0.01, 0, 0, 2 * 0.003**2, 0, 0.01))
     assert _statuses(derive(sound, {"inertia": "bound"})) == ["stale"]
+    # an all-zero inertia beside a mass (SAPIEN would ignore it) is given the bound
+    zero = derive(_urdf(tmp_path, "0.5", (0, 0, 0, 0, 0, 0)), {"inertia": "bound"})
+    assert _inertia(zero) == pytest.approx([2e-6, 0, 0, 2e-6, 0, 2e-6], rel=1e-9)
+    # a nanogram says nothing: the bound of a link that light is 1e-12 kg m²
+    feather = derive(_urdf(tmp_path, "1e-9", (1e-16, 0, 0, 1e-16, 0, 1e-16)), {"inertia": "bound"})
+    assert _inertia(feather) == pytest.approx([1e-12, 0, 0, 1e-12, 0, 1e-12], rel=1e-9)
+
+
+def test_an_inertia_or_a_mass_that_is_no_number_is_left_to_its_own_error(tmp_path: Path) -> None:
+    policies = ["diagonal", "shapes", "bound", "balance"]
+    unreadable = _urdf(tmp_path, "1", (0.01, 0, 0, 0.01, 0, 0.002)).data.replace(
+        b'ixx="0.01"', b'ixx="heavy"'
+    )
+    (tmp_path / "unreadable.urdf").write_bytes(unreadable)
+    source = Source(str(tmp_path / "unreadable.urdf"), "unreadable.urdf", "urdf", unreadable)
+    assert _statuses(derive(source, {"inertia": policies})) == ["stale"]
+    assert suggest_mends(source)[0] == {}
+    massless = unreadable.replace(b'ixx="heavy"', b'ixx="1e-10"').replace(b'<mass value="1"/>', b"")
+    (tmp_path / "massless.urdf").write_bytes(massless)
+    source = Source(str(tmp_path / "massless.urdf"), "massless.urdf", "urdf", massless)
+    assert _statuses(derive(source, {"inertia": policies})) == ["stale"]
 
 
 def test_shapes_gives_a_far_too_small_inertia_a_solid_box_about_the_collision_shapes(
@@ -99,9 +120,15 @@ def test_shapes_gives_a_far_too_small_inertia_a_solid_box_about_the_collision_sh
     # small but not far too small (a radius of gyration of 1 mm, above 0.1 mm): shapes keeps it
     small = _urdf(tmp_path, "1", (1e-6, 0, 0, 1e-6, 0, 1e-6), _box("0.1 0.2 0.3"))
     assert _statuses(derive(small, {"inertia": "shapes"})) == ["stale"]
+    # far too small about one axis only (its smallest principal moment): a box all the same
+    rod = _urdf(tmp_path, "1.2", (1e-10, 0, 0, 0.01, 0, 0.01), _box("0.1 0.2 0.3"))
+    assert _inertia(derive(rod, {"inertia": "shapes"}))[0] == pytest.approx(k * 0.13)
+    # 50 µm: under the 0.1 mm no link has
+    thin = _urdf(tmp_path, "1", (2.5e-9, 0, 0, 2.5e-9, 0, 2.5e-9), _box("0.1 0.2 0.3"))
+    assert _statuses(derive(thin, {"inertia": "shapes"})) == ["applied"]
     # an all-zero inertia beside a mass is given one by shapes (SAPIEN would ignore it)
-    zero = _urdf(tmp_path, "1.2", (0, 0, 0, 0, 0, 0), _box("0.1 0.2 0.3"))
-    assert _inertia(derive(zero, {"inertia": "shapes"}))[0] == pytest.approx(k * 0.13)
+    zero = _urdf(tmp_path, "0.6", (0, 0, 0, 0, 0, 0), _box("0.1 0.2 0.3"))
+    assert _inertia(derive(zero, {"inertia": "shapes"}))[0] == pytest.approx(0.05 * 0.13)
     # ... and left to SAPIEN by a policy that sizes nothing
     assert _statuses(derive(zero, {"inertia": "diagonal"})) == ["stale"]
 
@@ -144,6 +171,32 @@ def test_new_suggests_the_bound_or_the_shapes_for_an_inertia_far_too_small_for_i
     assert chosen == {"inertia": "shapes"}
     # 0.5 mm: small, yet a body PhysX solves; nothing to suggest
     assert suggest_mends(_urdf(tmp_path / "bare", "1", (2.5e-7, 0, 0, 2.5e-7, 0, 2.5e-7)))[0] == {}
+    # 50 µm is far too small, and so is one axis at 10 µm
+    thin = (2.5e-9, 0, 0, 2.5e-9, 0, 2.5e-9)
+    assert suggest_mends(_urdf(tmp_path / "bare", "1", thin))[0] == {"inertia": "bound"}
+    rod = (1e-10, 0, 0, 0.01, 0, 0.01)
+    assert suggest_mends(_urdf(tmp_path / "bare", "1", rod))[0] == {"inertia": "bound"}
+    # an all-zero inertia beside a mass loads: SAPIEN computes one from the shapes
+    assert suggest_mends(_urdf(tmp_path / "bare", "1", (0,) * 6))[0] == {}
+    # a negative moment the diagonal cannot mend: the bound
+    negative = (-1e-9, 0.001, 0, 0.01, 0, 0.002)
+    assert suggest_mends(_urdf(tmp_path / "bare", "1", negative))[0] == {"inertia": "bound"}
+
+
+def test_new_suggests_every_inertia_policy_the_links_need_in_order(tmp_path: Path) -> None:
+    # one link's products outweigh its moments (the diagonal mends it), another's radii of
+    # gyration are 10 µm (the bound): both, the diagonal first
+    text = _urdf(tmp_path, "1", (0.01, 0.02, 0, 0.01, 0, 0.002)).data.decode()
+    tiny = (
+        '<link name="tiny"><inertial><mass value="1"/><inertia ixx="1e-10" ixy="0" ixz="0" '
+        'iyy="1e-10" iyz="0" izz="1e-10"/></inertial></link><joint name="wrist" '
+        'type="revolute"><parent link="upper_arm"/><child link="tiny"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint></robot>'
+    )
+    path = tmp_path / "two.urdf"
+    path.write_text(text.replace("</robot>", tiny))
+    chosen, derived = suggest_mends(Source(str(path), path.name, "urdf", path.read_bytes()))
+    assert chosen == {"inertia": ["diagonal", "bound"]} and derived.refusals == ()
 
 
 # -- mass ----------------------------------------------------------------------------------------
@@ -189,12 +242,14 @@ def test_new_suggests_the_mass_bound_only_for_a_negative_mass(tmp_path: Path) ->
 
 
 def _mjcf(tmp_path: Path, geoms: str) -> Source:
-    """A two-body arm on a base whose box has contype 1 (as a floor has), and ``geoms`` on the
-    upper body."""
+    """A two-body arm on a base whose box collides as MuJoCo's defaults have it (contype and
+    conaffinity 1, written nowhere), and ``geoms`` on the upper body; default class ``soft``
+    has a geom of contype 0 and conaffinity 1."""
     text = f"""<mujoco model="touching"><compiler angle="degree"/>
+  <default><default class="soft"><geom contype="0" conaffinity="1"/></default></default>
   <worldbody>
     <body name="base">
-      <geom type="box" size=".1 .1 .02" contype="1" conaffinity="1"/>
+      <geom type="box" size=".1 .1 .02"/>
       <body name="upper" pos="0 0 .1">
         <joint name="shoulder" axis="0 1 0" range="-90 90"/>
         {geoms}
@@ -217,15 +272,18 @@ def test_a_geom_of_contype_0_gets_its_conaffinity_as_contype_where_a_contype_tou
     tmp_path: Path,
 ) -> None:
     geoms = (
-        '<geom name="touched" type="sphere" size=".02" contype="0" conaffinity="1"/>'
+        # conaffinity 1 as MuJoCo's default: the base's default contype 1 touches it
+        '<geom name="touched" type="sphere" size=".02" contype="0"/>'
+        '<geom name="classed" class="soft" type="sphere" size=".02"/>'
         # bit 2: no geom's contype has it, so MuJoCo collides it with nothing
         '<geom name="untouched" type="sphere" size=".02" contype="0" conaffinity="2"/>'
         '<geom name="visual" type="sphere" size=".02" contype="0" conaffinity="0"/>'
     )
     derived = derive(_mjcf(tmp_path, geoms), {"contype": "conaffinity"})
-    assert _contypes(derived) == {"touched": "1", "untouched": "0", "visual": "0"}
+    assert _contypes(derived) == {"touched": "1", "classed": "1", "untouched": "0", "visual": "0"}
     assert [c.subject for o in derived.outcomes for c in o.changes] == [
-        "geom 'touched' of body 'upper'"
+        "geom 'touched' of body 'upper'",
+        "geom 'classed' of body 'upper'",
     ]
 
 
