@@ -369,3 +369,131 @@ def test_a_merged_inertial_moves_up_alone_only_where_the_parent_has_nothing_to_w
     geom = '<geom type="sphere" size=".02"/>'
     shaped = derive(_plated(tmp_path / "shaped", geom, plate), {"bodies": "merge"})
     assert _inertial(shaped, "upper") is None
+
+
+def _bodies(derived: Derived) -> list[str]:
+    return [str(b.get("name")) for b in etree.fromstring(derived.text.encode()).iter("body")]
+
+
+def _model(tmp_path: Path, worldbody: str, extra: str = "") -> Source:
+    text = f"""<mujoco model="m"><compiler angle="radian"/>
+  <default>
+    <default class="pad"><geom rgba="1 0 0 1"/></default>
+    <default class="other"><geom rgba="0 1 0 1"/></default>
+  </default>
+  <worldbody>
+    {worldbody}
+  </worldbody>
+  {extra}
+</mujoco>
+"""
+    path = tmp_path / "m.xml"
+    path.write_text(text)
+    return Source(str(path), path.name, "mjcf", text.encode())
+
+
+def test_a_jointless_body_robospec_cannot_move_is_refused_and_the_others_still_merged(
+    tmp_path: Path,
+) -> None:
+    source = _model(
+        tmp_path,
+        '<body name="base"><geom type="box" size=".1 .1 .02"/>'
+        '<body name="upper" pos="0 0 .1"><joint name="j" axis="0 1 0"/>'
+        '<geom type="sphere" size=".02"/>'
+        '<body name="replicated"><replicate count="2" offset="0 0 .01">'
+        '<geom type="sphere" size=".01"/></replicate></body>'
+        '<body name="unread" pos="0 0"><geom type="sphere" size=".01"/></body>'
+        '<body name="plate" pos=".1 0 0"><geom type="box" size=".01 .01 .01"/></body>'
+        "</body></body>",
+    )
+    derived = derive(source, {"bodies": "merge"})
+    refused = sorted(r.message for r in derived.refusals)
+    assert len(refused) == 2
+    assert "cannot merge body 'replicated'" in refused[0] and "<replicate>" in refused[0]
+    assert "cannot read the pose of body 'unread'" in refused[1]
+    assert _bodies(derived) == ["base", "upper", "replicated", "unread"]  # the plate merged
+
+
+def test_a_wrapper_body_is_skipped_to_the_robots_first_link_which_is_not_merged(
+    tmp_path: Path,
+) -> None:
+    # ManiSkill's loader makes the wrapper's one body (no geom, no joint beside it) the robot's
+    # first link: that body stays, what is welded below it goes
+    source = _model(
+        tmp_path,
+        '<body name="wrapper"><body name="base"><geom type="box" size=".1 .1 .02"/>'
+        '<body name="plate" pos=".1 0 0"><geom type="box" size=".01 .01 .01"/></body>'
+        '<body name="upper" pos="0 0 .1"><joint name="j" axis="0 1 0"/>'
+        '<geom type="sphere" size=".02"/></body></body></body>',
+    )
+    assert _bodies(derive(source, {"bodies": "merge"})) == ["wrapper", "base", "upper"]
+    # a wrapper with a geom of its own is the first link: its jointless body is merged
+    source = _model(
+        tmp_path,
+        '<body name="wrapper"><geom type="sphere" size=".01"/><body name="base">'
+        '<geom type="box" size=".1 .1 .02"/><body name="upper" pos="0 0 .1">'
+        '<joint name="j" axis="0 1 0"/><geom type="sphere" size=".02"/></body></body></body>',
+    )
+    assert _bodies(derive(source, {"bodies": "merge"})) == ["wrapper", "upper"]
+
+
+def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to_its_parent(
+    tmp_path: Path,
+) -> None:
+    source = _model(
+        tmp_path,
+        '<body name="base"><geom type="box" size=".1 .1 .02"/>'
+        '<body name="upper" pos="0 0 .1"><joint name="j" axis="0 1 0"/>'
+        '<geom type="sphere" size=".02"/>'
+        '<body name="plate" childclass="pad" pos=".1 0 0" euler="0 0 1.5707963267948966">'
+        '<geom name="pad" type="box" size=".01 .01 .01" pos=".01 0 0"/>'
+        '<geom name="rod" type="capsule" size=".005" fromto="0 0 0 .02 0 0"/>'
+        '<site name="tip" pos="0 .01 0"/><geom name="own" class="other" size=".01"/>'
+        '<body name="finger"><joint name="k" axis="0 1 0"/><geom type="sphere" size=".01"/>'
+        '</body><body name="thumb" childclass="other"><joint name="t" axis="0 1 0"/>'
+        '<geom type="sphere" size=".01"/></body></body></body></body>',
+        '<contact><exclude body1="plate" body2="finger"/><exclude body1="upper" body2="plate"/>'
+        '</contact><sensor><framepos objtype="body" objname="plate"/></sensor>',
+    )
+    root = etree.fromstring(derive(source, {"bodies": "merge"}).text.encode())
+    upper = next(b for b in root.iter("body") if b.get("name") == "upper")
+    geoms = {g.get("name"): g for g in upper.findall("geom") if g.get("name")}
+    # the plate's class goes with its geoms and the bodies below it
+    assert geoms["pad"].get("class") == "pad"
+    assert geoms["own"].get("class") == "other"  # its own class kept
+    children = {b.get("name"): b.get("childclass") for b in upper.findall("body")}
+    assert children == {"finger": "pad", "thumb": "other"}
+    # posed in the upper body's frame: turned 90° about z, 0.1 m out along x
+    assert _numbers(geoms["pad"].get("pos")) == pytest.approx([0.1, 0.01, 0])
+    assert _numbers(geoms["rod"].get("fromto")) == pytest.approx([0.1, 0, 0, 0.1, 0.02, 0])
+    assert _numbers(upper.find("site").get("pos")) == pytest.approx([0.09, 0, 0])
+    # what named the plate names the upper body; the exclusion of the two is gone
+    assert [(e.get("body1"), e.get("body2")) for e in root.iter("exclude")] == [("upper", "finger")]
+    assert next(root.iter("framepos")).get("objname") == "upper"
+
+
+def test_a_merged_body_of_its_parents_class_adds_no_class(tmp_path: Path) -> None:
+    source = _model(
+        tmp_path,
+        '<body name="base"><geom type="box" size=".1 .1 .02"/>'
+        '<body name="upper" childclass="pad" pos="0 0 .1"><joint name="j" axis="0 1 0"/>'
+        '<geom type="sphere" size=".02"/><body name="plate" childclass="pad">'
+        '<geom name="pad" type="box" size=".01 .01 .01"/><body name="finger">'
+        '<joint name="k" axis="0 1 0"/><geom type="sphere" size=".01"/></body>'
+        "</body></body></body>",
+    )
+    root = etree.fromstring(derive(source, {"bodies": "merge"}).text.encode())
+    pad = next(g for g in root.iter("geom") if g.get("name") == "pad")
+    finger = next(b for b in root.iter("body") if b.get("name") == "finger")
+    assert (pad.get("class"), finger.get("childclass")) == (None, None)
+
+
+def test_a_body_with_a_free_joint_is_no_jointless_body(tmp_path: Path) -> None:
+    source = _model(
+        tmp_path,
+        '<body name="base"><freejoint/><geom type="box" size=".1 .1 .02"/>'
+        '<body name="upper" pos="0 0 .1"><joint name="j" axis="0 1 0"/>'
+        '<geom type="sphere" size=".02"/><body name="loose"><freejoint/>'
+        '<geom type="sphere" size=".01"/></body></body></body>',
+    )
+    assert _bodies(derive(source, {"bodies": "merge"})) == ["base", "upper", "loose"]

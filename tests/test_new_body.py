@@ -464,3 +464,42 @@ def test_without_a_tcp_link_the_tcp_is_the_fingers_midpoint_on_their_parent(
         "midpoint": ["left_finger", "right_finger"],
         "orientation": "hand",
     }
+
+
+def test_a_gripper_of_one_jaw_closes_it_against_the_link_it_hangs_from(tmp_path: Path) -> None:
+    # SO-101's gripper: one moving jaw on a fixed one (the hand link itself)
+    links = ["base", "upper", "hand", "jaw"]
+    joints = [
+        _joint("shoulder", "revolute", "base", "upper", "0 1 0"),
+        _joint("elbow", "revolute", "upper", "hand", "0 1 0", '<origin xyz="0 0 0.3"/>'),
+        _joint("gripper", "revolute", "hand", "jaw", "1 0 0", '<origin xyz="0 0.03 0.01"/>'),
+    ]
+    data, _ = scaffold(_urdf(tmp_path / "jaw.urdf", "jaw", links, joints), tmp_path / "jaw.yaml")
+    assert data["grasping"]["is_grasping"]["fingers"] == [
+        {"link": "jaw", "opening": "+y"},  # away from the hand's centre, along its y
+        {"link": "hand", "opening": "-y"},
+    ]
+    assert data["tcp"]["midpoint"] == ["jaw", "hand"]
+
+
+def test_a_hand_of_finger_chains_grasps_with_the_tips_of_the_two_farthest_apart(
+    tmp_path: Path,
+) -> None:
+    # three fingers of two joints on a palm, named fingerN by the scaffold; the outer two are
+    # 8 cm apart, the middle one 4 cm from each; each ends in a fixed tip link
+    links, joints = ["palm"], []
+    for k, x in enumerate(["-0.04", "0", "0.04"], start=1):
+        links += [f"p{k}", f"d{k}", f"tip{k}"]
+        joints += [
+            _joint(f"a{k}", "revolute", "palm", f"p{k}", "1 0 0", f'<origin xyz="{x} 0 0.05"/>'),
+            _joint(f"b{k}", "revolute", f"p{k}", f"d{k}", "1 0 0", '<origin xyz="0 0 0.03"/>'),
+            _joint(f"t{k}", "fixed", f"d{k}", f"tip{k}", extra='<origin xyz="0 0 0.02"/>'),
+        ]
+    data, _ = scaffold(_urdf(tmp_path / "hand.urdf", "hand", links, joints), tmp_path / "h.yaml")
+    assert data["groups"] == {f"finger{k}": [f"a{k}", f"b{k}"] for k in (1, 2, 3)}
+    assert data["grasping"]["is_grasping"]["fingers"] == [
+        {"link": "tip1", "opening": "-x"},
+        {"link": "tip3", "opening": "+x"},
+    ]
+    assert data["tcp"] == {"link": "palm", "midpoint": ["tip1", "tip3"], "orientation": "palm"}
+    assert "is_static" not in data  # no arm
