@@ -435,6 +435,15 @@ def test_a_wrapper_body_is_skipped_to_the_robots_first_link_which_is_not_merged(
         '<joint name="j" axis="0 1 0"/><geom type="sphere" size=".02"/></body></body></body>',
     )
     assert _bodies(derive(source, {"bodies": "merge"})) == ["wrapper", "upper"]
+    # so is a wrapper of two bodies: both are welded to it, and merge into it
+    source = _model(
+        tmp_path,
+        '<body name="wrapper"><body name="base"><geom type="box" size=".1 .1 .02"/>'
+        '<body name="upper" pos="0 0 .1"><joint name="j" axis="0 1 0"/>'
+        '<geom type="sphere" size=".02"/></body></body><body name="plate">'
+        '<geom type="sphere" size=".01"/></body></body>',
+    )
+    assert _bodies(derive(source, {"bodies": "merge"})) == ["wrapper", "upper"]
 
 
 def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to_its_parent(

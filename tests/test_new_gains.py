@@ -263,6 +263,9 @@ def test_a_rated_joint_holding_a_load_is_softened_to_what_the_rating_leaves_beyo
     # within its rating, a joint keeps its natural frequency: I w²
     free = analytic_gains("revolute", 0.01, 0.0, 2.0, Rating(50.0, "<limit effort>", 1))
     assert free.stiffness == pytest.approx(4.0) and not free.over_rating
+    # a rating of just what the step needs (4 N m/rad x 0.1 rad) is enough
+    just = analytic_gains("revolute", 0.01, 0.0, 2.0, Rating(0.4, "<limit effort>", 1))
+    assert just.stiffness == pytest.approx(4.0) and not just.over_rating
 
 
 def test_an_unrated_joints_force_limit_spans_its_range_on_top_of_its_load() -> None:
