@@ -380,6 +380,7 @@ def _model(tmp_path: Path, worldbody: str, extra: str = "") -> Source:
   <default>
     <default class="pad"><geom rgba="1 0 0 1"/></default>
     <default class="other"><geom rgba="0 1 0 1"/></default>
+    <default class="offset"><geom pos="0.01 0 0"/></default>
   </default>
   <worldbody>
     {worldbody}
@@ -435,7 +436,15 @@ def test_a_wrapper_body_is_skipped_to_the_robots_first_link_which_is_not_merged(
         '<joint name="j" axis="0 1 0"/><geom type="sphere" size=".02"/></body></body></body>',
     )
     assert _bodies(derive(source, {"bodies": "merge"})) == ["wrapper", "upper"]
-    # so is a wrapper of two bodies: both are welded to it, and merge into it
+    # so is a wrapper of a joint and a body: the body is welded to it, and merges into it
+    source = _model(
+        tmp_path,
+        '<body name="wrapper"><joint name="w" axis="0 0 1"/><body name="base">'
+        '<geom type="box" size=".1 .1 .02"/><body name="upper" pos="0 0 .1">'
+        '<joint name="j" axis="0 1 0"/><geom type="sphere" size=".02"/></body></body></body>',
+    )
+    assert _bodies(derive(source, {"bodies": "merge"})) == ["wrapper", "upper"]
+    # and a wrapper of two bodies: both are welded to it, and merge into it
     source = _model(
         tmp_path,
         '<body name="wrapper"><body name="base"><geom type="box" size=".1 .1 .02"/>'
@@ -458,6 +467,7 @@ def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to
         '<geom name="pad" type="box" size=".01 .01 .01" pos=".01 0 0"/>'
         '<geom name="rod" type="capsule" size=".005" fromto="0 0 0 .02 0 0"/>'
         '<site name="tip" pos="0 .01 0"/><geom name="own" class="other" size=".01"/>'
+        '<geom name="shifted" class="offset" size=".01"/>'
         '<body name="finger"><joint name="k" axis="0 1 0"/><geom type="sphere" size=".01"/>'
         '</body><body name="thumb" childclass="other"><joint name="t" axis="0 1 0"/>'
         '<geom type="sphere" size=".01"/></body></body></body></body>',
@@ -474,6 +484,7 @@ def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to
     assert children == {"finger": "pad", "thumb": "other"}
     # posed in the upper body's frame: turned 90° about z, 0.1 m out along x
     assert _numbers(geoms["pad"].get("pos")) == pytest.approx([0.1, 0.01, 0])
+    assert _numbers(geoms["shifted"].get("pos")) == pytest.approx([0.1, 0.01, 0])  # its class's
     assert _numbers(geoms["rod"].get("fromto")) == pytest.approx([0.1, 0, 0, 0.1, 0.02, 0])
     assert _numbers(upper.find("site").get("pos")) == pytest.approx([0.09, 0, 0])
     # what named the plate names the upper body; the exclusion of the two is gone
@@ -505,4 +516,5 @@ def test_a_body_with_a_free_joint_is_no_jointless_body(tmp_path: Path) -> None:
         '<geom type="sphere" size=".02"/><body name="loose"><freejoint/>'
         '<geom type="sphere" size=".01"/></body></body></body>',
     )
-    assert _bodies(derive(source, {"bodies": "merge"})) == ["base", "upper", "loose"]
+    derived = derive(source, {"bodies": "merge"})
+    assert _bodies(derived) == ["base", "upper", "loose"] and derived.refusals == ()

@@ -276,6 +276,8 @@ def test_an_unrated_joints_force_limit_spans_its_range_on_top_of_its_load() -> N
     # unbounded (continuous): half a turn either way
     unbounded = analytic_gains("revolute", 0.01, 2.0, None, None).force_limit
     assert unbounded == pytest.approx(2.0 + 200.0 * UNBOUNDED_SPAN, rel=1e-3)
+    infinite = analytic_gains("revolute", 0.01, 2.0, math.inf, None).force_limit
+    assert infinite == pytest.approx(unbounded)
     # a range shorter than check's step: the step's reach
     assert analytic_gains("revolute", 0.01, 0.0, 0.01, None).force_limit == pytest.approx(0.4)
 
