@@ -465,7 +465,7 @@ def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to
         '<geom type="sphere" size=".02"/>'
         '<body name="plate" childclass="pad" pos=".1 0 0" euler="0 0 1.5707963267948966">'
         '<geom name="pad" type="box" size=".01 .01 .01" pos=".01 0 0"/>'
-        '<geom name="rod" type="capsule" size=".005" fromto="0 0 0 .02 0 0"/>'
+        '<geom name="rod" type="capsule" size=".005" fromto=".001 .002 .003 .02 .004 .005"/>'
         '<site name="tip" pos="0 .01 0"/><geom name="own" class="other" size=".01"/>'
         '<geom name="shifted" class="offset" size=".01"/>'
         '<body name="finger"><joint name="k" axis="0 1 0"/><geom type="sphere" size=".01"/>'
@@ -485,7 +485,9 @@ def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to
     # posed in the upper body's frame: turned 90° about z, 0.1 m out along x
     assert _numbers(geoms["pad"].get("pos")) == pytest.approx([0.1, 0.01, 0])
     assert _numbers(geoms["shifted"].get("pos")) == pytest.approx([0.1, 0.01, 0])  # its class's
-    assert _numbers(geoms["rod"].get("fromto")) == pytest.approx([0.1, 0, 0, 0.1, 0.02, 0])
+    assert _numbers(geoms["rod"].get("fromto")) == pytest.approx(
+        [0.098, 0.001, 0.003, 0.096, 0.02, 0.005]
+    )
     assert _numbers(upper.find("site").get("pos")) == pytest.approx([0.09, 0, 0])
     # what named the plate names the upper body; the exclusion of the two is gone
     assert [(e.get("body1"), e.get("body2")) for e in root.iter("exclude")] == [("upper", "finger")]

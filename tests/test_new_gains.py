@@ -169,6 +169,48 @@ def test_an_mjcf_position_servo_is_geared_squared(tmp_path: Path) -> None:
     )
 
 
+def test_an_mjcf_joints_actuatorfrcrange_rates_its_motor(tmp_path: Path) -> None:
+    # a motor (no servo gains of its own) on a joint whose actuatorfrcrange is 0.5 N m: far
+    # less than the natural-frequency gains need for check's step
+    text = SERVO.replace('limited="true"/>', 'limited="true" actuatorfrcrange="-0.5 0.5"/>')
+    text = text.replace(
+        '<position joint="hinge" kp="10" kv="2" gear="3" forcerange="-4 4"/>',
+        '<motor name="drive" joint="hinge"/>',
+    )
+    data, diagnostics = _scaffold(tmp_path, text, ".xml")
+    (controller,) = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos"]
+    assert controller["force_limit"] == 0.5
+    (warning,) = [d for d in diagnostics if d.code == "RS609"]
+    assert "more than its actuatorfrcrange of 0.5 N m" in warning.message
+    assert (
+        warning.location.line
+        == text.splitlines().index('    <motor name="drive" joint="hinge"/>') + 1
+    )
+
+
+def test_joint_gains_span_each_unrated_joints_range_and_skip_the_immobile(tmp_path: Path) -> None:
+    from robospec.authoring.joint_gains import joint_gains
+
+    path = tmp_path / "lever.urdf"
+    path.write_text(
+        ARM.format(effort=100).replace(
+            '<limit lower="0" upper="0.2" effort="0"', '<limit lower="-0.1" upper="0.2" effort="0"'
+        )
+    )
+    source, _ = read_description_file(path)
+    assert source is not None
+    qpos = {"shoulder": 0.0, "slide": 0.0, "locked": 0.0}
+    gains = joint_gains(analyse(source), qpos, gravity=False)
+    assert set(gains) == {"shoulder", "slide"}  # the locked joint gets no drive
+    # unrated: the drive spans the slide's 0.3 m range
+    assert gains["slide"].force_limit == pytest.approx(1.1 * 400 * 0.3, rel=2e-3)
+    # gravity off: no load held; on, the shoulder holds the arm's weight
+    assert gains["shoulder"].load == 0.0
+    assert joint_gains(analyse(source), qpos, gravity=True)["shoulder"].load == pytest.approx(
+        9.81 * (2 * 0.5 + 1.1 * 1.0)
+    )
+
+
 # a stick on a foot: a 10 kg body whose centre of mass is 1 m above the ankle (pitch, about y),
 # a yaw joint between them (about z), and a 1 kg foot below the ankle
 STICK = """<?xml version="1.0"?>
