@@ -352,6 +352,21 @@ def test_merged_inertials_combine_masses_centres_and_inertias_by_parallel_axes(
     assert [xy, xz, yz] == pytest.approx([0, 0, 0], abs=1e-12)
 
 
+def test_a_merged_full_inertia_keeps_its_products(tmp_path: Path) -> None:
+    source = _plated(
+        tmp_path,
+        '<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>',
+        '<inertial pos="0 0 0" mass="1" fullinertia="0.01 0.02 0.03 0.001 0.002 0.003"/>',
+    )
+    inertial = _inertial(derive(source, {"bodies": "merge"}), "upper")
+    assert inertial is not None
+    # the centres 0.05 m either side of the joint centre along x: 2 x 1 kg x 0.05² about y, z
+    shift = 2 * 0.05**2
+    assert _numbers(inertial.get("fullinertia")) == pytest.approx(
+        [0.02, 0.03 + shift, 0.04 + shift, 0.001, 0.002, 0.003]
+    )
+
+
 def test_a_merged_inertial_moves_up_alone_only_where_the_parent_has_nothing_to_weigh(
     tmp_path: Path,
 ) -> None:
