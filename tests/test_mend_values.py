@@ -355,16 +355,21 @@ def test_merged_inertials_combine_masses_centres_and_inertias_by_parallel_axes(
 def test_a_merged_full_inertia_keeps_its_products(tmp_path: Path) -> None:
     source = _plated(
         tmp_path,
-        '<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.01 0.01"/>',
-        '<inertial pos="0 0 0" mass="1" fullinertia="0.01 0.02 0.03 0.001 0.002 0.003"/>',
+        '<inertial pos="0 0 0" mass="1" diaginertia="0.01 0.015 0.02"/>',
+        '<inertial pos="0.01 0.02 0.03" mass="1" fullinertia="0.01 0.02 0.03 0.001 0.002 0.003"/>',
     )
     inertial = _inertial(derive(source, {"bodies": "merge"}), "upper")
     assert inertial is not None
-    # the centres 0.05 m either side of the joint centre along x: 2 x 1 kg x 0.05² about y, z
-    shift = 2 * 0.05**2
-    assert _numbers(inertial.get("fullinertia")) == pytest.approx(
-        [0.02, 0.03 + shift, 0.04 + shift, 0.001, 0.002, 0.003]
-    )
+    # the plate's centre at (0.11, 0.02, 0.03): the two centres d = ±(0.055, 0.01, 0.015)
+    # from their common one, each adding m (|d|² E - d dᵀ)
+    assert _numbers(inertial.get("pos")) == pytest.approx([0.055, 0.01, 0.015])
+    d = (0.055, 0.01, 0.015)
+    square = sum(v * v for v in d)
+    shift = [[2 * ((square if i == j else 0.0) - d[i] * d[j]) for j in range(3)] for i in range(3)]
+    own = [[0.02, 0.001, 0.002], [0.001, 0.035, 0.003], [0.002, 0.003, 0.05]]
+    total = [[own[i][j] + shift[i][j] for j in range(3)] for i in range(3)]
+    expected = [total[0][0], total[1][1], total[2][2], total[0][1], total[0][2], total[1][2]]
+    assert _numbers(inertial.get("fullinertia")) == pytest.approx(expected)
 
 
 def test_a_merged_inertial_moves_up_alone_only_where_the_parent_has_nothing_to_weigh(
