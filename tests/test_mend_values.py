@@ -370,6 +370,16 @@ def test_a_merged_full_inertia_keeps_its_products(tmp_path: Path) -> None:
     total = [[own[i][j] + shift[i][j] for j in range(3)] for i in range(3)]
     expected = [total[0][0], total[1][1], total[2][2], total[0][1], total[0][2], total[1][2]]
     assert _numbers(inertial.get("fullinertia")) == pytest.approx(expected)
+    # grams weigh as kilograms do: 0.2 kg and a 0.3 kg plate 0.1 m out
+    (tmp_path / "light").mkdir()
+    light = _plated(
+        tmp_path / "light",
+        '<inertial pos="0 0 0" mass="0.2" diaginertia="0.001 0.001 0.001"/>',
+        '<inertial pos="0 0 0" mass="0.3" diaginertia="0.001 0.001 0.001"/>',
+    )
+    inertial = _inertial(derive(light, {"bodies": "merge"}), "upper")
+    assert inertial is not None and float(inertial.get("mass", "")) == pytest.approx(0.5)
+    assert _numbers(inertial.get("pos")) == pytest.approx([0.06, 0, 0])
 
 
 def test_a_merged_inertial_moves_up_alone_only_where_the_parent_has_nothing_to_weigh(
