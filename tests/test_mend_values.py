@@ -502,7 +502,9 @@ def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to
         '</body><body name="thumb" childclass="other"><joint name="t" axis="0 1 0"/>'
         '<geom type="sphere" size=".01"/></body></body></body></body>',
         '<contact><exclude body1="plate" body2="finger"/><exclude body1="upper" body2="plate"/>'
-        '</contact><sensor><framepos objtype="body" objname="plate"/></sensor>',
+        '</contact><sensor><framepos objtype="body" objname="plate"/>'
+        '<framepos objtype="xbody" objname="plate"/><framepos objtype="body" objname="finger"/>'
+        '<framepos objtype="site" objname="tip"/></sensor>',
     )
     root = etree.fromstring(derive(source, {"bodies": "merge"}).text.encode())
     upper = next(b for b in root.iter("body") if b.get("name") == "upper")
@@ -521,7 +523,9 @@ def test_a_merged_body_keeps_its_default_class_on_what_it_held_and_names_move_to
     assert _numbers(upper.find("site").get("pos")) == pytest.approx([0.09, 0, 0])
     # what named the plate names the upper body; the exclusion of the two is gone
     assert [(e.get("body1"), e.get("body2")) for e in root.iter("exclude")] == [("upper", "finger")]
-    assert next(root.iter("framepos")).get("objname") == "upper"
+    # a sensor of the plate's frame (body or xbody) is one of the upper body's
+    named = [(f.get("objtype"), f.get("objname")) for f in root.iter("framepos")]
+    assert named == [("body", "upper"), ("xbody", "upper"), ("body", "finger"), ("site", "tip")]
 
 
 def test_a_merged_body_of_its_parents_class_adds_no_class(tmp_path: Path) -> None:
