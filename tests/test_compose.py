@@ -419,7 +419,7 @@ def test_an_mjcf_part_without_defaults_gets_no_default_class(tmp_path: Path) -> 
 
 NAMED_ARM = """<mujoco model="arm"><compiler angle="radian"/>
   <default><geom rgba=".8 .8 .8 1"/></default>
-  <asset><material name="grey" rgba=".5 .5 .5 1"/></asset>
+  <asset><material name="grey" rgba=".5 .5 .5 1"/><material name="paint" rgba="0 0 1 1"/></asset>
   <worldbody>
     <body name="base">
       <geom type="box" size=".1 .1 .02" material="grey"/>
@@ -440,10 +440,12 @@ NAMED_GRIPPER = """<mujoco model="gripper"><compiler angle="radian"/>
   <asset>
     <material name="grey" rgba=".5 .5 .5 1"/>
     <material name="rubber" rgba=".1 .1 .1 1"/>
+    <material name="paint" rgba="1 0 0 1"/>
   </asset>
   <worldbody>
     <body name="base">
       <geom type="box" size="0.02 0.04 0.02" mass="0.3" material="grey"/>
+      <geom name="logo" type="box" size="0.01 0.01 0.001" material="paint"/>
       <body name="left_finger" pos="0 0.02 0.04">
         <joint name="j1" type="slide" axis="0 1 0" range="0 0.03" ref="0.01"/>
         <geom type="box" size="0.005 0.005 0.025" mass="0.05" material="rubber"/>
@@ -485,8 +487,12 @@ def test_an_mjcf_part_keeps_its_names_defaults_and_sections_prefixed_where_they_
     (own,) = main.findall("default")
     assert own.get("class") == "gripper" and own.find("joint").get("damping") == "1"
     assert main.find("geom").get("rgba") == ".8 .8 .8 1"  # the robot's own, kept
-    # the material both define alike once, the part's own beside it
-    assert [m.get("name") for m in root.iter("material")] == ["grey", "rubber"]
+    # the material both define alike once, the part's own beside it, and the one both name
+    # but define otherwise prefixed, with the part's geom that wears it
+    materials = [m.get("name") for m in root.iter("material")]
+    assert materials == ["grey", "paint", "rubber", "gripper_paint"]
+    logo = next(g for g in root.iter("geom") if g.get("name") == "logo")
+    assert logo.get("material") == "gripper_paint"
     # the sections' references follow the renames
     (exclude,) = root.iter("exclude")
     assert (exclude.get("body1"), exclude.get("body2")) == ("gripper_base", "left_finger")
