@@ -334,6 +334,164 @@ def test_an_mjcf_hand_on_an_mjcf_arm_keeps_its_defaults_and_shares_alike_assets(
     assert not any(d.code == "RS736" for d in result.diagnostics)
 
 
+MOUNTED_ARM = """<mujoco model="arm"><compiler angle="radian"/>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size=".1 .1 .02"/>
+      <body name="link1" pos="0 0 .1">
+        <joint name="j1" axis="0 0 1" range="-1 1"/>
+        <geom type="capsule" size=".02 .1" pos="0 0 .1"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+# the part's root body stands 5 cm along x of its model's frame, turned 90° about x
+MOUNTED_GRIPPER = """<mujoco model="gripper"><compiler angle="radian"/>
+  <default><geom rgba=".5 .5 .5 1"/></default>
+  <worldbody>
+    <body name="palm" pos="0.05 0 0" quat="0.7071067811865476 0.7071067811865476 0 0">
+      <geom type="box" size="0.02 0.04 0.02" mass="0.3"/>
+      <body name="left_finger" pos="0 0.02 0.04">
+        <joint name="left" type="slide" axis="0 1 0" range="0 0.03"/>
+        <geom type="box" size="0.005 0.005 0.025" mass="0.05"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_an_mjcf_parts_root_is_posed_by_the_mount_pose_then_by_its_own(tmp_path: Path) -> None:
+    (tmp_path / "arm.xml").write_text(MOUNTED_ARM)
+    (tmp_path / "gripper.xml").write_text(MOUNTED_GRIPPER)
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: mounted_arm\ndescription: {mjcf: arm.xml}\n"
+        "parts:\n  gripper: {description: {mjcf: gripper.xml}, at: link1,"
+        " pose: {p: [0, 0, 0.1], rpy: [0, 0, pi/2]}}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: [j1], lower: -1, upper: 1,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "  fingers: {type: pd_joint_pos, joints: [left], lower: 0, upper: 0.03,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm, gripper: fingers}\n"
+    )
+    text = _compiled(spec).robot.description.generated_text
+    palm = next(b for b in etree.fromstring(text).iter("body") if b.get("name") == "palm")
+    # in link1's frame: the mount pose, then the root's own pose within it (turned 90° about
+    # z, the root's 5 cm along x become 5 cm along y)
+    position = [float(v) for v in palm.get("pos").split()]
+    np.testing.assert_allclose(position, [0, 0.05, 0.1], atol=1e-9)
+    about_z = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    about_x = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
+    quaternion = [float(v) for v in palm.get("quat").split()]
+    np.testing.assert_allclose(matrix_from_quaternion(quaternion), about_z @ about_x, atol=1e-9)
+
+
+def test_an_mjcf_part_without_defaults_gets_no_default_class(tmp_path: Path) -> None:
+    (tmp_path / "arm.xml").write_text(MOUNTED_ARM)
+    (tmp_path / "gripper.xml").write_text(
+        MOUNTED_GRIPPER.replace('  <default><geom rgba=".5 .5 .5 1"/></default>\n', "")
+    )
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: plain_arm\ndescription: {mjcf: arm.xml}\n"
+        "parts:\n  gripper: {description: {mjcf: gripper.xml}, at: link1}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: [j1, left], lower: null,"
+        " upper: null, stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm}\n"
+    )
+    text = _compiled(spec).robot.description.generated_text  # no RS052: no unknown class
+    palm = next(b for b in etree.fromstring(text).iter("body") if b.get("name") == "palm")
+    assert palm.get("childclass") is None
+
+
+NAMED_ARM = """<mujoco model="arm"><compiler angle="radian"/>
+  <default><geom rgba=".8 .8 .8 1"/></default>
+  <asset><material name="grey" rgba=".5 .5 .5 1"/><material name="paint" rgba="0 0 1 1"/></asset>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size=".1 .1 .02" material="grey"/>
+      <body name="link1" pos="0 0 .1">
+        <joint name="j1" axis="0 0 1" range="-1 1"/>
+        <geom type="capsule" size=".02 .1" pos="0 0 .1"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><position name="a1" joint="j1" kp="10"/></actuator>
+  <keyframe><key name="home" qpos="0.5" qvel="0.1" ctrl="0.5"/></keyframe>
+</mujoco>
+"""
+# a part whose body, joint and actuator names are the arm's too, with a material the arm has
+# alike and one of its own
+NAMED_GRIPPER = """<mujoco model="gripper"><compiler angle="radian"/>
+  <default><geom rgba=".2 .2 .2 1"/><joint damping="1"/></default>
+  <asset>
+    <material name="grey" rgba=".5 .5 .5 1"/>
+    <material name="rubber" rgba=".1 .1 .1 1"/>
+    <material name="paint" rgba="1 0 0 1"/>
+  </asset>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.02 0.04 0.02" mass="0.3" material="grey"/>
+      <geom name="logo" type="box" size="0.01 0.01 0.001" material="paint"/>
+      <body name="left_finger" pos="0 0.02 0.04">
+        <joint name="j1" type="slide" axis="0 1 0" range="0 0.03" ref="0.01"/>
+        <geom type="box" size="0.005 0.005 0.025" mass="0.05" material="rubber"/>
+      </body>
+    </body>
+  </worldbody>
+  <contact><exclude body1="base" body2="left_finger"/></contact>
+  <actuator><position name="a1" joint="j1" kp="5"/></actuator>
+</mujoco>
+"""
+
+
+def test_an_mjcf_part_keeps_its_names_defaults_and_sections_prefixed_where_they_clash(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "arm.xml").write_text(NAMED_ARM)
+    (tmp_path / "gripper.xml").write_text(NAMED_GRIPPER)
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: named_arm\ndescription: {mjcf: arm.xml}\n"
+        "parts:\n  gripper: {description: {mjcf: gripper.xml}, at: link1}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: [j1], lower: -1, upper: 1,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "  fingers: {type: pd_joint_pos, joints: [gripper_j1], lower: 0, upper: 0.03,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm, gripper: fingers}\n"
+    )
+    result = _compiled(spec)
+    (note,) = [d for d in result.diagnostics if d.code == "RS736"]
+    for renamed in ("body 'base' -> 'gripper_base'", "joint 'j1' -> 'gripper_j1'"):
+        assert renamed in note.message
+    assert "left_finger" not in note.message  # no clash: kept
+    root = etree.fromstring(result.robot.description.generated_text)
+    link1 = next(b for b in root.iter("body") if b.get("name") == "link1")
+    (part,) = link1.findall("body")
+    assert (part.get("name"), part.get("childclass")) == ("gripper_base", "gripper")
+    # the part's defaults: a class of their own inside the robot's main default
+    (main,) = root.findall("default")
+    (own,) = main.findall("default")
+    assert own.get("class") == "gripper" and own.find("joint").get("damping") == "1"
+    assert main.find("geom").get("rgba") == ".8 .8 .8 1"  # the robot's own, kept
+    # the material both define alike once, the part's own beside it, and the one both name
+    # but define otherwise prefixed, with the part's geom that wears it
+    materials = [m.get("name") for m in root.iter("material")]
+    assert materials == ["grey", "paint", "rubber", "gripper_paint"]
+    logo = next(g for g in root.iter("geom") if g.get("name") == "logo")
+    assert logo.get("material") == "gripper_paint"
+    # the sections' references follow the renames
+    (exclude,) = root.iter("exclude")
+    assert (exclude.get("body1"), exclude.get("body2")) == ("gripper_base", "left_finger")
+    actuators = [(a.get("name"), a.get("joint")) for a in root.find("actuator")]
+    assert actuators == [("a1", "j1"), ("gripper_a1", "gripper_j1")]
+    # the robot's keyframe gets the part's joint at its reference, at rest, and its actuator
+    (key,) = root.iter("key")
+    assert (key.get("qpos"), key.get("qvel"), key.get("ctrl")) == ("0.5 0.01", "0.1 0", "0.5 0")
+
+
 def test_build_carries_a_composed_mjcf_standalone(tmp_path: Path) -> None:
     from conftest import invoke_robospec
 
