@@ -394,8 +394,8 @@ def test_check_says_where_a_part_sits_inside_the_robot(tmp_path: Path) -> None:
 def test_new_attach_declares_the_seam_the_collision_matrix_finds(tmp_path: Path) -> None:
     # the arm scaffolded without its rest-pose search (which test_new covers), the hand given
     # by its spec: what --attach adds is sampled here
-    from robospec.authoring.attach import parse_attach, run_attach
     from robospec.authoring.commands import run_new
+    from robospec.authoring.new.attach import parse_attach, run_attach
     from robospec.pipeline import compile_spec
 
     assets = maniskill_assets_dir()

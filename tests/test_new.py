@@ -114,9 +114,9 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
         **{f"panda_joint{i}": 87 for i in range(1, 5)},
         **{f"panda_joint{i}": 12 for i in range(5, 8)},
     }
-    from robospec.authoring.analysis import analyse
     from robospec.authoring.description_file import read_description_file
-    from robospec.authoring.joint_gains import loads
+    from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.joint_gains import loads
 
     source, _ = read_description_file(ASSETS / "robots/panda/panda_v2.urdf")
     assert source is not None

@@ -13,8 +13,8 @@ import pytest
 from conftest import ROOT
 from ruamel.yaml import YAML
 
-from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
+from robospec.authoring.new import rest_pose
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir

@@ -12,10 +12,10 @@ from pathlib import Path
 import pytest
 from ruamel.yaml import YAML
 
-from robospec.authoring.analysis import analyse
 from robospec.authoring.commands import run_new
 from robospec.authoring.description_file import read_description_file
-from robospec.authoring.joint_gains import loads
+from robospec.authoring.new.analysis import analyse
+from robospec.authoring.new.joint_gains import loads
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 
@@ -198,7 +198,7 @@ STICK = """<?xml version="1.0"?>
 
 
 def _stick_loads(tmp_path: Path, feet: tuple[tuple[str, ...], ...]) -> dict:
-    from robospec.authoring.joint_loads import joint_loads
+    from robospec.authoring.new.joint_loads import joint_loads
 
     path = tmp_path / "stick.urdf"
     path.write_text(STICK.format(effort=1000))
@@ -224,7 +224,7 @@ def test_a_standing_joint_carries_the_robot_above_it_as_an_inverted_pendulum(
 
 
 def test_gains_add_the_toppling_stiffness_and_never_soften_below_it() -> None:
-    from robospec.authoring.gains import STANCE_MARGIN, analytic_gains
+    from robospec.authoring.new.gains import STANCE_MARGIN, analytic_gains
     from robospec.description.ratings import Rating
 
     free = analytic_gains("revolute", 0.01, 0.0, 2.0, None)
@@ -275,7 +275,7 @@ def test_a_joint_whose_range_spans_more_than_a_turn_takes_targets_one_turn_about
 
 
 def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_path: Path) -> None:
-    from robospec.authoring.joint_loads import joint_loads
+    from robospec.authoring.new.joint_loads import joint_loads
     from robospec.geometry import matrix_from_quaternion
 
     text = (ROOT / "tests" / "data" / "new" / "quadruped.urdf").read_text()

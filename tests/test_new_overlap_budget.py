@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 from ruamel.yaml import YAML
 
-from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
+from robospec.authoring.new import rest_pose
 
 pytestmark = pytest.mark.slow  # new compiles the 60-joint spec once per pair left out
 

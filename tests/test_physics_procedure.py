@@ -279,7 +279,7 @@ def _probe(
     robots: dict[str, Path], name: str, limits: tuple[float, float], **fields: Any
 ) -> Iterator[Any]:
     """``new``'s pose probe of robot ``name``, every joint at 0 and within ``limits``."""
-    from robospec.authoring.pose_probe import Probe, Request
+    from robospec.authoring.new.probe import Probe, Request
 
     joints = JOINTS[name]
     request = Request(

@@ -1,11 +1,11 @@
-"""How ``robospec new``'s rest-pose search (:mod:`robospec.authoring.pose_probe`) moves joints,
+"""How ``robospec new``'s rest-pose search (:mod:`robospec.authoring.new.probe`) moves joints,
 on a toy geometry instead of ManiSkill's contacts: the search only sees which pairs of links
 touch how deeply, so a function of the pose stands in for the simulator here (the probe's
 contacts against SAPIEN are tested with the corpus and tests/test_physics_procedure.py)."""
 
 from __future__ import annotations
 
-from robospec.authoring.pose_probe import Contacts, Probe, Request
+from robospec.authoring.new.probe import Contacts, Probe, Request
 
 # pelvis (the root) -waist- torso -shoulder- upper_arm -elbow- forearm; pelvis -hip- thigh
 JOINTS = ["waist", "shoulder", "elbow", "hip"]

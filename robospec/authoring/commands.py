@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
 
 if TYPE_CHECKING:
-    from robospec.authoring.analysis import RobotAnalysis
     from robospec.authoring.card import CardPicture
-    from robospec.authoring.rest_pose import RestPose
+    from robospec.authoring.new.analysis import RobotAnalysis
+    from robospec.authoring.new.rest_pose import RestPose
     from robospec.pipeline import CompiledSpec
 
 REST_TOUCHES = "RS605"
@@ -48,7 +48,7 @@ def run_new(
 
     With ``simulate`` (and ManiSkill installed) the rest keyframe is searched free of
     self-contact and a floating robot's standing height measured, in a child process
-    (:mod:`robospec.authoring.rest_pose`). ``uid_location`` is where ``uid`` was given (the
+    (:mod:`robospec.authoring.new.rest_pose`). ``uid_location`` is where ``uid`` was given (the
     command line's ``--uid``), for the diagnostics about it."""
     if uid is not None:
         from robospec.diagnostics.command_line import COMMAND_LINE
@@ -65,9 +65,9 @@ def run_new(
                 "pass --force to replace it",
             )
         ]
-    from robospec.authoring.analysis import analyse
     from robospec.authoring.description_file import read_description_file
-    from robospec.authoring.scaffold import SCHEMA_BESIDE, schema_reference
+    from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.scaffold import SCHEMA_BESIDE, schema_reference
 
     source, diagnostics = read_description_file(description)
     if source is None:
@@ -110,10 +110,10 @@ def scaffold_text(
     With ``simulate``: the rest pose is searched in ManiSkill (:mod:`.rest_pose`), then the
     gains computed there are measured and changed where they miss (:mod:`.refine`), each in a
     child process; without, both stay as computed from the description."""
-    from robospec.authoring.joint_gains import joint_gains, rating_warnings, with_refined
-    from robospec.authoring.rest_pose import PROBE_UID, Refinement, RestPose, probe_rest_pose
-    from robospec.authoring.scaffold import scaffold
-    from robospec.authoring.scaffold_controllers import unbalanced
+    from robospec.authoring.new.joint_gains import joint_gains, rating_warnings, with_refined
+    from robospec.authoring.new.rest_pose import PROBE_UID, Refinement, RestPose, probe_rest_pose
+    from robospec.authoring.new.scaffold import scaffold
+    from robospec.authoring.new.scaffold_controllers import unbalanced
     from robospec.importer.yamlout import to_yaml
 
     start = analysis.start_qpos()

@@ -424,7 +424,7 @@ def new(
         where = argument_location("--uid", uid, sys.argv[1:])
     written, diagnostics = run_new(description, out, uid, force, not no_sim, where)
     if attach and written is not None:
-        from robospec.authoring.attach import parse_attach, run_attach
+        from robospec.authoring.new.attach import parse_attach, run_attach
 
         parts = [parse_attach(text) for text in attach]
         more, found = run_attach(out, description, parts, force=force, simulate=not no_sim)

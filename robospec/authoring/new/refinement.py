@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from robospec.authoring.gains import HOLD_SHARE  # of check's max_joint_drift
+from robospec.authoring.new.gains import HOLD_SHARE  # of check's max_joint_drift
 from robospec.physics.findings import significant
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from robospec.authoring.groups import MimicLink
+from robospec.authoring.new.groups import MimicLink
 from robospec.description import RobotDescription
 from robospec.geometry import IDENTITY, Quaternion
 from robospec.kinematics.tree import KinematicTree
@@ -187,7 +187,7 @@ def _unchecked(pose: RestPose, why: str) -> RestPose:
 
 
 def _run_child(request: dict[str, Any]) -> tuple[dict[str, Any] | None, str]:
-    command = [sys.executable, "-m", "robospec.authoring.pose_probe"]
+    command = [sys.executable, "-m", "robospec.authoring.new.probe"]
     try:
         done = subprocess.run(
             command,

@@ -2,7 +2,7 @@
 a rest pose in which no two links touch and, for a floating robot, how high its root must stand
 for its lowest collision point to touch the ground.
 
-Run as ``python -m robospec.authoring.pose_probe`` with a JSON request on stdin (see
+Run as ``python -m robospec.authoring.new.probe`` with a JSON request on stdin (see
 :class:`Request`); prints one JSON answer on stdout. A child, because loading a description
 nobody checked can crash SAPIEN outright (a segfault takes the process with it): ``new`` then
 writes the scaffold without the check and says why.
@@ -30,7 +30,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from robospec.authoring.rest_pose import NEIGHBOURS
+from robospec.authoring.new.rest_pose import NEIGHBOURS
 from robospec.geometry import IDENTITY, ZERO, Vector, cross
 from robospec.model.thresholds import MIN_CONTACT_DEPTH
 
@@ -68,7 +68,8 @@ class Request:
     # (w, x, y, z): how a floating robot stands (its root turned so, for a y-up description)
     upright: list[float] = field(default_factory=lambda: list(IDENTITY))
     # then scaffold the robot at the rest pose found and measure its gains there
-    # (robospec.authoring.refine): (the description file, the spec's path, the schema reference)
+    # (robospec.authoring.new.refinement): (the description file, the spec's path, the schema
+    # reference)
     refinement: tuple[str, str, str] | None = None
 
 
@@ -590,17 +591,17 @@ def run(request: Request) -> dict[str, Any]:
 def refine_scaffold(request: Request, answer: dict[str, Any]) -> Any:
     """Scaffold the robot at the rest pose found (as the parent will: the same functions on
     the same answer), register it, and measure and refine its gains
-    (:mod:`robospec.authoring.refine`)."""
+    (:mod:`robospec.authoring.new.refinement`)."""
     import tempfile
     from pathlib import Path
 
-    from robospec.authoring.analysis import analyse
     from robospec.authoring.description_file import read_description_file
-    from robospec.authoring.joint_gains import joint_gains
-    from robospec.authoring.refine import refine
-    from robospec.authoring.rest_pose import REFINE_UID, rest_from_answer
-    from robospec.authoring.scaffold import scaffold
-    from robospec.authoring.scaffold_controllers import unbalanced
+    from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.joint_gains import joint_gains
+    from robospec.authoring.new.refinement import refine
+    from robospec.authoring.new.rest_pose import REFINE_UID, rest_from_answer
+    from robospec.authoring.new.scaffold import scaffold
+    from robospec.authoring.new.scaffold_controllers import unbalanced
     from robospec.description.ratings import joint_ratings
     from robospec.importer.yamlout import to_yaml
     from robospec.output.register import register

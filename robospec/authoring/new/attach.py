@@ -217,7 +217,7 @@ def _seam_pairs(
         }
         try:
             done = subprocess.run(
-                [sys.executable, "-m", "robospec.authoring.attach"],
+                [sys.executable, "-m", "robospec.authoring.new.attach"],
                 input=json.dumps(request),
                 capture_output=True,
                 text=True,
