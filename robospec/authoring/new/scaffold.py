@@ -33,8 +33,8 @@ from pathlib import Path
 from typing import Any
 
 from robospec.authoring.description_file import DescriptionFile
-from robospec.authoring.filtered_pairs import filtered_cliques
 from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
+from robospec.authoring.new.exemptions import filtered_cliques
 from robospec.authoring.new.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
 from robospec.authoring.new.joint_gains import joint_gains
 from robospec.authoring.new.rest_pose import RestPose
