@@ -403,11 +403,10 @@ def test_new_attach_declares_the_seam_the_collision_matrix_finds(tmp_path: Path)
     arm = assets / "robots" / "xarm7" / "xarm7.urdf"
     shutil.copy(COMPOSED / "ability_hand_right.yaml", tmp_path / "hand.yaml")
     out = tmp_path / "xarm7_hand.yaml"
-    written, _ = run_new(arm, out, None, False, simulate=False)
-    assert written is not None
+    assert not run_new(arm, out, None, False, simulate=False).write().failed
     attach = [parse_attach(f"{tmp_path / 'hand.yaml'}@link_eef")]
-    _, diagnostics = run_attach(out, arm, attach, force=False, simulate=True)
-    assert not any(d.is_error for d in diagnostics), [d.format_text() for d in diagnostics]
+    mounted = run_attach(out, arm, attach, force=False, simulate=True).write()
+    assert not mounted.failed, [d.format_text() for d in mounted.diagnostics]
     text = out.read_text()
     assert "  hand: {spec: hand.yaml, at: link_eef}\n" in text
     # the hand's base and link7 touch in every pose (two empty frames apart, not adjacent)

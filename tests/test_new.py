@@ -15,7 +15,6 @@ from conftest import TWOLINK_XACRO, invoke_robospec, run_robospec
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
 from robospec.schema import schema_text
@@ -48,9 +47,9 @@ def load(path: Path) -> dict:
 
 
 def scaffold(description: Path, out: Path, uid: str | None = None) -> dict:
-    written, diagnostics = run_new(description, out, uid, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
-    assert written[0] == out
+    result = run_new(description, out, uid, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
+    assert result.written[0] == out
     return load(out)
 
 
@@ -320,8 +319,8 @@ def test_without_a_schema_to_name_new_writes_one_beside_the_spec(project: Path) 
     assert (out.parent / "robospec.schema.json").read_text() == schema_text()
     # the next spec in that folder names the same file, and nothing is rewritten
     second = project / "robots" / "second.yaml"
-    written, _ = run_new(TWOLINK_XACRO, second, "second", force=False, simulate=False)
-    assert written == [second]
+    result = run_new(TWOLINK_XACRO, second, "second", force=False, simulate=False).write()
+    assert result.written == (second,)
     assert second.read_text().splitlines()[0].endswith("$schema=robospec.schema.json")
 
 

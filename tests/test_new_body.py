@@ -15,7 +15,6 @@ from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
 from robospec.authoring.new import rest_pose
-from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
 
@@ -32,8 +31,8 @@ INERTIAL = (
 
 def scaffold(description: Path, out: Path, simulate: bool = False) -> tuple[dict, str]:
     """The spec ``new`` writes (as data and as text), checked to validate with no errors."""
-    written, diagnostics = run_new(description, out, None, force=False, simulate=simulate)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False, simulate=simulate).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
     text = out.read_text()

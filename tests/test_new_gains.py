@@ -58,11 +58,11 @@ def _scaffold(tmp_path: Path, text: str, suffix: str = ".urdf") -> tuple[dict, l
     description = tmp_path / f"robot{suffix}"
     description.write_text(text)
     out = tmp_path / "robot.yaml"
-    written, diagnostics = run_new(description, out, None, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert not has_errors(compiled.diagnostics), [d.format_text() for d in compiled.diagnostics]
-    return YAML(typ="safe").load(out.read_text()), diagnostics
+    return YAML(typ="safe").load(out.read_text()), list(result.diagnostics)
 
 
 def test_effective_inertia_is_everything_beyond_the_joint_about_its_axis(tmp_path: Path) -> None:
@@ -125,8 +125,7 @@ def test_joints_that_cannot_move_get_a_passive_controller_and_a_comment(tmp_path
     description = tmp_path / "robot.urdf"
     description.write_text(ARM.format(effort=100))
     out = tmp_path / "robot.yaml"
-    written, _ = run_new(description, out, None, force=False, simulate=False)
-    assert written is not None
+    assert not run_new(description, out, None, force=False, simulate=False).write().failed
     data = YAML(typ="safe").load(out.read_text())
     assert data["groups"]["immobile"] == ["locked"]
     assert data["controllers"]["immobile"] == {

@@ -19,7 +19,6 @@ from conftest import DOCS, PANDA_SPEC, ROOT, fast_first, run_robospec
 from corpus import BY_KEY, CorpusMissing, locate
 
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
 
 pytestmark = pytest.mark.maniskill
 
@@ -36,8 +35,8 @@ def _scaffold(key: str, folder: Path) -> Path:
         pytest.fail(str(missing), pytrace=False)
     out = folder / f"{key}.yaml"
     # the analytic gains: the tasks need the members, not the refined gains
-    written, diagnostics = run_new(description, out, f"task_{key}", force=True, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, f"task_{key}", force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
     return out
 
 
