@@ -61,3 +61,25 @@ def test_the_rest_pose_search_frees_an_arm_resting_inside_the_body() -> None:
     qpos, touching = search.search([0.0] * 4)
     assert touching == {}
     assert arm_at_side(qpos)[("forearm", "pelvis")] < -search.clearance
+
+
+def test_the_joints_between_two_links_go_nearest_first_then_in_qpos_order() -> None:
+    # two arms off the pelvis: the wrists are as near their hands, the shoulders next
+    arms = KinematicTree.of(
+        "pelvis",
+        [
+            joint
+            for side in ("l", "r")
+            for joint in (
+                Joint(f"{side}_shoulder", "revolute", "pelvis", f"{side}_arm", line=0),
+                Joint(f"{side}_wrist", "revolute", f"{side}_arm", f"{side}_hand", line=0),
+            )
+        ],
+    )
+    joints = ["r_shoulder", "r_wrist", "l_shoulder", "l_wrist"]
+    space = JointSpace(arms, joints, [(-1.0, 1.0)] * 4)
+    assert space.nearest_first("l_hand", "r_hand") == [1, 3, 0, 2]
+    # a mimic follower moves with its leader, never alone
+    coupled = JointSpace(arms, joints, [(-1.0, 1.0)] * 4, [(3, 1, 1.0, 0.0)])
+    assert coupled.nearest_first("l_hand", "r_hand") == [1, 0, 2]
+    assert coupled.movable([("l_hand", "r_hand")]) == [0, 1, 2]
