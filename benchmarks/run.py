@@ -50,6 +50,7 @@ import pictures
 import registration
 import scaffold
 import scaling
+import solve
 import step_throughput
 from measure import ROOT
 from section import Section
@@ -67,6 +68,7 @@ SECTION_TITLES = (
     pictures.TITLE,
     scaffold.TITLE,
     formatter.TITLE,
+    solve.TITLE,
 )
 
 
@@ -82,6 +84,7 @@ PARTS = (
     "pictures",
     "scaffold",
     "formatter",
+    "solve",
 )
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
@@ -113,6 +116,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             # the analytic gains only: the simulated refinement is new's own, tested there
             "scaffold": lambda: scaffold.measure(1, only=["erd_ur5"], refine=False),
             "formatter": lambda: formatter.measure(1, random_count=10),
+            "solve": lambda: solve.measure(1, ("PickCube-v1",)),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
@@ -126,6 +130,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "pictures": lambda: pictures.measure(repeat),
         "scaffold": lambda: scaffold.measure(repeat),
         "formatter": lambda: formatter.measure(repeat),
+        "solve": lambda: solve.measure(),
     }
 
 

@@ -115,11 +115,21 @@ def random_actions(action_space: Any, seed: int, steps: int) -> np.ndarray:
     return rng.uniform(low, high, size=(steps, *low.shape)).astype(np.float32)
 
 
-def rollout(env: Any, actions: np.ndarray, seed: int) -> tuple[torch.Tensor, torch.Tensor]:
+def rollout(
+    env: Any, actions: np.ndarray, seed: int, start: torch.Tensor | None = None
+) -> tuple[torch.Tensor, torch.Tensor]:
     """Reset with ``seed``, step through ``actions``; qpos and qvel after the reset and after
-    every step, stacked: two tensors of shape (len(actions) + 1, num_envs, dof)."""
+    every step, stacked: two tensors of shape (len(actions) + 1, num_envs, dof).
+
+    ``start``: the joint positions both twins start from. ``Empty-v1`` resets no robot's
+    joints, so ManiSkill's agent starts where SAPIEN built it and robospec's at its reset
+    keyframe; the comparison of their controllers starts them from one state."""
     env.reset(seed=seed)
-    robot = env.unwrapped.agent.robot
+    agent = env.unwrapped.agent
+    if start is not None:
+        agent.reset(start)
+        agent.controller.reset()
+    robot = agent.robot
     qpos = [robot.get_qpos().clone()]
     qvel = [robot.get_qvel().clone()]
     for action in actions:

@@ -113,7 +113,7 @@ LAYERS: tuple[frozenset[str], ...] = tuple(
         "checks emit",  # semantic rules; the agent module's source
         "pipeline",  # load -> model -> resolve -> checks
         "output schema",  # build and register; the JSON Schema
-        "importer pictures",  # import from agent classes; pictures of robots
+        "importer pictures solve",  # import from agent classes; pictures; ManiSkill's solutions
         "physics optimize",  # check in SAPIEN; robots that simulate faster
         "tune",  # gains fitted with check's measures
         "authoring demo",  # new, inspect, doc; the demo tour and viewer

@@ -645,7 +645,8 @@ def test_a_parts_mends_apply_to_its_description_before_it_is_mounted(tmp_path: P
 
 
 def test_optimize_stops_at_a_robot_with_parts_at_its_parts_line(tmp_path: Path) -> None:
-    from robospec.optimize.command import OptimizeOptions, run_optimize
+    from robospec.optimize.command import run_optimize
+    from robospec.optimize.options import OptimizeOptions
 
     spec = SPECS / "composed" / "xarm7_ability.yaml"
     report, diagnostics = run_optimize(spec, tmp_path / "out.yaml", OptimizeOptions())

@@ -76,8 +76,10 @@ def _same_rollouts(ours: str, theirs: str, mode: str) -> tuple[torch.Tensor, tor
     try:
         actions = random_actions(b.action_space, SEED, STEPS)
         assert a.action_space.shape == b.action_space.shape
-        qa, va = rollout(a, actions, SEED)
-        qb, vb = rollout(b, actions, SEED)
+        a.reset(seed=SEED)
+        start = a.unwrapped.agent.robot.get_qpos().clone()  # the spec's reset keyframe
+        qa, va = rollout(a, actions, SEED, start)
+        qb, vb = rollout(b, actions, SEED, start)
     finally:
         a.close()
         b.close()

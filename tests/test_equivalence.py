@@ -746,7 +746,9 @@ def test_every_collision_rule_of_the_spec_sets_its_bit_on_both_loaded_robots(
 def _rollouts(twins: Twins) -> tuple[tuple[torch.Tensor, ...], tuple[torch.Tensor, ...]]:
     # both agents get the same actions: drawn from upstream's space, equal to ours (tested)
     actions = random_actions(twins.upstream.action_space, SEED, STEPS)
-    return rollout(twins.upstream, actions, SEED), rollout(twins.ours, actions, SEED)
+    twins.ours.reset(seed=SEED)
+    start = twins.our_agent.robot.get_qpos().clone()  # robospec's agent's reset keyframe
+    return rollout(twins.upstream, actions, SEED, start), rollout(twins.ours, actions, SEED, start)
 
 
 def test_rollout_is_bit_identical(twins_in_mode: Twins) -> None:

@@ -151,9 +151,11 @@ def test_imported_spec_is_rollout_identical_with_the_same_collision_bits(
         try:
             actions = random_actions(theirs_env.action_space, SEED, STEPS)
             assert our_env.action_space == theirs_env.action_space, mode
+            our_env.reset(seed=SEED)
+            start = our_env.unwrapped.agent.robot.get_qpos().clone()  # the spec's reset keyframe
             (qpos_up, qvel_up), (qpos, qvel) = (
-                rollout(theirs_env, actions, SEED),
-                rollout(our_env, actions, SEED),
+                rollout(theirs_env, actions, SEED, start),
+                rollout(our_env, actions, SEED, start),
             )
         finally:
             theirs_env.close()

@@ -21,8 +21,8 @@ import trimesh
 from conftest import SAME_ON_EVERY_MANISKILL
 from lxml import etree
 
-from robospec.optimize import shapes
 from robospec.optimize.shapes import MissingDependency, optimize_collisions
+from robospec.optimize.shapes.obj import assimp_reads, number
 
 
 def _g1_folder() -> Path | None:
@@ -337,8 +337,8 @@ def test_coacd_missing_is_a_missing_dependency(
 
 @pytest.mark.parametrize("x", [0.0, 1.5, -0.123456789, 3.0e-9, -7.0348554e-09, 12345.678])
 def test_numbers_read_back_by_assimp_as_the_same_float32(x: float) -> None:
-    text = shapes._number(x)
-    assert shapes._assimp_reads(text) == float(np.float32(x))
+    text = number(x)
+    assert assimp_reads(text) == float(np.float32(x))
     assert float(text) == pytest.approx(float(np.float32(x)), rel=1e-6)
 
 

@@ -232,3 +232,25 @@ def _assets() -> Path:
     found = maniskill_assets_dir()
     assert found is not None
     return found
+
+
+def test_new_reads_each_fingers_opening_from_its_joint_and_grips_by_its_rating(
+    tmp_path: Path,
+) -> None:
+    """panda_v2.urdf rests closed (both fingers at 0): the fingers' centres coincide and say
+    nothing, while the joints open the left finger along its +y and the right along its -y
+    (ManiSkill's Panda's own is_grasping)."""
+    from robospec.resolve.paths import maniskill_assets_dir
+
+    assets = maniskill_assets_dir()
+    assert assets is not None
+    out = tmp_path / "panda.yaml"
+    urdf = assets / "robots" / "panda" / "panda_v2.urdf"
+    result = run_new(urdf, out, "new_panda", force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
+    text = out.read_text()
+    assert "{link: panda_leftfinger, opening: +y}" in text
+    assert "{link: panda_rightfinger, opening: -y}" in text
+    # the gripper squeezes with its 100 N rating across its 4 cm stroke
+    # (robospec.authoring.new.grip)
+    assert "stiffness: 2500,\n     damping: 250, force_limit: 100" in text

@@ -16,6 +16,7 @@ import typer
 
 from robospec.cli.help_style import App
 from robospec.diagnostics import Diagnostic, has_errors
+from robospec.optimize.options import ShapeMethod
 from robospec.reporting import Format as DiagnosticFormat
 from robospec.reporting import render
 from robospec.reporting.color import ColorChoice as Color
@@ -275,6 +276,15 @@ def check(
             "of tasks (tabletop) runs each; repeat for several",
         ),
     ] = None,
+    solve: Annotated[
+        int,
+        typer.Option(
+            "--solve",
+            min=0,
+            help="with --task: also run ManiSkill's solution of each task for N episodes "
+            "(robospec solve); fails under 90% success",
+        ),
+    ] = 0,
     silence: SilenceOpt = None,
 ) -> None:
     """Run headless physics checks on each robot (exit 1 when a check fails).
@@ -285,15 +295,72 @@ def check(
 
     Example: robospec check specs/maniskill/panda.yaml --steps 100 --format json
     Example: robospec check specs/my_arm.yaml --task PickCube-v1 --task PushCube-v1
+    Example: robospec check specs/my_arm.yaml --task PickCube-v1 --solve 5
     """
     from robospec.physics.command import run_check
 
     codes = _silenced_codes(silence)
     code, text = run_check(
-        paths, steps, format.value, gpu, num_envs, render, plot, task or [], sys.argv[1:], codes
+        paths,
+        steps,
+        format.value,
+        gpu,
+        num_envs,
+        render,
+        plot,
+        task or [],
+        sys.argv[1:],
+        codes,
+        solve,
     )
     typer.echo(text)
     raise typer.Exit(code)
+
+
+@app.command(needs=("maniskill",))
+def solve(
+    spec: Annotated[Path, typer.Argument(help="the spec of an arm with a two-finger gripper")],
+    task: Annotated[
+        str, typer.Option("--task", help="the ManiSkill task whose solution to run")
+    ] = "PickCube-v1",
+    count: Annotated[int, typer.Option("--count", "-n", min=1, help="episodes to run")] = 10,
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", "-o", help="write the trajectories to DIR/TASK.h5 and .json"),
+    ] = None,
+    num_procs: Annotated[
+        int, typer.Option("--num-procs", min=1, help="processes to spread the episodes over")
+    ] = 1,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="the first episode's seed")] = 0,
+    min_success: Annotated[
+        float | None,
+        typer.Option(
+            "--min-success", min=0, max=1, help="exit 1 when fewer episodes succeed (0 to 1)"
+        ),
+    ] = None,
+    format: ReportFormatOpt = ReportFormat.text,
+) -> None:
+    """Run ManiSkill's own motion-planning solution of a task with the robot, planned by
+    robospec from the spec, and write the episodes as ManiSkill trajectories (exit 1 when the
+    solution cannot apply, or under --min-success).
+
+    Each episode's success is the task's own (info["success"]); replay and convert the file
+    with ManiSkill's replay_trajectory (docs/solve.md).
+
+    Example: robospec solve specs/maniskill/panda.yaml --task PickCube-v1 -n 100 -o demos
+    Example: robospec solve my_arm.yaml --task StackCube-v1 -n 1000 --num-procs 8 -o demos
+    """
+    from robospec.diagnostics import has_errors
+    from robospec.solve.command import below_min_success, render_report, run_solve
+
+    report = run_solve(
+        spec, task, count, out, num_procs, seed, sys.argv[1:], progress=sys.stderr.isatty()
+    )
+    short = below_min_success(report, min_success, sys.argv[1:])
+    if short is not None:
+        report.diagnostics.append(short)
+    typer.echo(render_report(report, format.value))
+    raise typer.Exit(1 if has_errors(report.diagnostics) else 0)
 
 
 @app.command(needs=("maniskill",))
@@ -442,9 +509,10 @@ def optimize(
         typer.Option("--keep", help="a link to keep although the spec does not name it"),
     ] = None,
     shapes: Annotated[
-        str | None,
+        ShapeMethod | None,
         typer.Option(
             "--shapes",
+            metavar="METHOD",
             help="collision meshes: keep, convert (STL to what SAPIEN simulates, no warning; "
             "the default), hull, coacd (convex decomposition) or primitives (the fast "
             "profile's)",
@@ -506,12 +574,13 @@ def optimize(
 
     Example: robospec optimize specs/maniskill/fetch.yaml -o out/fetch_fast.yaml
     """
-    from robospec.optimize.command import OptimizeOptions, render, run_optimize
+    from robospec.optimize.command import run_optimize
+    from robospec.optimize.options import OptimizeOptions
 
     options = OptimizeOptions(
         keep=tuple(keep or ()),
         uid=uid,
-        shapes=shapes or "",
+        shapes=shapes,
         max_vertices=max_vertices,
         samples=samples,
         profile=profile,
@@ -520,9 +589,9 @@ def optimize(
         category=category,
         arguments=tuple(sys.argv[1:]),
     )
-    report, diagnostics = run_optimize(spec, out, options)
-    typer.echo(render(report, diagnostics, format.value))
-    raise typer.Exit(1 if report is None or has_errors(diagnostics) else 0)
+    result = run_optimize(spec, out, options)
+    typer.echo(result.render(format.value))
+    raise typer.Exit(result.exit_code)
 
 
 @app.command(needs=("maniskill",))

@@ -131,8 +131,10 @@ class Sim:
         # the scene users get: Empty-v1's ground, whatever the robot (a fixed robot at the
         # origin that reaches through it meets it there too: robospec.physics.ground says so)
         self.ground = self.base.ground
-        # the state the robot is loaded in: ``start(None)``
-        self._loaded = (self.robot.get_qpos().clone(), self.robot.pose)
+        # the state the robot is loaded in: ``start(None)``. SAPIEN builds every joint at 0 (no
+        # loader of ManiSkill's sets a qpos); the reset has since put a robospec agent at its
+        # reset keyframe, so the joints are read as built, not as they are now
+        self._loaded = (self.robot.get_qpos() * 0, self.robot.pose)
         self._used = False  # whether anything moved since the scene was built
 
     def _rebuild(self) -> None:

@@ -1,7 +1,8 @@
 """``robospec new``: a spec scaffolded from a robot description, by job.
 
 * What the description says the robot is: :mod:`.analysis` (its groups, :mod:`.groups`; its
-  body and drives), its gains (:mod:`.gains`, :mod:`.joint_gains`, over :mod:`.joint_loads`).
+  body and drives), its gains (:mod:`.gains`, :mod:`.joint_gains`, over :mod:`.joint_loads`;
+  a gripper's from its force, :mod:`.grip`).
 * The scaffold: :mod:`.scaffold` writes the spec (its controllers :mod:`.scaffold_controllers`,
   what tasks call :mod:`.task_members`); :mod:`.spec_text` makes its text, measured in ManiSkill
   where it is installed.

@@ -36,6 +36,7 @@ from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
 from robospec.authoring.new.exemptions import filtered_cliques
 from robospec.authoring.new.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
+from robospec.authoring.new.grip import grip_gains
 from robospec.authoring.new.joint_gains import joint_gains
 from robospec.authoring.new.rest_pose import RestPose
 from robospec.authoring.new.scaffold_controllers import controllers_and_modes, unbalanced
@@ -190,7 +191,7 @@ def scaffold(
 
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
-    controllers, modes = controllers_and_modes(analysis, gains, rest.qpos)
+    controllers, modes = controllers_and_modes(analysis, grip_gains(analysis, gains), rest.qpos)
     data["controllers"] = controllers
     notes[("controllers",)] = _gains_note(analysis, refined)
     data["control_modes"] = modes
