@@ -285,7 +285,7 @@ def test_only_the_command_line_reaches_robospec_tune() -> None:
         and not name.startswith("robospec.tune")
     }
     # robospec new refines a scaffold's gains with tune's search (issue 23), in its child process
-    assert users <= {"robospec.cli.commands", "robospec.authoring.refine"}
+    assert users <= {"robospec.cli.commands", "robospec.authoring.new.refinement"}
     into_reference = {
         name
         for name, targets in graph.items()

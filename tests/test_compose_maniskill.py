@@ -393,19 +393,18 @@ def test_check_says_where_a_part_sits_inside_the_robot(tmp_path: Path) -> None:
 def test_new_attach_declares_the_seam_the_collision_matrix_finds(tmp_path: Path) -> None:
     # the arm scaffolded without its rest-pose search (which test_new covers), the hand given
     # by its spec: what --attach adds is sampled here
-    from robospec.authoring.attach import parse_attach, run_attach
     from robospec.authoring.commands import run_new
+    from robospec.authoring.new.attach import parse_attach, run_attach
     from robospec.pipeline import compile_spec
 
     assets = maniskill_assets()
     arm = assets / "robots" / "xarm7" / "xarm7.urdf"
     shutil.copy(COMPOSED / "ability_hand_right.yaml", tmp_path / "hand.yaml")
     out = tmp_path / "xarm7_hand.yaml"
-    written, _ = run_new(arm, out, None, False, simulate=False)
-    assert written is not None
+    assert not run_new(arm, out, None, False, simulate=False).write().failed
     attach = [parse_attach(f"{tmp_path / 'hand.yaml'}@link_eef")]
-    _, diagnostics = run_attach(out, arm, attach, force=False, simulate=True)
-    assert not any(d.is_error for d in diagnostics), [d.format_text() for d in diagnostics]
+    mounted = run_attach(out, arm, attach, force=False, simulate=True).write()
+    assert not mounted.failed, [d.format_text() for d in mounted.diagnostics]
     text = out.read_text()
     assert "  hand: {spec: hand.yaml, at: link_eef}\n" in text
     # the hand's base and link7 touch in every pose (two empty frames apart, not adjacent)

@@ -15,7 +15,6 @@ from conftest import TWOLINK_XACRO, invoke_robospec, maniskill_assets, run_robos
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 from robospec.schema import schema_text
 
@@ -45,9 +44,9 @@ def load(path: Path) -> dict:
 
 
 def scaffold(description: Path, out: Path, uid: str | None = None) -> dict:
-    written, diagnostics = run_new(description, out, uid, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
-    assert written[0] == out
+    result = run_new(description, out, uid, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
+    assert result.written[0] == out
     return load(out)
 
 
@@ -107,9 +106,9 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
         **{f"panda_joint{i}": 87 for i in range(1, 5)},
         **{f"panda_joint{i}": 12 for i in range(5, 8)},
     }
-    from robospec.authoring.analysis import analyse
     from robospec.authoring.description_file import read_description_file
-    from robospec.authoring.joint_gains import loads
+    from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.joint_gains import loads
 
     source, _ = read_description_file(maniskill_assets() / "robots/panda/panda_v2.urdf")
     assert source is not None
@@ -311,8 +310,8 @@ def test_without_a_schema_to_name_new_writes_one_beside_the_spec(project: Path) 
     assert (out.parent / "robospec.schema.json").read_text() == schema_text()
     # the next spec in that folder names the same file, and nothing is rewritten
     second = project / "robots" / "second.yaml"
-    written, _ = run_new(TWOLINK_XACRO, second, "second", force=False, simulate=False)
-    assert written == [second]
+    result = run_new(TWOLINK_XACRO, second, "second", force=False, simulate=False).write()
+    assert result.written == (second,)
     assert second.read_text().splitlines()[0].endswith("$schema=robospec.schema.json")
 
 

@@ -13,9 +13,8 @@ import pytest
 from conftest import ROOT, maniskill_assets
 from ruamel.yaml import YAML
 
-from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
+from robospec.authoring.new import rest_pose
 from robospec.pipeline import compile_spec
 
 DATA = ROOT / "tests" / "data" / "new"
@@ -29,8 +28,8 @@ INERTIAL = (
 
 def scaffold(description: Path, out: Path, simulate: bool = False) -> tuple[dict, str]:
     """The spec ``new`` writes (as data and as text), checked to validate with no errors."""
-    written, diagnostics = run_new(description, out, None, force=False, simulate=simulate)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False, simulate=simulate).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
     text = out.read_text()

@@ -12,10 +12,10 @@ from pathlib import Path
 import pytest
 from ruamel.yaml import YAML
 
-from robospec.authoring.analysis import analyse
 from robospec.authoring.commands import run_new
 from robospec.authoring.description_file import read_description_file
-from robospec.authoring.joint_gains import loads
+from robospec.authoring.new.analysis import analyse
+from robospec.authoring.new.joint_gains import loads
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 
@@ -58,11 +58,11 @@ def _scaffold(tmp_path: Path, text: str, suffix: str = ".urdf") -> tuple[dict, l
     description = tmp_path / f"robot{suffix}"
     description.write_text(text)
     out = tmp_path / "robot.yaml"
-    written, diagnostics = run_new(description, out, None, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert not has_errors(compiled.diagnostics), [d.format_text() for d in compiled.diagnostics]
-    return YAML(typ="safe").load(out.read_text()), diagnostics
+    return YAML(typ="safe").load(out.read_text()), list(result.diagnostics)
 
 
 def test_effective_inertia_is_everything_beyond_the_joint_about_its_axis(tmp_path: Path) -> None:
@@ -125,8 +125,7 @@ def test_joints_that_cannot_move_get_a_passive_controller_and_a_comment(tmp_path
     description = tmp_path / "robot.urdf"
     description.write_text(ARM.format(effort=100))
     out = tmp_path / "robot.yaml"
-    written, _ = run_new(description, out, None, force=False, simulate=False)
-    assert written is not None
+    assert not run_new(description, out, None, force=False, simulate=False).write().failed
     data = YAML(typ="safe").load(out.read_text())
     assert data["groups"]["immobile"] == ["locked"]
     assert data["controllers"]["immobile"] == {
@@ -194,7 +193,7 @@ def test_an_mjcf_joints_actuatorfrcrange_rates_its_motor(tmp_path: Path) -> None
 
 
 def test_joint_gains_span_each_unrated_joints_range_and_skip_the_immobile(tmp_path: Path) -> None:
-    from robospec.authoring.joint_gains import joint_gains
+    from robospec.authoring.new.joint_gains import joint_gains
 
     path = tmp_path / "lever.urdf"
     path.write_text(
@@ -245,7 +244,7 @@ STICK = """<?xml version="1.0"?>
 
 
 def _stick_loads(tmp_path: Path, feet: tuple[tuple[str, ...], ...]) -> dict:
-    from robospec.authoring.joint_loads import joint_loads
+    from robospec.authoring.new.joint_loads import joint_loads
 
     path = tmp_path / "stick.urdf"
     path.write_text(STICK.format(effort=1000))
@@ -271,7 +270,7 @@ def test_a_standing_joint_carries_the_robot_above_it_as_an_inverted_pendulum(
 
 
 def test_gains_add_the_toppling_stiffness_and_never_soften_below_it() -> None:
-    from robospec.authoring.gains import STANCE_MARGIN, analytic_gains
+    from robospec.authoring.new.gains import STANCE_MARGIN, analytic_gains
     from robospec.description.ratings import Rating
 
     free = analytic_gains("revolute", 0.01, 0.0, 2.0, None)
@@ -286,7 +285,7 @@ def test_gains_add_the_toppling_stiffness_and_never_soften_below_it() -> None:
 
 
 def test_a_rated_joint_holding_a_load_is_softened_to_what_the_rating_leaves_beyond_it() -> None:
-    from robospec.authoring.gains import HOLD_DRIFT, STEP, analytic_gains
+    from robospec.authoring.new.gains import HOLD_DRIFT, STEP, analytic_gains
     from robospec.description.ratings import Rating
 
     rating = Rating(5.0, "<limit effort>", 1)
@@ -316,7 +315,7 @@ def test_a_rated_joint_holding_a_load_is_softened_to_what_the_rating_leaves_beyo
 
 
 def test_an_unrated_joints_force_limit_spans_its_range_on_top_of_its_load() -> None:
-    from robospec.authoring.gains import UNBOUNDED_SPAN, analytic_gains
+    from robospec.authoring.new.gains import UNBOUNDED_SPAN, analytic_gains
 
     # 2 N m of load, 200 N m/rad across a 1.5 rad range: the limit never clips the drive
     assert analytic_gains("revolute", 0.01, 2.0, 1.5, None).force_limit == pytest.approx(302.0)
@@ -366,7 +365,7 @@ def test_a_joint_whose_range_spans_more_than_a_turn_takes_targets_one_turn_about
 
 
 def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_path: Path) -> None:
-    from robospec.authoring.joint_loads import joint_loads
+    from robospec.authoring.new.joint_loads import joint_loads
     from robospec.geometry import matrix_from_quaternion
 
     text = (ROOT / "tests" / "data" / "new" / "quadruped.urdf").read_text()

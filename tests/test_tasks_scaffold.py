@@ -19,7 +19,6 @@ from conftest import DOCS, PANDA_SPEC, ROOT, fast_first, maniskill_assets, run_r
 from corpus import BY_KEY, CorpusMissing, locate
 
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
 
 pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
@@ -39,8 +38,8 @@ def _scaffold(key: str, folder: Path) -> Path:
         pytest.fail(str(missing), pytrace=False)
     out = folder / f"{key}.yaml"
     # the analytic gains: the tasks need the members, not the refined gains
-    written, diagnostics = run_new(description, out, f"task_{key}", force=True, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, f"task_{key}", force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
     return out
 
 
@@ -238,10 +237,11 @@ def test_new_reads_each_fingers_opening_from_its_joint_and_grips_by_its_rating(
     (ManiSkill's Panda's own is_grasping)."""
     out = tmp_path / "panda.yaml"
     urdf = maniskill_assets() / "robots" / "panda" / "panda_v2.urdf"
-    written, diagnostics = run_new(urdf, out, "new_panda", force=True, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(urdf, out, "new_panda", force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
     text = out.read_text()
     assert "{link: panda_leftfinger, opening: +y}" in text
     assert "{link: panda_rightfinger, opening: -y}" in text
-    # the gripper squeezes with its 100 N rating across its 4 cm stroke (robospec.authoring.grip)
+    # the gripper squeezes with its 100 N rating across its 4 cm stroke
+    # (robospec.authoring.new.grip)
     assert "stiffness: 2500,\n     damping: 250, force_limit: 100" in text

@@ -10,7 +10,7 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -21,6 +21,9 @@ from robospec.reporting import Format as DiagnosticFormat
 from robospec.reporting import render
 from robospec.reporting.color import ColorChoice as Color
 from robospec.reporting.color import use_color
+
+if TYPE_CHECKING:
+    from robospec.authoring.commands import CommandResult
 
 # Help is written for reflow: robospec/cli/help_style.py says how (App holds every command to it).
 app = App(
@@ -94,23 +97,17 @@ def _silenced_codes(silence: list[str] | None) -> frozenset[str]:
     return frozenset(silence or ())
 
 
-def _finish(
-    diagnostics: Sequence[Diagnostic],
-    failed: bool,
-    fmt: DiagnosticFormat,
-    color: Color,
-    done: str,
-) -> None:
-    """End a command that writes one file: text says ``done`` (diagnostics on stderr), the
+def _finish(result: CommandResult, fmt: DiagnosticFormat, color: Color, done: str) -> None:
+    """End a command that writes files: text says ``done`` (diagnostics on stderr), the
     machine formats print the diagnostics report (on stdout) whatever happened."""
     if fmt is not DiagnosticFormat.text:
-        _report(diagnostics, 1, fmt, color)
+        _report(result.diagnostics, 1, fmt, color)
     else:
-        if diagnostics:
-            _report(diagnostics, 1, fmt, color, err=True)
-        if not failed:
+        if result.diagnostics:
+            _report(result.diagnostics, 1, fmt, color, err=True)
+        if not result.failed:
             typer.echo(done)
-    raise typer.Exit(1 if failed else 0)
+    raise typer.Exit(1 if result.failed else 0)
 
 
 @app.command()
@@ -412,12 +409,12 @@ def inspect(
     """
     from robospec.authoring.commands import run_inspect
 
-    text, diagnostics = run_inspect(file, format.value)
-    if text is not None:
-        sys.stdout.write(text)
-    if diagnostics:
-        _report(diagnostics, 1, DiagnosticFormat(format.value), color, err=True)
-    raise typer.Exit(1 if text is None or has_errors(diagnostics) else 0)
+    result = run_inspect(file, as_json=format is ReportFormat.json)
+    if result.report is not None:
+        sys.stdout.write(result.report)
+    if result.diagnostics:
+        _report(result.diagnostics, 1, DiagnosticFormat(format.value), color, err=True)
+    raise typer.Exit(1 if result.report is None or result.failed else 0)
 
 
 @app.command()
@@ -489,16 +486,12 @@ def new(
         from robospec.diagnostics.command_line import argument_location
 
         where = argument_location("--uid", uid, sys.argv[1:])
-    written, diagnostics = run_new(description, out, uid, force, not no_sim, where)
-    if attach and written is not None:
-        from robospec.authoring.attach import parse_attach, run_attach
+    result = run_new(description, out, uid, force, not no_sim, where).write()
+    if attach and not result.failed:
+        from robospec.authoring.new.attach import attach_parts
 
-        parts = [parse_attach(text) for text in attach]
-        more, found = run_attach(out, description, parts, force=force, simulate=not no_sim)
-        diagnostics.extend(found)
-        written = None if has_errors(found) else [*more, *(w for w in written if w not in more)]
-    done = "wrote " + ", ".join(str(path) for path in written or [])
-    _finish(diagnostics, written is None, format, color, done)
+        result = attach_parts(result, out, description, attach, force=force, simulate=not no_sim)
+    _finish(result, format, color, "wrote " + ", ".join(str(path) for path in result.written))
 
 
 @app.command(needs=("maniskill",))
@@ -691,8 +684,8 @@ def doc(
 
     # a card named after its spec, where the user stands: `robospec doc SPEC --images` alone works
     out = out if out is not None else Path(f"{spec.stem}.md")
-    diagnostics = run_doc(spec, out, plots, images, collisions)
-    _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
+    result = run_doc(spec, out, plots, images, collisions).write()
+    _finish(result, format, color, f"wrote {out}")
 
 
 @app.command(needs=("lsp",))

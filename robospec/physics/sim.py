@@ -476,6 +476,27 @@ class Sim:
                 found[link.name] = float(body.compute_global_aabb_tight()[0][2])
         return found
 
+    def shaped_links(self) -> set[str]:
+        """The links with collision shapes (the only ones PhysX collides)."""
+        return {link.name for link in self.robot.links if link._objs[0].collision_shapes}
+
+    def hinge_axes(self) -> dict[str, tuple[Vector, Vector]]:
+        """Each link that turns about its parent on a revolute joint -> the line it turns
+        about, in the world as the robot is now: (a point on it, its direction); a PhysX joint
+        turns about its frame's x axis. CPU only."""
+        found = {}
+        for link in self.robot.links:
+            joint = link.joint
+            if joint is None or not str(joint._objs[0].type).startswith("revolute"):
+                continue
+            matrix = joint._objs[0].get_global_pose().to_transformation_matrix()
+            point = (float(matrix[0, 3]), float(matrix[1, 3]), float(matrix[2, 3]))
+            found[link.name] = (
+                point,
+                (float(matrix[0, 0]), float(matrix[1, 0]), float(matrix[2, 0])),
+            )
+        return found
+
     def ground_contacts(self) -> list[tuple[str, Vector, float]]:
         """The robot's contacts with the ground now: (link, point, depth in m). CPU only."""
         links = {id(link._objs[0]): link.name for link in self.robot.links}

@@ -15,8 +15,8 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping
 
-from robospec.authoring.analysis import RobotAnalysis
-from robospec.authoring.gains import JointGains
+from robospec.authoring.new.analysis import RobotAnalysis
+from robospec.authoring.new.gains import JointGains
 
 GRIPPING_KINDS = ("gripper", "mimic")  # the groups whose joints close on objects
 DAMPING_RATIO = 0.1  # damping per unit of stiffness: ManiSkill's grippers' (1e2 / 1e3)

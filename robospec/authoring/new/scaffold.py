@@ -32,15 +32,15 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from robospec.authoring.analysis import RobotAnalysis, immobile_reason
 from robospec.authoring.description_file import DescriptionFile
-from robospec.authoring.filtered_pairs import filtered_cliques
-from robospec.authoring.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
-from robospec.authoring.grip import grip_gains
-from robospec.authoring.joint_gains import joint_gains
-from robospec.authoring.rest_pose import RestPose
-from robospec.authoring.scaffold_controllers import controllers_and_modes, unbalanced
-from robospec.authoring.task_members import task_members
+from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
+from robospec.authoring.new.exemptions import filtered_cliques
+from robospec.authoring.new.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
+from robospec.authoring.new.grip import grip_gains
+from robospec.authoring.new.joint_gains import joint_gains
+from robospec.authoring.new.rest_pose import RestPose
+from robospec.authoring.new.scaffold_controllers import controllers_and_modes, unbalanced
+from robospec.authoring.new.task_members import task_members
 from robospec.geometry import IDENTITY, Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc

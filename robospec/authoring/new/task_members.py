@@ -26,7 +26,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from robospec.authoring.analysis import RobotAnalysis
+from robospec.authoring.new.analysis import RobotAnalysis
 
 if TYPE_CHECKING:
     import numpy as np
