@@ -23,7 +23,8 @@ import pytest
 from conftest import DOCS
 from corpus import BY_KEY, CorpusMissing, locate
 
-pytestmark = pytest.mark.maniskill  # check, register and gym.make simulate the robot
+# check, register and gym.make simulate the robot
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 PAGE = DOCS / "bring-your-own-robot.md"
 ROBOT = BY_KEY["pb_laikago"]  # the page's robot: pybullet's Unitree Laikago

@@ -14,13 +14,14 @@ from conftest import CRASHING_MODES, MANISKILL_SPECS, PANDA_SPEC, ROOT, run_robo
 from robospec.authoring.card import mermaid_label, node_ids
 from robospec.authoring.commands import run_doc, run_new
 from robospec.authoring.layout import mode_layout
-from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
+
+pytestmark = pytest.mark.minutes  # CI starts it first (tests/conftest.py)
 
 
 def card(spec: Path, out: Path) -> str:
-    diagnostics = run_doc(spec, out)
-    assert not has_errors(diagnostics), diagnostics
+    result = run_doc(spec, out).write()
+    assert not result.failed, result.diagnostics
     return out.read_text()
 
 
@@ -86,8 +87,8 @@ def test_odd_link_names_become_safe_mermaid(tmp_path: Path) -> None:
         "</joint></robot>\n"
     )
     spec = tmp_path / "odd.yaml"
-    written, diagnostics = run_new(urdf, spec, None, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(urdf, spec, None, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
     lines = mermaid(card(spec, tmp_path / "odd.md"))
     assert lines == [
         '  l_base__0_["base #quot;0#quot;"]',
@@ -146,7 +147,7 @@ def test_spec_with_errors_gets_diagnostics_and_no_card(tmp_path: Path) -> None:
     spec = tmp_path / "bad.yaml"
     run_new(
         ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False, simulate=False
-    )
+    ).write()
     lines = spec.read_text().splitlines()
     line = next(i for i, text in enumerate(lines) if text.startswith("  arm: ["))
     lines[line] = lines[line].replace("twolink_joint3", "twolink_joint9")
@@ -209,7 +210,7 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: Pa
     from robospec import register
     from robospec.physics import action_layout
     from robospec.physics.check_run import CheckRun
-    from robospec.physics.findings import rounded
+    from robospec.physics.findings import METRIC_DIGITS, significant
 
     compiled = compile_spec(spec)
     assert compiled.robot is not None and compiled.context is not None
@@ -229,8 +230,8 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: Pa
                 r.index,
                 r.group,
                 r.target,
-                rounded(float(np.float32(r.low))),
-                rounded(float(np.float32(r.high))),
+                significant(float(np.float32(r.low)), METRIC_DIGITS),
+                significant(float(np.float32(r.high)), METRIC_DIGITS),
                 r.normalized,
             )
             for r in mode_layout(compiled.robot, compiled.description, mode)
@@ -250,7 +251,7 @@ def test_unwritable_card_is_rs603_and_exit_1(tmp_path: Path) -> None:
     spec = tmp_path / "twolink.yaml"
     run_new(
         ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False, simulate=False
-    )
+    ).write()
     (tmp_path / "afile").write_text("")
     out = tmp_path / "afile" / "card.md"
     result = run_robospec("doc", str(spec), "-o", str(out))

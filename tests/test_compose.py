@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import CODE_EXAMPLES, SPECS
+from conftest import CODE_EXAMPLES, SPECS, maniskill_assets
 from lxml import etree
 
 from robospec.description import load_description
@@ -28,21 +28,14 @@ from robospec.diagnostics import Severity
 from robospec.geometry import matrix_from_quaternion, matrix_from_rpy, quaternion_from_rpy
 from robospec.kinematics.forward import kinematics_of
 from robospec.pipeline import compile_spec
-from robospec.resolve.paths import maniskill_assets_dir
 
 COMPOSED = SPECS / "composed" / "xarm7_ability.yaml"
 HAND = SPECS / "composed" / "ability_hand_right.yaml"
 EXAMPLES = CODE_EXAMPLES / "RS736"  # an arm and a gripper, small enough to write variants of
 
 
-def _assets() -> Path:
-    assets = maniskill_assets_dir()
-    assert assets is not None, "ManiSkill's assets are part of the maniskill extra"
-    return assets
-
-
 def _combined_file() -> Path:
-    return _assets() / "robots" / "xarm7" / "xarm7_ability_right_hand.urdf"
+    return maniskill_assets() / "robots" / "xarm7" / "xarm7_ability_right_hand.urdf"
 
 
 def _compiled(path: Path) -> object:
@@ -131,9 +124,10 @@ def test_the_hands_description_problems_point_into_the_hands_file() -> None:
         d.location.file == "{maniskill_assets}/robots/ability_hand/ability_hand_right.urdf"
         for d in mimics
     )
-    hand = (_assets() / "robots/ability_hand/ability_hand_right.urdf").read_text().splitlines()
+    hand = maniskill_assets() / "robots/ability_hand/ability_hand_right.urdf"
+    lines = hand.read_text().splitlines()
     for d in mimics:  # the line of the joint the warning names
-        assert re.search(rf'joint name="{d.message.split(chr(39))[1]}"', hand[d.location.line - 1])
+        assert re.search(rf'joint name="{d.message.split(chr(39))[1]}"', lines[d.location.line - 1])
 
 
 def test_fold_frames_leaves_out_the_arms_flange_and_the_hands_root_frame() -> None:
@@ -340,6 +334,164 @@ def test_an_mjcf_hand_on_an_mjcf_arm_keeps_its_defaults_and_shares_alike_assets(
     assert not any(d.code == "RS736" for d in result.diagnostics)
 
 
+MOUNTED_ARM = """<mujoco model="arm"><compiler angle="radian"/>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size=".1 .1 .02"/>
+      <body name="link1" pos="0 0 .1">
+        <joint name="j1" axis="0 0 1" range="-1 1"/>
+        <geom type="capsule" size=".02 .1" pos="0 0 .1"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+# the part's root body stands 5 cm along x of its model's frame, turned 90° about x
+MOUNTED_GRIPPER = """<mujoco model="gripper"><compiler angle="radian"/>
+  <default><geom rgba=".5 .5 .5 1"/></default>
+  <worldbody>
+    <body name="palm" pos="0.05 0 0" quat="0.7071067811865476 0.7071067811865476 0 0">
+      <geom type="box" size="0.02 0.04 0.02" mass="0.3"/>
+      <body name="left_finger" pos="0 0.02 0.04">
+        <joint name="left" type="slide" axis="0 1 0" range="0 0.03"/>
+        <geom type="box" size="0.005 0.005 0.025" mass="0.05"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_an_mjcf_parts_root_is_posed_by_the_mount_pose_then_by_its_own(tmp_path: Path) -> None:
+    (tmp_path / "arm.xml").write_text(MOUNTED_ARM)
+    (tmp_path / "gripper.xml").write_text(MOUNTED_GRIPPER)
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: mounted_arm\ndescription: {mjcf: arm.xml}\n"
+        "parts:\n  gripper: {description: {mjcf: gripper.xml}, at: link1,"
+        " pose: {p: [0, 0, 0.1], rpy: [0, 0, pi/2]}}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: [j1], lower: -1, upper: 1,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "  fingers: {type: pd_joint_pos, joints: [left], lower: 0, upper: 0.03,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm, gripper: fingers}\n"
+    )
+    text = _compiled(spec).robot.description.generated_text
+    palm = next(b for b in etree.fromstring(text).iter("body") if b.get("name") == "palm")
+    # in link1's frame: the mount pose, then the root's own pose within it (turned 90° about
+    # z, the root's 5 cm along x become 5 cm along y)
+    position = [float(v) for v in palm.get("pos").split()]
+    np.testing.assert_allclose(position, [0, 0.05, 0.1], atol=1e-9)
+    about_z = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    about_x = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]])
+    quaternion = [float(v) for v in palm.get("quat").split()]
+    np.testing.assert_allclose(matrix_from_quaternion(quaternion), about_z @ about_x, atol=1e-9)
+
+
+def test_an_mjcf_part_without_defaults_gets_no_default_class(tmp_path: Path) -> None:
+    (tmp_path / "arm.xml").write_text(MOUNTED_ARM)
+    (tmp_path / "gripper.xml").write_text(
+        MOUNTED_GRIPPER.replace('  <default><geom rgba=".5 .5 .5 1"/></default>\n', "")
+    )
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: plain_arm\ndescription: {mjcf: arm.xml}\n"
+        "parts:\n  gripper: {description: {mjcf: gripper.xml}, at: link1}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: [j1, left], lower: null,"
+        " upper: null, stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm}\n"
+    )
+    text = _compiled(spec).robot.description.generated_text  # no RS052: no unknown class
+    palm = next(b for b in etree.fromstring(text).iter("body") if b.get("name") == "palm")
+    assert palm.get("childclass") is None
+
+
+NAMED_ARM = """<mujoco model="arm"><compiler angle="radian"/>
+  <default><geom rgba=".8 .8 .8 1"/></default>
+  <asset><material name="grey" rgba=".5 .5 .5 1"/><material name="paint" rgba="0 0 1 1"/></asset>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size=".1 .1 .02" material="grey"/>
+      <body name="link1" pos="0 0 .1">
+        <joint name="j1" axis="0 0 1" range="-1 1"/>
+        <geom type="capsule" size=".02 .1" pos="0 0 .1"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator><position name="a1" joint="j1" kp="10"/></actuator>
+  <keyframe><key name="home" qpos="0.5" qvel="0.1" ctrl="0.5"/></keyframe>
+</mujoco>
+"""
+# a part whose body, joint and actuator names are the arm's too, with a material the arm has
+# alike and one of its own
+NAMED_GRIPPER = """<mujoco model="gripper"><compiler angle="radian"/>
+  <default><geom rgba=".2 .2 .2 1"/><joint damping="1"/></default>
+  <asset>
+    <material name="grey" rgba=".5 .5 .5 1"/>
+    <material name="rubber" rgba=".1 .1 .1 1"/>
+    <material name="paint" rgba="1 0 0 1"/>
+  </asset>
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.02 0.04 0.02" mass="0.3" material="grey"/>
+      <geom name="logo" type="box" size="0.01 0.01 0.001" material="paint"/>
+      <body name="left_finger" pos="0 0.02 0.04">
+        <joint name="j1" type="slide" axis="0 1 0" range="0 0.03" ref="0.01"/>
+        <geom type="box" size="0.005 0.005 0.025" mass="0.05" material="rubber"/>
+      </body>
+    </body>
+  </worldbody>
+  <contact><exclude body1="base" body2="left_finger"/></contact>
+  <actuator><position name="a1" joint="j1" kp="5"/></actuator>
+</mujoco>
+"""
+
+
+def test_an_mjcf_part_keeps_its_names_defaults_and_sections_prefixed_where_they_clash(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "arm.xml").write_text(NAMED_ARM)
+    (tmp_path / "gripper.xml").write_text(NAMED_GRIPPER)
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: named_arm\ndescription: {mjcf: arm.xml}\n"
+        "parts:\n  gripper: {description: {mjcf: gripper.xml}, at: link1}\n"
+        "controllers:\n  arm: {type: pd_joint_pos, joints: [j1], lower: -1, upper: 1,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "  fingers: {type: pd_joint_pos, joints: [gripper_j1], lower: 0, upper: 0.03,"
+        " stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {arm: arm, gripper: fingers}\n"
+    )
+    result = _compiled(spec)
+    (note,) = [d for d in result.diagnostics if d.code == "RS736"]
+    for renamed in ("body 'base' -> 'gripper_base'", "joint 'j1' -> 'gripper_j1'"):
+        assert renamed in note.message
+    assert "left_finger" not in note.message  # no clash: kept
+    root = etree.fromstring(result.robot.description.generated_text)
+    link1 = next(b for b in root.iter("body") if b.get("name") == "link1")
+    (part,) = link1.findall("body")
+    assert (part.get("name"), part.get("childclass")) == ("gripper_base", "gripper")
+    # the part's defaults: a class of their own inside the robot's main default
+    (main,) = root.findall("default")
+    (own,) = main.findall("default")
+    assert own.get("class") == "gripper" and own.find("joint").get("damping") == "1"
+    assert main.find("geom").get("rgba") == ".8 .8 .8 1"  # the robot's own, kept
+    # the material both define alike once, the part's own beside it, and the one both name
+    # but define otherwise prefixed, with the part's geom that wears it
+    materials = [m.get("name") for m in root.iter("material")]
+    assert materials == ["grey", "paint", "rubber", "gripper_paint"]
+    logo = next(g for g in root.iter("geom") if g.get("name") == "logo")
+    assert logo.get("material") == "gripper_paint"
+    # the sections' references follow the renames
+    (exclude,) = root.iter("exclude")
+    assert (exclude.get("body1"), exclude.get("body2")) == ("gripper_base", "left_finger")
+    actuators = [(a.get("name"), a.get("joint")) for a in root.find("actuator")]
+    assert actuators == [("a1", "j1"), ("gripper_a1", "gripper_j1")]
+    # the robot's keyframe gets the part's joint at its reference, at rest, and its actuator
+    (key,) = root.iter("key")
+    assert (key.get("qpos"), key.get("qvel"), key.get("ctrl")) == ("0.5 0.01", "0.1 0", "0.5 0")
+
+
 def test_build_carries_a_composed_mjcf_standalone(tmp_path: Path) -> None:
     from conftest import invoke_robospec
 
@@ -448,7 +600,7 @@ def test_the_srdf_pairs_beside_the_robots_urdf_stay_apart_with_a_part_mounted(
         "control_modes: {pd_joint_pos: all}\n"
     )
     robot = _compiled(spec).robot
-    panda, _ = load_description(str(_assets() / "robots/panda/panda_v2.urdf"), "urdf")
+    panda, _ = load_description(str(maniskill_assets() / "robots/panda/panda_v2.urdf"), "urdf")
     assert panda is not None and panda.loader_collision_bits  # SAPIEN reads them beside it
     kept = {frozenset(entry) for entry in robot.never_collide.entries}
     assert {frozenset(links) for _, links in panda.loader_collision_bits} <= kept
@@ -562,7 +714,7 @@ def test_inspect_names_the_arms_flange_frame_and_the_hands_root() -> None:
 
     from conftest import invoke_robospec
 
-    robots = _assets() / "robots"
+    robots = maniskill_assets() / "robots"
     arm = invoke_robospec("inspect", str(robots / "xarm7" / "xarm7.urdf"), "--format", "json")
     frames = json.loads(arm.stdout)["mounting_frames"]
     assert [(f["at"], f["role"]) for f in frames] == [

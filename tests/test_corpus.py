@@ -3,6 +3,7 @@ the journey a user takes — inspect, new, validate, check, register + gym.make 
 build + import — with the spec exactly as ``robospec new`` writes it (tests/corpus_journey.py).
 
 Every robot passes, or ``validate``/``check`` stops it with a located reason; nothing crashes;
+each robot ends its journey as the reviewed table of tests/corpus.py (``EXPECTED_STOPS``) says;
 and docs/robots.md is what the journeys did. The journeys run once per session, several robots
 at a time (``ROBOSPEC_CORPUS_WORKERS``, default: the CPUs), each step in a child process.
 """
@@ -18,6 +19,7 @@ from corpus import (
     BY_KEY,
     CATEGORIES,
     CORPUS,
+    EXPECTED_STOPS,
     FORMATS,
     ROBOTS_PAGE,
     WRITE_COMMAND,
@@ -26,7 +28,7 @@ from corpus import (
     locate,
     picture_path,
 )
-from corpus_journey import FAILED, PASSED, Journey, Step, run_corpus
+from corpus_journey import FAILED, PASSED, STEPS, Journey, Step, run_corpus
 from corpus_page import render_page
 from picture_truth import picture_faults, placement_errors, sapien_truth
 
@@ -68,6 +70,14 @@ def test_each_robot_is_found_where_its_package_installs_it(key: str) -> None:
     assert path.is_file() and path.as_posix().endswith(BY_KEY[key].path)
 
 
+def test_the_expected_stops_name_corpus_robots_steps_that_stop_and_codes() -> None:
+    assert set(EXPECTED_STOPS) <= set(BY_KEY)
+    for key, stop in EXPECTED_STOPS.items():
+        assert stop.step in STOPPING_STEPS, key
+        assert stop.codes and all(code.startswith("RS") for code in stop.codes), key
+        assert stop.reason, key
+
+
 # -- the journeys
 
 
@@ -91,6 +101,25 @@ def _says(step: Step) -> str:
     """A step's outcome and its reasons, for an assertion's message."""
     reasons = [step.crash or step.problem or ""] + [f.text() for f in step.errors]
     return f"{step.name} {step.outcome}: " + "; ".join(r for r in reasons if r)
+
+
+@pytest.mark.parametrize("key", ROBOT_KEYS)
+def test_each_robot_ends_its_journey_as_the_reviewed_table_says(
+    journeys: dict[str, Journey], key: str
+) -> None:
+    """A robot the table does not list passes every step; one it lists passes every step
+    before its stop and fails there with exactly the listed error codes."""
+    journey = journeys[key]
+    stop = EXPECTED_STOPS.get(key)
+    if stop is None:
+        stopped = [step for step in journey.steps.values() if step.outcome != PASSED]
+        assert not stopped, [_says(step) for step in stopped]
+        return
+    for name in STEPS[: STEPS.index(stop.step)]:
+        assert journey.step(name).outcome == PASSED, _says(journey.step(name))
+    step = journey.step(stop.step)
+    assert step.outcome == FAILED, _says(step)
+    assert {found.code for found in step.errors} == stop.codes, _says(step)
 
 
 @pytest.mark.parametrize("key", ROBOT_KEYS)

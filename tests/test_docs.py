@@ -34,6 +34,9 @@ REGENERATE = "run: python -m robospec.docgen --write docs"
 
 # the passing example of RS055 still warns with RS055 until ManiSkill downloads the robot
 PASS_MAY_WARN_WITH_OWN_CODE = {"RS055"}
+# failing examples that also note what their spec's own section changed in the derived copy:
+# a planar base is added (RS780) before the checks find that it does not belong there
+FAIL_ALSO_NOTES = {"RS341": "RS780", "RS342": "RS780"}
 
 # a fenced block, with the `<!-- ... -->` line before it if there is one: `<!-- generated:
 # FILE -->` (an excerpt of a file robospec writes) or `<!-- not a spec -->` (YAML of other tools)
@@ -134,7 +137,9 @@ def test_each_code_has_a_failing_and_a_passing_example_or_a_documented_one(code:
     assert examples.failing is not None, f"{code} has a passing example but no failing one"
     assert examples.passing is not None, f"{code} has a failing example but no passing one"
     failing = examples.failing
-    assert failing.codes == {code}, [d.format_text() for d in failing.diagnostics]
+    also = {FAIL_ALSO_NOTES[code]} if code in FAIL_ALSO_NOTES else set()
+    assert failing.codes == {code, *also}, [d.format_text() for d in failing.diagnostics]
+    assert not also & failing.error_codes
     passing = examples.passing
     assert not passing.error_codes, [d.format_text() for d in passing.diagnostics]
     if code in PASS_MAY_WARN_WITH_OWN_CODE:

@@ -123,6 +123,7 @@ def _command_lines(out: Path) -> dict[str, list[str]]:
         "new": ["new", URDF, "-o", str(out / "new.yaml")],
         "optimize": ["optimize", SPEC, "-o", str(out / "fast.yaml")],
         "tune": ["tune", SPEC],
+        "solve": ["solve", SPEC, "-n", "1"],
         "doc": ["doc", SPEC, "-o", str(out / "card.md")],
         "lsp": ["lsp"],
     }

@@ -21,15 +21,17 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
-from robospec.derive.planar_base import ADDED_ROOT
 from robospec.diagnostics import Diagnostic, error
-from robospec.kinematics.morphology import WHEEL_WORDS
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     base = context.robot.mobile_base
     if base is None:
         return
+    # here, not above: validate of a spec without a planar base loads neither
+    from robospec.derive.planar_base import ADDED_ROOT
+    from robospec.kinematics.morphology import WHEEL_WORDS
+
     description = context.description
     if not context.robot.fix_root_link:
         yield error(

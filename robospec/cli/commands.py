@@ -10,7 +10,7 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -21,6 +21,9 @@ from robospec.reporting import Format as DiagnosticFormat
 from robospec.reporting import render
 from robospec.reporting.color import ColorChoice as Color
 from robospec.reporting.color import use_color
+
+if TYPE_CHECKING:
+    from robospec.authoring.commands import CommandResult
 
 # Help is written for reflow: robospec/cli/help_style.py says how (App holds every command to it).
 app = App(
@@ -94,23 +97,17 @@ def _silenced_codes(silence: list[str] | None) -> frozenset[str]:
     return frozenset(silence or ())
 
 
-def _finish(
-    diagnostics: Sequence[Diagnostic],
-    failed: bool,
-    fmt: DiagnosticFormat,
-    color: Color,
-    done: str,
-) -> None:
-    """End a command that writes one file: text says ``done`` (diagnostics on stderr), the
+def _finish(result: CommandResult, fmt: DiagnosticFormat, color: Color, done: str) -> None:
+    """End a command that writes files: text says ``done`` (diagnostics on stderr), the
     machine formats print the diagnostics report (on stdout) whatever happened."""
     if fmt is not DiagnosticFormat.text:
-        _report(diagnostics, 1, fmt, color)
+        _report(result.diagnostics, 1, fmt, color)
     else:
-        if diagnostics:
-            _report(diagnostics, 1, fmt, color, err=True)
-        if not failed:
+        if result.diagnostics:
+            _report(result.diagnostics, 1, fmt, color, err=True)
+        if not result.failed:
             typer.echo(done)
-    raise typer.Exit(1 if failed else 0)
+    raise typer.Exit(1 if result.failed else 0)
 
 
 @app.command()
@@ -279,6 +276,15 @@ def check(
             "of tasks (tabletop) runs each; repeat for several",
         ),
     ] = None,
+    solve: Annotated[
+        int,
+        typer.Option(
+            "--solve",
+            min=0,
+            help="with --task: also run ManiSkill's solution of each task for N episodes "
+            "(robospec solve); fails under 90% success",
+        ),
+    ] = 0,
     silence: SilenceOpt = None,
 ) -> None:
     """Run headless physics checks on each robot (exit 1 when a check fails).
@@ -289,15 +295,72 @@ def check(
 
     Example: robospec check specs/maniskill/panda.yaml --steps 100 --format json
     Example: robospec check specs/my_arm.yaml --task PickCube-v1 --task PushCube-v1
+    Example: robospec check specs/my_arm.yaml --task PickCube-v1 --solve 5
     """
     from robospec.physics.command import run_check
 
     codes = _silenced_codes(silence)
     code, text = run_check(
-        paths, steps, format.value, gpu, num_envs, render, plot, task or [], sys.argv[1:], codes
+        paths,
+        steps,
+        format.value,
+        gpu,
+        num_envs,
+        render,
+        plot,
+        task or [],
+        sys.argv[1:],
+        codes,
+        solve,
     )
     typer.echo(text)
     raise typer.Exit(code)
+
+
+@app.command(needs=("maniskill",))
+def solve(
+    spec: Annotated[Path, typer.Argument(help="the spec of an arm with a two-finger gripper")],
+    task: Annotated[
+        str, typer.Option("--task", help="the ManiSkill task whose solution to run")
+    ] = "PickCube-v1",
+    count: Annotated[int, typer.Option("--count", "-n", min=1, help="episodes to run")] = 10,
+    out: Annotated[
+        Path | None,
+        typer.Option("--out", "-o", help="write the trajectories to DIR/TASK.h5 and .json"),
+    ] = None,
+    num_procs: Annotated[
+        int, typer.Option("--num-procs", min=1, help="processes to spread the episodes over")
+    ] = 1,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="the first episode's seed")] = 0,
+    min_success: Annotated[
+        float | None,
+        typer.Option(
+            "--min-success", min=0, max=1, help="exit 1 when fewer episodes succeed (0 to 1)"
+        ),
+    ] = None,
+    format: ReportFormatOpt = ReportFormat.text,
+) -> None:
+    """Run ManiSkill's own motion-planning solution of a task with the robot, planned by
+    robospec from the spec, and write the episodes as ManiSkill trajectories (exit 1 when the
+    solution cannot apply, or under --min-success).
+
+    Each episode's success is the task's own (info["success"]); replay and convert the file
+    with ManiSkill's replay_trajectory (docs/solve.md).
+
+    Example: robospec solve specs/maniskill/panda.yaml --task PickCube-v1 -n 100 -o demos
+    Example: robospec solve my_arm.yaml --task StackCube-v1 -n 1000 --num-procs 8 -o demos
+    """
+    from robospec.diagnostics import has_errors
+    from robospec.solve.command import below_min_success, render_report, run_solve
+
+    report = run_solve(
+        spec, task, count, out, num_procs, seed, sys.argv[1:], progress=sys.stderr.isatty()
+    )
+    short = below_min_success(report, min_success, sys.argv[1:])
+    if short is not None:
+        report.diagnostics.append(short)
+    typer.echo(render_report(report, format.value))
+    raise typer.Exit(1 if has_errors(report.diagnostics) else 0)
 
 
 @app.command(needs=("maniskill",))
@@ -346,12 +409,12 @@ def inspect(
     """
     from robospec.authoring.commands import run_inspect
 
-    text, diagnostics = run_inspect(file, format.value)
-    if text is not None:
-        sys.stdout.write(text)
-    if diagnostics:
-        _report(diagnostics, 1, DiagnosticFormat(format.value), color, err=True)
-    raise typer.Exit(1 if text is None or has_errors(diagnostics) else 0)
+    result = run_inspect(file, as_json=format is ReportFormat.json)
+    if result.report is not None:
+        sys.stdout.write(result.report)
+    if result.diagnostics:
+        _report(result.diagnostics, 1, DiagnosticFormat(format.value), color, err=True)
+    raise typer.Exit(1 if result.report is None or result.failed else 0)
 
 
 @app.command()
@@ -423,16 +486,12 @@ def new(
         from robospec.diagnostics.command_line import argument_location
 
         where = argument_location("--uid", uid, sys.argv[1:])
-    written, diagnostics = run_new(description, out, uid, force, not no_sim, where)
-    if attach and written is not None:
-        from robospec.authoring.attach import parse_attach, run_attach
+    result = run_new(description, out, uid, force, not no_sim, where).write()
+    if attach and not result.failed:
+        from robospec.authoring.new.attach import attach_parts
 
-        parts = [parse_attach(text) for text in attach]
-        more, found = run_attach(out, description, parts, force=force, simulate=not no_sim)
-        diagnostics.extend(found)
-        written = None if has_errors(found) else [*more, *(w for w in written if w not in more)]
-    done = "wrote " + ", ".join(str(path) for path in written or [])
-    _finish(diagnostics, written is None, format, color, done)
+        result = attach_parts(result, out, description, attach, force=force, simulate=not no_sim)
+    _finish(result, format, color, "wrote " + ", ".join(str(path) for path in result.written))
 
 
 @app.command(needs=("maniskill",))
@@ -625,8 +684,8 @@ def doc(
 
     # a card named after its spec, where the user stands: `robospec doc SPEC --images` alone works
     out = out if out is not None else Path(f"{spec.stem}.md")
-    diagnostics = run_doc(spec, out, plots, images, collisions)
-    _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
+    result = run_doc(spec, out, plots, images, collisions).write()
+    _finish(result, format, color, f"wrote {out}")
 
 
 @app.command(needs=("lsp",))

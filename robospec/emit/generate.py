@@ -25,6 +25,7 @@ from robospec.emit.controllers import (
 from robospec.emit.layout import format_module
 from robospec.emit.module_imports import IMPORTABLE, import_statements, used_names
 from robospec.emit.python_refs import PythonNames, python_names, rename
+from robospec.emit.reset import RESET_MEMBERS, generate_reset
 from robospec.emit.values import (
     UnsafeIdentifier,
     assign,
@@ -62,6 +63,7 @@ CLASS_ATTRIBUTES = frozenset(
         "_after_init",
         "_after_loading_articulation",
         "recommended_sim_config",
+        *RESET_MEMBERS,
     }
 )
 
@@ -225,6 +227,8 @@ def generate_members(robot: ResolvedRobot, python: PythonNames) -> list[ast.stmt
     after_init = generate_after_init(robot, python)
     if after_init is not None:
         body.append(after_init)
+    if robot.reset is not None:
+        body.extend(generate_reset(robot.reset))
     body.extend(helpers.generate_tcp_members(robot))
     body.extend(helpers.generate_grasping(check, robot) for check in robot.grasping)
     if robot.is_static is not None:

@@ -7,7 +7,7 @@ does not give (where the links are, MuJoCo itself says: :mod:`.mjcf_poses`):
   model keeps its own masses (from ``<inertial>``, or its own integration of the geoms) and
   neither the densities nor the geoms' given masses;
 * the joints' own ``damping``, ``armature`` and ``actuatorfrcrange`` as the actuators' gains
-  read them (:mod:`robospec.authoring.gains`), by name.
+  read them (:mod:`robospec.authoring.new.gains`), by name.
 
 MuJoCo's rules for defaults and ``<include>`` (:mod:`robospec.description.mjcf_mujoco`): an
 element takes its ``class``, else the ``childclass`` of the nearest body above it, else the

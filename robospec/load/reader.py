@@ -8,12 +8,15 @@ import stat
 import sys
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error, line_column
 from robospec.load.prescan import prescan
 from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap, WrittenNumber
-from robospec.load.syntax_hints import Explained, explain_toml, explain_yaml
+
+if TYPE_CHECKING:
+    # imported where a syntax error is explained: a spec that parses needs none of it
+    from robospec.load.syntax_hints import Explained
 
 SPEC_SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml"}
 MAX_BYTES = 2 * 1024 * 1024
@@ -302,6 +305,8 @@ def _duplicate_message(exc: Any) -> str:
 
 
 def _explained_yaml(exc: Any, text: str) -> Explained | None:
+    from robospec.load.syntax_hints import explain_yaml
+
     mark = exc.problem_mark or exc.context_mark
     if mark is None:
         return None
@@ -418,6 +423,7 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
+        from robospec.load.syntax_hints import explain_toml
         from robospec.load.toml_positions import tomllib_error_location
 
         line, column, message = tomllib_error_location(exc, text)

@@ -131,8 +131,10 @@ class Sim:
         # the scene users get: Empty-v1's ground, whatever the robot (a fixed robot at the
         # origin that reaches through it meets it there too: robospec.physics.ground says so)
         self.ground = self.base.ground
-        # the state the robot is loaded in: ``start(None)``
-        self._loaded = (self.robot.get_qpos().clone(), self.robot.pose)
+        # the state the robot is loaded in: ``start(None)``. SAPIEN builds every joint at 0 (no
+        # loader of ManiSkill's sets a qpos); the reset has since put a robospec agent at its
+        # reset keyframe, so the joints are read as built, not as they are now
+        self._loaded = (self.robot.get_qpos() * 0, self.robot.pose)
         self._used = False  # whether anything moved since the scene was built
 
     def _rebuild(self) -> None:
@@ -472,6 +474,27 @@ class Sim:
             body = link._objs[0]
             if body.collision_shapes:
                 found[link.name] = float(body.compute_global_aabb_tight()[0][2])
+        return found
+
+    def shaped_links(self) -> set[str]:
+        """The links with collision shapes (the only ones PhysX collides)."""
+        return {link.name for link in self.robot.links if link._objs[0].collision_shapes}
+
+    def hinge_axes(self) -> dict[str, tuple[Vector, Vector]]:
+        """Each link that turns about its parent on a revolute joint -> the line it turns
+        about, in the world as the robot is now: (a point on it, its direction); a PhysX joint
+        turns about its frame's x axis. CPU only."""
+        found = {}
+        for link in self.robot.links:
+            joint = link.joint
+            if joint is None or not str(joint._objs[0].type).startswith("revolute"):
+                continue
+            matrix = joint._objs[0].get_global_pose().to_transformation_matrix()
+            point = (float(matrix[0, 3]), float(matrix[1, 3]), float(matrix[2, 3]))
+            found[link.name] = (
+                point,
+                (float(matrix[0, 0]), float(matrix[1, 0]), float(matrix[2, 0])),
+            )
         return found
 
     def ground_contacts(self) -> list[tuple[str, Vector, float]]:

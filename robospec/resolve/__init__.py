@@ -26,6 +26,7 @@ from robospec.resolve.modes import resolve_modes
 from robospec.resolve.never_collide import resolve_never_collide
 from robospec.resolve.part_renaming import carry_parts
 from robospec.resolve.part_types import PartInput
+from robospec.resolve.reset import resolve_reset
 from robospec.resolve.resolved import (
     FileRef,
     ResolvedCollisionRule,
@@ -114,6 +115,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         is_static=members.is_static(context),
         is_standing=members.is_standing(context),
         is_fallen=members.is_fallen(context),
+        reset=resolve_reset(context, keyframes),
         link_states=members.link_states(context),
         proprioception=tuple(spec.proprioception),
         disable_gravity=members.disable_gravity(context),

@@ -326,6 +326,19 @@ class ResolvedStatic:
 
 
 @dataclass(frozen=True)
+class ResolvedReset:
+    """What the agent's ``reset()`` starts each episode at: keyframe ``keyframe``'s joints, with
+    Gaussian noise of ``qpos_noise`` on the qpos columns ``noise_columns`` (of ``dof``)."""
+
+    keyframe: str
+    qpos_noise: float
+    noise_columns: tuple[int, ...]
+    dof: int
+    # the keyframe sets joint velocities too: the reset restores them after the positions
+    with_qvel: bool = False
+
+
+@dataclass(frozen=True)
 class ResolvedHeight:
     above: float | None
     below: float | None
@@ -520,6 +533,7 @@ class ResolvedRobot:
     is_static: ResolvedStatic | None = None
     is_standing: ResolvedStanding | None = None
     is_fallen: ResolvedFallen | None = None
+    reset: ResolvedReset | None = None
     link_states: tuple[ResolvedLinkState, ...] = ()
     proprioception: tuple[str, ...] = ()
     disable_gravity: tuple[str, ...] = ()

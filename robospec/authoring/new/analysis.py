@@ -11,10 +11,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from robospec.authoring.description_file import DescriptionFile
-from robospec.authoring.gains import Drive, actuator_drives
-from robospec.authoring.groups import Groups, MimicLink, guess_groups
-from robospec.authoring.joint_loads import Inertial, mjcf_inertials, urdf_inertials
-from robospec.authoring.linkages import FoundLoop, find_loops
+from robospec.authoring.new.gains import Drive, actuator_drives
+from robospec.authoring.new.groups import Groups, MimicLink, guess_groups
+from robospec.authoring.new.joint_loads import Inertial, mjcf_inertials, urdf_inertials
+from robospec.authoring.new.linkages import FoundLoop, find_loops
 from robospec.description import Joint, RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.geometry import IDENTITY, Quaternion

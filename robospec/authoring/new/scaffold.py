@@ -32,14 +32,15 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from robospec.authoring.analysis import RobotAnalysis, immobile_reason
 from robospec.authoring.description_file import DescriptionFile
-from robospec.authoring.filtered_pairs import filtered_cliques
-from robospec.authoring.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
-from robospec.authoring.joint_gains import joint_gains
-from robospec.authoring.rest_pose import RestPose
-from robospec.authoring.scaffold_controllers import controllers_and_modes, unbalanced
-from robospec.authoring.task_members import task_members
+from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
+from robospec.authoring.new.exemptions import filtered_cliques
+from robospec.authoring.new.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
+from robospec.authoring.new.grip import grip_gains
+from robospec.authoring.new.joint_gains import joint_gains
+from robospec.authoring.new.rest_pose import RestPose
+from robospec.authoring.new.scaffold_controllers import controllers_and_modes, unbalanced
+from robospec.authoring.new.task_members import task_members
 from robospec.geometry import IDENTITY, Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
@@ -179,6 +180,10 @@ def scaffold(
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
     data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest)
+    data["reset"] = {"keyframe": "rest"}
+    notes[("reset",)] = (
+        "every episode starts at rest (ManiSkill's tasks reset only the robots they know)"
+    )
     filtered = filtered_cliques(source.description)
     kept_apart = {pair for links in filtered for pair in clique_pairs(links)}
     entries = [list(links) for links in filtered] + [
@@ -201,7 +206,7 @@ def scaffold(
 
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
-    controllers, modes = controllers_and_modes(analysis, gains, rest.qpos)
+    controllers, modes = controllers_and_modes(analysis, grip_gains(analysis, gains), rest.qpos)
     data["controllers"] = controllers
     notes[("controllers",)] = _gains_note(analysis, refined)
     data["control_modes"] = modes

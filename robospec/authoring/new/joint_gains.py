@@ -14,13 +14,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from robospec.authoring.analysis import RobotAnalysis, immobile_reason
-from robospec.authoring.gains import (
+from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
+from robospec.authoring.new.gains import (
     NATURAL_FREQUENCY,
     JointGains,
     analytic_gains,
 )
-from robospec.authoring.joint_loads import JointLoad, joint_loads
+from robospec.authoring.new.joint_loads import JointLoad, joint_loads
 from robospec.description import Joint
 from robospec.description.ratings import Rating, joint_ratings
 from robospec.diagnostics import Diagnostic, Location, warning

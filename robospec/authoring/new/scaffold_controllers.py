@@ -27,8 +27,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from robospec.authoring.analysis import RobotAnalysis
-from robospec.authoring.gains import JointGains
+from robospec.authoring.new.analysis import RobotAnalysis
+from robospec.authoring.new.gains import JointGains
 
 # where a joint has no gains of its own (none can be computed: no kinematic model)
 GAINS: dict[str, float] = {"stiffness": 1e3, "damping": 1e2, "force_limit": 100}

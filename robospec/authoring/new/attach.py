@@ -19,9 +19,12 @@ import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
+
+if TYPE_CHECKING:
+    from robospec.authoring.commands import CommandResult
 from robospec.model.names import NAME_PATTERN
 
 BAD_ATTACH = "RS742"
@@ -63,11 +66,11 @@ def run_attach(
     *,
     force: bool,
     simulate: bool,
-) -> tuple[list[Path], list[Diagnostic]]:
+) -> CommandResult:
     """Mount ``attachments`` in the spec ``new`` wrote at ``arm_spec`` from
-    ``arm_description``: the files written (the parts' scaffolded specs, the arm's spec again)
-    and the diagnostics."""
-    from robospec.authoring.commands import run_new
+    ``arm_description``: the arm's spec again, to write; the parts' specs ``new`` scaffolds
+    are written already (the composed robot is compiled from them, to find its seam)."""
+    from robospec.authoring.commands import CommandResult, Output, run_new
     from robospec.authoring.description_file import read_description_file
 
     written: list[Path] = []
@@ -76,28 +79,51 @@ def run_attach(
     for attachment in attachments:
         spec = attachment.hand
         if not spec.is_file():
-            return written, [_bad(attachment, f"no file '{attachment.hand}'")]
+            bad = _bad(attachment, f"no file '{attachment.hand}'")
+            return CommandResult(diagnostics=(bad,), written=tuple(written))
         if not attachment.is_spec:
             spec = arm_spec.parent / f"{attachment.name}.yaml"
-            files, found = run_new(attachment.hand, spec, None, force, simulate)
-            diagnostics.extend(found)
-            if files is None:
-                return written, diagnostics
-            written.extend(f for f in files if f not in written)
+            part = run_new(attachment.hand, spec, None, force, simulate).write()
+            diagnostics.extend(part.diagnostics)
+            if part.failed:
+                return CommandResult(diagnostics=tuple(diagnostics), written=tuple(written))
+            written.extend(f for f in part.written if f not in written)
         arm, _ = read_description_file(arm_description, keep_errors=True)
         entry = _entry(arm_spec, arm, attachment, spec)
         if isinstance(entry, Diagnostic):
-            return written, [*diagnostics, entry]
+            return CommandResult(diagnostics=(*diagnostics, entry), written=tuple(written))
         parts[attachment.name] = entry
-    text = arm_spec.read_text(encoding="utf-8")
-    text = _with_parts(text, parts)
-    arm_spec.write_text(text, encoding="utf-8")
-    seam, found = _seam_pairs(arm_spec, parts) if simulate else ([], [])
+    text = _with_parts(arm_spec.read_text(encoding="utf-8"), parts)
+    seam, found = _seam_pairs(arm_spec, text, parts) if simulate else ([], [])
     diagnostics.extend(found)
     if seam:
-        arm_spec.write_text(_with_never_collide(arm_spec.read_text("utf-8"), seam), "utf-8")
-    written.append(arm_spec)
-    return written, diagnostics
+        text = _with_never_collide(text, seam)
+    return CommandResult(
+        outputs=(Output(arm_spec, text),), diagnostics=tuple(diagnostics), written=tuple(written)
+    )
+
+
+def attach_parts(
+    new: CommandResult,
+    arm_spec: Path,
+    arm_description: Path,
+    attach: list[str],
+    *,
+    force: bool,
+    simulate: bool,
+) -> CommandResult:
+    """``new --attach``: after ``new`` (its result, written) wrote ``arm_spec``, each
+    ``HAND@LINK`` of ``attach`` mounted in it, written: every file written, the parts' and the
+    arm's spec first, and every diagnostic."""
+    from robospec.authoring.commands import CommandResult
+
+    parts = [parse_attach(text) for text in attach]
+    mounted = run_attach(arm_spec, arm_description, parts, force=force, simulate=simulate)
+    mounted = mounted.write()
+    earlier = tuple(path for path in new.written if path not in mounted.written)
+    return CommandResult(
+        diagnostics=(*new.diagnostics, *mounted.diagnostics), written=(*mounted.written, *earlier)
+    )
 
 
 def _bad(attachment: Attachment, message: str, hint: str | None = None) -> Diagnostic:
@@ -189,14 +215,15 @@ def _flow(value: Any) -> str:
 
 
 def _seam_pairs(
-    arm_spec: Path, parts: dict[str, dict[str, Any]]
+    arm_spec: Path, text: str, parts: dict[str, dict[str, Any]]
 ) -> tuple[list[tuple[str, str]], list[Diagnostic]]:
     """Pairs across the seam of each part that touch in every sampled pose (found in a child
-    process, on the composed URDF); none for an MJCF robot (the matrix loads URDF)."""
+    process, on the composed URDF of the arm's spec ``text``); none for an MJCF robot (the
+    matrix loads URDF)."""
     from robospec.output.modules import carried_urdf
     from robospec.pipeline import compile_spec
 
-    compiled = compile_spec(arm_spec)
+    compiled = compile_spec(arm_spec, text=text.encode("utf-8"))
     if compiled.robot is None or has_errors(compiled.diagnostics):
         return [], list(compiled.diagnostics)
     robot = compiled.robot
@@ -217,7 +244,7 @@ def _seam_pairs(
         }
         try:
             done = subprocess.run(
-                [sys.executable, "-m", "robospec.authoring.attach"],
+                [sys.executable, "-m", "robospec.authoring.new.attach"],
                 input=json.dumps(request),
                 capture_output=True,
                 text=True,

@@ -1,5 +1,5 @@
 """The second half of a scaffold's gains: measured in ManiSkill and changed where they miss
-(run by :mod:`.pose_probe`, in its child process, on the draft scaffold at its rest pose).
+(run by :mod:`.probe`, in its child process, on the draft scaffold at its rest pose).
 
 1. Each position or velocity controller of the draft's ``pd_joint_pos`` mode is stepped as
    ``robospec check`` steps it and searched by ``robospec tune``'s search
@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from robospec.authoring.gains import HOLD_SHARE  # of check's max_joint_drift
+from robospec.authoring.new.gains import HOLD_SHARE  # of check's max_joint_drift
 from robospec.physics.findings import significant
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe

@@ -1,5 +1,6 @@
 """The rest pose of a scaffold as ManiSkill sees it: free of self-contact and, for a floating
-robot, standing on the ground (:mod:`.pose_probe` does the work in a child process).
+robot, standing on the ground (:mod:`.probe` does the work in a child process; this is the
+parent's side: the request, and the answer read back).
 
 Without ManiSkill (the core install), or when ManiSkill cannot load the robot, the pose stays
 0 where the limits allow and mid-range elsewhere, and the scaffold says it was not checked.
@@ -18,7 +19,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from robospec.authoring.groups import MimicLink
+from robospec.authoring.new import exemptions
+from robospec.authoring.new.groups import MimicLink
 from robospec.description import RobotDescription
 from robospec.geometry import IDENTITY, Quaternion
 from robospec.kinematics.tree import KinematicTree
@@ -28,13 +30,6 @@ PROBE_UID = "robospec_new_probe"
 REFINE_UID = "robospec_new_refine"  # the scaffold at its rest pose, whose gains are measured
 PROBE_MODE = "pd_joint_pos"
 PROBE_TIMEOUT = 300.0  # s; loading a big robot on a slow CPU takes tens of seconds
-# links this many active joints apart or fewer are neighbours: a contact between them in every
-# pose is their shapes overlapping at the joint (a housing, a motor inside the body)
-NEIGHBOURS = 2
-# after this many poses, a pair that touched in every one overlaps whatever joins it: coarse
-# collision shapes (iCub's boxes: its head and shoulder touch 59 mm deep in every pose), which
-# PhysX pushes apart with all its might at the first step
-THOROUGH = 100
 
 
 @dataclass(frozen=True)
@@ -47,16 +42,17 @@ class RestPose:
     touching: tuple[tuple[str, str, float], ...] = ()  # pairs still in contact (m deep)
     # pairs among ``touching`` that touched in every pose tried, at most two joints apart: their
     # shapes overlap where they are joined, and the scaffold declares them never_collide
+    # (exemptions.overlapping)
     overlapping: tuple[tuple[str, str], ...] = ()
     tried: int = 0  # poses the search tried
     unchecked_because: str | None = None
     # (w, x, y, z): how a floating robot's root stands at rest (RobotAnalysis.upright: turned
     # for a description written y-up)
     upright: Quaternion = IDENTITY
-    # pairs joined only through links without collision shapes, or nesting round two hinges
-    # whose axes meet (pose_probe's ``adjacent`` and ``nesting_yokes``):
-    # adjacent as parent and child are, whose collisions PhysX leaves out; declared
-    # never_collide as MoveIt's setup assistant disables adjacent links
+    # pairs joined only through links without collision shapes, nesting round two hinges whose
+    # axes meet, welded, or parts of one mechanism (exemptions.physx_exemptions): adjacent as
+    # parent and child are, whose collisions PhysX leaves out; declared never_collide as
+    # MoveIt's setup assistant disables adjacent links
     adjacent: tuple[tuple[str, str], ...] = ()
 
     @property
@@ -72,7 +68,7 @@ def maniskill_installed() -> bool:
 
 @dataclass(frozen=True)
 class RefinedGains:
-    """The scaffold's gains as measured in ManiSkill (:mod:`.refine`)."""
+    """The scaffold's gains as measured in ManiSkill (:mod:`.refinement`)."""
 
     gains: dict[str, tuple[float, float, float]]  # joint -> stiffness, damping, force_limit
     over_rating: dict[str, tuple[float, float]]  # joint -> (force asked for, its rating)
@@ -83,7 +79,7 @@ class RefinedGains:
 @dataclass(frozen=True)
 class Refinement:
     """What the child needs to scaffold the robot again at the rest pose it found and measure
-    the scaffold's gains there (:mod:`.refine`): one child process does both, so ManiSkill is
+    the scaffold's gains there (:mod:`.refinement`): one child process does both, so ManiSkill is
     imported once."""
 
     description: str  # the description file (absolute)
@@ -102,16 +98,15 @@ def probe_rest_pose(
     joined: tuple[tuple[str, str], ...] = (),
 ) -> tuple[RestPose, RefinedGains | str | None]:
     """Search from ``start`` in ManiSkill; ``draft`` is the text of a valid spec of the robot
-    whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode. With
-    ``refinement``, the scaffold at the pose found is then measured too (``joined``: pairs
-    of links closed loops join, which may touch): its refined gains
-    (a string when they could not be measured; None without ``refinement``)."""
+    whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode; ``joined``: the
+    pairs of links closed loops join, which may touch. With ``refinement``, the scaffold at the
+    pose found is then measured too: its refined gains (a string when they could not be
+    measured; None without ``refinement``)."""
     unchecked = RestPose(dict(start))
     if not maniskill_installed():
         return _unchecked(unchecked, "ManiSkill is not installed"), None
     joints = list(description.active_joint_names)
     index = {name: i for i, name in enumerate(joints)}
-    tree = KinematicTree(description)
     request: dict[str, Any] = {
         "uid": PROBE_UID,
         "mode": PROBE_MODE,
@@ -123,7 +118,8 @@ def probe_rest_pose(
             for m in mimic
             if m.follower in index and m.leader in index
         ],
-        "parents": {link: [joint.parent, joint.name] for link, joint in tree.up.items()},
+        "root": description.root_link,
+        "tree": [[j.name, j.type, j.parent, j.child] for j in description.tree_joints],
         "floating": floating,
         "min_depth": MIN_CONTACT_DEPTH,
         "upright": list(upright),
@@ -155,17 +151,12 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
     """The rest pose the search found (the child's answer): the parent's and the child's alike
     (the child scaffolds the robot at it to measure its gains)."""
     joints = list(description.active_joint_names)
-    tree = KinematicTree(description)
     qpos = {name: _tidy(value) for name, value in zip(joints, answer["qpos"], strict=True)}
     height = answer.get("root_height")
     touching = tuple((a, b, float(d)) for a, b, d in answer["touching"])
     always = {(a, b) for a, b in answer.get("always", [])}
     tried = int(answer["tried"])
-    overlapping = tuple(
-        (a, b)
-        for a, b, _ in touching
-        if (a, b) in always and (_joints_apart(tree, a, b) <= NEIGHBOURS or tried >= THOROUGH)
-    )
+    overlapping = exemptions.overlapping(touching, always, tried, KinematicTree(description))
     return RestPose(
         qpos=qpos,
         root_height=None if height is None else _tidy(height),
@@ -178,19 +169,12 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
     )
 
 
-def _joints_apart(tree: KinematicTree, a: str, b: str) -> int:
-    """How many active joints lie on the tree's path between links ``a`` and ``b``."""
-    path_a = {j.name for j in tree.root_path(a) if j.is_active}
-    path_b = {j.name for j in tree.root_path(b) if j.is_active}
-    return len(path_a ^ path_b)
-
-
 def _unchecked(pose: RestPose, why: str) -> RestPose:
     return RestPose(pose.qpos, unchecked_because=why)
 
 
 def _run_child(request: dict[str, Any]) -> tuple[dict[str, Any] | None, str]:
-    command = [sys.executable, "-m", "robospec.authoring.pose_probe"]
+    command = [sys.executable, "-m", "robospec.authoring.new.probe"]
     try:
         done = subprocess.run(
             command,

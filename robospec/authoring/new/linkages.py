@@ -20,15 +20,19 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from robospec.description import RobotDescription
+from robospec.geometry import Matrix, rotation_angle
 from robospec.resolve.mechanisms import rigid_bodies, tree_path
 
 if TYPE_CHECKING:
     import numpy as np
 
-    from robospec.authoring.analysis import RobotAnalysis
+    from robospec.authoring.description_file import DescriptionFile
+    from robospec.authoring.new.gains import Drive
+    from robospec.authoring.new.groups import Groups
+    from robospec.kinematics.forward import KinematicModel
 
 # a pin: the two bodies' relative motion turns about one point to within this, in m, over the
 # leader's range, and turns by at least this, in rad (less is a slide: no pin to find)
@@ -37,6 +41,22 @@ PIN_TURN = 0.05
 # the pin lies inside (or this near, in m) each body's collision box at rest: they meet there
 MEETING_MARGIN = 0.005
 SAMPLES = 9  # leader values over its range
+
+
+class Analysed(Protocol):
+    """What the search reads of ``new``'s analysis (:class:`.analysis.RobotAnalysis`, which
+    imports this module to find its loops)."""
+
+    @property
+    def source(self) -> DescriptionFile: ...
+    @property
+    def description(self) -> RobotDescription: ...
+    @property
+    def groups(self) -> Groups: ...
+    @property
+    def drives(self) -> Mapping[str, Drive]: ...
+    @property
+    def kinematics(self) -> KinematicModel | None: ...
 
 
 @dataclass(frozen=True)
@@ -50,7 +70,7 @@ class FoundLoop:
     source: str = ""  # what shows the loop, for the scaffold's header
 
 
-def find_loops(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> tuple[FoundLoop, ...]:
+def find_loops(analysis: Analysed, qpos: Mapping[str, float]) -> tuple[FoundLoop, ...]:
     """The loops of the robot ``analysis`` describes, at the rest joint values ``qpos``."""
     if analysis.kinematics is None:
         return ()
@@ -64,7 +84,7 @@ def find_loops(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> tuple[Foun
 # -- MJCF: stated -------------------------------------------------------------------------------
 
 
-def _stated(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> tuple[FoundLoop, ...]:
+def _stated(analysis: Analysed, qpos: Mapping[str, float]) -> tuple[FoundLoop, ...]:
     import numpy as np
 
     description = analysis.description
@@ -103,7 +123,7 @@ def _stated(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> tuple[FoundLo
 # -- URDF: cut where the tree was made ---------------------------------------------------------
 
 
-def _cut(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> tuple[FoundLoop, ...]:
+def _cut(analysis: Analysed, qpos: Mapping[str, float]) -> tuple[FoundLoop, ...]:
     description = analysis.description
     families = _families(analysis)
     if not families:
@@ -137,7 +157,7 @@ def _cut(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> tuple[FoundLoop,
     return tuple(found)
 
 
-def _families(analysis: RobotAnalysis) -> dict[str, dict[str, tuple[float, float]]]:
+def _families(analysis: Analysed) -> dict[str, dict[str, tuple[float, float]]]:
     """Leader -> {joint: (multiplier, offset)} for every mimic family of three joints or more
     (a four-bar has a crank and two followers), the leader at (1, 0)."""
     families: dict[str, dict[str, tuple[float, float]]] = {}
@@ -148,7 +168,7 @@ def _families(analysis: RobotAnalysis) -> dict[str, dict[str, tuple[float, float
 
 
 def _pin(
-    analysis: RobotAnalysis,
+    analysis: Analysed,
     qpos: Mapping[str, float],
     leader: str,
     family: Mapping[str, tuple[float, float]],
@@ -169,7 +189,7 @@ def _pin(
         values.update({j: m * value + o for j, (m, o) in family.items()})
         links = analysis.kinematics.at(values).links
         relative.append(np.linalg.inv(links[first]) @ links[second])
-    turns = [_angle(relative[0][:3, :3].T @ r[:3, :3]) for r in relative]
+    turns = [rotation_angle(_matrix(relative[0][:3, :3].T @ r[:3, :3])) for r in relative]
     if max(turns) < PIN_TURN:
         return None
     # p_first = R_i p_second + t_i for every i: six unknowns, three equations a sample; the pin
@@ -185,7 +205,7 @@ def _pin(
 
 
 def _meets(
-    analysis: RobotAnalysis,
+    analysis: Analysed,
     qpos: Mapping[str, float],
     pin: tuple[tuple[float, float, float], tuple[float, float, float]],
     first: str,
@@ -212,7 +232,7 @@ def _inside(point: np.ndarray, box: tuple[tuple[float, ...], tuple[float, ...]])
     return all(low[i] - MEETING_MARGIN <= point[i] <= high[i] + MEETING_MARGIN for i in range(3))
 
 
-def _boxes(analysis: RobotAnalysis) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
+def _boxes(analysis: Analysed) -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
     """Each link's collision box in its frame (URDF)."""
     from robospec.description.shapes import collision_box
     from robospec.description.urdf import parse_xml
@@ -236,7 +256,7 @@ def _cycle(description: RobotDescription, first: str, second: str) -> tuple[str,
     return tuple(j for j in description.active_joint_names if j in on_path)
 
 
-def _driver(analysis: RobotAnalysis, first: str, second: str, joints: Sequence[str]) -> str:
+def _driver(analysis: Analysed, first: str, second: str, joints: Sequence[str]) -> str:
     """The joint that moves the loop: one an actuator drives or a mimic family leads, else one
     the model couples to such a joint (an MJCF equality between the two sides' drivers), else
     the top joint of the longer branch."""
@@ -267,14 +287,12 @@ def _branches(description: RobotDescription, path: Iterable[str]) -> list[list[s
     return [b for b in moving if b] or [joints]
 
 
-def _angle(rotation: np.ndarray) -> float:
-    import numpy as np
-
-    return float(np.arccos(np.clip((np.trace(rotation) - 1) / 2, -1.0, 1.0)))
-
-
 def _point(vector: Sequence[float] | np.ndarray) -> tuple[float, float, float]:
     return (float(vector[0]), float(vector[1]), float(vector[2]))
+
+
+def _matrix(rotation: np.ndarray) -> Matrix:
+    return (_point(rotation[0]), _point(rotation[1]), _point(rotation[2]))
 
 
 def _name(link: str, taken: Sequence[str]) -> str:

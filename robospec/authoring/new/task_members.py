@@ -8,8 +8,11 @@ scaffolded arm with a gripper runs ``PickCube-v1`` as written.
   three-finger hand: the most opposed). A gripper of one moving jaw closes it against the link
   it hangs from (SO-101's fixed jaw). A hand of finger chains (``finger1``, ``finger2``...) uses
   the tips of its two chains that lie farthest apart.
-* **Opening.** Each finger opens away from the other: the direction from the other finger's
-  centre of mass to its own at the rest pose, in its own frame, to the nearest axis.
+* **Opening.** Each finger opens along the way its joint moves it: both finger joints are
+  nudged each way from the rest pose, and the nudge that puts the fingers' centres of mass
+  farthest apart opens them; each finger's opening axis is its centre's move under that nudge,
+  in its own frame at rest, to the nearest axis (at a closed rest pose the centres coincide and
+  say nothing). A finger no joint moves (a fixed jaw) opens away from the other.
 * **tcp.** A link welded near the fingers' parent named like a tool centre point (``tcp``,
   ``grasp``, ``ee_gripper``, ``tool0``, ``eef``, ``end_effector``); else the midpoint of the
   two fingers, oriented as their parent link, which ``self.tcp`` is bound to.
@@ -24,7 +27,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from robospec.authoring.analysis import RobotAnalysis
+from robospec.authoring.new.analysis import RobotAnalysis
 
 if TYPE_CHECKING:
     import numpy as np
@@ -50,7 +53,7 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
     if model is None:
         return {}
     poses = model.at(qpos).links
-    fingers = _fingers(analysis, poses)
+    fingers = _fingers(analysis, poses, qpos)
     out: dict[str, Any] = {}
     if fingers is None:
         return out
@@ -80,7 +83,9 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
     return out
 
 
-def _loop_fingers(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]) -> Fingers | None:
+def _loop_fingers(
+    analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], qpos: Mapping[str, float]
+) -> Fingers | None:
     """A linkage gripper's fingers: of each of two closed loops, the link that carries more
     below it (the finger, not the knuckle that holds it parallel), as its fingertip: the link
     at the end of its welded chain (a pad)."""
@@ -115,16 +120,16 @@ def _loop_fingers(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]) -> F
 
     parent = next((n for n in ancestors(tips[0]) if n in set(ancestors(tips[1]))), model.root)
     a, b = tips
-    return Fingers(
-        (a, b), parent, (_opening(analysis, poses, a, b), _opening(analysis, poses, b, a))
-    )
+    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b))
 
 
-def _fingers(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]) -> Fingers | None:
+def _fingers(
+    analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], qpos: Mapping[str, float]
+) -> Fingers | None:
     model = analysis.kinematics
     assert model is not None
     if len(analysis.loops) >= 2:
-        return _loop_fingers(analysis, poses)
+        return _loop_fingers(analysis, poses, qpos)
     joints = {j.name: j for j in model.joints}
     gripping = [
         [joints[n] for n in analysis.groups.groups[name] if n in joints]
@@ -148,9 +153,7 @@ def _fingers(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray]) -> Finger
     if not pairs:
         return None
     a, b, parent = max(pairs, key=lambda pair: _distance(analysis, poses, pair[0], pair[1]))
-    return Fingers(
-        (a, b), parent, (_opening(analysis, poses, a, b), _opening(analysis, poses, b, a))
-    )
+    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b))
 
 
 def _finger_tips(
@@ -205,12 +208,60 @@ def _distance(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], a: str, 
     return round(math.dist(pa.tolist(), pb.tolist()), DISTANCE_DIGITS)
 
 
-def _opening(
-    analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], link: str, other: str
-) -> str:
-    """The axis of ``link``'s frame nearest the direction from ``other`` to ``link``."""
-    away = _centre(analysis, poses, link) - _centre(analysis, poses, other)
-    local = (poses[link][:3, :3].T @ away).tolist()
+NUDGE = 0.01  # rad (or m) each finger joint is moved to see which way it opens
+
+
+def _openings(
+    analysis: RobotAnalysis,
+    poses: Mapping[str, np.ndarray],
+    qpos: Mapping[str, float],
+    a: str,
+    b: str,
+) -> tuple[str, str]:
+    """Each finger's opening axis: how the joint moving it carries it as the fingers part,
+    from the rest pose ``qpos`` (``poses``)."""
+    model = analysis.kinematics
+    assert model is not None
+    moving = {j.child: j.name for j in model.joints if j.type != "fixed"}
+    joints = [_moving_joint_above(model, moving, link) for link in (a, b)]
+    rest = dict(qpos)
+    best: tuple[float, Mapping[str, np.ndarray]] | None = None
+    for signs in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+        nudged = dict(rest)
+        for joint, sign in zip(joints, signs, strict=True):
+            if joint is not None:
+                nudged[joint] = qpos.get(joint, 0.0) + sign * NUDGE
+        moved = model.at(nudged).links
+        apart = _distance(analysis, moved, a, b)
+        if best is None or apart > best[0] + 1e-12:
+            best = (apart, moved)
+    assert best is not None
+    moved = best[1]
+    out = []
+    for link, other, joint in ((a, b, joints[0]), (b, a, joints[1])):
+        start = _centre(analysis, poses, link)
+        if joint is not None:
+            end = _centre(analysis, moved, link)
+        else:  # a fixed jaw: away from the finger that closes on it
+            start, end = _centre(analysis, poses, other), start
+        out.append(_nearest_axis(poses[link], end - start))
+    return out[0], out[1]
+
+
+def _moving_joint_above(model: Any, moving: Mapping[str, str], link: str) -> str | None:
+    """The nearest joint above ``link`` that moves (a fingertip welded to its finger: the
+    finger's)."""
+    above = {j.child: j.parent for j in model.joints}
+    while link in above:
+        if link in moving:
+            return moving[link]
+        link = above[link]
+    return None
+
+
+def _nearest_axis(pose: np.ndarray, direction: np.ndarray) -> str:
+    """The axis of ``pose``'s frame nearest ``direction`` (given in the root frame)."""
+    local = (pose[:3, :3].T @ direction).tolist()
     index = max(range(3), key=lambda i: abs(local[i]))
     return AXES[2 * index + (0 if local[index] >= 0 else 1)]
 
