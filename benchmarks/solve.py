@@ -1,5 +1,6 @@
-"""robospec solve: episodes per minute for the Panda (specs/maniskill/panda.yaml), ManiSkill's
-own solutions planned by robospec's planner and recorded with RecordEpisode, in one process on
+"""robospec solve: episodes per minute for the tutorial's Panda
+(docs/examples/tutorial/my_panda.yaml), ManiSkill's own solutions planned by robospec's planner
+and recorded with RecordEpisode, in one process on
 the CPU (``--num-procs`` multiplies it by the cores there are).
 
     python benchmarks/solve.py [--episodes N]
@@ -17,7 +18,7 @@ from section import Section
 
 TITLE = "Demonstrations (robospec solve)"
 TASKS = ("PickCube-v1", "PushCube-v1", "StackCube-v1")
-PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
+PANDA = ROOT / "docs" / "examples" / "tutorial" / "my_panda.yaml"  # resets to rest
 
 
 def measure(episodes: int = 20, tasks: tuple[str, ...] = TASKS) -> Section:
@@ -37,7 +38,7 @@ def measure(episodes: int = 20, tasks: tuple[str, ...] = TASKS) -> Section:
         lines.append(f"| {task} | {len(report.episodes)} | {done} | {seconds:.1f} | {rate:.0f} |")
     lines += [
         "",
-        "`rs_panda`, one process, seeds from 0: compiling and registering the spec, the check "
+        "`my_panda`, one process, seeds from 0: compiling and registering the spec, the check "
         "before the first episode (a scene built and reset) and writing the .h5/.json included.",
     ]
     return Section(TITLE, "\n".join(lines))

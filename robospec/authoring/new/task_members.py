@@ -12,7 +12,8 @@ scaffolded arm with a gripper runs ``PickCube-v1`` as written.
   nudged each way from the rest pose, and the nudge that puts the fingers' centres of mass
   farthest apart opens them; each finger's opening axis is its centre's move under that nudge,
   in its own frame at rest, to the nearest axis (at a closed rest pose the centres coincide and
-  say nothing). A finger no joint moves (a fixed jaw) opens away from the other.
+  say nothing). A finger no joint moves (a fixed jaw), or whose move does not part the fingers
+  (its centre on its joint's axis, fingers side by side that curl), opens away from the other.
 * **tcp.** A link welded near the fingers' parent named like a tool centre point (``tcp``,
   ``grasp``, ``ee_gripper``, ``tool0``, ``eef``, ``end_effector``); else the midpoint of the
   two fingers, oriented as their parent link, which ``self.tcp`` is bound to.
@@ -236,16 +237,25 @@ def _openings(
         if best is None or apart > best[0] + 1e-12:
             best = (apart, moved)
     assert best is not None
-    moved = best[1]
+    parted, moved = best[0] - _distance(analysis, poses, a, b), best[1]
     out = []
     for link, other, joint in ((a, b, joints[0]), (b, a, joints[1])):
         start = _centre(analysis, poses, link)
-        if joint is not None:
-            end = _centre(analysis, moved, link)
-        else:  # a fixed jaw: away from the finger that closes on it
+        end = _centre(analysis, moved, link) if joint is not None else start
+        if not _parts(start, end, parted):
+            # a fixed jaw, a finger whose centre lies on its joint's axis, fingers side by side
+            # that curl rather than part: away from the other finger
             start, end = _centre(analysis, poses, other), start
         out.append(_nearest_axis(poses[link], end - start))
     return out[0], out[1]
+
+
+def _parts(start: np.ndarray, end: np.ndarray, parted: float) -> bool:
+    """Whether a finger's move from ``start`` to ``end`` is what parts the fingers by
+    ``parted``: a move of the fingers towards or away from each other changes their distance
+    by as much as it moves them (a curl beside the other finger, to second order only)."""
+    moved = math.dist(start.tolist(), end.tolist())
+    return moved > 1e-9 and parted >= moved / 2
 
 
 def _moving_joint_above(model: Any, moving: Mapping[str, str], link: str) -> str | None:
