@@ -12,11 +12,10 @@ import pytest
 from robospec.description.xacro import (
     DEFAULT_MEMORY_BYTES,
     DEFAULT_TIMEOUT_S,
-    XACRO_CONTENT,
     configured_limits,
     expand_xacro,
-    xacro_content,
 )
+from robospec.description.xacro_content import XACRO_CONTENT, xacro_content
 
 HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 TAIL = "</robot>\n"

@@ -35,7 +35,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from robospec.diagnostics import Diagnostic, Location, error, line_column, warning
+from robospec.diagnostics import Diagnostic, Location, error, line_column
 
 _CHILD = Path(__file__).with_name("_xacro_child.py")
 # The child answers $(find NAME) with this module, loaded by its path (it imports no robospec).
@@ -58,45 +58,6 @@ _MAX_CHAIN = 6
 
 _TIME_HINT = "expanding a xacro file runs it: look for runaway recursion or expressions"
 _MEMORY_HINT = "expanding a xacro file runs it: look for huge numbers, strings or repetitions"
-
-
-XACRO_CONTENT = "RS092"
-_XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
-
-
-def xacro_content(path: str, data: bytes) -> Diagnostic | None:
-    """RS092, a warning at the first xacro element or ``${...}`` expression of the file at
-    ``path``, named as a plain URDF: its content is xacro, which SAPIEN would ignore (a
-    property unset, a macro never called: no joints), so robospec expands it as xacro. None
-    for a plain URDF — one that only declares the xacro namespace, as many expansions do,
-    included."""
-    if b"xacro:" not in data and b"${" not in data:  # (no parse for the usual URDF)
-        return None
-    from robospec.description.source_columns import element_at
-    from robospec.description.urdf import parse_xml
-
-    root, _ = parse_xml(data, path)
-    if root is None:  # not XML: the parse after says so
-        return None
-    for element in root.iter():
-        tag = element.tag
-        if not isinstance(tag, str):
-            continue
-        if tag.startswith(f"{{{_XACRO_NAMESPACE}}}") or tag.startswith("xacro:"):
-            what = f"<xacro:{tag.rsplit('}', 1)[-1].removeprefix('xacro:')}>"
-        else:
-            expression = next((k for k, v in element.attrib.items() if "${" in v), None)
-            if expression is None:
-                continue
-            what = f'{expression}="{element.get(expression)}"'
-        return warning(
-            element_at(path, element),
-            XACRO_CONTENT,
-            f"this URDF is xacro ({what}): robospec expanded it as xacro, which SAPIEN "
-            "reading it as a plain URDF would not",
-            "name it `description: {xacro: FILE}` (or rename it .urdf.xacro) to say so",
-        )
-    return None
 
 
 DEFAULT_TIMEOUT_S = 20.0

@@ -238,7 +238,7 @@ def prepare(reader: Reader, entry: DescriptionEntry) -> Prepared | FileRef | Non
 def _xacro_content(reader: Reader, ref: FileRef, shown: str) -> bool:
     """Whether a file named as a URDF is xacro (RS092, a warning the reader gets: it is then
     expanded as one, whatever its name)."""
-    from robospec.description.xacro import xacro_content
+    from robospec.description.xacro_content import xacro_content
 
     try:
         data = ref.read_bytes()
