@@ -373,6 +373,33 @@ def test_malformed_description_gets_located_diagnostics_and_no_spec(tmp_path: Pa
     assert not out.exists()
 
 
+def _knee_mjcf(path: Path, keys: str) -> Path:
+    path.write_text(
+        '<mujoco model="knee">\n  <compiler angle="radian"/>\n  <worldbody>\n'
+        '    <body name="thigh"><geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02"/>\n'
+        '      <body name="shin" pos="0 0 -0.2">\n'
+        '        <joint name="knee" type="hinge" axis="0 1 0" range="-2.775 0"/>\n'
+        '        <geom type="capsule" fromto="0 0 0 0 0 -0.2" size="0.02"/>\n'
+        "      </body>\n    </body>\n  </worldbody>\n"
+        f"  <keyframe>{keys}</keyframe>\n</mujoco>\n"
+    )
+    return path
+
+
+def test_a_file_keyframe_past_a_joint_limit_is_clamped_into_it_with_a_note(
+    tmp_path: Path,
+) -> None:
+    # the knee a hair below its lower limit, as an MJCF <key> may put it: copied as written,
+    # validate would answer RS304
+    mjcf = _knee_mjcf(tmp_path / "knee.xml", '<key name="crouch" qpos="-2.794"/>')
+    out = tmp_path / "knee.yaml"
+    data = scaffold(mjcf, out)
+    validate(out)
+    assert data["keyframes"]["crouch"]["qpos"] == {"arm": -2.775}
+    (line,) = [line for line in out.read_text().splitlines() if "crouch:" in line]
+    assert "knee -2.794 -> -2.775 (moved 0.019)" in line
+
+
 def test_robot_without_active_joints_is_rs602(tmp_path: Path) -> None:
     body = '<link name="a"/><link name="b"/>\n<joint name="j" type="fixed">'
     body += '<parent link="a"/><child link="b"/></joint>\n'

@@ -162,7 +162,23 @@ PINCERS = (
     )
     + "</robot>\n"
 )
+# two arms turning about z on a post: an ankle-like joint of ±0.06 rad, less than the 0.1 rad
+# step check asks of a joint, and one whose whole range (4 mrad) leaves no room for a step
+ARM = (
+    '<link name="{0}"><inertial><origin xyz="0.2 0 {1}"/><mass value="1"/>'
+    '<inertia ixx="0.001" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+    '<collision><origin xyz="0.2 0 {1}"/>' + BOX.format("0.4 0.08 0.05") + "</collision></link>"
+    '<joint name="{0}" type="revolute"><parent link="base"/><child link="{0}"/>'
+    '<axis xyz="0 0 1"/><limit lower="{2}" upper="{3}" effort="100" velocity="5"/></joint>\n'
+)
+NARROW = (
+    f'<?xml version="1.0"?>\n<robot name="narrow">\n  <link name="base">{INERTIAL}</link>\n'
+    + ARM.format("ankle", 0.5, -0.06, 0.06)
+    + ARM.format("nub", -0.5, 0, 0.004)
+    + "</robot>\n"
+)
 JOINTS = {
+    "narrow": ["ankle", "nub"],
     "walled": ["turn"],
     "stick": ["hip"],
     "chained": [*"abcdefghijk"],
@@ -226,6 +242,21 @@ def test_a_step_blocked_by_a_self_contact_is_taken_the_other_way(robots: dict[st
     assert trace.size[0] < 0
     (response,) = trace.responses
     assert response.reached >= 0.9 and response.rise_time is not None
+
+
+def test_a_step_fits_a_narrow_joint_s_range_and_one_without_room_is_named_not_too_slow(
+    tmp_path: Path, maniskill: object
+) -> None:
+    from robospec.physics.batch import Options, check_paths
+    from robospec.physics.findings import Status
+
+    spec = _spec(tmp_path, "narrow", NARROW, floating=False)
+    (report,), _ = check_paths([spec], Options(steps=5), isolate=False)
+    (finding,) = [f for f in report.findings if f.check == "step_response"]
+    # a 0.1 rad step would put the ankle's target past its limit, and call it too slow (RS505)
+    assert finding.status is Status.PASS, [d.format_text() for d in finding.diagnostics]
+    assert [row["joint"] for row in finding.details] == ["ankle"]
+    assert "not stepped, their range leaves no room for a step: nub" in finding.summary
 
 
 def test_a_test_stand_holds_a_floating_robot_clear_of_the_ground(robots: dict[str, Path]) -> None:

@@ -1,11 +1,14 @@
 """Which joints ``robospec check``'s step response steps the other way when a self-contact
-blocks a controller group's step (:func:`robospec.physics.step_response._blocked_joints`).
+blocks a controller group's step (:func:`robospec.physics.step_response._blocked_joints`), and
+what tune makes of a joint the step left alone for want of room.
 
 The selection reads only the step's trace and where the links are; a leg's links and contacts
 stand in for the simulator here (the reversed step itself runs in SAPIEN in
 tests/test_physics_procedure.py)."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 
@@ -60,3 +63,13 @@ def test_a_step_no_contact_holds_back_is_not_turned_back() -> None:
     trace = _trace({"right_hip": 1.0, "right_knee": 1.0, "right_ankle": 1.0})
     blocked = _blocked_joints(Leg(), trace, np.zeros(len(LEG)), np.full(len(LEG), 0.1))  # type: ignore[arg-type]
     assert not blocked.any()
+
+
+def test_tune_finds_nothing_to_miss_in_a_joint_whose_range_left_no_room_for_a_step() -> None:
+    from robospec.tune.results import Targets
+    from robospec.tune.search import failures
+
+    unstepped = Response("nub", None, 0.0, None, 0.0, 0.0, no_room=True)
+    # measured, the same numbers miss the settling target: never settled
+    assert failures(unstepped, Targets(0.05, 0.5, 0.02)) == set()
+    assert failures(replace(unstepped, no_room=False), Targets(0.05, 0.5, 0.02)) == {"settling"}

@@ -15,6 +15,7 @@ from robospec.description.xacro import (
     configured_limits,
     expand_xacro,
 )
+from robospec.description.xacro_content import XACRO_CONTENT, xacro_content
 
 HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 TAIL = "</robot>\n"
@@ -346,3 +347,46 @@ def test_the_audit_hook_sees_the_xacro_child_of_a_xacro_spec() -> None:
     )
     assert result.returncode == 0, result.stdout + result.stderr
     assert "STARTED subprocess.Popen" in result.stderr and "_xacro_child.py" in result.stderr
+
+
+TWOLINK_XACRO = Path(__file__).resolve().parent.parent / "specs" / "robots" / "twolink"
+
+
+def _twolink_named_urdf(tmp_path: Path, urdf_text: str) -> Path:
+    """specs/twolink.toml with its description a ``urdf:`` named ``twolink.urdf``."""
+    (tmp_path / "twolink.urdf").write_text(urdf_text, encoding="utf-8")
+    spec = (TWOLINK_XACRO.parent.parent / "twolink.toml").read_text(encoding="utf-8")
+    described = (
+        'xacro = "robots/twolink/twolink.urdf.xacro"\n'
+        'args = { prefix = "twolink_", link_length = 0.35 }\n'
+    )
+    assert described in spec
+    (tmp_path / "twolink.toml").write_text(
+        spec.replace(described, 'urdf = "twolink.urdf"\n'), encoding="utf-8"
+    )
+    return tmp_path / "twolink.toml"
+
+
+def test_a_urdf_file_whose_content_is_xacro_is_expanded_as_xacro_and_said_so(
+    tmp_path: Path,
+) -> None:
+    from robospec.pipeline import compile_spec
+
+    xacro = (TWOLINK_XACRO / "twolink.urdf.xacro").read_text(encoding="utf-8")
+    compiled = compile_spec(_twolink_named_urdf(tmp_path, xacro))
+    assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
+    assert compiled.robot is not None
+    assert len(compiled.robot.active_joints) == 5  # the base yaw, shoulder, elbow; two fingers
+    (said,) = [d for d in compiled.diagnostics if d.code == XACRO_CONTENT]
+    line = xacro.splitlines().index('  <xacro:arg name="prefix" default="twolink_"/>') + 1
+    assert (said.location.file, said.location.line) == (str(tmp_path / "twolink.urdf"), line)
+    assert "expanded it as xacro" in said.message and "<xacro:arg>" in said.message
+
+
+def test_an_expression_alone_makes_a_urdf_xacro_and_the_namespace_alone_does_not() -> None:
+    expression = HEAD + '  <link name="${name}"/>\n' + TAIL
+    found = xacro_content("robot.urdf", expression.encode())
+    assert found is not None and 'name="${name}"' in found.message
+    # an expansion keeps the namespace declaration (and a comment may say "xacro:")
+    plain = HEAD + "  <!-- expanded from xacro: robot.urdf.xacro -->\n  <link name='a'/>\n" + TAIL
+    assert xacro_content("robot.urdf", plain.encode()) is None

@@ -78,6 +78,8 @@ def read_description_file(
         return None, diagnostics
     ref = loaded.ref
     data = ref.read_bytes()
+    if loaded.prepared.expanded:  # a URDF whose content is xacro (RS092): a spec names it so
+        kind = "xacro"
     given = path if ref.kind == "file" else ref.absolute
     robot_name = _robot_name(data)
     return (

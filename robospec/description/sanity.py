@@ -6,7 +6,6 @@ description that loads but is probably not what its author meant.
   radius of gyration against the shapes' size: kg·mm² written as kg·m² is 10⁶ too large);
 - RS090: masses under a gram beside links of kilograms (the solver struggles with the ratio);
 - RS091: a driven joint with no or zero effort or velocity limit;
-- RS092: ``xacro:`` elements left in a plain URDF (SAPIEN ignores them: nothing they say holds);
 - RS093: collision meshes whose contents SAPIEN cannot use: NaN or infinite vertices, no
   triangles, or flat (PhysX's QuickHull logs "critical" and builds nothing).
 
@@ -33,12 +32,9 @@ MILLIMETRES = "RS088"
 INERTIA_FOR_SIZE = "RS089"
 TINY_MASS = "RS090"
 NO_RATE_LIMIT = "RS091"
-STRAY_XACRO = "RS092"
 MESH_CONTENTS = "RS093"
 
-SANITY_CODES = frozenset(
-    {MILLIMETRES, INERTIA_FOR_SIZE, TINY_MASS, NO_RATE_LIMIT, STRAY_XACRO, MESH_CONTENTS}
-)
+SANITY_CODES = frozenset({MILLIMETRES, INERTIA_FOR_SIZE, TINY_MASS, NO_RATE_LIMIT, MESH_CONTENTS})
 
 # a typical joint offset of more than this is no robot's (a humanoid's are tenths of a metre)
 _MILLIMETRE_MEDIAN = 5.0  # m
@@ -46,7 +42,6 @@ TINY = 1e-3  # kg: under a gram
 _HEAVY = 1.0  # kg: beside a link this heavy
 # a radius of gyration this many times the shapes' half-diagonal, or this fraction of it
 _TOO_LARGE, _TOO_SMALL = 30.0, 1e-3
-_XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 
 def check_sanity(
@@ -59,7 +54,6 @@ def check_sanity(
     _millimetres(root, path, found)
     _masses_and_inertias(root, path, packages, found)
     _rate_limits(root, path, found)
-    _stray_xacro(root, path, found)
     _mesh_contents(mesh_files, path, found)
     return found.result()
 
@@ -185,26 +179,6 @@ def _rate_limits(root: etree._Element, path: str, found: Findings) -> None:
                     'write <limit effort="..." velocity="..."/> from the actuator\'s data sheet',
                 ),
                 fold_as="more joints without an effort or velocity limit",
-            )
-
-
-def _stray_xacro(root: etree._Element, path: str, found: Findings) -> None:
-    for element in root.iter():
-        tag = element.tag
-        if not isinstance(tag, str):
-            continue
-        if tag.startswith(f"{{{_XACRO_NAMESPACE}}}") or tag.startswith("xacro:"):
-            local = tag.rsplit("}", 1)[-1].removeprefix("xacro:")
-            found.add(
-                warning(
-                    at(path, element),
-                    STRAY_XACRO,
-                    f"<xacro:{local}> in a plain URDF: SAPIEN ignores it, so nothing it says "
-                    "(a macro, a property, an include) takes effect",
-                    "describe the robot with `description: {xacro: FILE}` so robospec expands "
-                    "it, or remove the element",
-                ),
-                fold_as="more xacro elements",
             )
 
 

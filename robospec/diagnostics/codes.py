@@ -71,7 +71,7 @@ _CODES = [
     Code("RS089", "inertia far too large or small for the link's shapes"),
     Code("RS090", "mass under a gram beside heavy links"),
     Code("RS091", "joint without an effort or velocity limit"),
-    Code("RS092", "xacro element left in a plain URDF"),
+    Code("RS092", "a file named as URDF is xacro: expanded as xacro"),
     Code("RS093", "collision mesh PhysX can build no shape from"),
     Code("RS094", "MJCF asset name defined twice"),
     # -- schema

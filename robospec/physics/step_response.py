@@ -4,8 +4,10 @@ keeps oscillating. RS507: it settles too far from the target.
 Each controller of the spec is stepped once, in the first mode that uses it: from the first
 keyframe, with every other drive holding still, its joints' drive targets jump by
 ``checks.step_response.step`` (rad, or ``prismatic_step`` m; away from the nearer limit, or the
-other way where a self-contact blocks that: :func:`step_trace`) — or, for velocity
-controllers, its velocity targets do. Every joint's response is timed: rise time
+other way where a self-contact blocks that: :func:`step_trace`; never past the limit, so a
+narrow range gets a smaller step, and a joint whose range leaves no room for a tenth of the step
+is not stepped and is named in the finding) — or, for velocity controllers, its velocity
+targets do. Every joint's response is timed: rise time
 (10 % → 90 % of the step), overshoot, settling time (last exit from ``settling_band``) and the
 steady-state error at the end of ``duration``, all measured from where the joint had settled
 after half a second of holding (so a sag under gravity is not counted twice). This measures
@@ -37,6 +39,9 @@ from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "step_response"
 SETTLE_TIME = 0.5  # seconds of holding before the step
+# a joint whose range leaves less than this share of the step (towards its farther limit) is
+# not stepped: a step that small is lost in the sag and the noise it is measured against
+MIN_STEP_SHARE = 0.1
 
 
 class StepSettings(Protocol):
@@ -62,6 +67,9 @@ class Response:
     settling_time: float | None  # None: still outside the band at the end
     steady_state_error: float
     reached: float  # the largest fraction of the step covered
+    # not stepped: its range leaves no room for a measurable step (the other values mean
+    # nothing then)
+    no_room: bool = False
 
 
 def measure(
@@ -162,7 +170,9 @@ def step_trace(
     measurement of ``robospec check`` and ``robospec tune``. From ``keyframe`` in a fresh scene,
     every drive holds still for :data:`SETTLE_TIME` (a floating robot held by its root, lifted
     clear of the floor), then the group's drive targets jump by ``settings.step`` (rad, or
-    ``prismatic_step`` m, away from the nearer limit) and the joints are watched for
+    ``prismatic_step`` m, away from the nearer limit, at most to the farther one: a joint
+    with less room than :data:`MIN_STEP_SHARE` of the step holds, its response marked
+    ``no_room``) and the joints are watched for
     ``settings.duration``. ``drive`` gives the group other gains first (``Sim.set_drive``);
     ``stepped`` (one bool per joint of the group) steps only some joints, the rest holding.
 
@@ -185,16 +195,26 @@ def step_trace(
     for _ in range(round(SETTLE_TIME * sim.sim_freq)):
         sim.sim_step(pin)
     size = np.where(sim.prismatic[joints], settings.prismatic_step, settings.step)
-    signed = step_direction(start[joints], sim.limits[joints, 0], sim.limits[joints, 1]) * size
+    lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
+    direction = step_direction(start[joints], lower, upper)
     if reverse is not None:
-        signed = np.where(reverse, -signed, signed)
+        direction = np.where(reverse, -direction, direction)
+    no_room = np.zeros(len(joints), dtype=bool)
+    if group.kind == "position":
+        # the target stays within the joint's limits (a ±0.06 rad ankle is not given a 0.1 rad
+        # step, then called too slow for not reaching past its stop); a range with no room for
+        # a measurable share of the step leaves the joint unstepped, and the trace says so
+        room = np.where(direction > 0, upper - start[joints], start[joints] - lower)
+        no_room = room < MIN_STEP_SHARE * size
+        size = np.where(no_room, 0.0, np.minimum(size, room))
+    signed = direction * size
     if stepped is not None:
         signed = np.where(stepped, signed, 0.0)
+        no_room &= stepped
     if group.kind == "position":
         origin = sim.qpos()[0, joints]
-        target = start[joints] + signed
-        if stepped is not None:  # the joints not stepped hold where they settled
-            target = np.where(stepped, target, origin)
+        # the joints not stepped (or without room for a step) hold where they settled
+        target = np.where(signed != 0, start[joints] + signed, origin)
     else:
         origin = sim.qvel()[0, joints]
         target = signed
@@ -214,6 +234,9 @@ def step_trace(
     for k, joint in enumerate(joints):
         name = sim.joint_names[joint]
         if stepped is not None and not stepped[k]:
+            continue
+        if no_room[k]:
+            responses.append(Response(name, None, 0.0, None, 0.0, 0.0, no_room=True))
             continue
         if np.isnan(fraction[:, k]).any():
             responses.append(Response(name, None, float("nan"), None, float("nan"), float("nan")))
@@ -297,6 +320,15 @@ def _finding(
     settings = run.settings.step_response.for_controller(controller)
     kind = "velocity" if group.kind == "velocity" else "position"
     where = ("controllers", controller)
+    cramped = [r.joint for r in responses if r.no_room]
+    responses = [r for r in responses if not r.no_room]
+    unstepped = (
+        f"; not stepped, their range leaves no room for a step: {', '.join(cramped)}"
+        if cramped
+        else ""
+    )
+    if not responses:
+        return Finding(NAME, sim.mode, subject, Status.SKIP, f"no {kind} step{unstepped}")
     broken = [r.joint for r in responses if not np.isfinite(r.reached)]
     if broken:
         diagnostic = run.fail(
@@ -335,7 +367,7 @@ def _finding(
     settle = f"{values['settling_time']:.3g} s" if values["settling_time"] is not None else "never"
     summary = (
         f"{kind} step: rise {rise}, overshoot {wildest.overshoot:.0%}, settle {settle}, "
-        f"error {furthest.steady_state_error:.1%}"
+        f"error {furthest.steady_state_error:.1%}{unstepped}"
     )
     problems: list[Diagnostic] = []
     if slowest.rise_time is None or slowest.rise_time > settings.max_rise_time:
@@ -420,14 +452,6 @@ def _slow_cause(
     if trace is None or joint not in trace.joints:
         return "", stiffer + ", or its force_limit"
     k = trace.joints.index(joint)
-    index = group.joint_indices[k]
-    lower, upper = sim.limits[index]
-    if kind == "position" and not lower <= trace.target[k] <= upper:
-        return (
-            f"; its step's target {trace.target[k]:.4g} lies past its limits "
-            f"[{lower:.4g}, {upper:.4g}]",
-            "step it from a keyframe further from its limits, or lower checks.step_response.step",
-        )
     config = group.controller.config
     force_limit = float(
         np.broadcast_to(np.asarray(config.force_limit, float), len(trace.joints))[k]

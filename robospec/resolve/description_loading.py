@@ -122,6 +122,7 @@ class Prepared:
     packages: dict[str, str] = field(default_factory=dict)  # ROS package -> absolute folder
     derived: Derived | None = None
     mends: dict[str, Any] = field(default_factory=dict)  # the mends applied to it
+    expanded: bool = False  # read as xacro: named so, or a URDF whose content is xacro
 
 
 @dataclass(frozen=True)
@@ -238,7 +239,8 @@ def prepare(reader: Reader, entry: DescriptionEntry) -> Prepared | FileRef | Non
     if entry.download and not ref.absolute.is_file():  # ManiSkill has not fetched it yet
         return ref
     shown = reader.shown(ref)
-    if entry.kind == "xacro":
+    expand = entry.kind == "xacro" or (entry.kind == "urdf" and _xacro_content(reader, ref, shown))
+    if expand:
         from robospec.description.xacro import expand_xacro
 
         args = {k: _xacro_arg(v) for k, v in entry.args.items()}
@@ -247,11 +249,28 @@ def prepare(reader: Reader, entry: DescriptionEntry) -> Prepared | FileRef | Non
         if text is None:
             return None
         shown += EXPANDED
-        ref = dataclasses.replace(ref, generated_text=text, has_srdf_beside=False)
-    prepared = Prepared(ref, entry.parsed_kind, shown, packages)
+        # (a URDF file's SRDF is its robot's still, expanded or not)
+        beside = entry.kind != "xacro" and ref.has_srdf_beside
+        ref = dataclasses.replace(ref, generated_text=text, has_srdf_beside=beside)
+    prepared = Prepared(ref, entry.parsed_kind, shown, packages, expanded=expand)
     if entry.mends is None or entry.mends or entry.sections:
         return _mended(reader, prepared, entry.mends, (entry.kind,), entry.sections)
     return prepared
+
+
+def _xacro_content(reader: Reader, ref: FileRef, shown: str) -> bool:
+    """Whether a file named as a URDF is xacro (RS092, a warning the reader gets: it is then
+    expanded as one, whatever its name)."""
+    from robospec.description.xacro_content import xacro_content
+
+    try:
+        data = ref.read_bytes()
+    except OSError:  # the parse after says so
+        return False
+    found = xacro_content(str(ref.absolute), data)
+    if found is not None:
+        reader.diagnostics.extend(_relocate([found], str(ref.absolute), shown))
+    return found is not None
 
 
 def _mended(

@@ -136,7 +136,6 @@ def _not_met(item: CompiledSpec, tuning: ControllerTuning) -> Diagnostic:
     )
     kinds = {why.split(":", 1)[0] for _, why in tuning.reasons}
     hint = {
-        "joint limit": "step a keyframe further from the limit, or lower checks.step_response.step",
         "force limit": "allow a larger force_limit (checks.tune.keep_force_limit: false) where "
         "the motor can give it; at its rating, accept a slower joint (relax checks.tune) or "
         "lighten what it moves",

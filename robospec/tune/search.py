@@ -22,7 +22,8 @@ floating robot held by its root), with the candidate's gains set on the live rob
    description (``force_caps``): a joint that needs more is reported
    (:attr:`ControllerTuning.over_rating`). Gains are rounded to 3 significant digits before
    they are measured, so what is measured is what ``--write`` writes.
-4. A joint that still misses is explained: its step target lies past a joint limit, its
+4. A joint that still misses is explained (one whose range leaves no room for a step is not
+   stepped, and misses nothing: step_trace keeps every target within the limits): its
    drive saturates at a kept force_limit or at its rating, it meets the targets when stepped
    alone (coupling between the joints: the joints that push it are named), or its stiffness
    bound was reached.
@@ -60,6 +61,8 @@ def _round(values: np.ndarray) -> np.ndarray:
 
 def failures(response: Response, targets: Targets) -> set[str]:
     """Which targets a joint misses: ``unstable``, ``overshoot``, ``settling``, ``steady``."""
+    if response.no_room:  # not stepped: nothing to tune it by
+        return set()
     if not math.isfinite(response.reached):
         return {"unstable"}
     missed = set()
@@ -297,7 +300,6 @@ class Search:
     ) -> tuple[tuple[str, str], ...]:
         group = self.sim.group(self.group_name)
         joints = list(group.joint_indices)
-        lower, upper = self.sim.limits[joints, 0], self.sim.limits[joints, 1]
         demand = self._demand(gains, trace)
         reasons = []
         for k, miss in enumerate(missed):
@@ -305,12 +307,7 @@ class Search:
                 continue
             what = ", ".join(sorted(miss))
             joint = trace.joints[k]
-            if trace.kind == "position" and not lower[k] <= trace.target[k] <= upper[k]:
-                why = (
-                    f"joint limit: the step's target {trace.target[k]:.4g} lies outside "
-                    f"[{lower[k]:.4g}, {upper[k]:.4g}] ({what})"
-                )
-            elif demand[k] >= gains.force_limit[k] * 0.999 and gains.force_limit[k] < UNLIMITED:
+            if demand[k] >= gains.force_limit[k] * 0.999 and gains.force_limit[k] < UNLIMITED:
                 rated = (
                     ", its rating in the description"
                     if gains.force_limit[k] >= self._caps(len(joints))[k] * 0.999

@@ -35,6 +35,7 @@ from typing import Any
 from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
 from robospec.authoring.new.exemptions import filtered_cliques
+from robospec.authoring.new.file_keyframes import fit_to_limits
 from robospec.authoring.new.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
 from robospec.authoring.new.grip import grip_gains
 from robospec.authoring.new.joint_gains import joint_gains
@@ -179,7 +180,7 @@ def scaffold(
     data["groups"] = {name: list(joints) for name, joints in groups.groups.items()}
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
-    data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest)
+    data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest, notes)
     data["reset"] = {"keyframe": "rest"}
     notes[("reset",)] = (
         "every episode starts at rest (ManiSkill's tasks reset only the robots they know)"
@@ -231,8 +232,11 @@ def _gains_note(analysis: RobotAnalysis, refined: bool) -> str:
     return text + ("; then tuned in ManiSkill" if refined else "")
 
 
-def _keyframes(analysis: RobotAnalysis, rest: RestPose) -> tuple[dict[str, Any], str]:
-    """``rest`` and the file's own keyframes, and what the comment on them says."""
+def _keyframes(
+    analysis: RobotAnalysis, rest: RestPose, notes: dict[KeyPath, str]
+) -> tuple[dict[str, Any], str]:
+    """``rest`` and the file's own keyframes (inside the joints' limits: a value past one is
+    clamped, and ``notes`` say so), and what the comment on them says."""
     description = analysis.description
     names = tuple(description.active_joint_names)
     partition = [(name, tuple(joints)) for name, joints in analysis.groups.groups.items()]
@@ -251,11 +255,15 @@ def _keyframes(analysis: RobotAnalysis, rest: RestPose) -> tuple[dict[str, Any],
         name = key.name if _NAME.match(key.name) else re.sub(r"[^A-Za-z0-9_.\-]", "_", key.name)
         while name in keyframes:
             name += "_file"
+        fitted = fit_to_limits(description, dict(key.qpos))
         frame: dict[str, Any] = {}
         if analysis.body.floating and key.root_pose is not None:
             frame["pose"] = _pose(key.root_pose)
-        frame["qpos"] = by_group(dict(key.qpos))
+        frame["qpos"] = by_group(fitted.qpos)
         keyframes[name] = frame
+        moved = fitted.note()
+        if moved is not None:
+            notes[("keyframes", name)] = moved
     if not rest.checked:
         note = "rest: 0 where the limits allow, else mid-range (not contact-checked)"
     elif any((a, b) not in rest.never_collide for a, b, _ in rest.touching):
