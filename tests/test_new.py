@@ -188,15 +188,13 @@ def test_a_robot_name_that_names_no_robot_gives_way_to_the_file_name(
 
 
 @pytest.mark.slow  # over a second: CI runs it, the fast loop does not
-def test_the_description_is_a_positional_argument_and_from_urdf_its_alias(tmp_path: Path) -> None:
+def test_the_description_is_the_one_positional_argument(tmp_path: Path) -> None:
     positional = run_robospec("new", str(TWOLINK_XACRO), "-o", str(tmp_path / "a.yaml"), "--no-sim")
     assert positional.returncode == 0, positional.stderr
+    # one spelling: the description is FILE, there is no option for it
     alias = ["new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(tmp_path / "b.yaml"), "--no-sim"]
-    assert run_robospec(*alias).returncode == 0
-    assert (tmp_path / "a.yaml").read_text() == (tmp_path / "b.yaml").read_text()
-    both = run_robospec(*alias[:-1], str(TWOLINK_XACRO), "--force")
     neither = run_robospec("new", "-o", str(tmp_path / "c.yaml"))
-    for result in (both, neither):
+    for result in (run_robospec(*alias), neither):
         assert result.returncode == 2  # a usage error
         assert "give the robot description once" in result.stderr
         assert "Traceback" not in result.stderr
@@ -412,7 +410,7 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     assert ASSETS is not None
     out = tmp_path / "panda.yaml"
     panda = ASSETS / "robots/panda/panda_v2.urdf"
-    result = run_robospec("new", "--from-urdf", str(panda), "-o", str(out), "--uid", "rs_new_panda")
+    result = run_robospec("new", str(panda), "-o", str(out), "--uid", "rs_new_panda")
     assert result.returncode == 0, result.stderr
     check = run_robospec("validate", str(out))
     assert check.returncode == 0, check.stdout
