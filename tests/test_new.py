@@ -480,3 +480,92 @@ def test_new_reads_a_description_given_as_a_spec_names_it(tmp_path: Path) -> Non
     assert f"urdf: '{given}'" in out.read_text(encoding="utf-8")
     shown = invoke_robospec("inspect", given)
     assert shown.exit_code == 0 and "panda_joint1" in shown.stdout
+
+
+def _arm_with_gripper(tmp_path: Path, frame: str, frame_parent: str = "hand") -> Path:
+    """Four revolute joints, a hand welded to the last link, two fingers sliding on it, and
+    ``frame`` welded to ``frame_parent``."""
+
+    def link(name: str) -> str:
+        return (
+            f'<link name="{name}"><inertial><mass value="0.5"/><inertia ixx="0.001" '
+            'iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>\n'
+        )
+
+    def joint(name: str, kind: str, parent: str, child: str, axis: str = "0 0 1") -> str:
+        limit = LIMIT.format(lo=-1.5, hi=1.5) if kind == "revolute" else ""
+        limit = LIMIT.format(lo=0, hi=0.04) if kind == "prismatic" else limit
+        return (
+            f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+            f'<origin xyz="0 0 0.1"/><axis xyz="{axis}"/>{limit}</joint>\n'
+        )
+
+    links = ["base", "link1", "link2", "link3", "link4", "hand", "left_finger", "right_finger"]
+    body = "".join(link(name) for name in links) + f'<link name="{frame}"/>\n'
+    for i in range(1, 5):
+        body += joint(f"joint{i}", "revolute", links[i - 1], links[i])
+    body += joint("hand_joint", "fixed", "link4", "hand")
+    body += joint("left_finger_joint", "prismatic", "hand", "left_finger", "0 1 0")
+    body += joint("right_finger_joint", "prismatic", "hand", "right_finger", "0 -1 0")
+    body += joint(f"{frame}_joint", "fixed", frame_parent, frame)
+    return _robot(tmp_path / "arm.urdf", "my_arm", body)
+
+
+@pytest.mark.parametrize("frame", ["tcp", "hand_tcp", "grasp_frame", "ee_link", "tool0"])
+def test_a_link_named_as_a_tcp_welded_to_the_hand_is_the_tcp(tmp_path: Path, frame: str) -> None:
+    """Not the midpoint between the fingers: the description's own frame, found across the
+    hand's fixed joint to the arm (a revolute joint above it ends the search)."""
+    spec = scaffold(_arm_with_gripper(tmp_path, frame), tmp_path / "arm.yaml")
+    assert spec["tcp"] == frame
+    assert spec["grasping"]["is_grasping"]["fingers"][0]["link"] == "left_finger"
+    validate(tmp_path / "arm.yaml")
+
+
+def test_a_frame_named_as_a_tcp_but_beyond_a_moving_joint_is_not_the_gripper_s_tcp(
+    tmp_path: Path,
+) -> None:
+    urdf = _arm_with_gripper(tmp_path, "tool0", frame_parent="link2")
+    spec = scaffold(urdf, tmp_path / "arm.yaml")
+    assert spec["tcp"] == {
+        "link": "hand",
+        "midpoint": ["left_finger", "right_finger"],
+        "orientation": "hand",
+    }
+
+
+def test_of_several_tcp_names_the_one_that_says_tcp_wins(tmp_path: Path) -> None:
+    urdf = _arm_with_gripper(tmp_path, "tool0", frame_parent="link4")
+    text = urdf.read_text().replace(
+        "</robot>",
+        '<link name="panda_hand_tcp"/><joint name="t" type="fixed"><parent link="hand"/>'
+        '<child link="panda_hand_tcp"/></joint>\n</robot>',
+    )
+    urdf.write_text(text)
+    assert scaffold(urdf, tmp_path / "arm.yaml")["tcp"] == "panda_hand_tcp"
+
+
+def test_an_arm_without_a_gripper_takes_its_tool_flange_as_the_tcp_unless_two_arms_tie(
+    tmp_path: Path,
+) -> None:
+    chain = "".join(
+        f'<link name="l{i}"/><joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
+        f'<child link="l{i}"/><axis xyz="0 0 1"/>{LIMIT.format(lo=-1, hi=1)}</joint>\n'
+        for i in range(1, 4)
+    )
+    flange = (
+        '<link name="tool0"/><joint name="f" type="fixed"><parent link="l3"/>'
+        '<child link="tool0"/></joint>\n'
+    )
+    one = _robot(tmp_path / "one.urdf", "bare_arm", '<link name="l0"/>\n' + chain + flange)
+    assert scaffold(one, tmp_path / "one.yaml")["tcp"] == "tool0"
+    validate(tmp_path / "one.yaml")
+    # two arms with a flange each, as deep: the scaffold does not choose between them
+    left = chain.replace('"l', '"left_l').replace('"j', '"left_j').replace('"left_l0"', '"l0"')
+    right = chain.replace('"l', '"right_l').replace('"j', '"right_j').replace('"right_l0"', '"l0"')
+    flanges = flange.replace("tool0", "left_tool0").replace('"l3"', '"left_l3"').replace(
+        'name="f"', 'name="lf"'
+    ) + flange.replace("tool0", "right_tool0").replace('"l3"', '"right_l3"').replace(
+        'name="f"', 'name="rf"'
+    )
+    two = _robot(tmp_path / "two.urdf", "two_arms", '<link name="l0"/>\n' + left + right + flanges)
+    assert "tcp" not in scaffold(two, tmp_path / "two.yaml")

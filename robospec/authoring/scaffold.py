@@ -198,11 +198,20 @@ def scaffold(
     members = task_members(analysis, rest.qpos)
     if members:
         data.update(members)
-        notes[(next(iter(members)),)] = (
-            "what ManiSkill's tasks call (PickCube-v1: tcp_pose, is_grasping, is_static): "
-            "guessed from the gripper, check them"
-        )
+        notes[(next(iter(members)),)] = _members_note(members)
     return SpecDoc(data, _header(analysis, rest, filtered), notes)
+
+
+def _members_note(members: dict[str, Any]) -> str:
+    """The comment on what ManiSkill's tasks call: where each part of it came from."""
+    named = isinstance(members.get("tcp"), str)
+    if "grasping" not in members:
+        return "what ManiSkill's tasks call (agent.tcp): the link named as a tcp, check it"
+    tcp = "tcp: the link named so; " if named else ""
+    return (
+        "what ManiSkill's tasks call (PickCube-v1: tcp_pose, is_grasping, is_static): "
+        f"{tcp}guessed from the gripper, check them"
+    )
 
 
 def _gains_note(analysis: RobotAnalysis, refined: bool) -> str:
