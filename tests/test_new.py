@@ -14,7 +14,11 @@ import pytest
 from conftest import TWOLINK_XACRO, invoke_robospec, run_robospec
 from ruamel.yaml import YAML
 
+from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
+from robospec.authoring.description_file import read_description_file
+from robospec.authoring.rest_pose import ADJACENT_WHY, COARSE_WHY, OVERLAPPING_WHY
+from robospec.authoring.scaffold import FILTERED_WHY
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 from robospec.resolve.paths import maniskill_assets_dir
@@ -269,7 +273,8 @@ def test_links_an_mjcf_s_collision_filters_keep_apart_are_declared_never_collide
     entries = [set(entry) for entry in data["never_collide"]]
     assert any({"torso", "shin"} <= entry for entry in entries)
     assert not any("foot" in entry for entry in entries)
-    assert "collision filters keep apart" in out.read_text()
+    clique = next(entry for entry in data["never_collide"] if {"torso", "shin"} <= set(entry))
+    assert f"#   {' + '.join(clique)}: {FILTERED_WHY}\n" in out.read_text()
 
 
 def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
@@ -569,3 +574,68 @@ def test_an_arm_without_a_gripper_takes_its_tool_flange_as_the_tcp_unless_two_ar
     )
     two = _robot(tmp_path / "two.urdf", "two_arms", '<link name="l0"/>\n' + left + right + flanges)
     assert "tcp" not in scaffold(two, tmp_path / "two.yaml")
+
+
+def _six_links(tmp_path: Path) -> Path:
+    """A chain of six links on revolute joints from a base: l0 hangs from it, l1 from l0, ..."""
+    links = '<link name="base"/>\n' + "".join(
+        f'<link name="l{i}"/><joint name="j{i}" type="revolute">'
+        f'<parent link="{"base" if i == 0 else f"l{i - 1}"}"/><child link="l{i}"/>'
+        f'<axis xyz="0 0 1"/>{LIMIT.format(lo=-1, hi=1)}</joint>\n'
+        for i in range(6)
+    )
+    return _robot(tmp_path / "six.urdf", "six", links)
+
+
+def _answer_with(monkeypatch: pytest.MonkeyPatch, found: rest_pose.RestPose) -> None:
+    """``new`` as if the rest-pose search in ManiSkill had answered ``found``."""
+    monkeypatch.setattr(rest_pose, "maniskill_installed", lambda: True)
+    monkeypatch.setattr(rest_pose, "probe_rest_pose", lambda *args, **kwargs: (found, None))
+
+
+def test_the_header_gives_each_never_collide_pair_its_own_reason(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """One line per pair, saying why that pair: not one paragraph of every reason there is."""
+    urdf = _six_links(tmp_path)
+    # base + l0 one joint apart, l1 + l4 three: the second is coarse shapes, not the joint
+    overlapping, coarse = ("base", "l0"), ("l1", "l4")
+    yoke, welded, shapeless = ("l2", "l3"), ("base", "l5"), ("l0", "l5")
+    found = rest_pose.rest_from_answer(
+        {
+            "qpos": [0.0] * 6,
+            "touching": [[*overlapping, 0.002], [*coarse, 0.003]],
+            "always": [list(overlapping), list(coarse)],
+            "tried": rest_pose.THOROUGH,
+            "adjacent": [list(yoke), list(welded), list(shapeless)],
+            "adjacent_why": ["yoke", "welded", "shapeless"],
+        },
+        read_description_file(urdf)[0].description,  # type: ignore[union-attr]
+    )
+    _answer_with(monkeypatch, found)
+    out = tmp_path / "six.yaml"
+    written, diagnostics = run_new(urdf, out, "six", force=True, simulate=True)
+    assert written is not None, [d.format_text() for d in diagnostics]
+    text = out.read_text()
+    header = [line for line in text.splitlines() if line.startswith("#   ")]
+    assert header == [
+        f"#   base + l0: {OVERLAPPING_WHY}",
+        f"#   l1 + l4: {COARSE_WHY}",
+        f"#   l2 + l3: {ADJACENT_WHY['yoke']}",
+        f"#   base + l5: {ADJACENT_WHY['welded']}",
+        f"#   l0 + l5: {ADJACENT_WHY['shapeless']}",
+    ]
+    assert "These are joined only through" not in text  # the old run-on paragraph
+
+
+def test_a_long_never_collide_list_is_written_one_pair_a_line_a_short_one_on_one_line() -> None:
+    from robospec.importer.specdata import SpecDoc
+    from robospec.importer.yamlout import to_yaml
+
+    short = to_yaml(SpecDoc({"robospec": 1, "never_collide": [["a", "b"], ["c", "d"]]}), "s")
+    assert "\nnever_collide: [[a, b], [c, d]]\n" in short
+    pairs = [[f"left_upper_leg_{i}", f"chassis_{i}"] for i in range(4)]
+    long = to_yaml(SpecDoc({"robospec": 1, "never_collide": pairs}), "s")
+    listed = "".join(f"  - [{a}, {b}]\n" for a, b in pairs)
+    assert f"\nnever_collide:\n{listed}" in long
+    assert YAML(typ="safe").load(long)["never_collide"] == pairs

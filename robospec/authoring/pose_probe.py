@@ -547,12 +547,15 @@ def run(request: Request) -> dict[str, Any]:
         # through shapeless links (the order of the scaffold's comment)
         shapeless = probe.adjacent()
         near = probe.posed(qpos)  # the rest pose, within PhysX's contact offset
-        found = (
-            probe.nesting_yokes(near)
-            + probe.welded_neighbours(qpos, near)
-            + probe.mechanism_pairs(qpos)
-        )
-        adjacent = shapeless + [pair for pair in dict.fromkeys(found) if pair not in shapeless]
+        why = {pair: "shapeless" for pair in shapeless}
+        for kind, pairs in (
+            ("yoke", probe.nesting_yokes(near)),
+            ("welded", probe.welded_neighbours(qpos, near)),
+            ("mechanism", probe.mechanism_pairs(qpos)),
+        ):
+            for pair in pairs:
+                why.setdefault(pair, kind)
+        adjacent = list(why)
     finally:
         probe.sim.close()
     answer: dict[str, Any] = {
@@ -571,6 +574,8 @@ def run(request: Request) -> dict[str, Any]:
         "root_height": height,
         "upright": list(request.upright),
         "adjacent": adjacent,
+        # why each adjacent pair is (rest_pose.ADJACENT_WHY's keys), for the scaffold's header
+        "adjacent_why": [why[pair] for pair in adjacent],
     }
     if request.refinement is not None:
         try:

@@ -14,7 +14,8 @@ import signal
 import subprocess
 import sys
 import tempfile
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +36,19 @@ NEIGHBOURS = 2
 # collision shapes (iCub's boxes: its head and shoulder touch 59 mm deep in every pose), which
 # PhysX pushes apart with all its might at the first step
 THOROUGH = 100
+
+
+# why the scaffold declares a pair never_collide, in a few words (the header lists each pair)
+OVERLAPPING_WHY = "touch in every pose tried: their shapes overlap at the joint"
+COARSE_WHY = "touch in every pose tried: coarse collision shapes"
+ADJACENT_WHY = {
+    # pose_probe: Probe.adjacent, nesting_yokes, welded_neighbours, mechanism_pairs; PhysX
+    # leaves out only a link's contacts with its parent, and collides these
+    "shapeless": "joined only through links without collision shapes",
+    "yoke": "the ends of a universal joint, nested round its cross",
+    "welded": "welded together, or across a joint over whose range they never touch",
+    "mechanism": "parts of one mimic mechanism, kept apart by its coupling",
+}
 
 
 @dataclass(frozen=True)
@@ -58,6 +72,15 @@ class RestPose:
     # adjacent as parent and child are, whose collisions PhysX leaves out; declared
     # never_collide as MoveIt's setup assistant disables adjacent links
     adjacent: tuple[tuple[str, str], ...] = ()
+    # why each pair of ``overlapping`` and ``adjacent`` is declared never_collide (the texts
+    # above); a pair not here reads as overlapping, or joined through shapeless links
+    why: Mapping[tuple[str, str], str] = field(default_factory=dict)
+
+    def reason(self, pair: tuple[str, str]) -> str:
+        """Why ``pair``, one of :attr:`never_collide`, is declared so, in a few words."""
+        if pair in self.why:
+            return self.why[pair]
+        return OVERLAPPING_WHY if pair in self.overlapping else ADJACENT_WHY["shapeless"]
 
     @property
     def never_collide(self) -> tuple[tuple[str, str], ...]:
@@ -158,11 +181,18 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
     touching = tuple((a, b, float(d)) for a, b, d in answer["touching"])
     always = {(a, b) for a, b in answer.get("always", [])}
     tried = int(answer["tried"])
-    overlapping = tuple(
-        (a, b)
-        for a, b, _ in touching
-        if (a, b) in always and (_joints_apart(tree, a, b) <= NEIGHBOURS or tried >= THOROUGH)
-    )
+    why: dict[tuple[str, str], str] = {}
+    for a, b, _ in touching:
+        if (a, b) not in always:
+            continue
+        if _joints_apart(tree, a, b) <= NEIGHBOURS:
+            why[(a, b)] = OVERLAPPING_WHY
+        elif tried >= THOROUGH:
+            why[(a, b)] = COARSE_WHY
+    overlapping = tuple(why)
+    adjacent = tuple((str(a), str(b)) for a, b in answer.get("adjacent", []))
+    for pair, kind in zip(adjacent, answer.get("adjacent_why", []), strict=False):
+        why.setdefault(pair, ADJACENT_WHY.get(kind, ADJACENT_WHY["shapeless"]))
     return RestPose(
         qpos=qpos,
         root_height=None if height is None else _tidy(height),
@@ -170,7 +200,8 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
         touching=touching,
         overlapping=overlapping,
         tried=tried,
-        adjacent=tuple((str(a), str(b)) for a, b in answer.get("adjacent", [])),
+        adjacent=adjacent,
+        why=why,
         upright=tuple(float(v) for v in answer.get("upright", IDENTITY)),  # type: ignore[arg-type]
     )
 
