@@ -245,21 +245,33 @@ def run_doc(
     images: bool = False,
     collisions: bool = False,
 ) -> list[Diagnostic]:
+    """:func:`write_card`'s diagnostics."""
+    return write_card(spec, out, plots, images, collisions)[1]
+
+
+def write_card(
+    spec: Path,
+    out: Path,
+    plots: Path | None = None,
+    images: bool = False,
+    collisions: bool = False,
+) -> tuple[list[Path], list[Diagnostic]]:
     """Write the card ``out``; with ``images`` also its pictures, in ``<out's stem>_images/``
-    beside it (with ``collisions``, the collision shapes too), and the cameras' findings."""
+    beside it (with ``collisions``, the collision shapes too), and the cameras' findings. The
+    files written (the card, then each picture), and the diagnostics."""
     from robospec.authoring.card import robot_card
     from robospec.pipeline import compile_spec
 
     compiled = compile_spec(spec)
     diagnostics = list(compiled.diagnostics)
     if has_errors(diagnostics) or compiled.robot is None or compiled.description is None:
-        return diagnostics
+        return [], diagnostics
     pictures: list[CardPicture] = []
     if images:
         pictures, more = _pictures(compiled, out, collisions)
         diagnostics += more
         if has_errors(more):
-            return diagnostics
+            return [], diagnostics
     # the spec as seen from the card, so the card links to it wherever both are
     spec_link = Path(os.path.relpath(spec.resolve(), out.resolve().parent)).as_posix()
     links = []
@@ -270,7 +282,10 @@ def run_doc(
                 relative = os.path.relpath(picture.resolve(), out.resolve().parent)
                 links.append((controller.name, Path(relative).as_posix()))
     text = robot_card(compiled.robot, compiled.description, spec_link, links, pictures)
-    return diagnostics + write_text(out, text)
+    diagnostics += write_text(out, text)
+    if has_errors(diagnostics):
+        return [], diagnostics
+    return [out, *(out.parent / picture.link for picture in pictures)], diagnostics
 
 
 def images_folder(out: Path) -> Path:

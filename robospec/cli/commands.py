@@ -332,12 +332,13 @@ def doc(
 
     Example: robospec doc specs/maniskill/panda.yaml --images   (writes panda.md and panda_images/)
     """
-    from robospec.authoring.commands import run_doc
+    from robospec.authoring.commands import write_card
 
     # a card named after its spec, where the user stands: `robospec doc SPEC --images` alone works
     out = out if out is not None else Path(f"{spec.stem}.md")
-    diagnostics = run_doc(spec, out, plots, images, collisions)
-    _finish(diagnostics, has_errors(diagnostics), format, color, f"wrote {out}")
+    written, diagnostics = write_card(spec, out, plots, images, collisions)
+    done = "\n".join(f"wrote {path}" for path in written)  # the card, then each picture
+    _finish(diagnostics, has_errors(diagnostics), format, color, done)
 
 
 @app.command(needs=("maniskill",))
