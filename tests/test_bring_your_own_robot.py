@@ -87,7 +87,8 @@ def apply_diff(text: str, diff: str) -> str:
 def test_the_page_copies_the_corpus_robot_it_names() -> None:
     page = PAGE.read_text(encoding="utf-8")
     folder = Path(ROBOT.path).parent.name
-    assert f"pybullet_data.getDataPath())')/{folder}\" robots/" in page
+    assert "data=\"$(python -c 'import pybullet_data; print(pybullet_data.getDataPath())')\"" in page
+    assert f'cp -r "$data/{folder}" robots/' in page
     assert f"robots/{folder}/{Path(ROBOT.path).name}" in page
 
 
