@@ -516,7 +516,18 @@ def _arm_with_gripper(tmp_path: Path, frame: str, frame_parent: str = "hand") ->
     return _robot(tmp_path / "arm.urdf", "my_arm", body)
 
 
-@pytest.mark.parametrize("frame", ["tcp", "hand_tcp", "grasp_frame", "ee_link", "tool0"])
+@pytest.mark.parametrize(
+    "frame",
+    [
+        "tcp",
+        "hand_tcp",
+        "grasp_frame",
+        "ee_link",
+        "/arm/ee_gripper_link",
+        "r_gripper_tool_frame",
+        "tool0",
+    ],
+)
 def test_a_link_named_as_a_tcp_welded_to_the_hand_is_the_tcp(tmp_path: Path, frame: str) -> None:
     """Not the midpoint between the fingers: the description's own frame, found across the
     hand's fixed joint to the arm (a revolute joint above it ends the search)."""
@@ -536,6 +547,12 @@ def test_a_frame_named_as_a_tcp_but_beyond_a_moving_joint_is_not_the_gripper_s_t
         "midpoint": ["left_finger", "right_finger"],
         "orientation": "hand",
     }
+
+
+def test_a_sensor_s_tool_link_welded_to_the_hand_is_not_taken_for_the_tcp(tmp_path: Path) -> None:
+    """TALOS's wrist_left_ft_tool_link (a force-torque sensor's flange): "tool" is no tcp."""
+    spec = scaffold(_arm_with_gripper(tmp_path, "wrist_ft_tool_link"), tmp_path / "arm.yaml")
+    assert isinstance(spec["tcp"], dict) and spec["tcp"]["link"] == "hand"
 
 
 def test_of_several_tcp_names_the_one_that_says_tcp_wins(tmp_path: Path) -> None:

@@ -10,10 +10,10 @@ scaffolded arm with a gripper runs ``PickCube-v1`` as written.
 * **Opening.** Each finger opens away from the other: the direction from the other finger's
   centre of mass to its own at the rest pose, in its own frame, to the nearest axis.
 * **tcp.** A link named like a tool centre point, as conventions name one (:data:`TCP_NAMES`,
-  best first: ``tcp``, ``*_tcp``, ``grasp_frame``; ``ee_link``, ``eef``, ``end_effector``;
-  ``tool0``), welded (fixed joints) to the fingers' parent; else the midpoint of the two
-  fingers, oriented as their parent link, which ``self.tcp`` is bound to. A robot without a
-  gripper gets its tcp-named link, where it has one (the deepest of the best-named).
+  best first: ``tcp``, ``*_tcp``, ``grasp_frame``; ``ee_link``, ``eef``, ``end_effector``,
+  ``tool_frame``; ``tool0``), welded (fixed joints) to the fingers' parent; else the midpoint
+  of the two fingers, oriented as their parent link, which ``self.tcp`` is bound to. A robot
+  without a gripper gets its tcp-named link, where it has one (the deepest of the best-named).
 * **is_static** over the arm groups.
 """
 
@@ -31,12 +31,13 @@ from robospec.kinematics.frames import Transform
 
 # what conventions name a tool centre point, best first: a name of the first kind says tcp;
 # an end effector's frame; a tool flange (ROS-Industrial's tool0), the tcp of a bare arm
+# (whole words of the name: after its start or a separator, `_` or a namespace's `/`)
 TCP_NAMES = tuple(
-    re.compile(rf"(^|_)({words})($|_|\d)", re.IGNORECASE)
+    re.compile(rf"(?<![a-z0-9])({words})(?![a-z])", re.IGNORECASE)
     for words in (
         r"tcp|tool_?cent(?:er|re)_?point|grasp\w*|gripper_cent(?:er|re)",
-        r"ee|eef|ee_link|ee_gripper|end_?effector",
-        r"tool0|tool",
+        r"ee|eef|ee_link|ee_gripper|end_?effector|tool_?frame",
+        r"tool0",
     )
 )
 GRIPPING_KINDS = ("gripper", "mimic")
