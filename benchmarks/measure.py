@@ -38,6 +38,9 @@ class Run:
     peak_rss_kib: int  # ru_maxrss of the child alone (KiB on Linux)
     returncode: int
     output: str  # stdout and stderr, interleaved
+    # user + system CPU time of the child alone: what other work on a shared machine inflates
+    # least (wall time also waits for the CPU)
+    cpu_seconds: float = 0.0
 
 
 def run(args: list[str], env: dict[str, str], cwd: Path = ROOT) -> Run:
@@ -54,7 +57,8 @@ def run(args: list[str], env: dict[str, str], cwd: Path = ROOT) -> Run:
         seconds = time.perf_counter() - started
         child.returncode = os.waitstatus_to_exitcode(status)
         out.seek(0)
-        return Run(seconds, usage.ru_maxrss, child.returncode, out.read())
+        cpu = usage.ru_utime + usage.ru_stime
+        return Run(seconds, usage.ru_maxrss, child.returncode, out.read(), cpu)
 
 
 @dataclass(frozen=True)
@@ -65,10 +69,15 @@ class Sample:
     peak_rss_kib: int
     returncode: int
     output: str
+    cpu_times: tuple[float, ...] = ()
 
     @property
     def median(self) -> float:
         return statistics.median(self.times)
+
+    @property
+    def cpu_median(self) -> float:
+        return statistics.median(self.cpu_times)
 
     @property
     def spread(self) -> str:
@@ -103,6 +112,7 @@ def interleaved(
             max(result.peak_rss_kib for result in done),
             done[-1].returncode,
             done[-1].output,
+            tuple(result.cpu_seconds for result in done),
         )
         for name, done in runs.items()
     }

@@ -12,19 +12,21 @@
    (benchmarks/step_throughput.py).
 4. Validate time and peak memory on synthetic robots of 100 to 10,000 links
    (benchmarks/scaling.py).
-5. `env.step` throughput of robots optimized by `robospec optimize`, and by its fast profile,
+5. Time to sample a robot's collision matrix, optimize's and new's first stage
+   (benchmarks/collision_matrix.py).
+6. `env.step` throughput of robots optimized by `robospec optimize`, and by its fast profile,
    against the same robots as written (benchmarks/optimize_throughput.py).
-6. What optimize and the fast profile change in behaviour: link-pose divergence, check's step
+7. What optimize and the fast profile change in behaviour: link-pose divergence, check's step
    responses and the Panda's motion-planning success (benchmarks/optimize_fidelity.py).
-7. The same robots on physx_cuda at 1,024 and 4,096 environments, where a GPU is
+8. The same robots on physx_cuda at 1,024 and 4,096 environments, where a GPU is
    (benchmarks/optimize_gpu.py; skipped with a message elsewhere).
-8. How soon `robospec lsp` publishes fresh diagnostics after an edit of the Panda spec
+9. How soon `robospec lsp` publishes fresh diagnostics after an edit of the Panda spec
    (benchmarks/lsp_latency.py).
-9. Time to draw a robot card's pictures (`robospec doc --images`) for the Panda and the G1
-   on the CPU (benchmarks/pictures.py).
-10. `robospec new`'s time per corpus robot, with and without the simulated refinement of its
+10. Time to draw a robot card's pictures (`robospec doc --images`) for the Panda and the G1
+    on the CPU (benchmarks/pictures.py).
+11. `robospec new`'s time per corpus robot, with and without the simulated refinement of its
     gains (benchmarks/scaffold.py).
-11. The generated modules laid out by robospec's own layout against black and ruff: the same
+12. The generated modules laid out by robospec's own layout against black and ruff: the same
     text or not, time per module and import, install size (benchmarks/formatter.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
@@ -40,6 +42,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
+import collision_matrix
 import first_error
 import formatter
 import lsp_latency
@@ -50,6 +53,7 @@ import pictures
 import registration
 import scaffold
 import scaling
+import solve
 import step_throughput
 from measure import ROOT
 from section import Section
@@ -60,6 +64,7 @@ SECTION_TITLES = (
     registration.TITLE,
     step_throughput.TITLE,
     scaling.TITLE,
+    collision_matrix.TITLE,
     optimize_throughput.TITLE,
     optimize_fidelity.TITLE,
     optimize_gpu.TITLE,
@@ -67,6 +72,7 @@ SECTION_TITLES = (
     pictures.TITLE,
     scaffold.TITLE,
     formatter.TITLE,
+    solve.TITLE,
 )
 
 
@@ -75,6 +81,7 @@ PARTS = (
     "registration",
     "step_throughput",
     "scaling",
+    "collision_matrix",
     "optimize_throughput",
     "optimize_fidelity",
     "optimize_gpu",
@@ -82,6 +89,7 @@ PARTS = (
     "pictures",
     "scaffold",
     "formatter",
+    "solve",
 )
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
@@ -94,6 +102,9 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             "registration": lambda: registration.measure(1),
             "step_throughput": lambda: step_throughput.measure(steps=10, rounds=1, only=["panda"]),
             "scaling": lambda: scaling.measure([100], 1),
+            "collision_matrix": lambda: collision_matrix.measure(
+                1, cases=(collision_matrix.TARGET,)
+            ),
             "optimize_throughput": lambda: optimize_throughput.measure(
                 steps=10, rounds=1, only=["panda"], corpus=False, samples=20, every_spec=False
             ),
@@ -113,12 +124,14 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             # the analytic gains only: the simulated refinement is new's own, tested there
             "scaffold": lambda: scaffold.measure(1, only=["erd_ur5"], refine=False),
             "formatter": lambda: formatter.measure(1, random_count=10),
+            "solve": lambda: solve.measure(1, ("PickCube-v1",)),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
         "registration": lambda: registration.measure(repeat),
         "step_throughput": lambda: step_throughput.measure(steps=200, rounds=5),
         "scaling": lambda: scaling.measure([100, 1_000, 10_000], repeat),
+        "collision_matrix": lambda: collision_matrix.measure(repeat),
         "optimize_throughput": lambda: optimize_throughput.measure(steps=200, rounds=5),
         "optimize_fidelity": lambda: optimize_fidelity.measure(seeds=50, steps=100),
         "optimize_gpu": lambda: optimize_gpu.measure(),
@@ -126,17 +139,28 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "pictures": lambda: pictures.measure(repeat),
         "scaffold": lambda: scaffold.measure(repeat),
         "formatter": lambda: formatter.measure(repeat),
+        "solve": lambda: solve.measure(),
     }
 
 
 def replace_section(document: str, section: Section) -> str:
     """``document`` with the section titled as ``section`` replaced by it (up to the next
-    ``## `` heading)."""
+    ``## `` heading); a section the document lacks (a new part) goes where SECTION_TITLES
+    puts it."""
     heading = f"## {section.title}\n"
+    if heading not in document:
+        return _insert_section(document, section)
     start = document.index(heading)
     end = document.find("\n## ", start + len(heading))
     rest = document[end + 1 :] if end != -1 else ""
     return document[:start] + section.markdown() + ("\n" + rest if rest else "")
+
+
+def _insert_section(document: str, section: Section) -> str:
+    later = SECTION_TITLES[SECTION_TITLES.index(section.title) + 1 :]
+    starts = [document.find(f"\n## {title}\n") for title in later]
+    start = min((found for found in starts if found != -1), default=len(document.rstrip()))
+    return document[:start].rstrip("\n") + "\n\n" + section.markdown() + document[start:]
 
 
 def document(sections: list[Section], repeat: int, seconds: float) -> str:

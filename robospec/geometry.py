@@ -100,6 +100,15 @@ def about_axis(axis: Vector, angle: float) -> Quaternion:
     return (math.cos(angle / 2), axis[0] * s, axis[1] * s, axis[2] * s)
 
 
+def z_towards(z: Vector) -> Quaternion:
+    """The smallest rotation taking (0, 0, 1) onto the unit vector ``z`` (MuJoCo's ``zaxis`` and
+    ``fromto``); half a turn about x when ``z`` points down."""
+    axis = cross((0.0, 0.0, 1.0), z)
+    if math.sqrt(dot(axis, axis)) < _TINY:
+        return IDENTITY if z[2] > 0 else (0.0, 1.0, 0.0, 0.0)
+    return about_axis(axis, math.acos(max(-1.0, min(1.0, z[2]))))
+
+
 def quaternion_from_rpy(roll: float, pitch: float, yaw: float) -> Quaternion:
     """The unit quaternion of URDF's roll, pitch, yaw."""
     cr, sr = math.cos(roll / 2), math.sin(roll / 2)

@@ -8,8 +8,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
-from robospec.description.facts import RobotDescription
 from robospec.diagnostics import (
     Diagnostic,
     Location,
@@ -25,14 +23,15 @@ from robospec.maniskill.builtin_uids import Overrides, override_allowed
 from robospec.maniskill.installed import registered_uids
 from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult, build_spec
-from robospec.resolve import resolve
-from robospec.resolve.description_files import shown_path
-from robospec.resolve.part_types import Locator, PartInput
-from robospec.resolve.parts import filled_joints
-from robospec.resolve.resolved import ResolvedRobot
 
 if TYPE_CHECKING:
+    # resolve and checks (with the description and lxml they load) are imported where a spec
+    # reaches them: a spec whose first error is in its text or its model needs neither
+    from robospec.checks import CheckContext
     from robospec.compose.model import Composed
+    from robospec.description.facts import RobotDescription
+    from robospec.resolve.part_types import Locator, PartInput
+    from robospec.resolve.resolved import ResolvedRobot
 
 
 @dataclass
@@ -110,10 +109,12 @@ def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
     """Drop the warnings whose codes the spec's ``silence`` list or the command line's
     ``--silence`` name; errors stay, whatever the list says. A listed code robospec does not
     have is an error (RS107)."""
+    listed = result.loaded.data.get("silence") if result.loaded is not None else None
+    if not silence and not isinstance(listed, list):
+        return  # nothing to silence, as in most specs: the catalogue of codes is not read
     from robospec.diagnostics.codes import CODES
 
     codes = set(silenced_codes(result, silence))
-    listed = result.loaded.data.get("silence") if result.loaded is not None else None
     problems: list[Diagnostic] = []
     if isinstance(listed, list) and result.loaded is not None:
         for index, code in enumerate(listed):
@@ -161,6 +162,10 @@ def _compile_into(
                 "ManiSkill's agent on purpose",
             )
         )
+    from robospec.resolve import resolve
+    from robospec.resolve.carried import filled_joints, passive_joints
+    from robospec.resolve.description_files import shown_path
+
     parts = _compile_parts(result, spec, model, loaded, mounting)
     resolution = resolve(loaded, model, result.path, parts)
     result.diagnostics.extend(resolution.diagnostics)
@@ -170,6 +175,9 @@ def _compile_into(
     robot = resolution.robot
     if robot is None or resolution.loaded_description is None:
         return
+    # the checks, only for a robot to check: a first error in resolve needs none of them
+    from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS, CheckContext, run_checks
+
     context = CheckContext(
         spec=spec,
         robot=robot,
@@ -180,9 +188,7 @@ def _compile_into(
         locate_key=resolution.at_key,
         description_origins=resolution.composed.origins if resolution.composed else None,
         filled_by_parts=filled_joints(resolution),
-        part_passive_joints=frozenset(
-            resolution.part_plan.passive_joints if resolution.part_plan else ()
-        ),
+        part_passive_joints=passive_joints(resolution),
     )
     result.diagnostics.extend(run_checks(BINDING_CHECKS, context))
     if not has_errors(result.diagnostics):
@@ -202,6 +208,8 @@ def _compile_parts(
     """Each part given as a spec, compiled on its own (its problems reported where they are
     written); a spec that mounts, directly or through its parts, the spec mounting it is
     RS733 at the entry that closes the ring."""
+    from robospec.resolve.part_types import PartInput
+
     parts: dict[str, PartInput] = {}
     here = _identity(result.path)
     for name, part in spec.parts.items():
@@ -234,6 +242,8 @@ def _compile_parts(
 
 def part_input(name: str, compiled: CompiledSpec) -> PartInput:
     """What mounting and merging read of a part's own compilation."""
+    from robospec.resolve.part_types import PartInput
+
     context = compiled.context
     if compiled.robot is None or context is None or compiled.description is None:
         errors = tuple(

@@ -23,6 +23,7 @@ from __future__ import annotations
 import ast
 import atexit
 import builtins
+import importlib.util
 import os
 import random
 import shutil
@@ -87,6 +88,18 @@ MANISKILL_MARK = "maniskill"
 INSTALL_MANISKILL = (
     "the maniskill extra is not installed: run scripts/setup (pip install -e '.[maniskill]')"
 )
+
+
+def maniskill_assets() -> Path:
+    """ManiSkill's bundled assets, ``mani_skill/assets`` (the robots ``{maniskill_assets}``
+    names), found here by the tests themselves (``find_spec`` imports nothing), not by
+    robospec's ``maniskill_assets_dir``, the code under test: a lookup that breaks fails the
+    tests that read the assets instead of skipping them. Without ManiSkill, a failure naming
+    the extra (the maniskill extra installs them, and CI has it)."""
+    spec = importlib.util.find_spec("mani_skill")
+    if spec is None or not spec.submodule_search_locations:
+        pytest.fail(INSTALL_MANISKILL, pytrace=False)
+    return Path(next(iter(spec.submodule_search_locations))) / "assets"
 
 
 # -- the robospec command line
@@ -230,9 +243,17 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
         if MANISKILL_MARK in getattr(item, "fixturenames", ()):
             item.add_marker(MANISKILL_MARK)
     # the modules of minutes first (a stable sort: each module's tests keep their order):
-    # xdist hands out whole modules in this order (--dist loadfile), and one of them started
-    # last would keep one worker busy alone at the end
+    # xdist hands out whole modules in this order (--dist loadfile; _keep_module_order), and
+    # one of them started last would keep one worker busy alone at the end
     items.sort(key=lambda item: item.get_closest_marker("minutes") is None)
+
+
+def _keep_module_order(config: pytest.Config) -> None:
+    """pytest-xdist's --dist loadfile hands out the modules with the most tests first unless
+    told not to (--no-loadscope-reorder): a module of two tests and eleven minutes then
+    started last, alone, while the other worker sat idle. The order is the collection's."""
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
 
 
 @pytest.hookimpl(wrapper=True)
@@ -314,6 +335,7 @@ HYPOTHESIS_SEED_ENV = "ROBOSPEC_HYPOTHESIS_SEED"
 
 @pytest.hookimpl(tryfirst=True)  # before Hypothesis's plugin reads --hypothesis-seed
 def pytest_configure(config: pytest.Config) -> None:
+    _keep_module_order(config)
     if config.getoption("hypothesis_seed", None) is None:
         seed = os.environ.get(HYPOTHESIS_SEED_ENV) or str(random.SystemRandom().randrange(2**32))
         config.option.hypothesis_seed = seed
@@ -368,6 +390,7 @@ __all__ = [
     "TWOLINK_XACRO",
     "extends_python",
     "invoke_robospec",
+    "maniskill_assets",
     "run_robospec",
     "sample_fast",
     "spec_params",

@@ -106,13 +106,14 @@ LAYERS: tuple[frozenset[str], ...] = tuple(
         "load maniskill",  # spec text -> data + positions; where ManiSkill and its assets are
         "model",  # the spec's models
         "description",  # URDF/MJCF/xacro/SRDF -> located facts
-        "derive kinematics",  # mends of descriptions; their trees, frames and morphology
+        "derive",  # mends of descriptions
+        "kinematics",  # their trees, link poses (of the derived copy) and morphology
         "compose",  # parts mounted into one description
         "resolve",  # spec + description -> ResolvedRobot
         "checks emit",  # semantic rules; the agent module's source
         "pipeline",  # load -> model -> resolve -> checks
         "output schema",  # build and register; the JSON Schema
-        "importer pictures",  # import from agent classes; pictures of robots
+        "importer pictures solve",  # import from agent classes; pictures; ManiSkill's solutions
         "physics optimize",  # check in SAPIEN; robots that simulate faster
         "tune",  # gains fitted with check's measures
         "authoring demo",  # new, inspect, doc; the demo tour and viewer
@@ -284,7 +285,7 @@ def test_only_the_command_line_reaches_robospec_tune() -> None:
         and not name.startswith("robospec.tune")
     }
     # robospec new refines a scaffold's gains with tune's search (issue 23), in its child process
-    assert users <= {"robospec.cli.commands", "robospec.authoring.refine"}
+    assert users <= {"robospec.cli.commands", "robospec.authoring.new.refinement"}
     into_reference = {
         name
         for name, targets in graph.items()

@@ -19,6 +19,7 @@ from conftest import MANISKILL_VERSION, ROOT
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
+import collision_matrix
 import first_error
 import optimize_fidelity
 import optimize_gpu
@@ -36,6 +37,22 @@ def test_performance_doc_has_every_section_the_generator_writes_and_the_command(
     doc = (ROOT / "docs" / "performance.md").read_text(encoding="utf-8")
     assert _headings(doc) == list(run.SECTION_TITLES)
     assert run.COMMAND in doc
+
+
+def test_only_one_part_replaces_its_section_or_puts_a_new_one_where_the_titles_order_it() -> None:
+    sections = [Section(title, f"old {i}\n") for i, title in enumerate(run.SECTION_TITLES)]
+    full = run.document(sections, 1, 1.0)
+    new = Section(collision_matrix.TITLE, "new\n")
+    index = run.SECTION_TITLES.index(collision_matrix.TITLE)
+    replaced = run.replace_section(full, new)
+    assert _headings(replaced) == list(run.SECTION_TITLES)
+    assert "new\n" in replaced and f"old {index}\n" not in replaced
+    lacking = run.document(sections[:index] + sections[index + 1 :], 1, 1.0)
+    assert run.replace_section(lacking, new) == replaced
+    last = Section(run.SECTION_TITLES[-1], "new\n")
+    assert _headings(run.replace_section(run.document(sections[:-1], 1, 1.0), last)) == list(
+        run.SECTION_TITLES
+    )
 
 
 def test_growth_exponent_is_one_for_linear_cost_and_two_for_quadratic() -> None:

@@ -23,7 +23,8 @@ import pytest
 from conftest import DOCS
 from corpus import BY_KEY, CorpusMissing, locate
 
-pytestmark = pytest.mark.maniskill  # check, register and gym.make simulate the robot
+# check, register and gym.make simulate the robot
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 PAGE = DOCS / "bring-your-own-robot.md"
 ROBOT = BY_KEY["pb_laikago"]  # the page's robot: pybullet's Unitree Laikago
@@ -87,7 +88,8 @@ def apply_diff(text: str, diff: str) -> str:
 def test_the_page_copies_the_corpus_robot_it_names() -> None:
     page = PAGE.read_text(encoding="utf-8")
     folder = Path(ROBOT.path).parent.name
-    assert "data=\"$(python -c 'import pybullet_data; print(pybullet_data.getDataPath())')\"" in page
+    found = "python -c 'import pybullet_data; print(pybullet_data.getDataPath())'"
+    assert f'data="$({found})"' in page
     assert f'cp -r "$data/{folder}" robots/' in page
     assert f"robots/{folder}/{Path(ROBOT.path).name}" in page
 

@@ -13,6 +13,8 @@ from conftest import ROOT, SAME_ON_EVERY_MANISKILL
 
 from robospec.output.package import MANIFEST, MANIFEST_HEADER
 
+pytestmark = pytest.mark.minutes  # CI starts it first (tests/conftest.py)
+
 # a TOML spec with a xacro description (a module and an expanded URDF) and a YAML one: enough
 # for what does not depend on how many specs a build has, at a third of the cost of specs/
 TWO_SPECS = ("specs/twolink.toml", "specs/maniskill/panda.yaml")

@@ -25,6 +25,7 @@ from conftest import ROOT, SAME_ON_EVERY_MANISKILL
 from robospec.output.package import MANIFEST
 
 pytestmark = [
+    pytest.mark.minutes,
     pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL and flock are POSIX"),
     SAME_ON_EVERY_MANISKILL,
 ]

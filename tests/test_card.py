@@ -14,13 +14,14 @@ from conftest import CRASHING_MODES, MANISKILL_SPECS, PANDA_SPEC, ROOT, run_robo
 from robospec.authoring.card import mermaid_label, node_ids
 from robospec.authoring.commands import run_doc, run_new
 from robospec.authoring.layout import mode_layout
-from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
+
+pytestmark = pytest.mark.minutes  # CI starts it first (tests/conftest.py)
 
 
 def card(spec: Path, out: Path) -> str:
-    diagnostics = run_doc(spec, out)
-    assert not has_errors(diagnostics), diagnostics
+    result = run_doc(spec, out).write()
+    assert not result.failed, result.diagnostics
     return out.read_text()
 
 
@@ -86,8 +87,8 @@ def test_odd_link_names_become_safe_mermaid(tmp_path: Path) -> None:
         "</joint></robot>\n"
     )
     spec = tmp_path / "odd.yaml"
-    written, diagnostics = run_new(urdf, spec, None, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(urdf, spec, None, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
     lines = mermaid(card(spec, tmp_path / "odd.md"))
     assert lines == [
         '  l_base__0_["base #quot;0#quot;"]',
@@ -146,7 +147,7 @@ def test_spec_with_errors_gets_diagnostics_and_no_card(tmp_path: Path) -> None:
     spec = tmp_path / "bad.yaml"
     run_new(
         ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False, simulate=False
-    )
+    ).write()
     lines = spec.read_text().splitlines()
     line = next(i for i, text in enumerate(lines) if text.startswith("  arm: ["))
     lines[line] = lines[line].replace("twolink_joint3", "twolink_joint9")
@@ -188,27 +189,40 @@ def test_doc_without_out_writes_the_card_named_after_the_spec_where_it_is_run(
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::UserWarning")
 @pytest.mark.parametrize(
-    "spec", ["panda.yaml", "fetch.yaml", "allegro_hand_right.yaml", "fixed_inspire_hand_right.yaml"]
+    "spec",
+    [
+        *(
+            MANISKILL_SPECS / name
+            for name in (
+                "panda.yaml",
+                "fetch.yaml",
+                "allegro_hand_right.yaml",
+                "fixed_inspire_hand_right.yaml",
+            )
+        ),
+        ROOT / "docs/examples/tutorial/my_mobile_base.yaml",  # pd_base_vel: base.vx, vy, wz
+    ],
+    ids=lambda path: path.name,
 )
-def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: str) -> None:
+def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: Path) -> None:
     import numpy as np
 
     from robospec import register
     from robospec.physics import action_layout
     from robospec.physics.check_run import CheckRun
-    from robospec.physics.findings import rounded
+    from robospec.physics.findings import METRIC_DIGITS, significant
 
-    compiled = compile_spec(MANISKILL_SPECS / spec)
+    compiled = compile_spec(spec)
     assert compiled.robot is not None and compiled.context is not None
     assert compiled.description is not None
-    register(MANISKILL_SPECS / spec)
+    register(spec)
     run = CheckRun(compiled.robot.uid, compiled.context, compiled.context.spec.checks)
     try:
         broken = run.open_modes()  # modes this ManiSkill cannot build leave the run
         live = {f.mode: f.details for f in action_layout.check(run)}
     finally:
         run.close()
-    assert set(broken) == CRASHING_MODES.get(spec.removesuffix(".yaml"), frozenset())
+    assert set(broken) == CRASHING_MODES.get(spec.stem, frozenset())
     assert set(live) == {m.name for m in compiled.robot.modes} - set(broken)
     for mode in (m for m in compiled.robot.modes if m.name in live):
         static = [
@@ -216,8 +230,8 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
                 r.index,
                 r.group,
                 r.target,
-                rounded(float(np.float32(r.low))),
-                rounded(float(np.float32(r.high))),
+                significant(float(np.float32(r.low)), METRIC_DIGITS),
+                significant(float(np.float32(r.high)), METRIC_DIGITS),
                 r.normalized,
             )
             for r in mode_layout(compiled.robot, compiled.description, mode)
@@ -227,6 +241,9 @@ def test_static_action_layout_equals_the_live_controllers_in_every_mode(spec: st
             for d in live[mode.name]
         ]
         assert static == actual, mode.name
+    if spec.stem == "my_mobile_base":  # a base's velocities are labelled, not its joints
+        first = mode_layout(compiled.robot, compiled.description, compiled.robot.modes[0])
+        assert [row.target for row in first[:3]] == ["base.vx", "base.vy", "base.wz"]
 
 
 @pytest.mark.slow  # over a second: CI runs it, the fast loop does not
@@ -234,7 +251,7 @@ def test_unwritable_card_is_rs603_and_exit_1(tmp_path: Path) -> None:
     spec = tmp_path / "twolink.yaml"
     run_new(
         ROOT / "specs/robots/twolink/twolink.urdf.xacro", spec, None, force=False, simulate=False
-    )
+    ).write()
     (tmp_path / "afile").write_text("")
     out = tmp_path / "afile" / "card.md"
     result = run_robospec("doc", str(spec), "-o", str(out))

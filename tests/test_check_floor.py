@@ -17,6 +17,7 @@ from conftest import ROOT
 
 from robospec.diagnostics import Severity
 from robospec.physics.batch import RobotReport, check_paths
+from robospec.physics.findings import Status
 from robospec.physics.results import Options
 
 pytestmark = pytest.mark.maniskill
@@ -67,3 +68,47 @@ def test_a_link_the_free_robot_stands_on_giving_way_is_its_failure(
     assert diagnostic.severity is Severity.ERROR
     assert "joint 'finger_joint'" in diagnostic.message
     assert "pressed on the ground" not in diagnostic.message
+
+
+@pytest.fixture(scope="module")
+def on_stand(tmp_path_factory: pytest.TempPathFactory) -> dict[str, list]:
+    """The ground and random-actions findings of column_stand.yaml, those checks alone."""
+    from robospec.output.register import register
+    from robospec.physics import ground, random_actions
+    from robospec.physics.check_run import CheckRun
+    from robospec.pipeline import compile_spec
+
+    spec = DATA / "column_stand.yaml"
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path_factory.mktemp("cache")))
+        compiled = compile_spec(spec)
+        assert compiled.robot is not None and compiled.context is not None
+        register(spec)
+        run = CheckRun(compiled.robot.uid, compiled.context, compiled.context.spec.checks)
+        try:
+            return {"ground": ground.check(run), "random_actions": random_actions.check(run)}
+        finally:
+            run.close()
+
+
+def test_a_joint_the_test_stand_cannot_keep_inside_fails_though_the_floor_pressed_on_it(
+    on_stand: dict[str, list],
+) -> None:
+    (leaning,) = [f for f in on_stand["random_actions"] if f.subject == "from leaning"]
+    found = {d.code: d for d in leaning.diagnostics}
+    assert set(found) == {"RS503", "RS504"}
+    for code, still in [("RS503", "still take it"), ("RS504", "still run it at")]:
+        assert found[code].severity is Severity.ERROR, found[code].message
+        assert "joint 'finger_joint'" in found[code].message
+        assert f"held clear of the floor on a test stand, the same actions {still}" in (
+            found[code].message
+        )
+        assert "pressed on the ground" not in found[code].message
+
+
+def test_a_start_is_inside_the_ground_from_5_mm_below_it(on_stand: dict[str, list]) -> None:
+    status = {f.subject: f.status for f in on_stand["ground"]}
+    assert status["sunk_3mm"] is Status.PASS  # contacts settle by millimetres
+    assert status["sunk_8mm"] is Status.FAIL
+    (sunk,) = [f for f in on_stand["ground"] if f.subject == "sunk_8mm"]
+    assert sunk.metrics["depth"] == pytest.approx(0.008, abs=1e-4)

@@ -58,6 +58,17 @@ def test_a_foot_held_above_the_ground_bears_no_weight() -> None:
     assert support(left + [(n, p, -0.001) for n, p, _ in right], np.zeros(3)).stands
 
 
+def test_a_foot_settling_within_a_centimetre_of_the_ground_bears_weight() -> None:
+    # a robot settles by millimetres onto its feet as its drives take its weight (the
+    # Minitaur's motor housings, 0 to 9 mm up, all bear it): 9 mm up counts, 11 mm does not
+    left = [("left", (x, y, 0.0), 0.0) for x, y in [(0.1, 0.05), (0.1, 0.1), (-0.1, 0.05)]]
+    right = [("right", (x, y, 0.009), -0.009) for x, y in [(0.1, -0.1), (-0.1, -0.1)]]
+    settling = support(left + right, np.array([0.0, 0.0, 0.5]))
+    assert settling.links == ("left", "right") and settling.stands
+    lifted = [(n, (p[0], p[1], 0.011), -0.011) for n, p, _ in right]
+    assert support(left + lifted, np.array([0.0, 0.0, 0.5])).links == ("left",)
+
+
 def test_the_support_polygon_is_the_convex_hull_of_the_contacts() -> None:
     points = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5], [0.5, 0.0]])
     hull = convex_hull(points)

@@ -14,7 +14,7 @@ from conftest import SPECS, TWOLINK_XACRO
 from robospec.physics.batch import RobotReport, check_paths
 from robospec.physics.findings import Status
 
-pytestmark = pytest.mark.maniskill
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 SPEC = """\
 robospec: 1

@@ -12,6 +12,8 @@ import pytest
 from conftest import ROOT, fast_first
 
 from robospec.cli import fast_validate
+from robospec.model.frozen import frozen_code
+from robospec.model.frozen_cache import entry_path
 
 TYPER_PATH = "import sys; from robospec.cli.commands import app; app(prog_name='robospec')"
 BAD = "docs/examples/codes/RS201/fail.yaml"
@@ -81,6 +83,79 @@ def test_usage_errors_still_come_from_typer_with_exit_2() -> None:
     assert code == 2 and "Invalid value" in stderr
 
 
+MISSPELLED_KEY = "docs/examples/codes/RS101/fail.yaml"
+# what no plain URDF spec needs: the typer app and what only build writes, the other
+# description format, a xacro's expansion, the mends (derive), parts (compose), the pydantic
+# models (pydantic-core alone validates), the kinematics; the explanations of a syntax error,
+# Python references and the catalogue of codes, for a spec that has none of them to explain,
+# name or silence; and hashlib, which only the language server's description memo needs
+NOT_FOR_A_PLAIN_URDF_SPEC = (
+    "robospec.cli.commands",
+    "robospec.emit",
+    "robospec.output",
+    "robospec.description.mjcf",
+    "robospec.description.xacro",
+    "xacro",
+    "robospec.derive",
+    "robospec.compose",
+    "pydantic",
+    "robospec.kinematics",
+    "robospec.load.syntax_hints",
+    "robospec.resolve.python_refs",
+    "robospec.diagnostics.codes",
+    "hashlib",
+)
+# a spec whose first error is in its model (a misspelled key) is never resolved: neither its
+# description (nor lxml) is read, nor a check run
+NOT_BEFORE_RESOLVE = (
+    *NOT_FOR_A_PLAIN_URDF_SPEC,
+    "robospec.resolve",
+    "robospec.description",
+    "lxml",
+    "robospec.checks",
+)
+
+
+def _validate_loads(spec: str) -> tuple[int, set[str]]:
+    """The exit status of `robospec validate SPEC` (the plain command line) and the modules it
+    has imported by then, with the spec model cached (as in every run after the first: a cold
+    cache makes it with pydantic)."""
+    frozen_code(entry_path())
+    probe = (
+        "import sys\n"
+        f"sys.argv = ['robospec', 'validate', {spec!r}]\n"
+        "from robospec.cli import main\n"
+        "try:\n    main()\nexcept SystemExit as exit:\n    code = exit.code\n"
+        "print('EXIT', code, 'LOADED', *sorted(sys.modules))\n"
+    )
+    stdout, stderr, _ = _run(["-c", probe], [], dict(os.environ))
+    said = stdout.rsplit("EXIT ", 1)[-1].split()
+    assert len(said) > 2 and said[1] == "LOADED", stdout + stderr
+    return int(said[0]), set(said[2:])
+
+
+@pytest.mark.parametrize(
+    ("spec", "code", "not_loaded"),
+    [
+        (BAD, 1, NOT_FOR_A_PLAIN_URDF_SPEC),
+        (GOOD, 0, NOT_FOR_A_PLAIN_URDF_SPEC),
+        (MISSPELLED_KEY, 1, NOT_BEFORE_RESOLVE),
+    ],
+)
+def test_validate_imports_only_what_the_spec_in_hand_needs(
+    spec: str, code: int, not_loaded: tuple[str, ...]
+) -> None:
+    exit_code, loaded = _validate_loads(spec)
+    assert exit_code == code
+    assert "robospec.model.frozen" in loaded  # the probe saw validate run
+    unneeded = sorted(
+        module
+        for module in loaded
+        if any(module == name or module.startswith(f"{name}.") for name in not_loaded)
+    )
+    assert unneeded == []
+
+
 def test_plain_validate_imports_no_typer_click_or_rich() -> None:
     probe = (
         "import sys\n"
@@ -92,3 +167,19 @@ def test_plain_validate_imports_no_typer_click_or_rich() -> None:
     )
     stdout, _, _ = _run(["-c", probe], [], dict(os.environ))
     assert stdout.strip().endswith("EXIT 1 LOADED []")
+
+
+def test_plain_validate_imports_no_forward_kinematics_numpy_or_meshes() -> None:
+    # a URDF and an MJCF robot: the libraries that place links (yourdfpy, MuJoCo) and what they
+    # bring are for the tools that place them, never validate's path
+    probe = (
+        "import sys\n"
+        f"sys.argv = ['robospec', 'validate', {GOOD!r}, 'specs/maniskill/humanoid.yaml']\n"
+        "from robospec.cli import main\n"
+        "try:\n    main()\nexcept SystemExit as exit:\n    code = exit.code\n"
+        "heavy = ('numpy', 'yourdfpy', 'trimesh', 'mujoco', 'scipy')\n"
+        "loaded = sorted(m for m in sys.modules if m.split('.')[0] in heavy)\n"
+        "print('EXIT', code, 'LOADED', loaded)\n"
+    )
+    stdout, _, _ = _run(["-c", probe], [], dict(os.environ))
+    assert stdout.strip().endswith("EXIT 0 LOADED []")

@@ -185,11 +185,11 @@ def _journey() -> list[str]:
 
 def test_the_top_level_help_lists_commands_in_the_order_of_the_readmes_journey() -> None:
     """A newcomer reads the commands in the order they use them: inspect and new first, then
-    validate, ..., and build last of the journey; the other commands come after it."""
+    validate, ..., build and solve last of the journey; the other commands come after it."""
     from robospec.docgen.cli_page import command_names
 
     journey = _journey()
-    assert journey[:2] == ["inspect", "new"] and journey[-1] == "build", journey
+    assert journey[:2] == ["inspect", "new"] and journey[-2:] == ["build", "solve"], journey
     listed = command_names()
     assert listed[: len(journey)] == journey
     text = _help([], 100)

@@ -28,6 +28,7 @@ from pathlib import Path
 import pytest
 
 pytestmark = [
+    pytest.mark.minutes,
     pytest.mark.maniskill,
     pytest.mark.filterwarnings("ignore:__array_wrap__ must accept context:DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
@@ -36,12 +37,11 @@ pytest.importorskip("mani_skill")
 
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
-from conftest import MANISKILL_VERSION, SPECS  # noqa: E402
+from conftest import MANISKILL_VERSION, SPECS, maniskill_assets  # noqa: E402
 from corpus import BY_KEY, locate  # noqa: E402
 from maniskill_compare import make_env, random_actions, rollout  # noqa: E402
 
 import robospec  # noqa: E402
-from robospec.resolve.paths import maniskill_assets_dir  # noqa: E402
 
 COMPOSED = SPECS / "composed"
 MODES = ("pd_joint_delta_pos", "pd_joint_pos", "pd_ee_delta_pose", "pd_ee_target_delta_pose")
@@ -166,8 +166,7 @@ def without_mimics(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[st
             "spec: ability_hand_right.yaml", "spec: hand.yaml"
         )
     )
-    assets = maniskill_assets_dir()
-    assert assets is not None
+    assets = maniskill_assets()
     original = assets / "robots" / "xarm7" / "xarm7_ability_right_hand.urdf"
     text = re.sub(r"<mimic[^>]*/>", "", original.read_text())
     text = re.sub(
@@ -394,20 +393,18 @@ def test_check_says_where_a_part_sits_inside_the_robot(tmp_path: Path) -> None:
 def test_new_attach_declares_the_seam_the_collision_matrix_finds(tmp_path: Path) -> None:
     # the arm scaffolded without its rest-pose search (which test_new covers), the hand given
     # by its spec: what --attach adds is sampled here
-    from robospec.authoring.attach import parse_attach, run_attach
     from robospec.authoring.commands import run_new
+    from robospec.authoring.new.attach import parse_attach, run_attach
     from robospec.pipeline import compile_spec
 
-    assets = maniskill_assets_dir()
-    assert assets is not None
+    assets = maniskill_assets()
     arm = assets / "robots" / "xarm7" / "xarm7.urdf"
     shutil.copy(COMPOSED / "ability_hand_right.yaml", tmp_path / "hand.yaml")
     out = tmp_path / "xarm7_hand.yaml"
-    written, _ = run_new(arm, out, None, False, simulate=False)
-    assert written is not None
+    assert not run_new(arm, out, None, False, simulate=False).write().failed
     attach = [parse_attach(f"{tmp_path / 'hand.yaml'}@link_eef")]
-    _, diagnostics = run_attach(out, arm, attach, force=False, simulate=True)
-    assert not any(d.is_error for d in diagnostics), [d.format_text() for d in diagnostics]
+    mounted = run_attach(out, arm, attach, force=False, simulate=True).write()
+    assert not mounted.failed, [d.format_text() for d in mounted.diagnostics]
     text = out.read_text()
     assert "  hand: {spec: hand.yaml, at: link_eef}\n" in text
     # the hand's base and link7 touch in every pose (two empty frames apart, not adjacent)

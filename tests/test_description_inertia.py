@@ -224,16 +224,14 @@ def test_sapien_takes_an_inertia_that_breaks_the_triangle_inequality() -> None:
 def test_descriptions_maniskill_ships_get_no_physics_warnings_but_a_copy_does(
     tmp_path: Path,
 ) -> None:
-    from conftest import MANISKILL_SPECS
+    from conftest import MANISKILL_SPECS, maniskill_assets
 
     from robospec.pipeline import compile_spec
-    from robospec.resolve.paths import maniskill_assets_dir
 
     shipped = compile_spec(MANISKILL_SPECS / "fetch.yaml")
     physics = {"RS061", "RS062"}
     assert shipped.ok and not [d for d in shipped.diagnostics if d.code in physics]
-    assets = maniskill_assets_dir()
-    assert assets is not None
+    assets = maniskill_assets()
     copy = tmp_path / "fetch.yaml"
     copy.write_text(
         (MANISKILL_SPECS / "fetch.yaml").read_text().replace("{maniskill_assets}", str(assets))

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import importlib.util
 import math
 from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import INSTALL_MANISKILL
+from conftest import maniskill_assets
 from mjcf_scene import parse, scene_fixture  # noqa: F401  (the scene fixture)
 
 from robospec.description import load_description
@@ -46,10 +45,7 @@ HUMANOID_ACTIVE_JOINTS = (
 
 def humanoid_path() -> Path:
     """The humanoid.xml shipped inside mani_skill, found without importing mani_skill."""
-    spec = importlib.util.find_spec("mani_skill")
-    if spec is None or spec.origin is None:
-        pytest.fail(INSTALL_MANISKILL)
-    path = Path(spec.origin).parent / "assets" / "robots" / "humanoid" / "humanoid.xml"
+    path = maniskill_assets() / "robots" / "humanoid" / "humanoid.xml"
     if not path.exists():
         pytest.fail(f"mani_skill ships no {path}")
     return path

@@ -348,23 +348,6 @@ window.addEventListener("load", () => {
 </script>"""
 
 
-def _nav_pages() -> list[str]:
-    """The pages of the site's navigation, as their Markdown files."""
-    from ruamel.yaml import YAML
-
-    def walk(node: object) -> list[str]:
-        if isinstance(node, str):
-            return [node]
-        if isinstance(node, list):
-            return [page for item in node for page in walk(item)]
-        if isinstance(node, dict):
-            return [page for value in node.values() for page in walk(value)]
-        return []
-
-    config = YAML(typ="safe").load((ROOT / "mkdocs.yml").read_text(encoding="utf-8"))
-    return [page for page in walk(config["nav"]) if page.endswith(".md")]
-
-
 def _what_a_reader_sees(site: Path, page: str, tmp_path: Path) -> dict[str, list[list]]:
     """The page, built, opened in headless Chromium at 1280 x 900 with :data:`READER_SCRIPT`
     added: what that script measured, read back from the page's DOM."""
@@ -408,7 +391,9 @@ FIRST_PAGES = ("index.md", "tutorial.md", "bring-your-own-robot.md", "cli.md", "
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("page", _nav_pages())
+@pytest.mark.parametrize(
+    "page", [page for _, page in _nav_pages(_mkdocs_config()["nav"]) if page.endswith(".md")]
+)
 def test_a_reader_at_1280_px_sees_every_picture_and_whole_code_lines(
     site: Path, page: str, tmp_path: Path
 ) -> None:

@@ -16,7 +16,7 @@ import pytest
 from conftest import DOCS, ROOT
 from test_docs import FENCE, _run_console, _workdir
 
-pytestmark = pytest.mark.maniskill  # the snippets simulate
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]  # the snippets simulate
 
 # page -> where its reader stands: the tutorial's folder of their own, robospec's clone, or the
 # clone after the page's own commands (which write into it: here, a copy of its specs)

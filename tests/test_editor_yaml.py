@@ -26,7 +26,7 @@ from pygls.protocol import default_converter
 from pytest_lsp import LanguageClient
 from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, configuration, register_lsp_features
 
-from robospec.model.rules import CONTROLLER_TYPES as CONTROLLER_TYPE_NAMES
+from robospec.model.controller_kinds import CONTROLLER_TYPES as CONTROLLER_TYPE_NAMES
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 

@@ -18,6 +18,8 @@ from robospec.maniskill.headless import (
     strip_urdf_visuals,
 )
 
+pytestmark = pytest.mark.minutes  # CI starts it first (tests/conftest.py)
+
 TREE_URDF = Path(__file__).parent / "data" / "tree.urdf"
 
 

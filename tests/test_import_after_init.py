@@ -24,6 +24,7 @@ from conftest import CRASHING_MODES, MANISKILL_VERSION
 from maniskill_compare import BUNDLED_AGENTS, make_env, random_actions, rollout
 
 pytestmark = [
+    pytest.mark.minutes,
     pytest.mark.maniskill,
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
 ]

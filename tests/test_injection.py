@@ -47,6 +47,7 @@ from pydantic import BaseModel
 
 from robospec.emit.generate import emit_module
 from robospec.model import controllers
+from robospec.model.controller_kinds import CONTROLLER_KINDS
 from robospec.pipeline import compile_spec
 
 FRAGMENTS = [
@@ -194,6 +195,8 @@ def emitter_vocabulary() -> frozenset[str]:
     for model in vars(controllers).values():
         if isinstance(model, type) and issubclass(model, BaseModel):
             words.update(model.model_fields)
+    # the config classes the emitter imports are named by the controller-kind registry
+    words.update(kind.config_class for kind in CONTROLLER_KINDS)
     return frozenset(words - CODE_RUNNERS)
 
 

@@ -10,11 +10,8 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import INSTALL_MANISKILL, TWOLINK_XACRO, fast_first, invoke_robospec, run_robospec
+from conftest import TWOLINK_XACRO, fast_first, invoke_robospec, maniskill_assets, run_robospec
 
-from robospec.resolve.paths import maniskill_assets_dir
-
-ASSETS = maniskill_assets_dir()
 LIMIT = '<limit lower="-1" upper="1" effort="5" velocity="2"/>'
 
 
@@ -30,8 +27,7 @@ def inspect_json(path: Path) -> dict:
 
 
 def test_panda_active_joints_come_in_qpos_order_with_limits_velocity_and_effort() -> None:
-    assert ASSETS is not None, INSTALL_MANISKILL
-    report = inspect_json(ASSETS / "robots/panda/panda_v2.urdf")
+    report = inspect_json(maniskill_assets() / "robots/panda/panda_v2.urdf")
     joints = report["active_joints"]
     assert [j["name"] for j in joints] == [f"panda_joint{i}" for i in range(1, 8)] + [
         "panda_finger_joint1",
@@ -45,8 +41,7 @@ def test_panda_active_joints_come_in_qpos_order_with_limits_velocity_and_effort(
 
 
 def test_panda_mimic_relation_is_printed_as_follower_mimics_leader_times_multiplier_plus_offset():
-    assert ASSETS is not None, INSTALL_MANISKILL
-    result = invoke_robospec("inspect", str(ASSETS / "robots/panda/panda_v2.urdf"))
+    result = invoke_robospec("inspect", str(maniskill_assets() / "robots/panda/panda_v2.urdf"))
     assert result.exit_code == 0, result.output
     assert "panda_finger_joint2 mimics panda_finger_joint1 ×1 + 0" in result.stdout
     row = next(line for line in result.stdout.splitlines() if " panda_joint4 " in line)
@@ -54,8 +49,9 @@ def test_panda_mimic_relation_is_printed_as_follower_mimics_leader_times_multipl
 
 
 def test_inspire_hand_mimic_multipliers_and_offsets_are_reported() -> None:
-    assert ASSETS is not None, INSTALL_MANISKILL
-    report = inspect_json(ASSETS / "robots/inspire_hand/RH56DFX-2LR/urdf/inspire_hand_left.urdf")
+    report = inspect_json(
+        maniskill_assets() / "robots/inspire_hand/RH56DFX-2LR/urdf/inspire_hand_left.urdf"
+    )
     by_name = {j["name"]: j for j in report["active_joints"]}
     mimic = by_name["left_hand_index_PIP_joint"]["mimic"]
     assert mimic["joint"] == "left_hand_index_MCP_joint"
@@ -64,8 +60,7 @@ def test_inspire_hand_mimic_multipliers_and_offsets_are_reported() -> None:
 
 
 def test_tree_indents_each_link_under_its_parent_with_the_joint_that_attaches_it() -> None:
-    assert ASSETS is not None, INSTALL_MANISKILL
-    path = ASSETS / "robots/panda/panda_v2.urdf"
+    path = maniskill_assets() / "robots/panda/panda_v2.urdf"
     report = inspect_json(path)
     depth = {row["link"]: row["depth"] for row in report["tree"]}
     assert depth["panda_link0"] == 0 and depth["panda_link1"] == 1
@@ -81,8 +76,7 @@ def test_tree_indents_each_link_under_its_parent_with_the_joint_that_attaches_it
 
 
 def test_continuous_joints_are_unbounded_null_in_json_and_infinite_in_text() -> None:
-    assert ASSETS is not None, INSTALL_MANISKILL
-    path = ASSETS / "robots/fetch/fetch.urdf"
+    path = maniskill_assets() / "robots/fetch/fetch.urdf"
     report = inspect_json(path)
     roll = next(j for j in report["active_joints"] if j["name"] == "upperarm_roll_joint")
     assert (roll["type"], roll["lower"], roll["upper"]) == ("continuous", None, None)
@@ -108,10 +102,24 @@ def test_xacro_files_are_expanded_before_inspection() -> None:
 
 
 def test_mjcf_files_are_inspected() -> None:
-    assert ASSETS is not None, INSTALL_MANISKILL
-    report = inspect_json(ASSETS / "robots/humanoid/humanoid.xml")
+    report = inspect_json(maniskill_assets() / "robots/humanoid/humanoid.xml")
     assert report["kind"] == "mjcf" and report["floating_root"] is True
     assert "right_knee" in [j["name"] for j in report["active_joints"]]
+
+
+def test_a_file_is_named_as_given_and_a_xacros_problem_as_its_expansion(tmp_path: Path) -> None:
+    # read as validate reads a spec's description: a ManiSkill folder by its placeholder, a
+    # problem found in a xacro's expansion at the expansion's line, named so
+    from robospec.authoring.description_file import read_description_file
+
+    missing = Path("{maniskill_assets}/robots/nowhere.urdf")
+    _, (problem,) = read_description_file(missing)
+    assert (problem.code, problem.location.file) == ("RS050", str(missing))
+    path = tmp_path / "bad.urdf.xacro"
+    robot(path, f'<link name="a"/>\n<link name="b"/>\n<joint name="j" type="revolute">'
+          f'<parent link="nowhere"/><child link="b"/>{LIMIT}</joint>\n')  # fmt: skip
+    _, found = read_description_file(path)
+    assert [(d.code, d.location.file) for d in found] == [("RS052", f"{path} (expanded)")]
 
 
 MALFORMED = {

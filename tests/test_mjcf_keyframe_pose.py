@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import INSTALL_MANISKILL
+from conftest import maniskill_assets
 
 from robospec.description import load_description
 
@@ -50,10 +50,7 @@ control_modes:
 
 
 def _humanoid_folder() -> Path:
-    spec = importlib.util.find_spec("mani_skill")
-    if spec is None or spec.origin is None:
-        pytest.fail(INSTALL_MANISKILL)
-    return Path(spec.origin).parent / "assets" / "robots" / "humanoid"
+    return maniskill_assets() / "robots" / "humanoid"
 
 
 @pytest.fixture

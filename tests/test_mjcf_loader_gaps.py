@@ -331,7 +331,8 @@ def test_the_tree_reaches_every_link_through_the_nameless_fixed_joints() -> None
 def test_inspect_shows_an_mjcf_robots_tree_with_the_mends_new_would_write() -> None:
     from robospec.authoring.commands import run_inspect
 
-    text, diagnostics = run_inspect(GAPS / "orientation.xml", "text")
+    result = run_inspect(GAPS / "orientation.xml")
+    text, diagnostics = result.report, result.diagnostics
     assert text is not None
     assert "    base  <- (fixed, unnamed)\n      tilted  <- tilted (continuous)\n" in text
     # the frames are shown as `new`'s orientations mend leaves them: its note says what it

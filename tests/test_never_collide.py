@@ -8,6 +8,7 @@ from collections.abc import Collection, Iterable
 from pathlib import Path
 
 import pytest
+from conftest import maniskill_assets
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -48,17 +49,7 @@ FOLDED_CLIQUE = ("panda_link0", "panda_link1", "panda_link5", "panda_link6")
 PANDA_SRDF_BITS = frozenset(range(7))  # panda_v2.srdf's seven "Default" pairs, none adjacent
 
 
-def _assets() -> Path:
-    from robospec.resolve.paths import maniskill_assets_dir
-
-    assets = maniskill_assets_dir()
-    if assets is None:
-        pytest.skip("ManiSkill's assets are not installed")
-    return assets
-
-
 def _compile(tmp_path: Path, extra: str, uid: str = "rs_nc"):
-    _assets()
     path = tmp_path / f"{uid}.yaml"
     path.write_text(PANDA.format(uid=uid) + extra)
     return compile_spec(path)
@@ -91,7 +82,7 @@ def test_panda_srdf_pairs_pack_into_far_fewer_bits_than_pairs() -> None:
 
     from robospec.description import load_description
 
-    assets = _assets()
+    assets = maniskill_assets()
     root = etree.parse(str(assets / "robots/panda/panda_v2.srdf")).getroot()
     pairs = [(e.get("link1"), e.get("link2")) for e in root.iter("disable_collisions")]
     description, _ = load_description(str(assets / "robots/panda/panda_v2.urdf"), "urdf")
@@ -290,7 +281,6 @@ def test_side_effects_are_warned_at_the_entry(tmp_path: Path) -> None:
 
 
 def test_mjcf_body_bits_are_left_alone(tmp_path: Path) -> None:
-    _assets()
     path = tmp_path / "humanoid.yaml"
     path.write_text(
         "robospec: 1\nuid: rs_nc_humanoid\n"
@@ -401,7 +391,6 @@ def _contact_pairs(uid: str, keyframe: str) -> set[tuple[str, str]]:
 def test_never_collide_stops_the_contacts_of_a_folded_arm(tmp_path: Path) -> None:
     import robospec
 
-    _assets()
     without = tmp_path / "without.yaml"
     without.write_text(PANDA.format(uid=f"rs_nc_fold_{tmp_path.name[-8:]}") + FOLDED)
     with_rule = tmp_path / "with.yaml"
@@ -431,7 +420,7 @@ def test_two_robots_share_group_2_bits() -> None:
 
     from robospec.maniskill.headless import headless_loading
 
-    urdf = str(_assets() / "robots/panda/panda_v2.urdf")
+    urdf = str(maniskill_assets() / "robots/panda/panda_v2.urdf")
 
     def contacts_between_robots(bit: int | None) -> int:
         scene = sapien.Scene([sapien.physx.PhysxCpuSystem()])

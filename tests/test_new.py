@@ -11,21 +11,17 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from conftest import TWOLINK_XACRO, invoke_robospec, run_robospec
+from conftest import TWOLINK_XACRO, invoke_robospec, maniskill_assets, run_robospec
 from ruamel.yaml import YAML
 
-from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
 from robospec.authoring.description_file import read_description_file
-from robospec.authoring.rest_pose import ADJACENT_WHY, COARSE_WHY, OVERLAPPING_WHY
-from robospec.authoring.scaffold import FILTERED_WHY
-from robospec.diagnostics import has_errors
+from robospec.authoring.new import rest_pose
+from robospec.authoring.new.exemptions import ADJACENT_WHY, COARSE_WHY, OVERLAPPING_WHY, THOROUGH
+from robospec.authoring.new.scaffold import FILTERED_WHY
 from robospec.pipeline import compile_spec
-from robospec.resolve.paths import maniskill_assets_dir
 from robospec.schema import schema_text
 
-ASSETS = maniskill_assets_dir()
-needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
 LIMIT = '<limit lower="{lo}" upper="{hi}" effort="5" velocity="2"/>'
 
 REAL_ROBOTS = [
@@ -52,9 +48,9 @@ def load(path: Path) -> dict:
 
 
 def scaffold(description: Path, out: Path, uid: str | None = None) -> dict:
-    written, diagnostics = run_new(description, out, uid, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
-    assert written[0] == out
+    result = run_new(description, out, uid, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
+    assert result.written[0] == out
     return load(out)
 
 
@@ -65,12 +61,10 @@ def validate(spec: Path) -> None:
     assert compiled.robot is not None
 
 
-@needs_assets
 @pytest.mark.parametrize("robot", REAL_ROBOTS)
 def test_scaffold_of_a_real_robot_validates_with_no_errors(tmp_path: Path, robot: str) -> None:
-    assert ASSETS is not None
     out = tmp_path / "spec.yaml"
-    data = scaffold(ASSETS / "robots" / robot, out)
+    data = scaffold(maniskill_assets() / "robots" / robot, out)
     validate(out)
     assert list(data["control_modes"]) == ["pd_joint_delta_pos", "pd_joint_pos"]
     # every group is driven in both modes
@@ -94,13 +88,11 @@ def test_scaffold_of_the_xacro_robot_validates_and_names_it_relative_to_the_spec
     }
 
 
-@needs_assets
 def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
     tmp_path: Path,
 ) -> None:
-    assert ASSETS is not None
     out = tmp_path / "panda.yaml"
-    data = scaffold(ASSETS / "robots/panda/panda_v2.urdf", out)
+    data = scaffold(maniskill_assets() / "robots/panda/panda_v2.urdf", out)
     assert data["uid"] == "rs_panda"  # 'panda' is ManiSkill's own uid
     assert data["description"] == {"urdf": "{maniskill_assets}/robots/panda/panda_v2.urdf"}
     assert data["groups"]["arm"] == [f"panda_joint{i}" for i in range(1, 8)]
@@ -118,11 +110,11 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
         **{f"panda_joint{i}": 87 for i in range(1, 5)},
         **{f"panda_joint{i}": 12 for i in range(5, 8)},
     }
-    from robospec.authoring.analysis import analyse
     from robospec.authoring.description_file import read_description_file
-    from robospec.authoring.joint_gains import loads
+    from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.joint_gains import loads
 
-    source, _ = read_description_file(ASSETS / "robots/panda/panda_v2.urdf")
+    source, _ = read_description_file(maniskill_assets() / "robots/panda/panda_v2.urdf")
     assert source is not None
     rest = dict.fromkeys(absolute["stiffness"], 0.0) | {"panda_joint4": -1.5708}
     inertia = {name: load.inertia for name, load in loads(analyse(source), rest, False).items()}
@@ -137,10 +129,8 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
     assert absolute["stiffness"]["panda_joint2"] > 100 * absolute["stiffness"]["panda_joint7"]
 
 
-@needs_assets
 def test_fetch_scaffold_drives_its_planar_base_forward_like_fetch_does(tmp_path: Path) -> None:
-    assert ASSETS is not None
-    data = scaffold(ASSETS / "robots/fetch/fetch.urdf", tmp_path / "fetch.yaml")
+    data = scaffold(maniskill_assets() / "robots/fetch/fetch.urdf", tmp_path / "fetch.yaml")
     assert data["groups"]["base"] == [
         "root_x_axis_joint",
         "root_y_axis_joint",
@@ -155,10 +145,10 @@ def test_fetch_scaffold_drives_its_planar_base_forward_like_fetch_does(tmp_path:
     assert "loader" not in data
 
 
-@needs_assets
 def test_hand_of_identical_fingers_gets_one_group_per_finger_and_no_arm(tmp_path: Path) -> None:
-    assert ASSETS is not None
-    data = scaffold(ASSETS / "robots/allegro/allegro_hand_right.urdf", tmp_path / "a.yaml")
+    data = scaffold(
+        maniskill_assets() / "robots/allegro/allegro_hand_right.urdf", tmp_path / "a.yaml"
+    )
     assert list(data["groups"]) == ["finger1", "finger2", "finger3", "finger4"]
     assert data["groups"]["finger2"] == ["joint_4.0", "joint_5.0", "joint_6.0", "joint_7.0"]
 
@@ -323,8 +313,8 @@ def test_without_a_schema_to_name_new_writes_one_beside_the_spec(project: Path) 
     assert (out.parent / "robospec.schema.json").read_text() == schema_text()
     # the next spec in that folder names the same file, and nothing is rewritten
     second = project / "robots" / "second.yaml"
-    written, _ = run_new(TWOLINK_XACRO, second, "second", force=False, simulate=False)
-    assert written == [second]
+    result = run_new(TWOLINK_XACRO, second, "second", force=False, simulate=False).write()
+    assert result.written == (second,)
     assert second.read_text().splitlines()[0].endswith("$schema=robospec.schema.json")
 
 
@@ -400,7 +390,6 @@ def test_robot_without_active_joints_is_rs602(tmp_path: Path) -> None:
 @pytest.mark.usefixtures("maniskill")
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::UserWarning")
-@needs_assets
 def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     tmp_path: Path,
 ) -> None:
@@ -412,9 +401,8 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
     from robospec.physics.batch import check_paths
     from robospec.physics.findings import Status
 
-    assert ASSETS is not None
     out = tmp_path / "panda.yaml"
-    panda = ASSETS / "robots/panda/panda_v2.urdf"
+    panda = maniskill_assets() / "robots/panda/panda_v2.urdf"
     result = run_robospec("new", str(panda), "-o", str(out), "--uid", "rs_new_panda")
     assert result.returncode == 0, result.stderr
     check = run_robospec("validate", str(out))
@@ -623,7 +611,7 @@ def test_the_header_gives_each_never_collide_pair_its_own_reason(
             "qpos": [0.0] * 6,
             "touching": [[*overlapping, 0.002], [*coarse, 0.003]],
             "always": [list(overlapping), list(coarse)],
-            "tried": rest_pose.THOROUGH,
+            "tried": THOROUGH,
             "adjacent": [list(yoke), list(welded), list(shapeless)],
             "adjacent_why": ["yoke", "welded", "shapeless"],
         },
@@ -631,8 +619,8 @@ def test_the_header_gives_each_never_collide_pair_its_own_reason(
     )
     _answer_with(monkeypatch, found)
     out = tmp_path / "six.yaml"
-    written, diagnostics = run_new(urdf, out, "six", force=True, simulate=True)
-    assert written is not None, [d.format_text() for d in diagnostics]
+    result = run_new(urdf, out, "six", force=True, simulate=True).write()
+    assert not result.failed, [d.format_text() for d in result.diagnostics]
     text = out.read_text()
     header = [line for line in text.splitlines() if line.startswith("#   ")]
     assert header == [

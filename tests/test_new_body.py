@@ -10,20 +10,16 @@ import re
 from pathlib import Path
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, maniskill_assets
 from ruamel.yaml import YAML
 
-from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
+from robospec.authoring.new import rest_pose
 from robospec.pipeline import compile_spec
-from robospec.resolve.paths import maniskill_assets_dir
 
 DATA = ROOT / "tests" / "data" / "new"
 QUADRUPED_URDF = DATA / "quadruped.urdf"
 QUADRUPED_MJCF = DATA / "quadruped.xml"
-ASSETS = maniskill_assets_dir()
-needs_assets = pytest.mark.skipif(ASSETS is None, reason="mani_skill's assets are not installed")
 INERTIAL = (
     '<inertial><mass value="1"/>'
     '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>'
@@ -32,8 +28,8 @@ INERTIAL = (
 
 def scaffold(description: Path, out: Path, simulate: bool = False) -> tuple[dict, str]:
     """The spec ``new`` writes (as data and as text), checked to validate with no errors."""
-    written, diagnostics = run_new(description, out, None, force=False, simulate=simulate)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False, simulate=simulate).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
     text = out.read_text()
@@ -248,7 +244,6 @@ def test_legs_fixed_to_a_world_link_do_not_float(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow  # over a second: CI runs it, the fast loop does not
-@needs_assets
 @pytest.mark.parametrize(
     ("robot", "floating", "groups"),
     [
@@ -260,8 +255,7 @@ def test_legs_fixed_to_a_world_link_do_not_float(tmp_path: Path) -> None:
 def test_maniskills_own_robots_get_the_body_they_have(
     tmp_path: Path, robot: str, floating: bool, groups: set[str]
 ) -> None:
-    assert ASSETS is not None
-    data, _ = scaffold(ASSETS / "robots" / robot, tmp_path / "spec.yaml")
+    data, _ = scaffold(maniskill_assets() / "robots" / robot, tmp_path / "spec.yaml")
     assert ("loader" in data) is floating
     assert groups <= set(data["groups"])
 
@@ -319,3 +313,220 @@ def test_a_hand_whose_thumb_is_its_longest_finger_keeps_the_thumb_out_of_the_arm
     assert groups["arm"] == ["wrist_yaw", "wrist_pitch"]
     assert "gripper" not in groups and {"ffj2", "ffj3"} <= set(groups["hand"])
     assert [f"thj{n}" for n in range(1, 5)] in groups.values()
+
+
+def _gripper(side: str, wrist_y: float, finger_y: str) -> str:
+    s = side[0]
+    limit = '<limit lower="0" upper="0.04" effort="10" velocity="1"/>'
+    return (
+        f'<link name="{side}_hand"/><link name="{s}_finger_l"/><link name="{s}_finger_r"/>'
+        f'<joint name="{side}_wrist" type="revolute"><parent link="base"/>'
+        f'<child link="{side}_hand"/><origin xyz="0 {wrist_y} 0"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint>'
+        f'<joint name="{s}_finger_l_joint" type="prismatic"><parent link="{side}_hand"/>'
+        f'<child link="{s}_finger_l"/><origin xyz="0 {finger_y} 0.1"/><axis xyz="0 1 0"/>'
+        f"{limit}</joint>"
+        f'<joint name="{s}_finger_r_joint" type="prismatic"><parent link="{side}_hand"/>'
+        f'<child link="{s}_finger_r"/><origin xyz="0 -0.0015 0.1"/><axis xyz="0 -1 0"/>'
+        f"{limit}</joint>"
+    )
+
+
+def test_of_two_grippers_equally_wide_the_first_in_the_tree_holds_the_tcp(
+    tmp_path: Path,
+) -> None:
+    # the left gripper's fingers lie 1e-13 m farther apart: rounding noise, as Baxter's
+    # mirrored grippers differ by in its forward kinematics; the right one comes first
+    urdf = tmp_path / "two_grippers.urdf"
+    urdf.write_text(
+        '<robot name="two_grippers"><link name="base"/>'
+        + _gripper("right", -0.3, "0.0015")
+        + _gripper("left", 0.3, "0.0015000000001")
+        + "</robot>"
+    )
+    data, _ = scaffold(urdf, tmp_path / "two_grippers.yaml")
+    assert data["tcp"]["link"] == "right_hand"
+
+
+def _chains_urdf(path: Path, chains: dict[str, list[str]], trunk: list[str]) -> Path:
+    """A root link, a serial ``trunk`` of revolute joints, and at its end one chain of revolute
+    joints per entry of ``chains`` (joint names; each joint's child link is named after it)."""
+    links, joints, parent = ["root"], [], "root"
+    for name in trunk:
+        links.append(f"{name}_link")
+        joints.append(_joint(name, "revolute", parent, f"{name}_link", "0 1 0"))
+        parent = f"{name}_link"
+    end = parent
+    for chain in chains.values():
+        parent = end
+        for name in chain:
+            links.append(f"{name}_link")
+            joints.append(_joint(name, "revolute", parent, f"{name}_link", "0 1 0"))
+            parent = f"{name}_link"
+    return _urdf(path, path.stem, links, joints)
+
+
+def test_a_torso_parting_three_ways_is_no_palm_and_its_arms_are_no_legs(tmp_path: Path) -> None:
+    # two arms and a head on a waist: no leg words, so no legs (the robot stays fixed), and
+    # three ways is a torso, not a palm: the arm is the longest chain, waist to wrist
+    torso = _chains_urdf(
+        tmp_path / "torso.urdf",
+        {
+            "left": ["left_shoulder", "left_elbow", "left_wrist"],
+            "right": ["right_shoulder", "right_elbow"],
+            "head": ["neck"],
+        },
+        ["waist"],
+    )
+    data, text = scaffold(torso, tmp_path / "torso.yaml")
+    assert "loader" not in data and "Floating base" not in header(text)
+    assert data["groups"]["arm"] == ["waist", "left_shoulder", "left_elbow", "left_wrist"]
+
+
+def test_four_chains_parting_at_one_link_hang_from_a_palm_where_the_arm_ends(
+    tmp_path: Path,
+) -> None:
+    # three fingers of two joints and a thumb of three, named as the Shadow hand's (no gripper
+    # words): the longest chain runs into the thumb, and the arm ends at the palm
+    hand = _chains_urdf(
+        tmp_path / "hand.urdf",
+        {
+            "ff": ["ffj1", "ffj2"],
+            "mf": ["mfj1", "mfj2"],
+            "rf": ["rfj1", "rfj2"],
+            "th": ["thj1", "thj2", "thj3"],
+        },
+        ["shoulder", "elbow"],
+    )
+    data, _ = scaffold(hand, tmp_path / "hand.yaml")
+    assert data["groups"]["arm"] == ["shoulder", "elbow"]
+    assert ["thj1", "thj2", "thj3"] in data["groups"].values()
+
+
+def test_chains_named_both_like_fingers_and_like_feet_are_fingers(tmp_path: Path) -> None:
+    # each finger's tip link is its "foot": a hand word in the chain says it is no leg
+    gripper = _urdf(
+        tmp_path / "gripper.urdf",
+        "gripper",
+        ["palm", "left_a", "left_foot", "right_a", "right_foot"],
+        [
+            _joint("left_finger_1", "revolute", "palm", "left_a"),
+            _joint("left_finger_2", "revolute", "left_a", "left_foot"),
+            _joint("right_finger_1", "revolute", "palm", "right_a"),
+            _joint("right_finger_2", "revolute", "right_a", "right_foot"),
+        ],
+    )
+    data, text = scaffold(gripper, tmp_path / "gripper.yaml")
+    assert "loader" not in data and "Floating base" not in header(text)
+    assert not {"left_leg", "right_leg"} & set(data["groups"])
+
+
+def test_an_mjcf_arm_without_legs_or_a_free_joint_is_not_told_to_add_one(tmp_path: Path) -> None:
+    arm = tmp_path / "arm.xml"
+    arm.write_text(
+        '<mujoco model="arm"><compiler angle="radian"/><worldbody><body name="base">'
+        '<geom type="box" size=".1 .1 .02"/><body name="upper" pos="0 0 .1">'
+        '<joint name="shoulder" axis="0 1 0" range="-1 1"/>'
+        '<geom type="capsule" size=".02 .1" pos="0 0 .1"/><body name="lower" pos="0 0 .2">'
+        '<joint name="elbow" axis="0 1 0" range="-1 1"/>'
+        '<geom type="capsule" size=".02 .1" pos="0 0 .1"/></body></body></body></worldbody>'
+        "</mujoco>"
+    )
+    data, text = scaffold(arm, tmp_path / "arm.yaml")
+    assert "loader" not in data
+    assert "freejoint" not in header(text)
+
+
+def _gripper_arm(path: Path, tcp: bool) -> Path:
+    """Two hinges, then a flange and a hand welded on (as the Panda's link8 and hand), and two
+    fingers sliding along y either side of the hand; the right finger's frame is turned half a
+    turn about z (mirrored, as grippers mount their second finger)."""
+    links = ["base", "upper", "lower", "flange", "hand", "left_finger", "right_finger"]
+    joints = [
+        _joint("shoulder", "revolute", "base", "upper", "0 1 0"),
+        _joint("elbow", "revolute", "upper", "lower", "0 1 0", '<origin xyz="0 0 0.3"/>'),
+        _joint("flange_joint", "fixed", "lower", "flange", extra='<origin xyz="0 0 0.2"/>'),
+        _joint("hand_joint", "fixed", "flange", "hand", extra='<origin xyz="0 0 0.05"/>'),
+        _joint(
+            "left_finger_joint",
+            "prismatic",
+            "hand",
+            "left_finger",
+            "0 1 0",
+            '<origin xyz="0 0.02 0.1"/>',
+        ),
+        _joint(
+            "right_finger_joint",
+            "prismatic",
+            "hand",
+            "right_finger",
+            "0 1 0",
+            '<origin xyz="0 -0.02 0.1" rpy="0 0 3.141592653589793"/>',
+        ),
+    ]
+    if tcp:
+        links.append("tcp")
+        joints.append(_joint("tcp_joint", "fixed", "hand", "tcp", extra='<origin xyz="0 0 0.12"/>'))
+    return _urdf(path, "gripper_arm", links, joints)
+
+
+def test_each_finger_opens_away_from_the_other_along_its_own_axis(tmp_path: Path) -> None:
+    data, _ = scaffold(_gripper_arm(tmp_path / "arm.urdf", tcp=True), tmp_path / "arm.yaml")
+    # left opens along +y of the hand; the right finger's frame is turned: -y of the hand is
+    # its +y
+    assert data["grasping"]["is_grasping"]["fingers"] == [
+        {"link": "left_finger", "opening": "+y"},
+        {"link": "right_finger", "opening": "+y"},
+    ]
+    assert data["tcp"] == "tcp"  # a link welded to the fingers' parent, named so
+    assert data["is_static"] == {"joints": "arm"}
+
+
+def test_without_a_tcp_link_the_tcp_is_the_fingers_midpoint_on_their_parent(
+    tmp_path: Path,
+) -> None:
+    data, _ = scaffold(_gripper_arm(tmp_path / "arm.urdf", tcp=False), tmp_path / "arm.yaml")
+    assert data["tcp"] == {
+        "link": "hand",
+        "midpoint": ["left_finger", "right_finger"],
+        "orientation": "hand",
+    }
+
+
+def test_a_gripper_of_one_jaw_closes_it_against_the_link_it_hangs_from(tmp_path: Path) -> None:
+    # SO-101's gripper: one moving jaw on a fixed one (the hand link itself)
+    links = ["base", "upper", "hand", "jaw"]
+    joints = [
+        _joint("shoulder", "revolute", "base", "upper", "0 1 0"),
+        _joint("elbow", "revolute", "upper", "hand", "0 1 0", '<origin xyz="0 0 0.3"/>'),
+        _joint("gripper", "revolute", "hand", "jaw", "1 0 0", '<origin xyz="0 0.03 0.01"/>'),
+    ]
+    data, _ = scaffold(_urdf(tmp_path / "jaw.urdf", "jaw", links, joints), tmp_path / "jaw.yaml")
+    assert data["grasping"]["is_grasping"]["fingers"] == [
+        {"link": "jaw", "opening": "+y"},  # away from the hand's centre, along its y
+        {"link": "hand", "opening": "-y"},
+    ]
+    assert data["tcp"]["midpoint"] == ["jaw", "hand"]
+
+
+def test_a_hand_of_finger_chains_grasps_with_the_tips_of_the_two_farthest_apart(
+    tmp_path: Path,
+) -> None:
+    # three fingers of two joints on a palm, named fingerN by the scaffold; the outer two are
+    # 8 cm apart, the middle one 4 cm from each; each ends in a fixed tip link
+    links, joints = ["palm"], []
+    for k, x in enumerate(["-0.04", "0", "0.04"], start=1):
+        links += [f"p{k}", f"d{k}", f"tip{k}"]
+        joints += [
+            _joint(f"a{k}", "revolute", "palm", f"p{k}", "1 0 0", f'<origin xyz="{x} 0 0.05"/>'),
+            _joint(f"b{k}", "revolute", f"p{k}", f"d{k}", "1 0 0", '<origin xyz="0 0 0.03"/>'),
+            _joint(f"t{k}", "fixed", f"d{k}", f"tip{k}", extra='<origin xyz="0 0 0.02"/>'),
+        ]
+    data, _ = scaffold(_urdf(tmp_path / "hand.urdf", "hand", links, joints), tmp_path / "h.yaml")
+    assert data["groups"] == {f"finger{k}": [f"a{k}", f"b{k}"] for k in (1, 2, 3)}
+    assert data["grasping"]["is_grasping"]["fingers"] == [
+        {"link": "tip1", "opening": "-x"},
+        {"link": "tip3", "opening": "+x"},
+    ]
+    assert data["tcp"] == {"link": "palm", "midpoint": ["tip1", "tip3"], "orientation": "palm"}
+    assert "is_static" not in data  # no arm

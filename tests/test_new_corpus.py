@@ -16,10 +16,11 @@ from corpus import BY_KEY, HUMANOID, URDF, CorpusMissing, Robot, locate
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import Diagnostic, has_errors
+from robospec.diagnostics import Diagnostic
 from robospec.pipeline import compile_spec
 
-pytestmark = pytest.mark.maniskill  # new searches each rest pose in ManiSkill
+# new searches each rest pose in ManiSkill
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 
 # TALOS as example-robot-data reduces it: robospec reads it, but ManiSkill cannot load it
@@ -39,11 +40,11 @@ def scaffold(key: str | Robot, out: Path) -> tuple[dict, list[Diagnostic]]:
         description = locate(BY_KEY[key] if isinstance(key, str) else key)
     except CorpusMissing as missing:
         pytest.fail(str(missing), pytrace=False)
-    written, diagnostics = run_new(description, out, None, force=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
-    return YAML(typ="safe").load(out.read_text()), diagnostics
+    return YAML(typ="safe").load(out.read_text()), list(result.diagnostics)
 
 
 @pytest.mark.parametrize(

@@ -12,10 +12,10 @@ from pathlib import Path
 import pytest
 from ruamel.yaml import YAML
 
-from robospec.authoring.analysis import analyse
 from robospec.authoring.commands import run_new
 from robospec.authoring.description_file import read_description_file
-from robospec.authoring.joint_gains import loads
+from robospec.authoring.new.analysis import analyse
+from robospec.authoring.new.joint_gains import loads
 from robospec.diagnostics import has_errors
 from robospec.pipeline import compile_spec
 
@@ -58,11 +58,11 @@ def _scaffold(tmp_path: Path, text: str, suffix: str = ".urdf") -> tuple[dict, l
     description = tmp_path / f"robot{suffix}"
     description.write_text(text)
     out = tmp_path / "robot.yaml"
-    written, diagnostics = run_new(description, out, None, force=False, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False, simulate=False).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert not has_errors(compiled.diagnostics), [d.format_text() for d in compiled.diagnostics]
-    return YAML(typ="safe").load(out.read_text()), diagnostics
+    return YAML(typ="safe").load(out.read_text()), list(result.diagnostics)
 
 
 def test_effective_inertia_is_everything_beyond_the_joint_about_its_axis(tmp_path: Path) -> None:
@@ -125,8 +125,7 @@ def test_joints_that_cannot_move_get_a_passive_controller_and_a_comment(tmp_path
     description = tmp_path / "robot.urdf"
     description.write_text(ARM.format(effort=100))
     out = tmp_path / "robot.yaml"
-    written, _ = run_new(description, out, None, force=False, simulate=False)
-    assert written is not None
+    assert not run_new(description, out, None, force=False, simulate=False).write().failed
     data = YAML(typ="safe").load(out.read_text())
     assert data["groups"]["immobile"] == ["locked"]
     assert data["controllers"]["immobile"] == {
@@ -167,6 +166,53 @@ def test_an_mjcf_position_servo_is_geared_squared(tmp_path: Path) -> None:
         18,
         12,
     )
+    # the model's own gains are what it was tuned with: robospec claims nothing about their
+    # force, however small its forcerange (0.3 N m)
+    (tmp_path / "weak").mkdir()
+    _, diagnostics = _scaffold(tmp_path / "weak", SERVO.replace('"-4 4"', '"-0.1 0.1"'), ".xml")
+    assert "RS609" not in {d.code for d in diagnostics}
+
+
+def test_an_mjcf_joints_actuatorfrcrange_rates_its_motor(tmp_path: Path) -> None:
+    # a motor (no servo gains of its own) on a joint whose actuatorfrcrange is 0.5 N m: far
+    # less than the natural-frequency gains need for check's step
+    text = SERVO.replace('limited="true"/>', 'limited="true" actuatorfrcrange="-0.5 0.5"/>')
+    text = text.replace(
+        '<position joint="hinge" kp="10" kv="2" gear="3" forcerange="-4 4"/>',
+        '<motor name="drive" joint="hinge"/>',
+    )
+    data, diagnostics = _scaffold(tmp_path, text, ".xml")
+    (controller,) = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos"]
+    assert controller["force_limit"] == 0.5
+    (warning,) = [d for d in diagnostics if d.code == "RS609"]
+    assert "more than its actuatorfrcrange of 0.5 N m" in warning.message
+    assert (
+        warning.location.line
+        == text.splitlines().index('    <motor name="drive" joint="hinge"/>') + 1
+    )
+
+
+def test_joint_gains_span_each_unrated_joints_range_and_skip_the_immobile(tmp_path: Path) -> None:
+    from robospec.authoring.new.joint_gains import joint_gains
+
+    path = tmp_path / "lever.urdf"
+    path.write_text(
+        ARM.format(effort=100).replace(
+            '<limit lower="0" upper="0.2" effort="0"', '<limit lower="-0.1" upper="0.2" effort="0"'
+        )
+    )
+    source, _ = read_description_file(path)
+    assert source is not None
+    qpos = {"shoulder": 0.0, "slide": 0.0, "locked": 0.0}
+    gains = joint_gains(analyse(source), qpos, gravity=False)
+    assert set(gains) == {"shoulder", "slide"}  # the locked joint gets no drive
+    # unrated: the drive spans the slide's 0.3 m range
+    assert gains["slide"].force_limit == pytest.approx(1.1 * 400 * 0.3, rel=2e-3)
+    # gravity off: no load held; on, the shoulder holds the arm's weight
+    assert gains["shoulder"].load == 0.0
+    assert joint_gains(analyse(source), qpos, gravity=True)["shoulder"].load == pytest.approx(
+        9.81 * (2 * 0.5 + 1.1 * 1.0)
+    )
 
 
 # a stick on a foot: a 10 kg body whose centre of mass is 1 m above the ankle (pitch, about y),
@@ -198,7 +244,7 @@ STICK = """<?xml version="1.0"?>
 
 
 def _stick_loads(tmp_path: Path, feet: tuple[tuple[str, ...], ...]) -> dict:
-    from robospec.authoring.joint_loads import joint_loads
+    from robospec.authoring.new.joint_loads import joint_loads
 
     path = tmp_path / "stick.urdf"
     path.write_text(STICK.format(effort=1000))
@@ -224,7 +270,7 @@ def test_a_standing_joint_carries_the_robot_above_it_as_an_inverted_pendulum(
 
 
 def test_gains_add_the_toppling_stiffness_and_never_soften_below_it() -> None:
-    from robospec.authoring.gains import STANCE_MARGIN, analytic_gains
+    from robospec.authoring.new.gains import STANCE_MARGIN, analytic_gains
     from robospec.description.ratings import Rating
 
     free = analytic_gains("revolute", 0.01, 0.0, 2.0, None)
@@ -236,6 +282,50 @@ def test_gains_add_the_toppling_stiffness_and_never_soften_below_it() -> None:
     rated = analytic_gains("revolute", 0.01, 0.0, 2.0, Rating(5.0, "<limit effort>", 1), 100.0)
     assert rated.stiffness == pytest.approx(STANCE_MARGIN * 100.0)
     assert rated.force_limit == 5.0
+
+
+def test_a_rated_joint_holding_a_load_is_softened_to_what_the_rating_leaves_beyond_it() -> None:
+    from robospec.authoring.new.gains import HOLD_DRIFT, STEP, analytic_gains
+    from robospec.description.ratings import Rating
+
+    rating = Rating(5.0, "<limit effort>", 1)
+    # 2 N m of load held within 0.01 rad asks for 200 N m/rad, 22 N m with a 0.1 rad step: the
+    # rating's 5 N m less the load's 2 leave 3 N m for the step, 30 N m/rad
+    assert HOLD_DRIFT["revolute"] == pytest.approx(0.01) and STEP["revolute"] == 0.1
+    rated = analytic_gains("revolute", 0.01, 2.0, 2.0, rating)
+    assert rated.needs == pytest.approx(22.0)
+    assert rated.stiffness == pytest.approx(30.0)
+    assert rated.force_limit == 5.0 and rated.load == 2.0 and rated.over_rating
+    # the load's sign (which way gravity turns the joint) changes nothing
+    assert analytic_gains("revolute", 0.01, -2.0, 2.0, rating).stiffness == pytest.approx(30.0)
+    # a slide: 20 N held within a millimetre (20 000 N/m) and a 1 cm step; its 50 N rating
+    # leaves 30 N for the step: 3000 N/m
+    slide = analytic_gains("prismatic", 1.0, 20.0, 0.2, Rating(50.0, "<limit effort>", 1))
+    assert slide.stiffness == pytest.approx(3000.0)
+    # a load the rating cannot hold at all: nothing to soften to, the joint keeps the stiffness
+    # that holds the load (RS609 says it cannot hold the rest pose)
+    beyond = analytic_gains("revolute", 0.01, 6.0, 2.0, rating)
+    assert beyond.stiffness == pytest.approx(600.0)
+    # within its rating, a joint keeps its natural frequency: I w²
+    free = analytic_gains("revolute", 0.01, 0.0, 2.0, Rating(50.0, "<limit effort>", 1))
+    assert free.stiffness == pytest.approx(4.0) and not free.over_rating
+    # a rating of just what the step needs (4 N m/rad x 0.1 rad) is enough
+    just = analytic_gains("revolute", 0.01, 0.0, 2.0, Rating(0.4, "<limit effort>", 1))
+    assert just.stiffness == pytest.approx(4.0) and not just.over_rating
+
+
+def test_an_unrated_joints_force_limit_spans_its_range_on_top_of_its_load() -> None:
+    from robospec.authoring.new.gains import UNBOUNDED_SPAN, analytic_gains
+
+    # 2 N m of load, 200 N m/rad across a 1.5 rad range: the limit never clips the drive
+    assert analytic_gains("revolute", 0.01, 2.0, 1.5, None).force_limit == pytest.approx(302.0)
+    # unbounded (continuous): half a turn either way
+    unbounded = analytic_gains("revolute", 0.01, 2.0, None, None).force_limit
+    assert unbounded == pytest.approx(2.0 + 200.0 * UNBOUNDED_SPAN, rel=1e-3)
+    infinite = analytic_gains("revolute", 0.01, 2.0, math.inf, None).force_limit
+    assert infinite == pytest.approx(unbounded)
+    # a range shorter than check's step: the step's reach
+    assert analytic_gains("revolute", 0.01, 0.0, 0.01, None).force_limit == pytest.approx(0.4)
 
 
 # two joints in a chain, one with a placeholder range of ±10 rad (more than a turn)
@@ -275,7 +365,7 @@ def test_a_joint_whose_range_spans_more_than_a_turn_takes_targets_one_turn_about
 
 
 def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_path: Path) -> None:
-    from robospec.authoring.joint_loads import joint_loads
+    from robospec.authoring.new.joint_loads import joint_loads
     from robospec.geometry import matrix_from_quaternion
 
     text = (ROOT / "tests" / "data" / "new" / "quadruped.urdf").read_text()

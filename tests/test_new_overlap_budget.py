@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 from ruamel.yaml import YAML
 
-from robospec.authoring import rest_pose
 from robospec.authoring.commands import run_new
+from robospec.authoring.new import rest_pose
 
 pytestmark = pytest.mark.slow  # new compiles the 60-joint spec once per pair left out
 
@@ -55,10 +55,10 @@ def test_when_bits_run_out_the_shallowest_overlap_is_left_out(
     monkeypatch.setattr(rest_pose, "probe_rest_pose", answer)
     (tmp_path / "many.urdf").write_text(_urdf(), encoding="utf-8")
     out = tmp_path / "many.yaml"
-    written, diagnostics = run_new(tmp_path / "many.urdf", out, "many", force=True)
-    assert written is not None, [d.format_text() for d in diagnostics]
+    result = run_new(tmp_path / "many.urdf", out, "many", force=True).write()
+    assert not result.failed, [d.format_text() for d in result.diagnostics]
     declared = {tuple(p) for p in YAML(typ="safe").load(out.read_text())["never_collide"]}
     assert pairs[-1] in declared  # the deepest stays
     assert pairs[3] not in declared and len(declared) == PAIRS - 1
-    (warning,) = [d for d in diagnostics if d.code == "RS605"]
+    (warning,) = [d for d in result.diagnostics if d.code == "RS605"]
     assert "l3 + l33 (1.0 mm)" in warning.message

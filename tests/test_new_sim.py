@@ -13,11 +13,11 @@ from conftest import ROOT
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
 from robospec.model.thresholds import MIN_CONTACT_DEPTH
 from robospec.pipeline import compile_spec
 
 pytestmark = [
+    pytest.mark.minutes,
     pytest.mark.maniskill,  # the scaffold is searched, registered and stood up in ManiSkill
     pytest.mark.filterwarnings("ignore::DeprecationWarning"),
     pytest.mark.filterwarnings("ignore::UserWarning"),
@@ -29,8 +29,8 @@ LIFT = 0.1  # m: dropped from this much higher, a robot that does not hover land
 
 
 def scaffold(description: Path, out: Path) -> dict:
-    written, diagnostics = run_new(description, out, None, force=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, None, force=False).write()
+    assert not result.failed, result.diagnostics
     compiled = compile_spec(out)
     assert [d.format_text() for d in compiled.diagnostics if d.is_error] == []
     return YAML(typ="safe").load(out.read_text())
@@ -89,7 +89,7 @@ def test_housings_that_overlap_their_thighs_in_every_pose_are_declared_never_col
     welded = [["body", f"leg_{leg}_housing"] for leg in "abcd"]
     assert data["never_collide"] == overlapping + welded
     # and the header says why, pair by pair: the search's own reason for each
-    from robospec.authoring.rest_pose import ADJACENT_WHY, OVERLAPPING_WHY
+    from robospec.authoring.new.exemptions import ADJACENT_WHY, OVERLAPPING_WHY
 
     header = (tmp_path / "quad.yaml").read_text()
     for a, b in overlapping:

@@ -30,11 +30,11 @@ def test_new_writes_a_spec_that_validates_or_nothing(robot: Robot, tmp_path: Pat
     except CorpusMissing as missing:
         pytest.fail(str(missing), pytrace=False)
     out = tmp_path / f"{robot.key}.yaml"
-    written, diagnostics = run_new(description, out, None, force=False, simulate=False)
-    if written is None:
+    result = run_new(description, out, None, force=False, simulate=False).write()
+    if result.failed:
         assert not out.exists()
-        assert all(d.location.line >= 1 for d in diagnostics if d.is_error)
-        assert robot.key in REFUSED, [d.format_text() for d in diagnostics if d.is_error]
+        assert all(d.location.line >= 1 for d in result.diagnostics if d.is_error)
+        assert robot.key in REFUSED, [d.format_text() for d in result.diagnostics if d.is_error]
         return
     errors = [d.format_text() for d in compile_spec(out).diagnostics if d.is_error]
     assert errors == []

@@ -12,12 +12,14 @@ from types import ModuleType
 import pytest
 from conftest import MANISKILL_SPECS, PANDA_SPEC, invoke_robospec
 
-from robospec.optimize.command import MARK, OptimizeOptions, run_optimize
+from robospec.optimize.command import run_optimize
+from robospec.optimize.options import OptimizeOptions, ShapeMethod
+from robospec.optimize.outputs import MARK
 from robospec.pipeline import compile_spec
 
 # fewer samples than the default 10,000, enough for the Panda: with 60, pairs that touch under
 # random actions pass for never colliding, and the rollouts part by 1.8e-2 rad in 40 steps
-QUICK = OptimizeOptions(shapes="keep", samples=3000)
+QUICK = OptimizeOptions(shapes=ShapeMethod.keep, samples=3000)
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +60,7 @@ def test_every_link_the_spec_names_is_kept_and_only_fixed_links_are_merged(
 
 
 def test_keep_pins_a_link_the_spec_does_not_name(tmp_path: Path) -> None:
-    options = OptimizeOptions(keep=("panda_link8",), shapes="keep", samples=0)
+    options = OptimizeOptions(keep=("panda_link8",), shapes=ShapeMethod.keep, samples=0)
     report, _ = run_optimize(PANDA_SPEC, tmp_path / "kept.yaml", options)
     assert report is not None and report.merged == []
 
@@ -75,7 +77,7 @@ def test_it_never_overwrites_a_file_it_did_not_write(tmp_path: Path) -> None:
 
 def test_running_again_replaces_its_own_output(tmp_path: Path) -> None:
     out = tmp_path / "again.yaml"
-    options = OptimizeOptions(shapes="keep", samples=0)
+    options = OptimizeOptions(shapes=ShapeMethod.keep, samples=0)
     first, _ = run_optimize(PANDA_SPEC, out, options)
     text = out.read_text()
     second, diagnostics = run_optimize(PANDA_SPEC, out, options)
@@ -91,6 +93,36 @@ def test_an_mjcf_robot_is_not_condensed() -> None:
     assert result.exit_code == 1
     assert "error[RS607]" in result.output and "MJCF" in result.output
     assert not Path("unused.yaml").exists()
+
+
+def test_an_unknown_shapes_method_is_a_usage_error_naming_the_methods(tmp_path: Path) -> None:
+    # typer refuses it before anything runs (exit 2), as it does a malformed number
+    out = tmp_path / "p.yaml"
+    result = invoke_robospec("optimize", str(PANDA_SPEC), "-o", str(out), "--shapes", "bogus")
+    assert result.exit_code == 2
+    message = " ".join(result.output.replace("│", " ").split())
+    assert "'bogus' is not one of 'keep', 'convert', 'hull', 'coacd', 'primitives'" in message
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_shapes_method_named_in_python_is_the_cli_s_choice() -> None:
+    assert OptimizeOptions(shapes="hull").shapes is ShapeMethod.hull  # type: ignore[arg-type]
+    assert OptimizeOptions(profile="fast").shape_method is ShapeMethod.primitives
+    assert OptimizeOptions().shape_method is ShapeMethod.convert
+    with pytest.raises(ValueError, match="bogus"):
+        OptimizeOptions(shapes="bogus")  # type: ignore[arg-type]
+
+
+def test_a_refused_run_in_json_is_its_diagnostics_alone(tmp_path: Path) -> None:
+    result = invoke_robospec(
+        "optimize", str(PANDA_SPEC), "-o", str(tmp_path / "p.yaml"), "--profile", "fsat",
+        "--format", "json",
+    )  # fmt: skip
+    assert result.exit_code == 1
+    data = json.loads(result.output)
+    assert list(data) == ["diagnostics"]
+    assert [d["code"] for d in data["diagnostics"]] == ["RS670"]
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_the_json_report_says_what_changed(tmp_path: Path) -> None:
@@ -151,13 +183,13 @@ def _urdf_specs() -> list[Path]:
 
 @pytest.mark.parametrize("spec", _urdf_specs(), ids=lambda p: p.stem)
 def test_no_link_a_shipped_spec_names_is_lost(spec: Path) -> None:
-    from robospec.optimize.command import _absolute_meshes, _description_text, _links_to_keep
     from robospec.optimize.condense import condense
+    from robospec.optimize.links import absolute_meshes, links_to_keep
 
     compiled = compile_spec(spec)
     assert compiled.ok and compiled.robot is not None and compiled.context is not None
-    urdf = _absolute_meshes(_description_text(compiled.robot.description), compiled.description)
-    keep = _links_to_keep(compiled, urdf, OptimizeOptions())
+    urdf = absolute_meshes(compiled.robot.description.read_text(), compiled.description)
+    keep = links_to_keep(compiled, ())
     condensed = condense(urdf, keep)
     left = {link.get("name") for link in condensed.robot.iter("link")}
     assert {name for _, name in compiled.context.bindings.link_names} <= left
@@ -183,7 +215,9 @@ def test_a_failure_of_ours_is_a_diagnostic_and_writes_nothing(
 
 def test_out_in_a_folder_that_does_not_exist_yet_makes_it(tmp_path: Path) -> None:
     out = tmp_path / "new" / "folder" / "p.yaml"
-    report, diagnostics = run_optimize(PANDA_SPEC, out, OptimizeOptions(shapes="keep", samples=0))
+    report, diagnostics = run_optimize(
+        PANDA_SPEC, out, OptimizeOptions(shapes=ShapeMethod.keep, samples=0)
+    )
     assert report is not None, [d.format_text() for d in diagnostics]
     assert compile_spec(out).ok
 
@@ -194,7 +228,9 @@ def test_a_relative_out_names_the_meshes_it_writes_from_the_new_urdf(
     # hull writes a mesh per collision beside the new URDF
     monkeypatch.chdir(tmp_path)
     out = Path("sub") / "p.yaml"
-    report, diagnostics = run_optimize(PANDA_SPEC, out, OptimizeOptions(shapes="hull", samples=0))
+    report, diagnostics = run_optimize(
+        PANDA_SPEC, out, OptimizeOptions(shapes=ShapeMethod.hull, samples=0)
+    )
     assert report is not None, [d.format_text() for d in diagnostics]
     compiled = compile_spec(tmp_path / out)
     assert compiled.ok
@@ -213,7 +249,7 @@ def test_links_whose_mass_sapien_takes_from_their_shapes_stay_and_are_reported(
 ) -> None:
     # the touch Allegro's sensor pads hang on fixed joints with collision boxes and no inertial
     spec = MANISKILL_SPECS / "allegro_hand_right_touch.yaml"
-    options = OptimizeOptions(shapes="keep", samples=0)
+    options = OptimizeOptions(shapes=ShapeMethod.keep, samples=0)
     report, diagnostics = run_optimize(spec, tmp_path / "touch.yaml", options)
     assert report is not None, [d.format_text() for d in diagnostics]
     assert len(report.unmerged) == 16 and all("link_" in name for name in report.unmerged)

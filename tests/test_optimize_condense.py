@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from conftest import maniskill_assets
 from lxml import etree
 
 from robospec.optimize.condense import SAPIEN_EMPTY_LINK as STAND_IN
@@ -366,16 +367,6 @@ def test_rotations_compose_as_matrices_do(
 # -- ManiSkill's robots, in SAPIEN and in float64
 
 
-def _assets() -> Path:
-    """ManiSkill's bundled robots folder, found without importing ManiSkill (the fast loop
-    collects this module)."""
-    import importlib.util
-
-    spec = importlib.util.find_spec("mani_skill")
-    assert spec is not None and spec.origin is not None, "mani_skill is not installed"
-    return Path(spec.origin).parent / "assets" / "robots"
-
-
 # (file, links to keep, links in the file before, after): the keep sets are the links ManiSkill's
 # agent classes name (tcp, camera mounts, finger tips, collision-bit links) or none at all
 CASES = [
@@ -420,7 +411,7 @@ def _case_id(case: tuple[str, set[str], int, int]) -> str:
 @pytest.fixture(scope="module", params=CASES, ids=[_case_id(case) for case in CASES])
 def pair(request: pytest.FixtureRequest) -> tuple[Path, etree._Element, Condensed]:
     path, keep, before, after = request.param
-    source = _assets() / path
+    source = maniskill_assets() / "robots" / path
     original = etree.parse(str(source)).getroot()
     condensed = condense(original, keep)
     assert (len(original.findall("link")), len(condensed.robot.findall("link"))) == (

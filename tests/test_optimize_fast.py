@@ -16,8 +16,8 @@ import trimesh
 from conftest import PANDA_SPEC, ROOT, contact_offsets, invoke_robospec, run_robospec
 
 from robospec.description import load_description
-from robospec.optimize import command as optimize_command
-from robospec.optimize.command import OptimizeOptions, run_optimize
+from robospec.optimize import options as optimize_options
+from robospec.optimize.command import run_optimize
 from robospec.optimize.contacts import (
     LARGEST_OFFSET,
     SMALLEST_OFFSET,
@@ -25,6 +25,7 @@ from robospec.optimize.contacts import (
     profile_offset,
 )
 from robospec.optimize.fast import category_of
+from robospec.optimize.options import OptimizeOptions, ShapeMethod
 from robospec.optimize.spec_rewrite import rewrite_spec
 from robospec.pipeline import compile_spec
 
@@ -380,7 +381,7 @@ def test_a_link_the_spec_names_that_condensing_would_drop_is_a_located_error(
     monkeypatch.setattr(condense_module, "condense", dropping)
     out = tmp_path / "dropped.yaml"
     report, diagnostics = run_optimize(
-        PANDA_SPEC, out, OptimizeOptions(shapes="keep", samples=0, profile="fast")
+        PANDA_SPEC, out, OptimizeOptions(shapes=ShapeMethod.keep, samples=0, profile="fast")
     )
     assert report is None and not out.exists()
     located = [d for d in diagnostics if d.code == "RS673"]
@@ -440,7 +441,7 @@ def test_the_cli_prints_the_profile_and_exits_0(tmp_path: Path) -> None:
 
 def test_the_default_profile_writes_no_simulation_section(tmp_path: Path) -> None:
     out = tmp_path / "plain.yaml"
-    report, _ = run_optimize(PANDA_SPEC, out, OptimizeOptions(shapes="keep", samples=0))
+    report, _ = run_optimize(PANDA_SPEC, out, OptimizeOptions(shapes=ShapeMethod.keep, samples=0))
     assert report is not None and report.profile == "default" and report.simulation == {}
     assert "simulation:" not in out.read_text(encoding="utf-8")
-    assert optimize_command.PROFILES == ("default", "fast")
+    assert optimize_options.PROFILES == ("default", "fast")

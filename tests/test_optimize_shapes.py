@@ -18,33 +18,22 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
-from conftest import SAME_ON_EVERY_MANISKILL
+from conftest import SAME_ON_EVERY_MANISKILL, maniskill_assets
 from lxml import etree
 
-from robospec.optimize import shapes
 from robospec.optimize.shapes import MissingDependency, optimize_collisions
+from robospec.optimize.shapes.obj import assimp_reads, number
 
-
-def _g1_folder() -> Path | None:
-    spec = importlib.util.find_spec("mani_skill")  # finds it without importing it
-    if spec is None or spec.origin is None:
-        return None
-    folder = Path(spec.origin).parent / "assets" / "robots" / "g1_humanoid"
-    return folder if (folder / "g1.urdf").is_file() else None
-
-
-G1 = _g1_folder()
 # links whose STL meshes SAPIEN splits into 1, 2, 10 and 20 parts (logo_link's are letters)
 G1_LINKS = ("pelvis", "head_link", "left_elbow_pitch_link", "logo_link", "left_hip_pitch_link")
 STL_WARNING = "loading multiple convex collision meshes from STL file is unsupported"
-needs_g1 = pytest.mark.skipif(G1 is None, reason="ManiSkill's G1 assets are not installed")
 
 
 def _robot(links: tuple[str, ...] = G1_LINKS) -> etree._Element:
     """The G1's URDF cut down to ``links``, fixed to the first (shapes are per link), mesh paths
     absolute, visuals dropped (SAPIEN cannot load visuals without a rendering device)."""
-    assert G1 is not None
-    source = etree.parse(str(G1 / "g1.urdf")).getroot()
+    g1 = maniskill_assets() / "robots" / "g1_humanoid"
+    source = etree.parse(str(g1 / "g1.urdf")).getroot()
     robot = etree.Element("robot", name="g1_part")
     for link in source.findall("link"):
         if link.get("name") in links:
@@ -56,7 +45,7 @@ def _robot(links: tuple[str, ...] = G1_LINKS) -> etree._Element:
         etree.SubElement(joint, "parent", link=links[0])
         etree.SubElement(joint, "child", link=child)
     for mesh in robot.iter("mesh"):
-        mesh.set("filename", str(G1 / mesh.get("filename")))
+        mesh.set("filename", str(g1 / mesh.get("filename")))
     return robot
 
 
@@ -106,7 +95,6 @@ def _volume(points: np.ndarray) -> float:
     return float(trimesh.convex.convex_hull(points).volume)
 
 
-@needs_g1
 @pytest.mark.maniskill
 def test_convert_builds_the_shapes_sapien_built_from_the_stl_without_its_warning(
     tmp_path: Path,
@@ -139,7 +127,6 @@ def test_convert_builds_the_shapes_sapien_built_from_the_stl_without_its_warning
     assert identical == total == sum(c.shapes_before for c in changes) == 35
 
 
-@needs_g1
 def test_convert_writes_one_obj_per_part_deterministically(tmp_path: Path) -> None:
     robot = _robot(("left_elbow_pitch_link", "pelvis"))
     original = etree.tostring(robot)
@@ -188,7 +175,6 @@ def test_convert_keeps_what_is_not_an_stl_split(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow
-@needs_g1
 def test_hull_caps_vertices_and_keeps_nearly_all_the_volume(tmp_path: Path) -> None:
     links = ("pelvis", "head_link", "torso_link")
     robot = _robot(links)
@@ -274,7 +260,6 @@ def test_primitives_fit_a_sphere_and_a_capsule(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow
-@needs_g1
 def test_a_complex_mesh_fits_no_primitive_and_becomes_what_sapien_makes_of_it(
     tmp_path: Path,
 ) -> None:
@@ -300,7 +285,6 @@ def test_a_link_weighed_by_its_shapes_keeps_them(tmp_path: Path) -> None:
     assert result.find("link/collision/geometry/mesh") is not None
 
 
-@needs_g1
 @pytest.mark.slow  # coacd's decomposition takes half a minute here: out of the fast loop
 @pytest.mark.skipif(
     importlib.util.find_spec("coacd") is None,
@@ -337,8 +321,8 @@ def test_coacd_missing_is_a_missing_dependency(
 
 @pytest.mark.parametrize("x", [0.0, 1.5, -0.123456789, 3.0e-9, -7.0348554e-09, 12345.678])
 def test_numbers_read_back_by_assimp_as_the_same_float32(x: float) -> None:
-    text = shapes._number(x)
-    assert shapes._assimp_reads(text) == float(np.float32(x))
+    text = number(x)
+    assert assimp_reads(text) == float(np.float32(x))
     assert float(text) == pytest.approx(float(np.float32(x)), rel=1e-6)
 
 

@@ -15,7 +15,8 @@ import pytest
 from conftest import MANISKILL_VERSION, SPECS
 from test_check_zoo import FLOATING, TUNED_VARIANTS, expected_failures
 
-from robospec.optimize.command import OptimizeOptions, run_optimize
+from robospec.optimize.command import run_optimize
+from robospec.optimize.options import OptimizeOptions
 from robospec.physics.batch import RobotReport, check_paths
 
 pytestmark = [

@@ -131,15 +131,6 @@ def error_codes(report: RobotReport) -> set[str]:
     return {d.code for d in report.all_diagnostics if d.is_error}
 
 
-def needs_assets(*relative: str) -> None:
-    from robospec.resolve.paths import maniskill_assets_dir
-
-    assets = maniskill_assets_dir()
-    for name in relative:
-        if assets is None or not (assets / name).is_file():
-            pytest.skip(f"ManiSkill asset {name} is not installed")
-
-
 # -- the robots, checked once per module -----------------------------------------------------
 
 
@@ -149,7 +140,6 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     unregistered afterwards."""
     from mani_skill.agents.registration import REGISTERED_AGENTS
 
-    needs_assets("robots/panda/panda_v2.urdf")
     agents, modules = set(REGISTERED_AGENTS), set(sys.modules)
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path_factory.mktemp("check_cache")))

@@ -3,19 +3,23 @@ self-contact blocks one way goes the other way; a floating robot's test stand ho
 the ground; a runaway is the robot's centre of mass moving, not a far-off root link swinging
 round. Each would have failed a corpus robot for the check's procedure, not for a defect. And
 which links ``robospec new`` finds adjacent through shapeless links or a universal joint
-(pose_probe)."""
+(robospec.authoring.new.exemptions, over what its probe's LoadedRobot says)."""
 
 from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pytest
 
 from robospec.pipeline import compile_spec
+
+if TYPE_CHECKING:
+    from robospec.authoring.new.joint_space import JointSpace
+    from robospec.authoring.new.probe import LoadedRobot
 
 pytestmark = [
     pytest.mark.maniskill,
@@ -275,61 +279,74 @@ def test_a_runaway_is_the_centre_of_mass_moving_not_a_far_root_link_swinging(
 
 
 @contextmanager
-def _probe(
-    robots: dict[str, Path], name: str, limits: tuple[float, float], **fields: Any
-) -> Iterator[Any]:
-    """``new``'s pose probe of robot ``name``, every joint at 0 and within ``limits``."""
-    from robospec.authoring.pose_probe import Probe, Request
+def _loaded(
+    robots: dict[str, Path],
+    name: str,
+    limits: tuple[float, float],
+    mimic: tuple[tuple[int, int, float, float], ...] = (),
+) -> Iterator[tuple[LoadedRobot, JointSpace]]:
+    """Robot ``name`` loaded as ``new``'s probe loads it, and its joints, each within
+    ``limits``, in its description's kinematic tree."""
+    from robospec.authoring.new.joint_space import JointSpace
+    from robospec.authoring.new.probe import LoadedRobot
+    from robospec.kinematics.tree import KinematicTree
+    from robospec.physics.sim import Sim
 
+    compiled = compile_spec(robots[name])
+    assert compiled.description is not None
     joints = JOINTS[name]
-    request = Request(
-        spec=str(robots[name]),
-        uid=f"rs_test_{name}",
-        mode="pd_joint_pos",
-        joints=joints,
-        start=[0.0] * len(joints),
-        limits=[limits] * len(joints),
-        **fields,
-    )
-    probe = Probe(request)
+    tree = KinematicTree(compiled.description)
+    space = JointSpace(tree, joints, [limits] * len(joints), mimic)
+    robot = LoadedRobot(Sim(f"rs_test_{name}", "pd_joint_pos"))
     try:
-        yield probe
+        yield robot, space
     finally:
-        probe.sim.close()
+        robot.sim.close()
 
 
 def test_new_finds_links_adjacent_through_shapeless_links_welds_or_a_universal_joint(
     robots: dict[str, Path],
 ) -> None:
-    with _probe(robots, "chained", (-1.0, 1.0)) as probe:
+    from robospec.authoring.new.exemptions import (
+        nesting_yokes,
+        shapeless_neighbours,
+        welded_neighbours,
+    )
+
+    with _loaded(robots, "chained", (-1.0, 1.0)) as (robot, space):
+        found = robot.bodies(space.tree)
         # the foot hangs from the base through a shapeless link: PhysX, which leaves a parent
         # and its child alone, collides them; the thigh's parent is the hip with its housing,
         # its hinge 5 cm below the hip's
         # (and through it from what is welded to the base)
-        assert probe.adjacent() == [("base", "foot"), ("flange", "foot"), ("foot", "plate")]
+        assert shapeless_neighbours(found) == [
+            ("base", "foot"),
+            ("flange", "foot"),
+            ("foot", "plate"),
+        ]
         # the yoke turns about the point where its cross's hinges meet, 3 mm beside the base:
         # PhysX reports them in contact; the far yoke is 15 cm from it; the offset one is as
         # near, but its hinges' axes pass 5 cm apart
-        near = probe.posed([0.0] * 11)
-        assert probe.nesting_yokes(near) == [("base", "yoke")]
+        rest = [0.0] * 11
+        near = robot.posed(rest)
+        assert nesting_yokes(found, robot.sim.hinge_axes(), near) == [("base", "yoke")]
         # welded to the base, the flange and the plate are the bar's parent as much as the
         # base is, and the plate is the base: PhysX leaves out only the base and the bar
-        assert probe.welded_neighbours([0.0] * 11, near) == [("bar", "flange"), ("base", "plate")]
+        welded = welded_neighbours(found, space, rest, near, robot.sweep())
+        assert welded == [("bar", "flange"), ("base", "plate")]
 
 
 def test_new_leaves_out_the_parts_of_a_mechanism_its_coupling_keeps_apart(
     robots: dict[str, Path],
 ) -> None:
-    with _probe(
-        robots,
-        "pincers",
-        (0.0, 0.05),
-        mimic=[(1, 0, -1.0, 0.0), (3, 2, -1.0, 0.0)],
-        parents={jaw: ("base", jaw) for jaw in JOINTS["pincers"]},
-    ) as probe:
+    from robospec.authoring.new.exemptions import mechanism_pairs
+    from robospec.authoring.new.joint_space import JointSpace
+
+    mimic = ((1, 0, -1.0, 0.0), (3, 2, -1.0, 0.0))
+    with _loaded(robots, "pincers", (0.0, 0.05), mimic) as (robot, space):
         # within PhysX's contact offsets closed, apart as the pincer opens: left out; the
         # jaws that meet closed keep colliding
-        assert probe.mechanism_pairs([0.0] * 4) == [("left1", "right1")]
+        assert mechanism_pairs(space, [0.0] * 4, robot.sweep()) == [("left1", "right1")]
         # without the coupling, nothing says the jaws stay apart
-        probe.request.mimic = []
-        assert probe.mechanism_pairs([0.0] * 4) == []
+        loose = JointSpace(space.tree, space.joints, space.limits)
+        assert mechanism_pairs(loose, [0.0] * 4, robot.sweep()) == []

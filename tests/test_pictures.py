@@ -125,7 +125,7 @@ def test_without_the_render_extra_doc_images_is_rs660_and_writes_nothing(
 ) -> None:
     monkeypatch.setitem(sys.modules, "mujoco", None)  # import mujoco raises ImportError
     out = tmp_path / "panda.md"
-    diagnostics = run_doc(PANDA_SPEC, out, images=True)
+    diagnostics = run_doc(PANDA_SPEC, out, images=True).write().diagnostics
     assert [(d.code, d.location.file) for d in diagnostics] == [("RS660", "<command line>")]
     assert "pip install 'robospec[render]'" in (diagnostics[0].hint or "")
     assert not out.exists() and not images_folder(out).exists()
@@ -250,7 +250,7 @@ def test_a_panda_camera_mounted_backwards_is_warned_about_with_its_picture(
     tmp_path: Path,
 ) -> None:
     out = tmp_path / "backwards.md"
-    diagnostics = run_doc(BACKWARDS_SPEC, out, images=True)
+    diagnostics = run_doc(BACKWARDS_SPEC, out, images=True).write().diagnostics
     assert not has_errors(diagnostics)
     found = {d.code: d for d in diagnostics if d.code in CAMERA_CODES}
     assert set(found) == {"RS560", "RS563"}
@@ -267,7 +267,9 @@ def test_a_panda_camera_mounted_backwards_is_warned_about_with_its_picture(
     sorted(p.name for p in MANISKILL_SPECS.glob("*.yaml") if "cameras:" in p.read_text()),
 )
 def test_no_shipped_camera_is_warned_about(spec: str, tmp_path: Path) -> None:
-    diagnostics = run_doc(MANISKILL_SPECS / spec, tmp_path / "card.md", images=True)
+    diagnostics = (
+        run_doc(MANISKILL_SPECS / spec, tmp_path / "card.md", images=True).write().diagnostics
+    )
     assert not has_errors(diagnostics)
     assert [d.format_text() for d in diagnostics if d.code in CAMERA_CODES] == []
 
@@ -289,7 +291,7 @@ def test_the_thresholds_in_checks_camera_views_are_the_spec_s(
     text += f"\nchecks:\n  camera_views: {camera_views}\n"
     spec = tmp_path / "camera.yaml"
     spec.write_text(text.replace("../../schemas", str(ROOT / "schemas")))
-    diagnostics = run_doc(spec, tmp_path / "card.md", images=True)
+    diagnostics = run_doc(spec, tmp_path / "card.md", images=True).write().diagnostics
     found = sorted(d.code for d in diagnostics if d.code in CAMERA_CODES)
     assert found == codes, [d.format_text() for d in diagnostics]
 
@@ -299,7 +301,7 @@ def test_an_mjcf_robot_is_drawn_as_mujoco_places_it(tmp_path: Path) -> None:
     from PIL import Image
 
     out = tmp_path / "humanoid.md"
-    diagnostics = run_doc(MANISKILL_SPECS / "humanoid.yaml", out, images=True)
+    diagnostics = run_doc(MANISKILL_SPECS / "humanoid.yaml", out, images=True).write().diagnostics
     assert not has_errors(diagnostics), [d.format_text() for d in diagnostics]
     pictures = sorted(images_folder(out).rglob("*.png"))
     assert len(pictures) == len(STANDARD_VIEWS)
@@ -307,6 +309,41 @@ def test_an_mjcf_robot_is_drawn_as_mujoco_places_it(tmp_path: Path) -> None:
     # the humanoid's capsules are MuJoCo's default colour, unlike the grey ground and sky
     coloured = (image.max(axis=2) - image.min(axis=2)) > 40
     assert coloured.mean() > 0.03
+
+
+@pytest.mark.slow
+def test_a_robot_with_nothing_sapien_would_draw_is_pictured_by_its_collision_shapes(
+    tmp_path: Path,
+) -> None:
+    from PIL import Image
+
+    def coloured_share(visual: str) -> float:
+        folder = tmp_path / ("with_visual" if visual else "without")
+        folder.mkdir()
+        (folder / "arm.urdf").write_text(
+            f'<robot name="arm"><link name="base">{visual}<collision><geometry>'
+            '<sphere radius="0.1"/></geometry></collision></link>'
+            '<link name="tip"><collision><geometry><box size="0.05 0.05 0.3"/></geometry>'
+            "</collision></link>"
+            '<joint name="j" type="revolute"><parent link="base"/><child link="tip"/>'
+            '<origin xyz="0 0 0.25"/><axis xyz="0 0 1"/>'
+            '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
+        )
+        spec = folder / "arm.yaml"
+        assert (
+            not run_new(folder / "arm.urdf", spec, None, force=False, simulate=False).write().failed
+        )
+        diagnostics = run_doc(spec, folder / "arm.md", images=True).write().diagnostics
+        assert not has_errors(diagnostics), [d.format_text() for d in diagnostics]
+        picture = sorted(images_folder(folder / "arm.md").rglob("*.png"))[0]
+        image = np.asarray(Image.open(picture).convert("RGB")).astype(int)
+        # collision shapes are drawn one colour per link; the ground, the sky and a visual
+        # shape without a colour of its own are grey
+        return float(((image.max(axis=2) - image.min(axis=2)) > 40).mean())
+
+    assert coloured_share("") > 0.03  # no visual at all: the collision shapes
+    grey_box = '<visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual>'
+    assert coloured_share(grey_box) < 0.001  # a visual: it alone
 
 
 @pytest.mark.slow
@@ -322,9 +359,10 @@ def test_a_mesh_that_cannot_be_read_is_left_out_with_rs662(tmp_path: Path) -> No
         '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
     )
     spec = tmp_path / "arm.yaml"
-    written, _ = run_new(tmp_path / "arm.urdf", spec, None, force=False, simulate=False)
-    assert written is not None
-    diagnostics = run_doc(spec, tmp_path / "arm.md", images=True)
+    assert (
+        not run_new(tmp_path / "arm.urdf", spec, None, force=False, simulate=False).write().failed
+    )
+    diagnostics = run_doc(spec, tmp_path / "arm.md", images=True).write().diagnostics
     unreadable = [d for d in diagnostics if d.code == "RS662"]
     assert len(unreadable) == 1 and unreadable[0].location.file.endswith("arm.urdf")
     assert "visual mesh 'broken.stl' of link 'tip' cannot be drawn" in unreadable[0].message
@@ -347,9 +385,12 @@ def test_primitives_of_no_extent_are_left_out_and_flat_ones_drawn_as_sheets(
         '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>\n'
     )
     spec = tmp_path / "arm.yaml"
-    written, _ = run_new(tmp_path / "arm.urdf", spec, None, force=False, simulate=False)
-    assert written is not None
-    diagnostics = run_doc(spec, tmp_path / "arm.md", images=True, collisions=True)
+    assert (
+        not run_new(tmp_path / "arm.urdf", spec, None, force=False, simulate=False).write().failed
+    )
+    diagnostics = (
+        run_doc(spec, tmp_path / "arm.md", images=True, collisions=True).write().diagnostics
+    )
     assert [d.code for d in diagnostics if d.code.startswith("RS66")] == []
     assert sorted(images_folder(tmp_path / "arm.md").rglob("*.png"))
 

@@ -1,40 +1,26 @@
-"""How ``robospec new``'s rest-pose search (:mod:`robospec.authoring.pose_probe`) moves joints,
-on a toy geometry instead of ManiSkill's contacts: the search only sees which pairs of links
-touch how deeply, so a function of the pose stands in for the simulator here (the probe's
+"""How ``robospec new``'s rest-pose search (:mod:`robospec.authoring.new.pose_search`) moves
+joints, on a toy geometry instead of ManiSkill's contacts: the search only sees which pairs of
+links touch how deeply, so a function of the pose stands in for the simulator here (the probe's
 contacts against SAPIEN are tested with the corpus and tests/test_physics_procedure.py)."""
 
 from __future__ import annotations
 
-from robospec.authoring.pose_probe import Contacts, Probe, Request
+from robospec.authoring.new.joint_space import JointSpace
+from robospec.authoring.new.pose_search import Contacts, PoseSearch
+from robospec.description import Joint
+from robospec.kinematics.tree import KinematicTree
 
 # pelvis (the root) -waist- torso -shoulder- upper_arm -elbow- forearm; pelvis -hip- thigh
+TREE = KinematicTree.of(
+    "pelvis",
+    [
+        Joint("waist", "revolute", "pelvis", "torso", line=0),
+        Joint("shoulder", "revolute", "torso", "upper_arm", line=0),
+        Joint("elbow", "revolute", "upper_arm", "forearm", line=0),
+        Joint("hip", "revolute", "pelvis", "thigh", line=0),
+    ],
+)
 JOINTS = ["waist", "shoulder", "elbow", "hip"]
-PARENTS = {
-    "torso": ("pelvis", "waist"),
-    "upper_arm": ("torso", "shoulder"),
-    "forearm": ("upper_arm", "elbow"),
-    "thigh": ("pelvis", "hip"),
-}
-
-
-class ToyProbe(Probe):
-    """The search of :class:`Probe` over :func:`arm_at_side` (no simulator)."""
-
-    def __init__(self, request: Request) -> None:
-        self.request = request
-        self.index = {name: i for i, name in enumerate(request.joints)}
-        self.followers = set()
-        self.tried = 0
-        self.always = None
-        self._adjacent = None
-
-    def contacts(self, qpos: list[float]) -> Contacts:
-        self.tried += 1
-        return {
-            pair: depth
-            for pair, depth in arm_at_side(qpos).items()
-            if depth >= -self.request.clearance
-        }
 
 
 def arm_at_side(qpos: list[float]) -> Contacts:
@@ -51,26 +37,17 @@ def arm_at_side(qpos: list[float]) -> Contacts:
     return found
 
 
-def _probe() -> ToyProbe:
-    return ToyProbe(
-        Request(
-            spec="",
-            uid="toy",
-            mode="pd_joint_pos",
-            joints=JOINTS,
-            start=[0.0] * 4,
-            limits=[(-1.0, 1.0), (0.0, 2.8), (0.0, 1.0), (-1.0, 1.0)],
-            parents=PARENTS,
-        )
-    )
+def _search() -> PoseSearch:
+    limits = [(-1.0, 1.0), (0.0, 2.8), (0.0, 1.0), (-1.0, 1.0)]
+    return PoseSearch(JointSpace(TREE, JOINTS, limits), arm_at_side)
 
 
 def test_a_contact_no_single_move_undoes_is_undone_by_a_chain_of_moves() -> None:
-    probe = _probe()
+    search = _search()
     start = [0.0] * 4
-    contacts = probe.contacts(start)
-    assert probe._greedy(start, contacts, probe.movable(contacts)) is None
-    moved = probe._descend(start, contacts)
+    contacts = search.contacts(start)
+    assert search._greedy(start, contacts, search.space.movable(contacts)) is None
+    moved = search._descend(start, contacts)
     assert moved is not None
     qpos, touching = moved
     assert touching == {}
@@ -80,7 +57,29 @@ def test_a_contact_no_single_move_undoes_is_undone_by_a_chain_of_moves() -> None
 
 
 def test_the_rest_pose_search_frees_an_arm_resting_inside_the_body() -> None:
-    probe = _probe()
-    qpos, touching = probe.search()
+    search = _search()
+    qpos, touching = search.search([0.0] * 4)
     assert touching == {}
-    assert arm_at_side(qpos)[("forearm", "pelvis")] < -probe.request.clearance
+    assert arm_at_side(qpos)[("forearm", "pelvis")] < -search.clearance
+
+
+def test_the_joints_between_two_links_go_nearest_first_then_in_qpos_order() -> None:
+    # two arms off the pelvis: the wrists are as near their hands, the shoulders next
+    arms = KinematicTree.of(
+        "pelvis",
+        [
+            joint
+            for side in ("l", "r")
+            for joint in (
+                Joint(f"{side}_shoulder", "revolute", "pelvis", f"{side}_arm", line=0),
+                Joint(f"{side}_wrist", "revolute", f"{side}_arm", f"{side}_hand", line=0),
+            )
+        ],
+    )
+    joints = ["r_shoulder", "r_wrist", "l_shoulder", "l_wrist"]
+    space = JointSpace(arms, joints, [(-1.0, 1.0)] * 4)
+    assert space.nearest_first("l_hand", "r_hand") == [1, 3, 0, 2]
+    # a mimic follower moves with its leader, never alone
+    coupled = JointSpace(arms, joints, [(-1.0, 1.0)] * 4, [(3, 1, 1.0, 0.0)])
+    assert coupled.nearest_first("l_hand", "r_hand") == [1, 0, 2]
+    assert coupled.movable([("l_hand", "r_hand")]) == [0, 1, 2]

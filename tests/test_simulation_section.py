@@ -14,7 +14,6 @@ import pytest
 from conftest import PANDA_SPEC, ROOT, contact_offsets
 
 from robospec.authoring.commands import run_doc
-from robospec.diagnostics import has_errors
 from robospec.emit.generate import emit_module
 from robospec.emit.package import emit_package_init
 from robospec.pipeline import compile_spec
@@ -128,12 +127,12 @@ def test_the_package_hands_each_robot_its_sim_config_and_a_copy() -> None:
 
 def test_the_card_shows_the_section_only_when_the_spec_has_one(tmp_path: Path) -> None:
     out = tmp_path / "card.md"
-    assert not has_errors(run_doc(_spec(tmp_path), out))
+    assert not run_doc(_spec(tmp_path), out).write().failed
     text = out.read_text(encoding="utf-8")
     assert "## Simulation" in text and "--profile fast" in text
     assert "| contact offset of the robot's shapes | 0.002 m" in text
     assert "| solver position iterations | 15 |" in text
-    assert not has_errors(run_doc(PANDA_SPEC, tmp_path / "plain.md"))
+    assert not run_doc(PANDA_SPEC, tmp_path / "plain.md").write().failed
     assert "## Simulation" not in (tmp_path / "plain.md").read_text(encoding="utf-8")
 
 

@@ -15,17 +15,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DOCS, PANDA_SPEC, ROOT, fast_first, run_robospec
+from conftest import DOCS, PANDA_SPEC, ROOT, fast_first, maniskill_assets, run_robospec
 from corpus import BY_KEY, CorpusMissing, locate
 
 from robospec.authoring.commands import run_new
-from robospec.diagnostics import has_errors
 
-pytestmark = pytest.mark.maniskill
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 TASKS = ("PickCube-v1", "PushCube-v1", "StackCube-v1")
-# the corpus arms with a gripper new recognises: two fingers on one link, a mimic pair, a jaw
-GRIPPER_ARMS = ("rtb_wx250s", "pb_panda", "rtb_panda", "rtb_px100", "erd_so101")
+# the corpus arms with a gripper new recognises: two fingers on one link, a mimic pair (with the
+# tcp link the description names, and with a tcp new places between the fingers), a jaw; one
+# arm per scaffold (rtb_px100 left: new scaffolds it exactly as rtb_wx250s, its Interbotix
+# sibling, with the same groups, tcp and fingers)
+GRIPPER_ARMS = ("rtb_wx250s", "pb_panda", "rtb_panda", "erd_so101")
 STEPS = 50
 
 
@@ -36,8 +38,8 @@ def _scaffold(key: str, folder: Path) -> Path:
         pytest.fail(str(missing), pytrace=False)
     out = folder / f"{key}.yaml"
     # the analytic gains: the tasks need the members, not the refined gains
-    written, diagnostics = run_new(description, out, f"task_{key}", force=True, simulate=False)
-    assert written is not None and not has_errors(diagnostics), diagnostics
+    result = run_new(description, out, f"task_{key}", force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
     return out
 
 
@@ -91,7 +93,7 @@ def test_the_tutorials_robot_runs_pickcube_headless_as_the_tutorial_shows(tmp_pa
 
 def test_check_task_says_what_the_task_calls_and_the_spec_lacks(tmp_path: Path) -> None:
     spec = tmp_path / "panda.yaml"
-    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(_assets()))
+    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(maniskill_assets()))
     # without its grasp check, PickCube-v1 fails at reset upstream: check says why, with the
     # mend, at the uid (line 4)
     text = re.sub(r"\ngrasping:\n(  .*\n)+", "\n", text).replace("uid: rs_panda", "uid: no_grasp")
@@ -157,7 +159,7 @@ def test_check_task_tabletop_runs_or_explains_every_task_of_the_folder(tmp_path:
     from robospec.maniskill.tasks import installed_tasks
 
     spec = tmp_path / "panda.yaml"
-    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(_assets()))
+    text = PANDA_SPEC.read_text().replace("{maniskill_assets}", str(maniskill_assets()))
     spec.write_text(text.replace("uid: rs_panda", "uid: tabletop_panda"))
     env = {**os.environ, "ROBOSPEC_CACHE_DIR": str(tmp_path / "cache"), "NO_COLOR": "1"}
     done = run_robospec(
@@ -227,9 +229,19 @@ def test_a_task_that_crashes_with_the_robot_is_rs527_at_the_uid_naming_the_raisi
     assert "error[RS528]" not in done.stdout  # the member exists: it is not a missing one
 
 
-def _assets() -> Path:
-    from robospec.resolve.paths import maniskill_assets_dir
-
-    found = maniskill_assets_dir()
-    assert found is not None
-    return found
+def test_new_reads_each_fingers_opening_from_its_joint_and_grips_by_its_rating(
+    tmp_path: Path,
+) -> None:
+    """panda_v2.urdf rests closed (both fingers at 0): the fingers' centres coincide and say
+    nothing, while the joints open the left finger along its +y and the right along its -y
+    (ManiSkill's Panda's own is_grasping)."""
+    out = tmp_path / "panda.yaml"
+    urdf = maniskill_assets() / "robots" / "panda" / "panda_v2.urdf"
+    result = run_new(urdf, out, "new_panda", force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
+    text = out.read_text()
+    assert "{link: panda_leftfinger, opening: +y}" in text
+    assert "{link: panda_rightfinger, opening: -y}" in text
+    # the gripper squeezes with its 100 N rating across its 4 cm stroke
+    # (robospec.authoring.new.grip)
+    assert "stiffness: 2500,\n     damping: 250, force_limit: 100" in text

@@ -5,7 +5,9 @@ that fails to import like a missing install):
 - the fast loop deselects a test that asks for the ``maniskill`` fixture, does not even import a
   module marked ``maniskill``, and fails an unmarked test that imports ManiSkill;
 - without ManiSkill, a test that needs it fails, whether it asks for the fixture or calls
-  ``pytest.importorskip``: nothing is skipped in silence.
+  ``pytest.importorskip``: nothing is skipped in silence;
+- pytest-xdist (``--dist loadfile``) starts the modules marked ``minutes`` first, whatever
+  their number of tests.
 """
 
 from __future__ import annotations
@@ -48,7 +50,7 @@ SUITE = {
 def suite(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch) -> pytest.Pytester:
     pytester.makeconftest((ROOT / "tests" / "conftest.py").read_text(encoding="utf-8"))
     pytester.makeini(
-        "[pytest]\nmarkers =\n    maniskill\n    slow\n"
+        "[pytest]\nmarkers =\n    maniskill\n    slow\n    minutes\n"
         "asyncio_default_fixture_loop_scope = function\n"
     )
     pytester.makepyfile(**SUITE)
@@ -125,3 +127,26 @@ def test_the_rules_read_the_mark_expression_not_a_fixed_string(suite: pytest.Pyt
         "test_whole_module.py",
     )
     every.assert_outcomes(passed=4)
+
+
+@pytest.mark.slow
+def test_xdist_starts_the_modules_of_minutes_first_whatever_their_number_of_tests(
+    suite: pytest.Pytester,
+) -> None:
+    # xdist's own order would start the module with the most tests first
+    stand_in(suite, "")
+    order = suite.path / "order.txt"
+    record = (
+        f"def record(name):\n    with open({str(order)!r}, 'a') as handle:\n"
+        "        handle.write(name + '\\n')\n"
+    )
+    suite.makepyfile(
+        test_many=record + "".join(f"def test_{i}():\n    record('many')\n" for i in range(5)),
+        test_long=record
+        + "import pytest\npytestmark = pytest.mark.minutes\ndef test_long():\n    record('long')\n",
+    )
+    result = suite.runpytest_subprocess(
+        "-n", "1", "--dist", "loadfile", "-p", "no:cacheprovider", "test_many.py", "test_long.py"
+    )
+    result.assert_outcomes(passed=6)
+    assert order.read_text().split() == ["long"] + ["many"] * 5

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.maniskill
+pytestmark = [pytest.mark.maniskill, pytest.mark.minutes]
 
 from conftest import ROOT, TWOLINK_SPEC, invoke_robospec, run_robospec  # noqa: E402
 

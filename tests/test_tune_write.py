@@ -160,14 +160,14 @@ def test_every_line_of_a_wrapped_flow_list_fits_the_line_length() -> None:
 def test_write_refuses_an_edit_that_does_not_give_the_tuned_gains(
     tmp_path: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from conftest import PANDA_SPEC
+    from conftest import PANDA_SPEC, maniskill_assets
 
     from robospec.pipeline import compile_spec
     from robospec.tune import write
     from robospec.tune.results import Gains
 
     spec = tmp_path / "panda.yaml"  # type: ignore[operator]
-    assets = _assets()
+    assets = maniskill_assets()
     spec.write_text(PANDA_SPEC.read_text().replace("{maniskill_assets}", str(assets)))
     item = compile_spec(spec)
     assert item.ok and item.robot is not None
@@ -184,15 +184,6 @@ def test_write_refuses_an_edit_that_does_not_give_the_tuned_gains(
     assert not written and [d.code for d in diagnostics] == ["RS622"]
     assert "would get stiffness" in diagnostics[0].message
     assert spec.read_text() == original  # nothing was written
-
-
-def _assets():  # type: ignore[no-untyped-def]
-    from robospec.resolve.paths import maniskill_assets_dir
-
-    found = maniskill_assets_dir()
-    if found is None:
-        pytest.fail("ManiSkill's assets are not installed", pytrace=False)
-    return found
 
 
 def test_a_list_that_fits_a_line_of_its_own_is_never_broken_where_it_starts_far_right() -> None:

@@ -289,6 +289,9 @@ def test_limits_come_from_the_environment(tmp_path: Path, monkeypatch: pytest.Mo
     slow = write(tmp_path, '  <link name="${python.sum(python.range(10**12))}"/>\n')
     _, diags = expand_xacro(str(slow), {})
     assert "time limit of 0.5 s" in diags[0].message
+    # the memory limit alone, with time to reach it on a loaded machine (the time limit of 0.5 s
+    # raced it there: allocating 200 MiB may take longer)
+    monkeypatch.setenv("ROBOSPEC_XACRO_TIMEOUT", "60")
     big = write(tmp_path, "  <link name=\"${'x' * 10**10}\"/>\n", name="big.xacro")
     _, diags = expand_xacro(str(big), {})
     assert "memory limit of 200 MiB" in diags[0].message

@@ -1,38 +1,84 @@
-"""What ``robospec inspect``, ``new`` and ``doc`` do apart from argument parsing: each returns
-its output text and diagnostics, and writes files only when it has no errors (atomically)."""
+"""What ``robospec inspect``, ``new`` and ``doc`` do apart from argument parsing: each returns a
+:class:`CommandResult` — the report it prints, the files it writes, its diagnostics — that the
+CLI renders and writes (:meth:`CommandResult.write`, atomically). A command lists files to
+write only where it has no errors, but for what a failed one wrote before: ``new``'s schema
+beside a spec validate refused, ``doc``'s pictures of a card whose cameras fail."""
 
 from __future__ import annotations
 
 import dataclasses
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
+from robospec.diagnostics import Diagnostic, Location, error, has_errors
 
 if TYPE_CHECKING:
-    from robospec.authoring.analysis import RobotAnalysis
     from robospec.authoring.card import CardPicture
-    from robospec.authoring.rest_pose import RestPose
     from robospec.pipeline import CompiledSpec
 
-REST_TOUCHES = "RS605"
-NOT_LOADED = "RS606"
-# why a rest pose went unchecked that the user should hear about as a warning (ManiSkill is
-# installed but failed); "not installed" and --no-sim are only said in the scaffold's header
-CANNOT_LOAD_PREFIXES = ("ManiSkill could not load", "the simulator crashed", "loading it in")
+CANNOT_WRITE = "RS603"
 
 
-def run_inspect(path: Path, format: str) -> tuple[str | None, list[Diagnostic]]:
+@dataclass(frozen=True)
+class Output:
+    """A file a command writes: where, what, and its mode (None: as a new file's)."""
+
+    path: Path
+    content: str | bytes
+    mode: int | None = None
+
+
+@dataclass(frozen=True)
+class CommandResult:
+    """What an authoring command produced."""
+
+    report: str | None = None  # what it prints on stdout (inspect's report), None: nothing
+    outputs: tuple[Output, ...] = ()  # the files it writes, in order
+    diagnostics: tuple[Diagnostic, ...] = ()
+    written: tuple[Path, ...] = ()  # the files written so far (:meth:`write`)
+
+    @property
+    def failed(self) -> bool:
+        return has_errors(self.diagnostics)
+
+    def with_diagnostics(self, more: list[Diagnostic]) -> CommandResult:
+        return dataclasses.replace(self, diagnostics=(*self.diagnostics, *more))
+
+    def write(self) -> CommandResult:
+        """This result with its outputs written, in order: a file that cannot be written is an
+        error (RS603), and the files after it are not written (a card never without its
+        pictures)."""
+        from robospec.files import write_atomically
+
+        written = list(self.written)
+        problems = []
+        for output in self.outputs:
+            try:
+                write_atomically(output.path, output.content, output.mode)
+            except OSError as exc:
+                why = exc.strerror or type(exc).__name__
+                at = Location(str(output.path))
+                problems.append(error(at, CANNOT_WRITE, f"cannot write {output.path}: {why}"))
+                break
+            written.append(output.path)
+        result = dataclasses.replace(self, outputs=(), written=tuple(written))
+        return result.with_diagnostics(problems)
+
+
+def run_inspect(path: Path, as_json: bool = False) -> CommandResult:
+    """The report of the description at ``path`` (text, or JSON); none when it cannot be read."""
     from robospec.authoring.description_file import read_description_file
     from robospec.authoring.inspect import inspect_report, render_json, render_text
 
     # a robot ManiSkill would load wrongly is still shown, beside the errors that say so
     source, diagnostics = read_description_file(path, keep_errors=True)
     if source is None:
-        return None, diagnostics
+        return CommandResult(diagnostics=tuple(diagnostics))
     report = inspect_report(source)
-    return (render_json(report) if format == "json" else render_text(report)), diagnostics
+    text = render_json(report) if as_json else render_text(report)
+    return CommandResult(text, diagnostics=tuple(diagnostics))
 
 
 def run_new(
@@ -42,48 +88,28 @@ def run_new(
     force: bool,
     simulate: bool = True,
     uid_location: Location | None = None,
-) -> tuple[list[Path] | None, list[Diagnostic]]:
-    """The files written (the spec at ``out``, and the schema its modeline names when there was
-    none to name) and the diagnostics; None when nothing was written.
+) -> CommandResult:
+    """The spec scaffolded from ``description`` to write at ``out``, then the schema its
+    modeline names when there was none to name (:mod:`robospec.authoring.new`).
 
     With ``simulate`` (and ManiSkill installed) the rest keyframe is searched free of
-    self-contact and a floating robot's standing height measured, in a child process
-    (:mod:`robospec.authoring.rest_pose`). ``uid_location`` is where ``uid`` was given (the
-    command line's ``--uid``), for the diagnostics about it."""
-    if uid is not None:
-        from robospec.diagnostics.command_line import COMMAND_LINE
-
-        problem = _uid_problem(uid, uid_location or Location(COMMAND_LINE))
-        if problem is not None:
-            return None, [problem]
-    if out.exists() and not force:
-        return None, [
-            error(
-                Location(str(out)),
-                "RS601",
-                f"{out} already exists; robospec new does not overwrite it",
-                "pass --force to replace it",
-            )
-        ]
-    from robospec.authoring.analysis import analyse
+    self-contact and a floating robot's standing height measured, in a child process.
+    ``uid_location`` is where ``uid`` was given (the command line's ``--uid``), for the
+    diagnostics about it."""
     from robospec.authoring.description_file import read_description_file
-    from robospec.authoring.scaffold import SCHEMA_BESIDE, schema_reference
+    from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.scaffold import SCHEMA_BESIDE, schema_reference
+    from robospec.authoring.new.spec_text import scaffold_text
 
+    refused = _refused(description, out, uid, force, uid_location)
+    if refused:
+        return CommandResult(diagnostics=tuple(refused))
     source, diagnostics = read_description_file(description)
     if source is None:
-        return None, diagnostics
+        return CommandResult(diagnostics=tuple(diagnostics))
     if not source.description.active_joints:
-        return None, [
-            *diagnostics,
-            error(
-                Location(str(description)),
-                "RS602",
-                f"'{description.name}' has no active joints: there is nothing to control",
-                "robospec agents need at least one revolute, continuous or prismatic joint",
-            ),
-        ]
-    analysis = analyse(source)
-    written = [out]
+        return CommandResult(diagnostics=(*diagnostics, _nothing_to_control(description)))
+    schema: tuple[Output, ...] = ()
     reference = schema_reference(out.parent)
     if reference is None:
         # no schema to point at: put one beside the spec, so that editors check and complete
@@ -91,134 +117,51 @@ def run_new(
         from robospec.schema import schema_text
 
         reference = SCHEMA_BESIDE
-        written.append(out.parent / SCHEMA_BESIDE)
-        diagnostics.extend(write_text(written[-1], schema_text()))
-    text, more = scaffold_text(analysis, out, uid, reference, simulate)
+        schema = (Output(out.parent / SCHEMA_BESIDE, schema_text()),)
+    text, more = scaffold_text(analyse(source), out, uid, reference, simulate)
     diagnostics.extend(more)
-    refused = _validate_errors(text, out)
-    if refused:  # never write a spec robospec validate would reject: say what it would say
-        return None, [*diagnostics, *refused]
-    diagnostics.extend(write_text(out, text))
-    return (None if has_errors(diagnostics) else written), diagnostics
+    invalid = _validate_errors(text, out)
+    if invalid:  # never write a spec robospec validate would reject: say what it would say
+        return CommandResult(outputs=schema, diagnostics=(*diagnostics, *invalid))
+    return CommandResult(outputs=(Output(out, text), *schema), diagnostics=tuple(diagnostics))
 
 
-def scaffold_text(
-    analysis: RobotAnalysis, out: Path, uid: str | None, schema: str, simulate: bool
-) -> tuple[str, list[Diagnostic]]:
-    """The spec's text, and warnings about its rest pose and its gains.
+def _refused(
+    description: Path, out: Path, uid: str | None, force: bool, uid_location: Location | None
+) -> list[Diagnostic]:
+    """Why ``new`` writes nothing before it reads the description: a bad ``--uid``, or a spec
+    already at ``out`` without ``force``."""
+    if uid is not None:
+        from robospec.diagnostics.command_line import COMMAND_LINE
 
-    With ``simulate``: the rest pose is searched in ManiSkill (:mod:`.rest_pose`), then the
-    gains computed there are measured and changed where they miss (:mod:`.refine`), each in a
-    child process; without, both stay as computed from the description."""
-    from robospec.authoring.joint_gains import joint_gains, rating_warnings, with_refined
-    from robospec.authoring.rest_pose import PROBE_UID, Refinement, RestPose, probe_rest_pose
-    from robospec.authoring.scaffold import scaffold
-    from robospec.authoring.scaffold_controllers import unbalanced
-    from robospec.importer.yamlout import to_yaml
-
-    start = analysis.start_qpos()
-    found = None
-    if simulate:
-        draft = scaffold(analysis, out, RestPose(start), PROBE_UID, absolute_paths=True)
-        refinement = Refinement(str(analysis.source.path.resolve()), str(out), schema)
-        rest, found = probe_rest_pose(
-            to_yaml(draft, schema),
-            analysis.description,
-            start,
-            analysis.groups.mimic,
-            analysis.body.floating,
-            refinement,
-            analysis.upright(start),
-        )
-    else:
-        rest = RestPose(start, unchecked_because="robospec new --no-sim")
-    gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
-    refined = False
-    problems: list[Diagnostic] = []
-    if isinstance(found, str):
-        problems.append(
-            warning(
-                Location(str(analysis.source.path)),
-                NOT_LOADED,
-                f"the gains were not measured in ManiSkill: {found}",
-                "they are written as computed from the description; robospec check measures them",
+        problem = _uid_problem(uid, uid_location or Location(COMMAND_LINE))
+        if problem is not None:
+            return [problem]
+    if out.exists() and not force:
+        return [
+            error(
+                Location(str(out)),
+                "RS601",
+                f"{out} already exists; robospec new does not overwrite it",
+                "pass --force to replace it",
             )
-        )
-    elif found is not None:
-        gains = with_refined(gains, found.gains, found.over_rating)
-        refined = bool(found.changed)
+        ]
+    return []
 
-    def written(rest: RestPose) -> str:
-        return to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
 
-    text = written(rest)
-    depth = {(a, b): d for a, b, d in rest.touching}
-    while rest.never_collide and _never_collide_rejected(text, out):
-        # validate would refuse the pairs (no collision-group bit left for them all): adjacent
-        # pairs go first (the last found), then the shallowest overlapping pair (it was the last
-        # one found: the Shadow hand lost its 24 mm thumb overlap for a 1 mm one), and the rest
-        # warnings name it as touching
-        if rest.adjacent:
-            rest = dataclasses.replace(rest, adjacent=rest.adjacent[:-1])
-        else:
-            shallowest = min(rest.overlapping, key=lambda pair: depth.get(pair, 0.0))
-            kept = tuple(pair for pair in rest.overlapping if pair != shallowest)
-            rest = dataclasses.replace(rest, overlapping=kept)
-        text = written(rest)
-    return text, [
-        *rating_warnings(analysis, gains),
-        *problems,
-        *_rest_warnings(analysis, rest, text, out),
-    ]
+def _nothing_to_control(description: Path) -> Diagnostic:
+    return error(
+        Location(str(description)),
+        "RS602",
+        f"'{description.name}' has no active joints: there is nothing to control",
+        "robospec agents need at least one revolute, continuous or prismatic joint",
+    )
 
 
 def _validate_errors(text: str, out: Path) -> list[Diagnostic]:
     from robospec.pipeline import compile_spec
 
     return [d for d in compile_spec(out, text=text.encode("utf-8")).diagnostics if d.is_error]
-
-
-def _never_collide_rejected(text: str, out: Path) -> bool:
-    """Whether ``robospec validate`` would refuse the scaffold's never_collide: pairs left
-    colliding for want of a free collision-group bit, or pairs it does not list disabled."""
-    from robospec.pipeline import compile_spec
-
-    robot = compile_spec(out, text=text.encode("utf-8")).robot
-    record = robot.never_collide if robot is not None else None
-    return record is not None and bool(record.uncovered or record.side_effects)
-
-
-def _rest_warnings(
-    analysis: RobotAnalysis, rest: RestPose, text: str, out: Path
-) -> list[Diagnostic]:
-    from robospec.load.reader import parse_spec_bytes
-
-    loaded, _ = parse_spec_bytes(text.encode("utf-8"), str(out), "yaml")
-    if loaded is None:
-        return []
-    at = loaded.source.key(("keyframes", "rest"))
-    left = [t for t in rest.touching if (t[0], t[1]) not in rest.never_collide]
-    if left:
-        pairs = ", ".join(f"{a} + {b} ({d * 1000:.1f} mm)" for a, b, d in left)
-        return [
-            warning(
-                at,
-                REST_TOUCHES,
-                f"no rest pose free of self-contact found in {rest.tried} tries: {pairs}",
-                "move the keyframe apart, or declare the contact with never_collide if it is meant",
-            )
-        ]
-    if rest.unchecked_because and rest.unchecked_because.startswith(CANNOT_LOAD_PREFIXES):
-        return [
-            warning(
-                Location(str(analysis.source.path)),
-                NOT_LOADED,
-                f"the rest keyframe was not checked: {rest.unchecked_because}",
-                "robospec check loads it the same way and will say more; the scaffold is "
-                "written without the check",
-            )
-        ]
-    return []
 
 
 def _uid_problem(uid: str, at: Location) -> Diagnostic | None:
@@ -244,34 +187,24 @@ def run_doc(
     plots: Path | None = None,
     images: bool = False,
     collisions: bool = False,
-) -> list[Diagnostic]:
-    """:func:`write_card`'s diagnostics."""
-    return write_card(spec, out, plots, images, collisions)[1]
-
-
-def write_card(
-    spec: Path,
-    out: Path,
-    plots: Path | None = None,
-    images: bool = False,
-    collisions: bool = False,
-) -> tuple[list[Path], list[Diagnostic]]:
-    """Write the card ``out``; with ``images`` also its pictures, in ``<out's stem>_images/``
-    beside it (with ``collisions``, the collision shapes too), and the cameras' findings. The
-    files written (the card, then each picture), and the diagnostics."""
+) -> CommandResult:
+    """The card ``out``; with ``images`` also its pictures, in ``<out's stem>_images/`` beside
+    it (with ``collisions``, the collision shapes too), written before it, and the cameras'
+    findings."""
     from robospec.authoring.card import robot_card
     from robospec.pipeline import compile_spec
 
     compiled = compile_spec(spec)
     diagnostics = list(compiled.diagnostics)
     if has_errors(diagnostics) or compiled.robot is None or compiled.description is None:
-        return [], diagnostics
+        return CommandResult(diagnostics=tuple(diagnostics))
     pictures: list[CardPicture] = []
+    drawn: list[Output] = []
     if images:
-        pictures, more = _pictures(compiled, out, collisions)
+        pictures, drawn, more = _pictures(compiled, out, collisions)
         diagnostics += more
         if has_errors(more):
-            return [], diagnostics
+            return CommandResult(outputs=tuple(drawn), diagnostics=tuple(diagnostics))
     # the spec as seen from the card, so the card links to it wherever both are
     spec_link = Path(os.path.relpath(spec.resolve(), out.resolve().parent)).as_posix()
     links = []
@@ -282,10 +215,7 @@ def write_card(
                 relative = os.path.relpath(picture.resolve(), out.resolve().parent)
                 links.append((controller.name, Path(relative).as_posix()))
     text = robot_card(compiled.robot, compiled.description, spec_link, links, pictures)
-    diagnostics += write_text(out, text)
-    if has_errors(diagnostics):
-        return [], diagnostics
-    return [out, *(out.parent / picture.link for picture in pictures)], diagnostics
+    return CommandResult(outputs=(*drawn, Output(out, text)), diagnostics=tuple(diagnostics))
 
 
 def images_folder(out: Path) -> Path:
@@ -295,9 +225,9 @@ def images_folder(out: Path) -> Path:
 
 def _pictures(
     compiled: CompiledSpec, out: Path, collisions: bool
-) -> tuple[list[CardPicture], list[Diagnostic]]:
-    """Draw and write the card's pictures; the diagnostics say what the cameras see, or why
-    nothing could be drawn (then nothing is written)."""
+) -> tuple[list[CardPicture], list[Output], list[Diagnostic]]:
+    """The card's pictures, drawn, as the card links them and as files to write; the
+    diagnostics say what the cameras see, or why nothing could be drawn (then there is none)."""
     from robospec.authoring.card import CardPicture
     from robospec.diagnostics.command_line import COMMAND_LINE
     from robospec.pictures.album import AlbumOptions, CameraSettings, make_album
@@ -323,32 +253,10 @@ def _pictures(
             robot, description, cameras, folder.as_posix(), AlbumOptions(collisions=collisions)
         )
     except RenderUnavailable as exc:
-        return [], [error(Location(COMMAND_LINE), exc.code, exc.message, exc.hint)]
-    diagnostics = list(album.diagnostics)
-    for picture in album.pictures:
-        diagnostics += write_bytes(folder / picture.path, picture.png)
+        return [], [], [error(Location(COMMAND_LINE), exc.code, exc.message, exc.hint)]
+    files = [Output(folder / picture.path, picture.png, mode=0o644) for picture in album.pictures]
     relative = Path(os.path.relpath(folder.resolve(), out.resolve().parent)).as_posix()
     pictures = [
         CardPicture(p.kind, p.keyframe, p.name, f"{relative}/{p.path}") for p in album.pictures
     ]
-    return pictures, diagnostics
-
-
-def write_bytes(path: Path, data: bytes) -> list[Diagnostic]:
-    return write_text(path, data, mode=0o644)
-
-
-def write_text(path: Path, text: str | bytes, mode: int | None = None) -> list[Diagnostic]:
-    from robospec.files import write_atomically
-
-    try:
-        write_atomically(path, text, mode)
-    except OSError as exc:
-        return [
-            error(
-                Location(str(path)),
-                "RS603",
-                f"cannot write {path}: {exc.strerror or type(exc).__name__}",
-            )
-        ]
-    return []
+    return pictures, files, list(album.diagnostics)

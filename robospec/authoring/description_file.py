@@ -1,6 +1,6 @@
 """Read a robot description file named on the command line (URDF, xacro or MJCF), by suffix.
 
-The parsing and xacro expansion are the resolver's own (:mod:`robospec.description`), so a
+The loading is the resolver's own (:mod:`robospec.resolve.description_loading`), so a
 malformed file gets exactly the located diagnostics ``robospec validate`` gives.
 """
 
@@ -8,13 +8,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
-from robospec.description import RobotDescription, load_description
-
-if TYPE_CHECKING:
-    from robospec.derive import Derived
-from robospec.diagnostics import Diagnostic, Location, error
+from robospec.description import RobotDescription
+from robospec.diagnostics import Diagnostic, Location, error, has_errors
 
 FileKind = Literal["urdf", "xacro", "mjcf"]
 
@@ -49,100 +46,44 @@ def read_description_file(
 ) -> tuple[DescriptionFile | None, list[Diagnostic]]:
     """The parsed description, or None and located diagnostics (never raises on bad input).
 
-    ``keep_errors`` keeps a description whose kinematic tree is intact although robospec found
-    errors in it (a bad mimic target; what ManiSkill's loader would make of an MJCF: a mesh 1000
-    times too large, a frame turned): ``inspect`` shows such a robot and its errors both."""
-    path, problem = _placeholders_expanded(path)
-    if problem is not None:
-        return None, [problem]
+    Read as a spec's description is (:mod:`robospec.resolve.description_loading`: a path
+    relative to the working folder or starting with ``{maniskill_assets}``, xacro expanded),
+    with the mends it needs to load. ``keep_errors`` keeps a description whose kinematic tree
+    is intact although robospec found errors in it (a bad mimic target; what ManiSkill's loader
+    would make of an MJCF: a mesh 1000 times too large, a frame turned): ``inspect`` shows such
+    a robot and its errors both."""
+    from robospec.resolve.description_loading import (
+        DescriptionEntry,
+        Loaded,
+        Reader,
+        load,
+    )
+
+    text = str(path)
     kind = file_kind(path)
     if kind is None:
         return None, [
             error(
-                Location(str(path)),
+                Location(text),
                 "RS600",
                 f"'{path.name}' is not a robot description robospec reads",
                 "give a .urdf, .urdf.xacro/.xacro or MJCF .xml file",
             )
         ]
-    text: str | bytes | None = None
-    diagnostics: list[Diagnostic] = []
-    if kind == "xacro":
-        from robospec.description.xacro import expand_xacro
-
-        text, diagnostics = expand_xacro(str(path), {})
-        if text is None:
-            return None, diagnostics
-    description_kind: Literal["urdf", "mjcf"] = "mjcf" if kind == "mjcf" else "urdf"
-    mends, derived = _mended(path, description_kind, text, diagnostics)
-    if derived is not None:
-        text = derived.text
-    description, more = load_description(
-        str(path), description_kind, text, beside_file=kind != "xacro"
-    )
-    diagnostics.extend(derived.located(more, str(path)) if derived is not None else more)
-    if description is None or (any(d.is_error for d in diagnostics) and not keep_errors):
+    # the command line names the file itself: its problems are shown at the path as given
+    reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
+    loaded = load(reader, DescriptionEntry(text, kind, mends=None))
+    diagnostics = reader.diagnostics
+    if not isinstance(loaded, Loaded) or (has_errors(diagnostics) and not keep_errors):
         return None, diagnostics
-    if text is None:
-        text = path.read_bytes()
-    data = text.encode("utf-8") if isinstance(text, str) else text
-    robot_name = _robot_name(text)
-    return DescriptionFile(path, kind, description, robot_name, data, mends), diagnostics
-
-
-def _mended(
-    path: Path,
-    kind: Literal["urdf", "mjcf"],
-    text: str | bytes | None,
-    diagnostics: list[Diagnostic],
-) -> tuple[dict[str, Any], Derived | None]:
-    """The mends the description needs to load, and the derived copy (None when it needs
-    none); the notes of what they change join ``diagnostics``."""
-    from robospec.derive import Source, suggest_mends
-    from robospec.description.urdf import read_file_bytes
-
-    try:
-        data = read_file_bytes(str(path)) if text is None else None
-    except OSError:
-        return {}, None  # the description's own load says why
-    if data is None:
-        data = text.encode("utf-8") if isinstance(text, str) else text or b""
-    mends, derived = suggest_mends(Source(str(path), str(path), kind, data))
-    if not mends:
-        return {}, None
-    diagnostics.extend(derived.notes)
-    diagnostics.extend(derived.refusals)
-    return mends, derived
-
-
-def _placeholders_expanded(path: Path) -> tuple[Path, Diagnostic | None]:
-    """``path`` with ``{maniskill_assets}`` or ``{maniskill_data}`` replaced by the folder it
-    names, as a spec's description path is read (so ``robospec new
-    "{maniskill_assets}/robots/panda/panda_v2.urdf"`` works as the spec would)."""
-    from robospec.resolve.paths import (
-        ASSETS_PLACEHOLDER,
-        maniskill_assets_dir,
-        maniskill_data_dir,
-        split_assets,
-        split_data,
+    ref = loaded.ref
+    data = ref.read_bytes()
+    given = path if ref.kind == "file" else ref.absolute
+    robot_name = _robot_name(data)
+    return (
+        DescriptionFile(given, kind, loaded.description, robot_name, data, loaded.prepared.mends),
+        diagnostics,
     )
-
-    text = str(path)
-    inside = split_assets(text)
-    if inside is not None:
-        assets = maniskill_assets_dir()
-        if assets is None:
-            return path, error(
-                Location(text),
-                "RS050",
-                f"{ASSETS_PLACEHOLDER} is ManiSkill's asset folder, and ManiSkill is not installed",
-                "pip install 'robospec[maniskill]', or give the file's own path",
-            )
-        return assets / inside, None
-    inside = split_data(text)
-    if inside is not None:
-        return maniskill_data_dir() / inside, None
-    return path, None
 
 
 def _robot_name(text: str | bytes) -> str | None:

@@ -2,8 +2,9 @@
 ManiSkill import): which action index drives which joint or dimension, its bounds, and whether
 the action is normalized to [-1, 1] (then ``low``/``high`` are what -1 and 1 mean).
 
-It restates how ManiSkill's controllers build their action spaces (``_initialize_action_space``
-and ``normalize_action`` of each config class); a maniskill-marked test proves it equal to what
+It follows each controller kind's action parts (:mod:`robospec.model.controller_kinds`), which
+restate how ManiSkill's controllers build their action spaces (``_initialize_action_space`` and
+``normalize_action`` of each config class); a maniskill-marked test proves it equal to what
 :mod:`robospec.physics.action_layout` reads from live controllers.
 """
 
@@ -15,29 +16,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from robospec.description import RobotDescription
+from robospec.model.controller_kinds import ActionPart
 from robospec.resolve.resolved import ResolvedController, ResolvedMode, ResolvedRobot
-
-# ManiSkill's default of normalize_action per config type (passive has no action)
-NORMALIZE_DEFAULT = {
-    "pd_joint_pos": True,
-    "pd_joint_pos_mimic": True,
-    "pd_joint_vel": True,
-    "pd_joint_pos_vel": True,
-    "pd_ee_pos": True,
-    "pd_ee_pose": True,
-    "pd_base_vel": True,
-    "pd_base_forward_vel": True,
-    "passive": False,
-}
-# what the dimensions of controllers that do not drive one joint per dimension stand for
-NAMED_DIMENSIONS = {
-    "pd_ee_pos": ("x", "y", "z"),
-    "pd_ee_pose": ("x", "y", "z", "rx", "ry", "rz"),
-    "pd_base_vel": ("vx", "vy", "wz"),
-    "pd_base_forward_vel": ("v", "wz"),
-}
-ROT_DEFAULT = 2 * math.pi  # PDEEPoseControllerConfig's rot_lower/rot_upper: -2π, 2π
-VEL_DEFAULT = 1.0  # PDJointPosVelControllerConfig's vel_lower/vel_upper: -1, 1
 
 
 @dataclass(frozen=True)
@@ -78,7 +58,8 @@ def mode_layout(
 
 def _normalized(controller: ResolvedController) -> bool:
     kwargs = dict(controller.kwargs)
-    return bool(kwargs.get("normalize_action", NORMALIZE_DEFAULT.get(controller.type, False)))
+    # a passive controller has no normalize_action (and no action)
+    return bool(kwargs.get("normalize_action", controller.kind.defaults.get("normalize_action")))
 
 
 def _broadcast(value: Any, n: int) -> list[float]:
@@ -89,20 +70,20 @@ def _broadcast(value: Any, n: int) -> list[float]:
 
 
 def _joint_limits(
-    joints: Sequence[str], description: RobotDescription, kwargs: dict[str, Any]
+    joints: Sequence[str], description: RobotDescription, lower: Any, upper: Any
 ) -> tuple[list[float], list[float]]:
-    """The articulation's qlimits, overridden by the config's lower/upper when given."""
+    """The articulation's qlimits, overridden by the config's ``lower``/``upper`` when given."""
     lows, highs = [], []
     for name in joints:
         joint = description.joint(name)
-        lower = joint.lower if joint is not None else None
-        upper = joint.upper if joint is not None else None
-        lows.append(-math.inf if lower is None else lower)
-        highs.append(math.inf if upper is None else upper)
-    if kwargs.get("lower") is not None:
-        lows = _broadcast(kwargs["lower"], len(joints))
-    if kwargs.get("upper") is not None:
-        highs = _broadcast(kwargs["upper"], len(joints))
+        low = joint.lower if joint is not None else None
+        high = joint.upper if joint is not None else None
+        lows.append(-math.inf if low is None else low)
+        highs.append(math.inf if high is None else high)
+    if lower is not None:
+        lows = _broadcast(lower, len(joints))
+    if upper is not None:
+        highs = _broadcast(upper, len(joints))
     return lows, highs
 
 
@@ -118,41 +99,36 @@ def _control_joints(joints: list[str], kwargs: dict[str, Any]) -> list[str]:
 def _dimensions(
     controller: ResolvedController, description: RobotDescription, group: str
 ) -> list[tuple[str, float, float]]:
+    """(target, low, high) per action dimension, part by part of the kind's action."""
+    kind = controller.kind
     kwargs = dict(controller.kwargs)
     joints = list(kwargs.get("joint_names", ()))
-    kind = controller.type
-    if kind == "passive":
-        return []
-    if kind in ("pd_joint_pos", "pd_joint_pos_vel"):
-        lows, highs = _joint_limits(joints, description, kwargs)
-        rows = list(zip(joints, lows, highs, strict=True))
-        if kind == "pd_joint_pos_vel":
-            vel_low = _broadcast(kwargs.get("vel_lower", -VEL_DEFAULT), len(joints))
-            vel_high = _broadcast(kwargs.get("vel_upper", VEL_DEFAULT), len(joints))
-            names = [f"{j}.vel" for j in joints]
-            rows += list(zip(names, vel_low, vel_high, strict=True))
-        return rows
-    if kind == "pd_joint_pos_mimic":
-        lows, highs = _joint_limits(joints, description, kwargs)
-        limits = dict(zip(joints, zip(lows, highs, strict=True), strict=True))
-        return [(j, *limits[j]) for j in _control_joints(joints, kwargs)]
-    if kind in ("pd_ee_pos", "pd_ee_pose"):
-        lows = _broadcast(kwargs["pos_lower"], 3)
-        highs = _broadcast(kwargs["pos_upper"], 3)
-        if kind == "pd_ee_pose":
-            lows += _broadcast(kwargs.get("rot_lower", -ROT_DEFAULT), 3)
-            highs += _broadcast(kwargs.get("rot_upper", ROT_DEFAULT), 3)
-        axes = [f"{group}.{axis}" for axis in NAMED_DIMENSIONS[kind]]
-        return list(zip(axes, lows, highs, strict=True))
-    # joint velocities: pd_joint_vel, and the base controllers built on it
-    width = 2 if kind == "pd_base_forward_vel" else len(joints)
-    lows = _broadcast(kwargs["lower"], width)
-    highs = _broadcast(kwargs["upper"], width)
-    named = NAMED_DIMENSIONS.get(kind)
-    if named is not None and len(named) == width:
-        targets = [f"{group}.{axis}" for axis in named]
-    elif len(joints) == width:
-        targets = joints
-    else:
-        targets = [f"{group}[{i}]" for i in range(width)]
-    return list(zip(targets, lows, highs, strict=True))
+    rows: list[tuple[str, float, float]] = []
+    for part in kind.action:
+        lower = kwargs.get(part.lower, kind.defaults.get(part.lower))
+        upper = kwargs.get(part.upper, kind.defaults.get(part.upper))
+        if part.over == "axes":
+            lows, highs = _broadcast(lower, len(part.axes)), _broadcast(upper, len(part.axes))
+            rows += zip([f"{group}.{axis}" for axis in part.axes], lows, highs, strict=True)
+            continue
+        # bounds broadcast over every joint of the controller, then the part's joints picked
+        if part.null_is_joint_limit:
+            lows, highs = _joint_limits(joints, description, lower, upper)
+        else:
+            lows, highs = _broadcast(lower, len(joints)), _broadcast(upper, len(joints))
+        picked = _control_joints(joints, kwargs) if part.over == "control_joints" else joints
+        index = {joint: i for i, joint in enumerate(joints)}
+        targets = _joint_targets(part, picked, group)
+        rows += [
+            (target, lows[index[joint]], highs[index[joint]])
+            for target, joint in zip(targets, picked, strict=True)
+        ]
+    return rows
+
+
+def _joint_targets(part: ActionPart, joints: list[str], group: str) -> list[str]:
+    """What a part's dimensions over joints stand for: the joints (with the part's suffix), or
+    the part's axes where there are as many joints (a base's vx, vy, wz)."""
+    if part.axes and len(part.axes) == len(joints):
+        return [f"{group}.{axis}" for axis in part.axes]
+    return [joint + part.suffix for joint in joints]

@@ -40,6 +40,7 @@ from robospec.checks import (
     never_collide_no_free_bit,
     never_collide_self,
     physical_ranges,
+    reset_keyframe,
     task_members,
     unbounded_normalization,
 )
@@ -65,6 +66,7 @@ BINDING_CHECKS: tuple[Check, ...] = (
     never_collide_no_free_bit.check,  # RS323
     mjcf_link_rules.check,  # RS324
     ee_controller_urdf.check,  # RS325
+    reset_keyframe.check,  # RS326
 )
 
 ROBOT_CHECKS: tuple[Check, ...] = (

@@ -20,18 +20,18 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
-
-BASE_CONTROLLERS = ("pd_base_vel", "pd_base_forward_vel")
+from robospec.model.controller_kinds import controller_kind
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     for name, config in context.spec.controllers.items():
         path = ("controllers", name, "joints")
         joints = context.joints_at(path)
-        if config.type in BASE_CONTROLLERS and joints is not None and len(joints) < 3:
+        fewest = controller_kind(config.type).min_joints
+        if joints is not None and len(joints) < fewest:
             yield error(
                 context.value(path),
                 "RS315",
                 f"{config.type} drives x, y and yaw joints: "
-                f"needs at least 3 joints, got {len(joints)}",
+                f"needs at least {fewest} joints, got {len(joints)}",
             )

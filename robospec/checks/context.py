@@ -10,12 +10,11 @@ from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Location
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Spec
+from robospec.resolve.description_loading import EXPANDED
 from robospec.resolve.resolved import Bindings, ResolvedRobot
 
 if TYPE_CHECKING:
     from robospec.compose import Origins
-
-EXPANDED = " (expanded)"  # how diagnostics name a xacro's expansion (resolve.description_files)
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ from robospec.model.thresholds import MIN_EE_STIFFNESS
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     for controller in context.robot.controllers:
-        if controller.type not in ("pd_ee_pos", "pd_ee_pose"):
+        if not controller.kind.end_effector:
             continue
         stiffness = dict(controller.kwargs).get("stiffness")
         values = stiffness if isinstance(stiffness, list) else [stiffness]

@@ -28,15 +28,14 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
-
-EE_CONTROLLERS = ("pd_ee_pos", "pd_ee_pose")
+from robospec.model.controller_kinds import controller_kind
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     if context.robot.description_kind != "mjcf":
         return
     for name, config in context.spec.controllers.items():
-        if config.type not in EE_CONTROLLERS:
+        if not controller_kind(config.type).end_effector:
             continue
         if "urdf_path" in config.model_fields_set and config.urdf_path is not None:
             continue

@@ -21,7 +21,7 @@ from typing import Any
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
 from robospec.load.source_map import KeyPath
-from robospec.resolve.controllers import PER_JOINT_FIELDS
+from robospec.model.controller_kinds import controller_kind
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -35,10 +35,9 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         driven = context.joints_at(("controllers", name, "joints"))
         if driven is None:
             continue
-        for field in PER_JOINT_FIELDS:
+        # (not the bounds of a base's forward speed and turn rate: they are by axis)
+        for field in controller_kind(config.type).per_joint:
             value = getattr(config, field, None)
-            if config.type == "pd_base_forward_vel" and field in ("lower", "upper"):
-                continue  # bounds of the forward speed and turn rate, not of joints
             if isinstance(value, dict):
                 path = ("controllers", name, field)
                 yield from _twice(context, value, path, driven, "is given a value twice")

@@ -24,7 +24,7 @@ def unguarded_modes(context: CheckContext, joint: Joint) -> list[str]:
     for mode in context.robot.modes:
         names = [n for _, n in mode.groups] if mode.groups is not None else [mode.controller]
         guarded = any(
-            controllers[n].type == "pd_joint_pos_mimic" and joint.name in controllers[n].joint_names
+            controllers[n].kind.mimic and joint.name in controllers[n].joint_names
             for n in names
             if n in controllers
         )

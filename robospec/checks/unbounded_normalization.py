@@ -16,15 +16,16 @@ from collections.abc import Iterator
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
 
-LIMITED_BY_JOINTS = ("pd_joint_pos", "pd_joint_pos_vel")
-
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
     if context.description.assumed:  # no limits known before the download
         return
     for controller in context.robot.controllers:
-        kwargs = dict(controller.kwargs)
-        if controller.type not in LIMITED_BY_JOINTS or not kwargs.get("normalize_action", True):
+        kind, kwargs = controller.kind, dict(controller.kwargs)
+        # a mimic controller's actions span only its control joints' limits: not judged here
+        if not kind.joint_position_targets or kind.mimic:
+            continue
+        if not kwargs.get("normalize_action", kind.defaults["normalize_action"]):
             continue
         if kwargs.get("use_delta"):
             continue

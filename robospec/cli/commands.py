@@ -10,17 +10,21 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from robospec.cli.help_style import App
 from robospec.diagnostics import Diagnostic, has_errors
+from robospec.optimize.options import ShapeMethod
 from robospec.reporting import Format as DiagnosticFormat
 from robospec.reporting import render
 from robospec.reporting.color import ColorChoice as Color
 from robospec.reporting.color import use_color
 from robospec.version import __version__
+
+if TYPE_CHECKING:
+    from robospec.authoring.commands import CommandResult
 
 # Help is written for reflow: robospec/cli/help_style.py says how (App holds every command to it).
 app = App(
@@ -113,23 +117,17 @@ def _silenced_codes(silence: list[str] | None) -> frozenset[str]:
     return frozenset(silence or ())
 
 
-def _finish(
-    diagnostics: Sequence[Diagnostic],
-    failed: bool,
-    fmt: DiagnosticFormat,
-    color: Color,
-    done: str,
-) -> None:
-    """End a command that writes one file: text says ``done`` (diagnostics on stderr), the
+def _finish(result: CommandResult, fmt: DiagnosticFormat, color: Color, done: str) -> None:
+    """End a command that writes files: text says ``done`` (diagnostics on stderr), the
     machine formats print the diagnostics report (on stdout) whatever happened."""
     if fmt is not DiagnosticFormat.text:
-        _report(diagnostics, 1, fmt, color)
+        _report(result.diagnostics, 1, fmt, color)
     else:
-        if diagnostics:
-            _report(diagnostics, 1, fmt, color, err=True)
-        if not failed:
+        if result.diagnostics:
+            _report(result.diagnostics, 1, fmt, color, err=True)
+        if not result.failed:
             typer.echo(done)
-    raise typer.Exit(1 if failed else 0)
+    raise typer.Exit(1 if result.failed else 0)
 
 
 @app.command()
@@ -147,12 +145,12 @@ def inspect(
     """
     from robospec.authoring.commands import run_inspect
 
-    text, diagnostics = run_inspect(file, format.value)
-    if text is not None:
-        sys.stdout.write(text)
-    if diagnostics:
-        _report(diagnostics, 1, DiagnosticFormat(format.value), color, err=True)
-    raise typer.Exit(1 if text is None or has_errors(diagnostics) else 0)
+    result = run_inspect(file, as_json=format is ReportFormat.json)
+    if result.report is not None:
+        sys.stdout.write(result.report)
+    if result.diagnostics:
+        _report(result.diagnostics, 1, DiagnosticFormat(format.value), color, err=True)
+    raise typer.Exit(1 if result.report is None or result.failed else 0)
 
 
 @app.command()
@@ -214,16 +212,12 @@ def new(
         from robospec.diagnostics.command_line import argument_location
 
         where = argument_location("--uid", uid, sys.argv[1:])
-    written, diagnostics = run_new(description, out, uid, force, not no_sim, where)
-    if attach and written is not None:
-        from robospec.authoring.attach import parse_attach, run_attach
+    result = run_new(description, out, uid, force, not no_sim, where).write()
+    if attach and not result.failed:
+        from robospec.authoring.new.attach import attach_parts
 
-        parts = [parse_attach(text) for text in attach]
-        more, found = run_attach(out, description, parts, force=force, simulate=not no_sim)
-        diagnostics.extend(found)
-        written = None if has_errors(found) else [*more, *(w for w in written if w not in more)]
-    done = "wrote " + ", ".join(str(path) for path in written or [])
-    _finish(diagnostics, written is None, format, color, done)
+        result = attach_parts(result, out, description, attach, force=force, simulate=not no_sim)
+    _finish(result, format, color, "wrote " + ", ".join(str(path) for path in result.written))
 
 
 @app.command()
@@ -332,13 +326,14 @@ def doc(
 
     Example: robospec doc specs/maniskill/panda.yaml --images   (writes panda.md and panda_images/)
     """
-    from robospec.authoring.commands import write_card
+    from robospec.authoring.commands import run_doc
 
     # a card named after its spec, where the user stands: `robospec doc SPEC --images` alone works
     out = out if out is not None else Path(f"{spec.stem}.md")
-    written, diagnostics = write_card(spec, out, plots, images, collisions)
-    done = "\n".join(f"wrote {path}" for path in written)  # the card, then each picture
-    _finish(diagnostics, has_errors(diagnostics), format, color, done)
+    result = run_doc(spec, out, plots, images, collisions).write()
+    # the card, then each picture (written before it, so that a card never lacks its pictures)
+    listed = [out, *(path for path in result.written if path != out)]
+    _finish(result, format, color, "\n".join(f"wrote {path}" for path in listed))
 
 
 @app.command(needs=("maniskill",))
@@ -384,6 +379,16 @@ def check(
             "of tasks (tabletop) runs each; repeat for several",
         ),
     ] = None,
+    solve: Annotated[
+        int,
+        typer.Option(
+            "--solve",
+            min=0,
+            metavar="N",
+            help="with --task: also run ManiSkill's solution of each task for N episodes "
+            "(robospec solve); fails under 90% success",
+        ),
+    ] = 0,
     silence: SilenceOpt = None,
 ) -> None:
     """Run headless physics checks on each robot (exit 1 when a check fails).
@@ -394,12 +399,23 @@ def check(
 
     Example: robospec check specs/maniskill/panda.yaml --steps 100 --format json
     Example: robospec check specs/my_arm.yaml --task PickCube-v1 --task PushCube-v1
+    Example: robospec check specs/my_arm.yaml --task PickCube-v1 --solve 5
     """
     from robospec.physics.command import run_check
 
     codes = _silenced_codes(silence)
     code, text = run_check(
-        paths, steps, format.value, gpu, num_envs, render, plot, task or [], sys.argv[1:], codes
+        paths,
+        steps,
+        format.value,
+        gpu,
+        num_envs,
+        render,
+        plot,
+        task or [],
+        sys.argv[1:],
+        codes,
+        solve,
     )
     typer.echo(text)
     raise typer.Exit(code)
@@ -445,6 +461,65 @@ def build(
         verb = f"wrote {len(result.changed)} file(s)" if result.changed else "up to date"
         typer.echo(f"{out}: {verb} ({len(compiled)} agent(s))")
     raise typer.Exit(1 if check and result.changed else 0)
+
+
+@app.command(needs=("maniskill",))
+def solve(
+    spec: Annotated[Path, typer.Argument(help="the spec of an arm with a two-finger gripper")],
+    task: Annotated[
+        str, typer.Option("--task", metavar="TASK", help="the ManiSkill task whose solution to run")
+    ] = "PickCube-v1",
+    count: Annotated[
+        int, typer.Option("--count", "-n", min=1, metavar="N", help="episodes to run")
+    ] = 10,
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "--out", "-o", metavar="DIR", help="write the trajectories to DIR/TASK.h5 and .json"
+        ),
+    ] = None,
+    num_procs: Annotated[
+        int,
+        typer.Option(
+            "--num-procs", min=1, metavar="N", help="processes to spread the episodes over"
+        ),
+    ] = 1,
+    seed: Annotated[
+        int, typer.Option("--seed", min=0, metavar="N", help="the first episode's seed")
+    ] = 0,
+    min_success: Annotated[
+        float | None,
+        typer.Option(
+            "--min-success",
+            min=0,
+            max=1,
+            metavar="FRACTION",
+            help="exit 1 when fewer episodes succeed (0 to 1)",
+        ),
+    ] = None,
+    format: ReportFormatOpt = ReportFormat.text,
+) -> None:
+    """Run ManiSkill's own motion-planning solution of a task with the robot, planned by
+    robospec from the spec, and write the episodes as ManiSkill trajectories (exit 1 when the
+    solution cannot apply, or under --min-success).
+
+    Each episode's success is the task's own (info["success"]); replay and convert the file
+    with ManiSkill's replay_trajectory (docs/solve.md).
+
+    Example: robospec solve specs/maniskill/panda.yaml --task PickCube-v1 -n 100 -o demos
+    Example: robospec solve my_arm.yaml --task StackCube-v1 -n 1000 --num-procs 8 -o demos
+    """
+    from robospec.diagnostics import has_errors
+    from robospec.solve.command import below_min_success, render_report, run_solve
+
+    report = run_solve(
+        spec, task, count, out, num_procs, seed, sys.argv[1:], progress=sys.stderr.isatty()
+    )
+    short = below_min_success(report, min_success, sys.argv[1:])
+    if short is not None:
+        report.diagnostics.append(short)
+    typer.echo(render_report(report, format.value))
+    raise typer.Exit(1 if has_errors(report.diagnostics) else 0)
 
 
 @app.command(needs=("maniskill",))
@@ -516,7 +591,7 @@ def optimize(
         ),
     ] = None,
     shapes: Annotated[
-        str | None,
+        ShapeMethod | None,
         typer.Option(
             "--shapes",
             metavar="METHOD",
@@ -588,12 +663,13 @@ def optimize(
 
     Example: robospec optimize specs/maniskill/fetch.yaml -o out/fetch_fast.yaml
     """
-    from robospec.optimize.command import OptimizeOptions, render, run_optimize
+    from robospec.optimize.command import run_optimize
+    from robospec.optimize.options import OptimizeOptions
 
     options = OptimizeOptions(
         keep=tuple(keep or ()),
         uid=uid,
-        shapes=shapes or "",
+        shapes=shapes,
         max_vertices=max_vertices,
         samples=samples,
         profile=profile,
@@ -602,9 +678,9 @@ def optimize(
         category=category,
         arguments=tuple(sys.argv[1:]),
     )
-    report, diagnostics = run_optimize(spec, out, options)
-    typer.echo(render(report, diagnostics, format.value))
-    raise typer.Exit(1 if report is None or has_errors(diagnostics) else 0)
+    result = run_optimize(spec, out, options)
+    typer.echo(result.render(format.value))
+    raise typer.Exit(result.exit_code)
 
 
 @app.command("import", needs=("maniskill",))

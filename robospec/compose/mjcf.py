@@ -290,8 +290,8 @@ def _mount(
         robot_body.attrib.pop(attribute, None)
     robot_body.set("pos", " ".join(number(v) for v in position))
     robot_body.set("quat", " ".join(number(v) for v in quaternion))
-    if robot_body.get("childclass") is None:
-        robot_body.set("childclass", main_class)
+    if robot_body.get("childclass") is None and tree.find("default") is not None:
+        robot_body.set("childclass", main_class)  # a part without defaults gets no class
     joints = [j for j in robot_body.iter("joint") if j.getparent() is not None]
     _extend_keys(root, joints, len(_children(tree, "actuator")))
     _merge_defaults(root, tree, main_class)

@@ -253,7 +253,8 @@ def _rename_references(root: etree._Element, old: str, new: str) -> None:
         for attribute in _BODY_REFERENCES:
             if element.get(attribute) == old:
                 element.set(attribute, new)
-        if element.get("objtype") == "body" and element.get("objname") == old:
+        # a sensor's object: the body's inertial frame (body) or its own frame (xbody)
+        if element.get("objtype") in ("body", "xbody") and element.get("objname") == old:
             element.set("objname", new)
         if element.tag == "exclude" and element.get("body1") == element.get("body2"):
             parent = element.getparent()

@@ -11,7 +11,6 @@ the SRDF beside a URDF (its mtime and size), the packages and, for an expanded x
 
 from __future__ import annotations
 
-import hashlib
 import os
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -30,6 +29,9 @@ _ACTIVE: ContextVar[DescriptionMemo | None] = ContextVar("robospec_description_m
 
 
 def _digest(data: bytes) -> str:
+    # hashlib (and the OpenSSL it loads) only where a memo is active: `validate` has none
+    import hashlib
+
     return hashlib.blake2b(data, digest_size=16).hexdigest()
 
 

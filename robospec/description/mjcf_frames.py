@@ -36,6 +36,7 @@ from robospec.geometry import (
     rotate,
     transpose,
     unit,
+    z_towards,
 )
 
 ORIENTATION_ATTRIBUTES = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
@@ -91,11 +92,7 @@ def mujoco_rotation(attributes: Mapping[str, str], degrees: bool, eulerseq: str)
         y = unit((y_given[0] - along * x[0], y_given[1] - along * x[1], y_given[2] - along * x[2]))
         return quaternion_from_matrix(transpose((x, y, cross(x, y))))
     z = unit(numbers(text, 3))  # type: ignore[arg-type]
-    # the smallest rotation taking (0, 0, 1) onto z
-    axis = cross((0.0, 0.0, 1.0), z)
-    if math.sqrt(dot(axis, axis)) < 1e-12:
-        return IDENTITY if z[2] > 0 else (0.0, 1.0, 0.0, 0.0)
-    return about_axis(axis, math.acos(max(-1.0, min(1.0, z[2]))))
+    return z_towards(z)
 
 
 def maniskill_rotation(attributes: Mapping[str, str], degrees: bool) -> Quaternion | None:

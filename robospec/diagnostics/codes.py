@@ -94,6 +94,7 @@ _CODES = [
     Code("RS208", "controller inheritance is circular"),
     Code("RS209", "group definition is circular"),
     Code("RS210", "group has the name of a joint"),
+    Code("RS211", "unknown keyframe"),
     Code("RS220", "Python reference cannot be used"),
     # -- semantic checks
     Code("RS301", "joint driven by more than one controller"),
@@ -121,6 +122,7 @@ _CODES = [
     Code("RS323", "no collision-group bit free for never_collide"),
     Code("RS324", "link rule on an MJCF robot"),
     Code("RS325", "end-effector controller without a URDF for its IK"),
+    Code("RS326", "reset keyframe without joint positions"),
     Code("RS330", "a task calls an agent member the spec does not define"),
     Code("RS331", "unknown ManiSkill task"),
     # -- import: an existing ManiSkill agent class -> a spec (RS400-RS419)
@@ -258,6 +260,11 @@ _CODES = [
     Code("RS674", "collision meshes fit no primitive within the bound"),
     Code("RS675", "unknown robot category"),
     Code("RS676", "an option that applies only to another profile or shapes method"),
+    # -- robospec solve: ManiSkill's solutions with robospec's planner
+    Code("RS680", "no ManiSkill solution robospec runs for the task"),
+    Code("RS681", "the robot has no two-finger gripper"),
+    Code("RS682", "the solver cannot drive the robot's arm or gripper"),
+    Code("RS683", "fewer episodes succeeded than --min-success asks"),
     # -- internal
     Code("RS900", "internal error"),
 ]

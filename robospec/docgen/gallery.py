@@ -52,8 +52,7 @@ def render_inputs(compiled: CompiledSpec, view: str = GALLERY_VIEW) -> str:
     digest = hashlib.sha256(f"robospec-gallery {RENDER_VERSION} {GALLERY_VIEW}\n".encode())
     if view != GALLERY_VIEW:  # (the gallery's hashes stay as they were recorded)
         digest.update(f"{view}\n{robot.cameras!r}\n".encode())
-    ref = robot.description
-    text = ref.generated_text.encode() if ref.generated_text else ref.absolute.read_bytes()
+    text = robot.description.read_bytes()
     digest.update(robot.description_kind.encode() + b"\n" + text)
     for mesh in sorted(description.mesh_files, key=lambda m: (m.uri, m.role)):
         if mesh.role == "visual" and mesh.path is not None:

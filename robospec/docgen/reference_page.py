@@ -229,6 +229,7 @@ REF_KINDS = {
     "control-mode": "control mode name",
     "material": "material name",
     "link-state": "link_states name",
+    "keyframe": "keyframe name",
 }
 
 

@@ -14,21 +14,8 @@ from collections import Counter
 from dataclasses import dataclass
 
 from robospec.emit.values import FileExpression, assign, call, const, name, value_key
+from robospec.model.controller_kinds import GAINS
 from robospec.resolve.resolved import ResolvedController, ResolvedRobot
-
-CONFIG_CLASSES = {
-    "pd_joint_pos": "PDJointPosControllerConfig",
-    "pd_joint_pos_mimic": "PDJointPosMimicControllerConfig",
-    "pd_joint_vel": "PDJointVelControllerConfig",
-    "pd_joint_pos_vel": "PDJointPosVelControllerConfig",
-    "pd_ee_pos": "PDEEPosControllerConfig",
-    "pd_ee_pose": "PDEEPoseControllerConfig",
-    "pd_base_vel": "PDBaseVelControllerConfig",
-    "pd_base_forward_vel": "PDBaseForwardVelControllerConfig",
-    "passive": "PassiveControllerConfig",
-}
-# the gains ManiSkill's agents name as class attributes, in the order they are written
-GAINS = ("stiffness", "damping", "force_limit", "friction")
 
 
 @dataclass(frozen=True)
@@ -150,7 +137,7 @@ def generate_controller_configs(
             if shared is not None and value_key(value) == value_key(shared[1]):
                 kwargs[key] = name("self." + shared[0])
         body.append(
-            assign(variables[controller.name], call(CONFIG_CLASSES[controller.type], **kwargs))
+            assign(variables[controller.name], call(controller.kind.config_class, **kwargs))
         )
     modes: list[ast.expr] = []
     for mode in robot.modes:

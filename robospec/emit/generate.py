@@ -16,7 +16,6 @@ from pathlib import Path
 
 from robospec.emit import members as helpers
 from robospec.emit.controllers import (
-    CONFIG_CLASSES,
     class_attributes,
     generate_controller_configs,
     property_method,
@@ -25,6 +24,7 @@ from robospec.emit.controllers import (
 from robospec.emit.layout import format_module
 from robospec.emit.module_imports import IMPORTABLE, import_statements, used_names
 from robospec.emit.python_refs import PythonNames, python_names, rename
+from robospec.emit.reset import RESET_MEMBERS, generate_reset
 from robospec.emit.values import (
     UnsafeIdentifier,
     assign,
@@ -39,10 +39,9 @@ from robospec.resolve.resolved import FileRef, ResolvedCamera, ResolvedKeyframe,
 
 __all__ = ["RESERVED_NAMES", "UnsafeIdentifier", "emit_module", "safe_identifier"]
 
-# names the generated module defines or imports: a controller variable must not shadow them
-RESERVED_NAMES = frozenset(
-    {"self", "HERE", "link_name", "property", *IMPORTABLE, *CONFIG_CLASSES.values()}
-)
+# names the generated module defines or imports (the config classes among them): a controller
+# variable must not shadow them
+RESERVED_NAMES = frozenset({"self", "HERE", "link_name", "property", *IMPORTABLE})
 # what the class itself defines: no derived attribute name may take one of these
 CLASS_ATTRIBUTES = frozenset(
     {
@@ -63,6 +62,7 @@ CLASS_ATTRIBUTES = frozenset(
         "_after_init",
         "_after_loading_articulation",
         "recommended_sim_config",
+        *RESET_MEMBERS,
     }
 )
 
@@ -222,6 +222,8 @@ def generate_members(robot: ResolvedRobot, python: PythonNames) -> list[ast.stmt
     after_init = generate_after_init(robot, python)
     if after_init is not None:
         body.append(after_init)
+    if robot.reset is not None:
+        body.extend(generate_reset(robot.reset))
     body.extend(helpers.generate_tcp_members(robot))
     body.extend(helpers.generate_grasping(check, robot) for check in robot.grasping)
     if robot.is_static is not None:

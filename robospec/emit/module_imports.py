@@ -6,9 +6,9 @@ from __future__ import annotations
 import ast
 from collections.abc import Iterable
 
-from robospec.emit.controllers import CONFIG_CLASSES
 from robospec.emit.layout.imports import sorted_imports
 from robospec.emit.python_refs import PythonNames, module_imports
+from robospec.model.controller_kinds import CONFIG_MODULE, CONTROLLER_KINDS
 
 # a name the generated code may use -> (module it comes from, None for `import module`; the
 # module or the imported name; the name it is bound to)
@@ -24,7 +24,7 @@ IMPORTABLE: dict[str, tuple[str | None, str]] = {
     "BaseAgent": ("mani_skill.agents.base_agent", "BaseAgent"),
     "Keyframe": ("mani_skill.agents.base_agent", "Keyframe"),
     "deepcopy_dict": ("mani_skill.agents.controllers", "deepcopy_dict"),
-    **{config: ("mani_skill.agents.controllers", config) for config in CONFIG_CLASSES.values()},
+    **{kind.config_class: (CONFIG_MODULE, kind.config_class) for kind in CONTROLLER_KINDS},
     "register_agent": ("mani_skill.agents.registration", "register_agent"),
     "CameraConfig": ("mani_skill.sensors.camera", "CameraConfig"),
     "common": ("mani_skill.utils", "common"),

@@ -13,7 +13,6 @@ from robospec.importer.groups import GroupPlan
 from robospec.importer.records import ControllerRecord, ModeRecord
 
 MAX_OVERRIDES = 4
-POSITION_KINDS = ("pd_joint_pos", "pd_joint_pos_mimic", "pd_joint_pos_vel")
 
 
 def written_fields(
@@ -68,16 +67,10 @@ def same_value(a: Any, b: Any) -> bool:
 
 
 def suffix_for(record: ControllerRecord) -> str:
+    """The kind's short name (``ee_delta_pose``, ``target_delta_pos``, ``vel``, ...)."""
     delta = "delta_" if record.get("use_delta") else ""
     target = "target_" if record.get("use_target") else ""
-    kind = record.type
-    if kind in ("pd_ee_pos", "pd_ee_pose"):
-        return f"ee_{target}{delta}{'pose' if kind == 'pd_ee_pose' else 'pos'}"
-    if kind in POSITION_KINDS:
-        return f"{target}{delta}pos" + ("_vel" if kind == "pd_joint_pos_vel" else "")
-    if kind == "passive":
-        return "passive"
-    return "vel"
+    return record.kind.short_name.format(how=target + delta)
 
 
 @dataclass

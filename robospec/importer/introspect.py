@@ -31,18 +31,8 @@ from robospec.importer.records import (
     ModeRecord,
     SourceRef,
 )
+from robospec.model.controller_kinds import kind_of_config
 
-CONFIG_TYPES = {
-    "PDJointPosControllerConfig": "pd_joint_pos",
-    "PDJointPosMimicControllerConfig": "pd_joint_pos_mimic",
-    "PDJointVelControllerConfig": "pd_joint_vel",
-    "PDJointPosVelControllerConfig": "pd_joint_pos_vel",
-    "PDEEPosControllerConfig": "pd_ee_pos",
-    "PDEEPoseControllerConfig": "pd_ee_pose",
-    "PDBaseVelControllerConfig": "pd_base_vel",
-    "PDBaseForwardVelControllerConfig": "pd_base_forward_vel",
-    "PassiveControllerConfig": "passive",
-}
 # members a spec reproduces as data, or that every agent inherits unchanged in meaning
 DATA_MEMBERS = frozenset(
     {"_controller_configs", "_sensor_configs", "__init__", "__doc__", "__module__"}
@@ -476,7 +466,7 @@ def _mode(
 def _controller(
     config: Any, where: str, location: Location, diagnostics: list[Diagnostic]
 ) -> ControllerRecord | None:
-    kind = CONFIG_TYPES.get(type(config).__name__)
+    kind = kind_of_config(type(config).__name__)
     if kind is None or not type(config).__module__.startswith("mani_skill."):
         diagnostics.append(
             error(
@@ -508,7 +498,7 @@ def _controller(
             continue
         if _same(value, plain(default)):
             defaults.add(f.name)
-    return ControllerRecord(kind, joints, tuple(values), frozenset(defaults))
+    return ControllerRecord(kind.name, joints, tuple(values), frozenset(defaults))
 
 
 def _same(a: Any, b: Any) -> bool:

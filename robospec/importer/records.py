@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from robospec.geometry import Quaternion, Vector
+from robospec.model.controller_kinds import ControllerKind, controller_kind
 
 ALL_JOINTS = "*"
 """Stands for "every active joint" when the description is not installed, so the joints an
@@ -38,6 +39,11 @@ class ControllerRecord:
 
     def get(self, name: str) -> Any:
         return dict(self.fields).get(name)
+
+    @property
+    def kind(self) -> ControllerKind:
+        """What its ``type`` is (:mod:`robospec.model.controller_kinds`)."""
+        return controller_kind(self.type)
 
     @property
     def key(self) -> str:

@@ -217,10 +217,7 @@ def _keyframes(record: AgentRecord, found: Findings) -> None:
 
 
 def _config_name(controller: ControllerRecord) -> str:
-    from robospec.importer.introspect import CONFIG_TYPES
-
-    names = {v: k for k, v in CONFIG_TYPES.items()}
-    return names.get(controller.type, controller.type)
+    return controller.kind.config_class
 
 
 def _did_you_mean(name: str, candidates: set[str]) -> str | None:
@@ -265,11 +262,7 @@ def _unbounded_normalize(
     limits: dict[str, Any] | None,
     pending: dict[tuple[str, str], tuple[list[str], str, str]],
 ) -> None:
-    if limits is None or controller.type not in (
-        "pd_joint_pos",
-        "pd_joint_pos_mimic",
-        "pd_joint_pos_vel",
-    ):
+    if limits is None or not controller.kind.joint_position_targets:
         return
     if not controller.get("normalize_action"):
         return
@@ -301,7 +294,7 @@ def _positional_gains(
     pending: dict[tuple[str, str], tuple[list[str], str, str]],
     found: Findings,
 ) -> None:
-    if controller.type not in ("pd_ee_pos", "pd_ee_pose"):
+    if not controller.kind.end_effector:
         return
     stiffness = controller.get("stiffness")
     if not isinstance(stiffness, (int, float)) or isinstance(stiffness, bool):

@@ -41,10 +41,13 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from robospec.description import Joint, RobotDescription
-from robospec.kinematics.forward import KinematicModel
 from robospec.kinematics.tree import KinematicTree
+
+if TYPE_CHECKING:
+    from robospec.kinematics.forward import KinematicModel
 
 # a leg word may carry one letter of side before it (half_cheetah's "bthigh", "ffoot"): "wheel"
 # is no heel, "ship" no hip
@@ -211,7 +214,7 @@ def _planar_base(
     active = description.active_joints
     if len(active) < 3 or kinematics is None:
         return None
-    poses = kinematics.link_poses()
+    axes = kinematics.at().axes
     first: list[Joint] = []
     # the serial chain of active joints from the root, up to three
     link = description.root_link
@@ -224,11 +227,11 @@ def _planar_base(
         if joint.is_active:
             first.append(joint)
         link = joint.child
-    axes = [kinematics.axis_in_root(j.name, poses) for j in first]
     x = y = yaw = None
-    for joint, axis in zip(first, axes, strict=True):
-        if axis is None:
+    for joint in first:
+        if joint.name not in axes:
             return None
+        axis = axes[joint.name].direction
         if joint.type == "prismatic" and abs(axis[0]) > _AXIS_TOLERANCE:
             x = joint.name
         elif joint.type == "prismatic" and abs(axis[1]) > _AXIS_TOLERANCE:
@@ -284,13 +287,15 @@ def _names_by_position(
 ) -> list[str] | None:
     if kinematics is None:
         return None
-    poses = kinematics.link_poses()
+    # where each leg's first joint holds it, at zero: its child link's origin
+    poses = kinematics.at().links
     places = []
     for leg in legs:
         joint = kinematics.joint(leg[0])
-        if joint is None or joint.parent not in poses:
+        if joint is None or joint.child not in poses:
             return None
-        places.append((poses[joint.parent] @ joint.origin).translation)
+        x, y, z = poses[joint.child][:3, 3].tolist()
+        places.append((x, y, z))
     if len(legs) == 2 and all(abs(y) < _CENTRE_TOLERANCE for _, y, _ in places):
         (x1, _, _), (x2, _, _) = places
         if abs(x1 - x2) < _CENTRE_TOLERANCE:

@@ -8,6 +8,7 @@ robot's tree stops at its root.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from robospec.description import Joint, RobotDescription
@@ -25,9 +26,21 @@ class KinematicTree:
     path of every joint, and rebuilding the maps per question made it quadratic."""
 
     def __init__(self, description: RobotDescription) -> None:
-        self.root = description.root_link
-        self.below: dict[str, list[Joint]] = {link.name: [] for link in description.links}
-        joints = description.tree_joints
+        self._join(description.root_link, description.link_names, description.tree_joints)
+
+    @classmethod
+    def of(cls, root: str, joints: Iterable[Joint]) -> KinematicTree:
+        """The tree ``joints`` make under the link ``root`` (its links: the root and each
+        joint's child), for a tree with no description at hand: the one ``robospec new``'s
+        probe child is sent, or one a test makes up."""
+        tree = cls.__new__(cls)
+        listed = tuple(joints)
+        tree._join(root, (root, *(joint.child for joint in listed)), listed)
+        return tree
+
+    def _join(self, root: str, links: Iterable[str], joints: tuple[Joint, ...]) -> None:
+        self.root = root
+        self.below: dict[str, list[Joint]] = {link: [] for link in links}
         for joint in joints:
             self.below.setdefault(joint.parent, []).append(joint)
         # link -> the joint that attaches it to its parent (every link but the root)
@@ -56,6 +69,15 @@ class KinematicTree:
             path.append(joint)
             link = joint.parent
         return path[::-1]
+
+    def joints_between(self, a: str, b: str) -> set[Joint]:
+        """The joints on the tree's path from link ``a`` to link ``b``: those above one of
+        them and not above the other."""
+        return set(self.root_path(a)) ^ set(self.root_path(b))
+
+    def joints_apart(self, a: str, b: str) -> int:
+        """How many active joints lie between links ``a`` and ``b``."""
+        return sum(1 for joint in self.joints_between(a, b) if joint.is_active)
 
     def leaves(self) -> list[str]:
         return [row.link for row in self.rows() if not self.below.get(row.link)]

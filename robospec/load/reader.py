@@ -8,13 +8,15 @@ import stat
 import sys
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error, line_column
-from robospec.load.explained import Explained
 from robospec.load.prescan import prescan
 from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap, WrittenNumber
-from robospec.load.syntax_hints import duplicate_key, explain_toml, explain_yaml
+
+if TYPE_CHECKING:
+    # imported where a syntax error is explained: a spec that parses needs none of it
+    from robospec.load.explained import Explained
 
 SPEC_SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml"}
 MAX_BYTES = 2 * 1024 * 1024
@@ -298,6 +300,8 @@ def _unreadable_character(exc: Any, text: str, source: SourceMap) -> Diagnostic:
 
 
 def _duplicate_yaml(exc: Any, text: str) -> Explained:
+    from robospec.load.syntax_hints import duplicate_key
+
     match = re.search(r'found duplicate key "([^"]*)"', str(exc))
     mark = exc.problem_mark
     line, column = _within_text(text, mark.line + 1, mark.column + 1)
@@ -305,6 +309,8 @@ def _duplicate_yaml(exc: Any, text: str) -> Explained:
 
 
 def _explained_yaml(exc: Any, text: str) -> Explained | None:
+    from robospec.load.syntax_hints import explain_yaml
+
     mark = exc.problem_mark or exc.context_mark
     if mark is None:
         return None
@@ -429,6 +435,7 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
+        from robospec.load.syntax_hints import duplicate_key, explain_toml
         from robospec.load.toml_positions import tomllib_error_location
 
         line, column, message = tomllib_error_location(exc, text)

@@ -20,14 +20,8 @@ from robospec.description.memo import DescriptionMemo, remembering
 from robospec.diagnostics import Diagnostic, Location
 from robospec.load.reader import SPEC_SUFFIXES
 from robospec.pipeline import CompiledSpec, compile_spec
-from robospec.resolve.paths import (
-    maniskill_assets_dir,
-    maniskill_data_dir,
-    split_assets,
-    split_data,
-)
-
-EXPANDED = " (expanded)"  # how diagnostics name a xacro's expansion (resolve.description_files)
+from robospec.resolve.description_loading import EXPANDED
+from robospec.resolve.paths import in_maniskill
 
 
 def _signature(path: Path) -> tuple[int, int] | None:
@@ -96,12 +90,9 @@ class Analysis:
             return self.path
         if shown.endswith(EXPANDED):
             return None
-        in_assets, in_data = split_assets(shown), split_data(shown)
-        if in_assets is not None:
-            assets = maniskill_assets_dir()
-            return assets / in_assets if assets is not None else None
-        if in_data is not None:
-            return maniskill_data_dir() / in_data
+        found = in_maniskill(shown)
+        if found is not None:
+            return found[2]
         candidate = Path(os.path.normpath(shown))
         return candidate if candidate.is_absolute() and candidate.is_file() else None
 
@@ -231,8 +222,10 @@ class Workspace:
         analysis.read[analysis.description_file] = _signature(analysis.description_file)
 
     def _description_alone(self, spec: Path, data: Any) -> RobotDescription | None:
-        """The URDF or MJCF a spec names (not a xacro: that needs expanding), parsed alone."""
-        from robospec.description import load_description
+        """The URDF or MJCF a spec names (not a xacro: that needs expanding), loaded alone as
+        the spec would load it (robospec.resolve.description_loading); its problems are the
+        compilation's to tell."""
+        from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
 
         given = data.get("description") if isinstance(data, dict) else None
         if not isinstance(given, dict):
@@ -241,21 +234,10 @@ class Workspace:
             text = given.get(kind)
             if not isinstance(text, str):
                 continue
-            in_assets, in_data = split_assets(text), split_data(text)
-            assets = maniskill_assets_dir()
-            if in_assets is not None:
-                if assets is None:
-                    return None
-                file = assets / in_assets
-            elif in_data is not None:
-                file = maniskill_data_dir() / in_data
-            else:
-                file = Path(os.path.normpath(spec.parent / text))
-            if not file.is_file():
-                return None
+            reader = Reader(spec.parent, spec.parent, lambda _: Location(str(spec)))
             with remembering(self.memo):
-                description, _ = load_description(str(file), kind)  # type: ignore[arg-type]
-            return description
+                loaded = load(reader, DescriptionEntry(text, kind))  # type: ignore[arg-type]
+            return loaded.description if isinstance(loaded, Loaded) else None
         return None
 
     def current(self, path: Path) -> Analysis:

@@ -22,6 +22,7 @@ DEFINED_IN = {
     "controller": "controllers",
     "control-mode": "control_modes",
     "link-state": "link_states",
+    "keyframe": "keyframes",
     "link-or-named": "named_links",
     "joint-selection": "groups",
 }

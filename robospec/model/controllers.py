@@ -2,7 +2,9 @@
 
 Field names and defaults follow ``mani_skill.agents.controllers`` (3.0.1) exactly, so a field a
 user leaves out means what it means in ManiSkill. ``joints`` replaces ``joint_names`` and takes a
-joint selection; per-joint values may be given by joint or group name.
+joint selection; per-joint values may be given by joint or group name. What each type is
+beyond its fields (its config class, its action, the drive targets it sets) is its record in
+:mod:`robospec.model.controller_kinds`.
 """
 
 from __future__ import annotations

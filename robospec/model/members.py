@@ -15,7 +15,7 @@ from pydantic import AfterValidator, Field, model_validator
 
 from robospec.model import rules
 from robospec.model.common import GroupSelection, Number, Pose, StrictModel
-from robospec.model.refs import LinkName, LinkOrNamed
+from robospec.model.refs import KeyframeName, LinkName, LinkOrNamed
 from robospec.model.rules import _not_a_keyword
 
 # an attribute or method name the generated class defines
@@ -107,6 +107,35 @@ class Grasping(StrictModel):
         description="The largest angle between a contact force and the opening direction, in "
         "degrees (the method's default argument).",
         examples=[85],
+    )
+
+
+class Reset(StrictModel):
+    """Where every episode starts: the agent's `reset()` puts the joints at a keyframe.
+
+    ManiSkill's tasks set the joints only of the robots their scene builders know (the Panda,
+    Fetch, ...) and leave any other robot where the last episode ended. The noise is drawn as
+    those scene builders draw theirs: from the resetting environment's episode RNG, for every
+    joint, then kept only on `noise_joints`, so a seeded reset repeats it.
+    """
+
+    keyframe: KeyframeName | None = Field(
+        default=None,
+        description="The keyframe every episode starts at; default: the first keyframe.",
+        examples=["rest"],
+    )
+    qpos_noise: Annotated[Number, Field(ge=0)] = Field(
+        default=0.0,
+        description="The standard deviation of the Gaussian noise added to the keyframe's "
+        "joint positions at each reset, in rad (or m); ManiSkill's tabletop scenes give their "
+        "own robots 0.02.",
+        examples=[0.02],
+    )
+    noise_joints: GroupSelection | None = Field(
+        default=None,
+        description="The joints the noise is added to (the others start exactly at the "
+        "keyframe); default: all.",
+        examples=["arm"],
     )
 
 

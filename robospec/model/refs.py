@@ -26,6 +26,7 @@ RefKind = Literal[
     "controller",  # a key of `controllers`
     "control-mode",  # a key of `control_modes`
     "link-state",  # a key of `link_states`
+    "keyframe",  # a key of `keyframes`
 ]
 
 GLOB_KINDS: frozenset[str] = frozenset({"joint-selection", "link-pattern"})
@@ -46,3 +47,4 @@ MaterialName = Annotated[str, _ref("material")]
 ControllerName = Annotated[str, _ref("controller")]
 ControlModeName = Annotated[str, _ref("control-mode")]
 LinkStateName = Annotated[str, _ref("link-state")]
+KeyframeName = Annotated[str, _ref("keyframe")]

@@ -18,20 +18,6 @@ from pydantic_core import PydanticCustomError, PydanticKnownError
 from robospec.load.source_map import WrittenNumber
 from robospec.model.expressions import ExpressionError, evaluate
 
-CONTROLLER_TYPES: tuple[str, ...] = (
-    "pd_joint_pos",
-    "pd_joint_pos_mimic",
-    "pd_joint_vel",
-    "pd_joint_pos_vel",
-    "pd_ee_pos",
-    "pd_ee_pose",
-    "pd_base_vel",
-    "pd_base_forward_vel",
-    "passive",
-)
-"""Every controller `type`, in the order the docs and hints list them."""
-
-
 # -- field values -------------------------------------------------------------------------
 
 

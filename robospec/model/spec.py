@@ -35,6 +35,7 @@ from robospec.model.members import (
     NamedLink,
     PythonName,
     PythonRef,
+    Reset,
     Tcp,
 )
 from robospec.model.mends import Mends
@@ -565,6 +566,14 @@ class Spec(StrictModel):
         default_factory=dict,
         description="Named robot states (root pose, joint positions and velocities).",
         examples=[{"rest": _REST}],
+    )
+    reset: Reset | None = Field(
+        default=None,
+        description="Where every episode starts: the keyframe the agent resets its joints to "
+        "(ManiSkill's tasks reset only the robots they know), with optional noise. Without "
+        "it the agent resets as ManiSkill's own agents do: its joints stay where the last "
+        "episode left them unless the task's scene builder knows the robot.",
+        examples=[{"keyframe": "rest", "qpos_noise": 0.02, "noise_joints": "arm"}],
     )
     controllers: dict[
         Name,

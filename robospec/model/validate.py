@@ -237,7 +237,7 @@ def _message(kind: str, err: Any, path: KeyPath, data: Any) -> tuple[str, str | 
         known = fields_for(frozen.SCHEMAS["Spec"], err["loc"][:-1])
         return f"unknown key '{key}'{_describe(path[:-1])}", did_you_mean(key, known)
     if kind == "union_tag_invalid":
-        from robospec.model.rules import CONTROLLER_TYPES
+        from robospec.model.controller_kinds import CONTROLLER_TYPES
 
         got = str(_node(data, path))
         hint = did_you_mean(got, CONTROLLER_TYPES) or "types: " + ", ".join(CONTROLLER_TYPES)

@@ -83,13 +83,9 @@ def _measure(
 ) -> tuple[Any, Any]:
     """Contact counts at ManiSkill's offset and at the profile's (``offset``, or the one
     the first count calls for), over the matrix's first configurations."""
+    from robospec.maniskill.scenes import CONTACT_OFFSET
     from robospec.optimize.collision_matrix import configurations, joint_ranges, load_for_contacts
-    from robospec.optimize.contacts import (
-        MANISKILL_OFFSET,
-        count_contacts_at,
-        disabled_pairs,
-        profile_offset,
-    )
+    from robospec.optimize.contacts import count_contacts_at, disabled_pairs, profile_offset
     from robospec.pipeline import compile_spec
 
     packed = compile_spec(staged_spec)
@@ -108,7 +104,7 @@ def _measure(
         names, lower, upper, loaded.mimics, (), min(options.samples, CONTACT_SAMPLES), options.seed
     )
     never = matrix.never
-    before = count_contacts_at(loaded, rows, MANISKILL_OFFSET, skip, never)
+    before = count_contacts_at(loaded, rows, CONTACT_OFFSET, skip, never)
     chosen = offset if offset is not None else profile_offset(before.nearest_gap)
     after = count_contacts_at(loaded, rows, chosen, skip, never)
     return before, after

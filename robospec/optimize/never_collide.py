@@ -16,6 +16,8 @@ remaining bits go to the cliques of the next band that cover the most pairs.
 from __future__ import annotations
 
 from collections.abc import Callable, Collection, Iterable, Mapping
+from pathlib import Path
+from typing import Any
 
 from robospec.resolve.collision_packing import FREE_BITS, Pair, clique_pairs, pack
 
@@ -89,3 +91,39 @@ def _tree_distance(parents: Mapping[str, str]) -> Callable[[Pair], int]:
         )
 
     return distance
+
+
+def sampled_entries(
+    urdf_file: Path, urdf: Any, compiled: Any, samples: int, seed: int
+) -> tuple[list[list[str]], Any]:
+    """never_collide entries for the pairs of the URDF (``urdf_file``, read as ``urdf``) that
+    touched in no sampled configuration and no keyframe (or in every one), within the group-2
+    bits the spec leaves free; and the collision matrix they come from."""
+    from robospec.optimize.collision_matrix import sample_collision_matrix
+    from robospec.optimize.links import child
+
+    robot = compiled.robot
+    keyframes = [
+        dict(zip(robot.active_joints, keyframe.qpos, strict=False))
+        for keyframe in robot.keyframes
+        if keyframe.qpos is not None
+    ]
+    matrix = sample_collision_matrix(
+        str(urdf_file),
+        samples=samples,
+        seed=seed,
+        keyframes=keyframes,
+        fix_root_link=robot.fix_root_link,
+    )
+    taken = {rule.bit for rule in robot.collision_rules if rule.group == 2}
+    taken |= set(compiled.context.spec.scene_collision_bits)
+    taken |= {bit for bit, _ in compiled.description.loader_collision_bits}
+    parents = {
+        name: parent.get("link")
+        for joint in urdf.iter("joint")
+        if (name := child(joint)) is not None and (parent := joint.find("parent")) is not None
+    }
+    entries = never_collide_entries(
+        matrix.never | matrix.always, matrix.adjacent, free_bits(taken), parents
+    )
+    return entries, matrix

@@ -129,7 +129,7 @@ def carried_urdf(ref: FileRef, module_dir: Path, copies: dict[str, str] | None =
     from ``copies``), and a comment that marks the file as ours."""
     from lxml import etree
 
-    text = ref.generated_text if ref.generated_text is not None else ref.absolute.read_text()
+    text = ref.read_text()
     root = etree.fromstring(text.encode())
     found = dict(ref.mesh_paths)
     copies = copies or {}

@@ -16,14 +16,6 @@ from robospec.physics.sim import ControllerGroup, Sim
 
 NAME = "action_layout"
 
-# what the dimensions of the controllers that do not drive one joint per dimension stand for
-_NAMED_DIMENSIONS = {
-    "PDEEPosController": ("x", "y", "z"),
-    "PDEEPoseController": ("x", "y", "z", "rx", "ry", "rz"),
-    "PDBaseVelController": ("vx", "vy", "wz"),
-    "PDBaseForwardVelController": ("v", "wz"),
-}
-
 
 def check(run: CheckRun) -> list[Finding]:
     return [_layout(run.sim(mode)) for mode in run.modes]
@@ -61,8 +53,9 @@ def _bounds(group: ControllerGroup) -> tuple[np.ndarray, np.ndarray, bool]:
 
 def _targets(sim: Sim, group: ControllerGroup) -> list[str]:
     width = group.action_slice.stop - group.action_slice.start
-    named = _NAMED_DIMENSIONS.get(type(group.controller).__name__)
-    if named is not None and len(named) == width:
+    kind = group.controller_kind
+    named = kind.axis_names if kind is not None else ()
+    if named and len(named) == width:
         return [f"{group.name}.{axis}" for axis in named]
     names = [sim.joint_names[j] for j in group.action_joint_indices]
     if group.with_velocities and 2 * len(names) == width:

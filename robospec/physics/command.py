@@ -26,10 +26,11 @@ def run_check(
     tasks: Sequence[str] = (),
     arguments: Sequence[str] = (),
     silence: frozenset[str] = frozenset(),
+    solve: int = 0,
 ) -> tuple[int, str]:
     """``arguments``: the command line as typed (after ``robospec``), to locate ``--task``."""
     problems = _unavailable(gpu, render_dir)
-    requests, task_problems = task_requests(tasks, arguments)
+    requests, task_problems = task_requests(tasks, arguments, solve)
     problems += task_problems
     if has_errors(problems):
         return 1, _render([], problems, fmt)
@@ -59,7 +60,7 @@ def _written_since(folder: Path, started: float) -> list[Path]:
 
 
 def task_requests(
-    tasks: Sequence[str], arguments: Sequence[str]
+    tasks: Sequence[str], arguments: Sequence[str], solve: int = 0
 ) -> tuple[tuple[TaskRequest, ...], list[Diagnostic]]:
     """The tasks ``--task`` names, folders expanded, each with where the command line names it;
     RS524 for a name the installed ManiSkill does not register."""
@@ -75,9 +76,11 @@ def task_requests(
     for name in tasks:
         at = argument_location("--task", name, arguments)
         if name in scan.tasks:
-            requests.append(TaskRequest(name, at))
+            requests.append(TaskRequest(name, at, solve=solve))
         elif name in scan.families:
-            requests.extend(TaskRequest(task, at, explicit=False) for task in scan.family(name))
+            requests.extend(
+                TaskRequest(task, at, explicit=False, solve=solve) for task in scan.family(name)
+            )
         else:
             suggestion = did_you_mean(name, [*scan.tasks, *scan.families])
             problems.append(

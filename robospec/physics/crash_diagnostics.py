@@ -70,9 +70,8 @@ def _search(context: CheckContext, element: Element) -> int | None:
     """The line of the first ``<tag name="name">`` in the description's text."""
     from lxml import etree
 
-    ref = context.robot.description
     try:
-        text = ref.generated_text if ref.generated_text is not None else ref.absolute.read_text()
+        text = context.robot.description.read_text()
         root = etree.fromstring(text.encode("utf-8"))
     except (OSError, ValueError, etree.XMLSyntaxError):
         return None

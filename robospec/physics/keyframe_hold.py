@@ -272,7 +272,7 @@ def _mimic_mismatch(run: CheckRun, sim: Sim, start: np.ndarray) -> tuple[str | N
     for group in sim.groups():
         name = run.controller_name(sim.mode, group.name)
         resolved = next((c for c in run.robot.controllers if c.name == name), None)
-        if resolved is None or resolved.type != "pd_joint_pos_mimic":
+        if resolved is None or not resolved.kind.mimic:
             continue
         for joint, rule in (dict(resolved.kwargs).get("mimic") or {}).items():
             control = rule["joint"]

@@ -55,7 +55,7 @@ def contradictions(run: CheckRun) -> dict[str, Contradiction]:
     joints = {joint.name: joint for joint in run.context.description.joints}
     found: dict[str, Contradiction] = {}
     for controller in run.robot.controllers:
-        if controller.type != "pd_joint_pos_mimic":
+        if not controller.kind.mimic:
             continue
         for name, rule in (dict(controller.kwargs).get("mimic") or {}).items():
             joint, control = joints.get(name), joints.get(rule["joint"])

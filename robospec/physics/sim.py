@@ -4,7 +4,8 @@ checks touch ManiSkill, SAPIEN and torch.
 Everything a check reads comes back as numpy arrays shaped ``(num_envs, ...)``: one row on the
 CPU, one row per parallel environment on ``physx_cuda``. Controllers are looked at through what
 ManiSkill's own classes expose (``single_action_space``, ``active_joint_indices``, the mimic
-controller's ``control_joint_indices``), so the checks see exactly what a task would drive.
+controller's ``control_joint_indices``), so the checks see exactly what a task would drive; what
+kind each is comes from its config's class (:mod:`robospec.model.controller_kinds`).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import numpy as np
 
 from robospec.geometry import Vector
 from robospec.maniskill.headless import headless_loading, make_empty_env
+from robospec.model.controller_kinds import ControllerKind, kind_of_config
 from robospec.resolve.resolved import ResolvedKeyframe
 
 # m: how far a floating robot is lifted for a test stand (its root held there): clear of the
@@ -48,39 +50,37 @@ class ControllerGroup:
     joint_indices: tuple[int, ...]  # into the robot's active joints, in controller order
 
     @property
-    def kind(self) -> str:
-        """``position``, ``velocity``, ``passive`` or ``other``, from ManiSkill's classes."""
-        from mani_skill.agents.controllers.passive_controller import PassiveController
-        from mani_skill.agents.controllers.pd_joint_pos import PDJointPosController
-        from mani_skill.agents.controllers.pd_joint_vel import PDJointVelController
+    def controller_kind(self) -> ControllerKind | None:
+        """Which kind its config is, or None for a config no spec can name."""
+        return kind_of_config(type(self.controller.config).__name__)
 
-        if isinstance(self.controller, PDJointPosController):
+    @property
+    def kind(self) -> str:
+        """``position``, ``velocity``, ``passive`` or ``other``: the drive targets it sets
+        (an end effector's are joint positions too)."""
+        kind = self.controller_kind
+        if kind is None:
+            return "other"
+        if kind.sets_target_qpos:
             return "position"
-        if isinstance(self.controller, PDJointVelController):
-            return "velocity"
-        if isinstance(self.controller, PassiveController):
-            return "passive"
-        return "other"
+        return "velocity" if kind.sets_target_qvel else "passive"
 
     @property
     def absolute_position(self) -> bool:
         """Whether its action is a joint-position target (``pd_joint_pos``, mimic, pos_vel)."""
-        from mani_skill.agents.controllers.pd_ee_pose import PDEEPosController
-
-        config = self.controller.config
+        kind = self.controller_kind
         return (
-            self.kind == "position"
-            and not isinstance(self.controller, PDEEPosController)
-            and not getattr(config, "use_delta", False)
+            kind is not None
+            and kind.joint_position_targets
+            and not getattr(self.controller.config, "use_delta", False)
         )
 
     @property
     def with_velocities(self) -> bool:
         """Whether its action is joint positions followed by joint velocities
         (``pd_joint_pos_vel``)."""
-        from mani_skill.agents.controllers.pd_joint_pos_vel import PDJointPosVelController
-
-        return isinstance(self.controller, PDJointPosVelController)
+        kind = self.controller_kind
+        return kind is not None and kind.sets_target_qpos and kind.sets_target_qvel
 
     @property
     def action_joint_indices(self) -> tuple[int, ...]:
@@ -131,8 +131,10 @@ class Sim:
         # the scene users get: Empty-v1's ground, whatever the robot (a fixed robot at the
         # origin that reaches through it meets it there too: robospec.physics.ground says so)
         self.ground = self.base.ground
-        # the state the robot is loaded in: ``start(None)``
-        self._loaded = (self.robot.get_qpos().clone(), self.robot.pose)
+        # the state the robot is loaded in: ``start(None)``. SAPIEN builds every joint at 0 (no
+        # loader of ManiSkill's sets a qpos); the reset has since put a robospec agent at its
+        # reset keyframe, so the joints are read as built, not as they are now
+        self._loaded = (self.robot.get_qpos() * 0, self.robot.pose)
         self._used = False  # whether anything moved since the scene was built
 
     def _rebuild(self) -> None:
@@ -458,6 +460,27 @@ class Sim:
             body = link._objs[0]
             if body.collision_shapes:
                 found[link.name] = float(body.compute_global_aabb_tight()[0][2])
+        return found
+
+    def shaped_links(self) -> set[str]:
+        """The links with collision shapes (the only ones PhysX collides)."""
+        return {link.name for link in self.robot.links if link._objs[0].collision_shapes}
+
+    def hinge_axes(self) -> dict[str, tuple[Vector, Vector]]:
+        """Each link that turns about its parent on a revolute joint -> the line it turns
+        about, in the world as the robot is now: (a point on it, its direction); a PhysX joint
+        turns about its frame's x axis. CPU only."""
+        found = {}
+        for link in self.robot.links:
+            joint = link.joint
+            if joint is None or not str(joint._objs[0].type).startswith("revolute"):
+                continue
+            matrix = joint._objs[0].get_global_pose().to_transformation_matrix()
+            point = (float(matrix[0, 3]), float(matrix[1, 3]), float(matrix[2, 3]))
+            found[link.name] = (
+                point,
+                (float(matrix[0, 0]), float(matrix[1, 0]), float(matrix[2, 0])),
+            )
         return found
 
     def ground_contacts(self) -> list[tuple[str, Vector, float]]:

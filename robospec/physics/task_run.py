@@ -32,11 +32,14 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Location, error
+from robospec.maniskill.reach import chain_reach
 from robospec.physics.check_run import CheckRun
 from robospec.physics.crash import USER, from_exception, root_cause
 from robospec.physics.findings import Finding, Status, metrics
 
 NAME = "task"
+SOLVE = "solve"  # check --solve: the finding of a task's solution
+MIN_SUCCESS = 0.9  # check --solve fails a task solved in fewer of its episodes
 STEPS = 50
 SEVERAL_ROBOTS = "agents"
 
@@ -49,13 +52,42 @@ class TaskRequest:
     id: str
     at: Location
     explicit: bool = True
+    solve: int = 0  # check --solve N: episodes of ManiSkill's solution after the random steps
 
 
 def check(run: CheckRun, tasks: tuple[TaskRequest, ...]) -> list[Finding]:
     from robospec.maniskill.tasks import installed_tasks
 
     scan = installed_tasks()
-    return [_task(run, request, scan) for request in tasks]
+    findings = []
+    for request in tasks:
+        found = _task(run, request, scan)
+        findings.append(found)
+        if request.solve and found.status == Status.PASS:
+            findings.append(_solve(run, request))
+    return findings
+
+
+def _solve(run: CheckRun, request: TaskRequest) -> Finding:
+    """``check --solve N``: N episodes of ManiSkill's solution (``robospec solve``); a FAIL
+    under :data:`MIN_SUCCESS`, or where the solution cannot apply (its reason)."""
+    from pathlib import Path
+
+    from robospec.solve.command import below_min_success, run_solve
+
+    run.phase(f"solving {request.id}")
+    report = run_solve(
+        Path(run.context.robot.spec_path), request.id, request.solve, None, 1, 0, progress=False
+    )
+    short = below_min_success(report, MIN_SUCCESS, ())
+    diagnostics = tuple(report.diagnostics) + ((short,) if short is not None else ())
+    if not report.episodes:
+        return Finding(SOLVE, None, request.id, Status.FAIL, "not solvable", {}, diagnostics)
+    successes = sum(e.success for e in report.episodes)
+    summary = f"ManiSkill's solution: {successes} of {len(report.episodes)} episodes succeeded"
+    status = Status.FAIL if short is not None else Status.PASS
+    values = metrics(success_rate=report.success_rate, episodes=len(report.episodes))
+    return Finding(SOLVE, None, request.id, status, summary, values, diagnostics)
 
 
 def _where(run: CheckRun, task: str) -> Location:
@@ -276,7 +308,7 @@ def _reach(run: CheckRun, env: Any, request: TaskRequest) -> Finding | None:
     base = env.unwrapped
     robot = base.agent.robot
     root = robot.pose.p[0].cpu().numpy()
-    reach = _chain_reach(robot)
+    reach = chain_reach(robot)
     objects = []
     for name, actor in base.scene.actors.items():
         body = actor._objs[0] if actor._objs else None
@@ -301,35 +333,3 @@ def _reach(run: CheckRun, env: Any, request: TaskRequest) -> Finding | None:
     )
     summary = f"'{nearest[0]}' {nearest[1]:.2f} m away, reach {reach:.2f} m"
     return Finding(NAME, None, request.id, Status.FAIL, summary, {}, (diagnostic,))
-
-
-def _chain_reach(robot: Any) -> float | None:
-    """The length of the robot's longest chain of links: from the root, each link's distance
-    from its parent link (joint frames and link origins), summed; plus the farthest point of
-    the last link's collision shapes."""
-    lengths: dict[str, float] = {}
-    links = {link.name: link for link in robot.links}
-    pose = {name: link.pose.p[0].cpu().numpy() for name, link in links.items()}
-
-    def length(name: str) -> float:
-        if name in lengths:
-            return lengths[name]
-        link = links[name]
-        parent = link.joint.parent_link if link.joint is not None else None
-        if parent is None:
-            lengths[name] = 0.0
-        else:
-            step = float(np.linalg.norm(pose[name] - pose[parent.name]))
-            lengths[name] = length(parent.name) + step
-        return lengths[name]
-
-    best = 0.0
-    for name, link in links.items():
-        extent = 0.0
-        body = link._objs[0]
-        if body.collision_shapes:
-            low, high = body.compute_global_aabb_tight()
-            corners = np.array([low, high], dtype=np.float64)
-            extent = float(np.max(np.linalg.norm(corners - pose[name], axis=1)))
-        best = max(best, length(name) + extent)
-    return best

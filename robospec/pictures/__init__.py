@@ -10,8 +10,9 @@ The stages, data flowing one way:
 - :mod:`.gl` — MuJoCo, imported to draw offscreen (EGL unless ``MUJOCO_GL`` says otherwise);
 - :mod:`.meshes` — a mesh file as coloured triangle sets (trimesh reads .dae/.glb/.obj/.stl/
   .ply; MuJoCo reads STL and OBJ only), kept in robospec's cache folder;
-- :mod:`.posed` — the robot's shapes placed in the world at a keyframe (the URDF's visuals and
-  collisions through robospec's own forward kinematics; an MJCF through MuJoCo itself);
+- :mod:`.posed` — the robot's shapes placed in the world at a keyframe, each link where the
+  format's own forward kinematics puts it (:mod:`robospec.kinematics.forward`: yourdfpy for a
+  URDF, MuJoCo for an MJCF);
 - :mod:`.views` — where each picture is taken from and how it projects (SAPIEN's camera
   conventions);
 - :mod:`.stage` — the ground, the table and the cube;

@@ -24,7 +24,13 @@ import numpy as np
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, warning
 from robospec.pictures import camera_checks
-from robospec.pictures.posed import KeyframePose, PosedRobot, keyframe_poses, posed_robots
+from robospec.pictures.posed import (
+    KeyframePose,
+    Layer,
+    PosedRobot,
+    keyframe_poses,
+    posed_robots,
+)
 from robospec.pictures.renderer import (
     COLLISION,
     ROBOT_GROUND,
@@ -98,6 +104,9 @@ def make_album(
     keyframes = keyframe_poses(robot)[: 1 if options.first_keyframe_only else None]
     layers = ("visual", "collision") if options.collisions else ("visual",)
     posed, problems = posed_robots(robot, description, keyframes, layers)  # type: ignore[arg-type]
+    if not options.collisions and shown_layer(posed[0]) == "collision":
+        # nothing SAPIEN would draw: the robot's pictures show its collision shapes
+        posed, problems = posed_robots(robot, description, keyframes, ("visual", "collision"))
     diagnostics: list[Diagnostic] = list(problems)
     cameras_drawn = robot.cameras if options.cameras else ()
     sizes = [(options.width, options.height)] + [(c.width, c.height) for c in cameras_drawn]
@@ -125,17 +134,26 @@ def _robot_views(
     robot: ResolvedRobot,
     options: AlbumOptions,
 ) -> list[Picture]:
-    points = robot_at.points("visual")
+    layer = shown_layer(robot_at)
+    points = robot_at.points(layer)
     renderer.place(robot_at, robot_stage(float(points[:, 2].min())), _table(robot_at, robot, None))
     pictures = []
     for name in options.views:
         view = standard_view(name, points, options.width, options.height)
-        rgb = renderer.colour(view, (VISUAL, ROBOT_GROUND))
+        rgb = renderer.colour(view, (VISUAL if layer == "visual" else COLLISION, ROBOT_GROUND))
         pictures.append(_picture("robot", keyframe.name, name, rgb))
         if options.collisions:
             rgb = renderer.colour(view, (COLLISION, ROBOT_GROUND))
             pictures.append(_picture("collision", keyframe.name, name, rgb))
     return pictures
+
+
+def shown_layer(robot_at: PosedRobot) -> Layer:
+    """What the robot's pictures show of it: its visual shapes, as SAPIEN draws the robot;
+    its collision shapes when it has no visual shape SAPIEN would draw (pybullet's DeepMimic
+    humanoid has collisions only; the Shadow hand's visual geoms are in MuJoCo's group 1,
+    which ManiSkill's loader does not draw), rather than an empty floor."""
+    return "visual" if any(shape.layer == "visual" for shape in robot_at.shapes) else "collision"
 
 
 def _camera_views(

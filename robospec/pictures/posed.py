@@ -1,22 +1,25 @@
 """The robot's shapes placed in the world at a keyframe, as ManiSkill would place them.
 
-A URDF robot: each link's ``<visual>`` and ``<collision>`` geometry (mesh, box, sphere,
-cylinder, capsule — cylinders and capsules along the shape's z, as SAPIEN turns them), put where
-robospec's own forward kinematics (:mod:`robospec.kinematics.forward`) puts the link, with the
-keyframe's pose on the root link. Colours as SAPIEN's URDF loader takes them: the visual's
-``<material>`` colour (its own or a top-level one it names) over the mesh's.
+Every link is where the robot's forward kinematics puts it (:mod:`robospec.kinematics.forward`:
+yourdfpy for a URDF, MuJoCo for an MJCF), in the root link's frame, and the root link where the
+keyframe puts it (for an MJCF, the keyframe's pose is its root body's, as
+:mod:`robospec.resolve.root_pose` says: the resolved keyframe holds the root link's). Both are
+read from the file ManiSkill loads: the derived copy when the description needs mends.
 
-An MJCF robot: MuJoCo places its bodies (its own compiler reads the file's defaults, meshes and
-orientations), the keyframe's joint values added to each joint's reference as ManiSkill does,
-and the whole moved so that the root body sits where the keyframe puts it
-(:mod:`robospec.resolve.root_pose`). ManiSkill's loader draws a geom in groups 0 and 2 only and
-gives one a collision shape unless its ``contype`` is 0 (:mod:`robospec.description.mjcf_geoms`);
-planes and ellipsoids it skips, and so do these pictures.
+A URDF robot: each link's ``<visual>`` and ``<collision>`` geometry (mesh, box, sphere,
+cylinder, capsule — cylinders and capsules along the shape's z, as SAPIEN turns them) at its
+origin on the link. Colours as SAPIEN's URDF loader takes them: the visual's ``<material>``
+colour (its own or a top-level one it names) over the mesh's.
+
+An MJCF robot: MuJoCo's geoms of the bodies ManiSkill loads, where MuJoCo puts them (its own
+compiler reads the file's defaults, meshes and orientations). ManiSkill's loader draws a geom in
+groups 0 and 2 only and gives one a collision shape unless its ``contype`` is 0
+(:mod:`robospec.description.mjcf_geoms`); planes and ellipsoids it skips, and so do these
+pictures.
 """
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -28,12 +31,13 @@ from robospec.description.facts import RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 from robospec.diagnostics import Diagnostic, Location, warning
-from robospec.kinematics.forward import urdf_kinematics
-from robospec.kinematics.frames import Transform, from_rpy
+from robospec.geometry import quaternion_from_rpy
+from robospec.kinematics.forward import kinematics_of
+from robospec.kinematics.mjcf_poses import MjcfPoser, compiled_model
+from robospec.kinematics.placement import pose_matrix
 from robospec.pictures.gl import import_mujoco
 from robospec.pictures.meshes import MeshError, MeshPart, load_mesh
 from robospec.resolve.resolved import ResolvedRobot
-from robospec.resolve.root_pose import root_body_pose
 
 MESH_UNREADABLE = "RS662"
 MJCF_UNLOADABLE = "RS663"
@@ -113,28 +117,6 @@ def keyframe_poses(robot: ResolvedRobot) -> list[KeyframePose]:
     return poses
 
 
-def pose_matrix(p: tuple[float, ...], q: tuple[float, ...]) -> np.ndarray:
-    """A 4x4 transform from a position and a wxyz quaternion."""
-    w, x, y, z = q
-    norm = math.sqrt(w * w + x * x + y * y + z * z) or 1.0
-    w, x, y, z = w / norm, x / norm, y / norm, z / norm
-    matrix = np.eye(4)
-    matrix[:3, :3] = [
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ]
-    matrix[:3, 3] = p
-    return matrix
-
-
-def _matrix(transform: Transform) -> np.ndarray:
-    matrix = np.eye(4)
-    matrix[:3, :3] = transform.rotation
-    matrix[:3, 3] = transform.translation
-    return matrix
-
-
 SAMPLE = 256  # vertices of a mesh part that a view is framed on
 
 
@@ -177,14 +159,15 @@ class UrdfShapes:
     def __init__(
         self,
         text: bytes,
-        description_path: str,
+        description: RobotDescription,
         mesh_path: Callable[[str], str | None],
         layers: tuple[Layer, ...],
     ) -> None:
         self.problems: list[Diagnostic] = []
-        self.kinematics = urdf_kinematics(text)
+        description_path = description.path
+        self.kinematics = kinematics_of(description, text, description_path)
         root, _ = parse_xml(text, description_path)
-        self._entries: list[tuple[Shape, Transform]] = []
+        self._entries: list[tuple[Shape, np.ndarray]] = []
         if root is None:
             return
         colours = _top_level_colours(root)
@@ -205,15 +188,15 @@ class UrdfShapes:
                         self._entries.append((shape, _origin(element)))
 
     def posed(self, keyframe: KeyframePose) -> PosedRobot:
-        relative = self.kinematics.link_poses(keyframe.qpos) if self.kinematics else {}
-        links = {name: keyframe.root @ _matrix(pose) for name, pose in relative.items()}
+        relative = self.kinematics.at(keyframe.qpos).links if self.kinematics else {}
+        links = {name: keyframe.root @ pose for name, pose in relative.items()}
         shapes, poses = [], []
         for shape, origin in self._entries:
             link = links.get(shape.link)
-            if link is None:  # a link no joint reaches: the description's structure error
+            if link is None:  # a link ManiSkill does not load (the tree's warning says so)
                 continue
             shapes.append(shape)
-            poses.append(link @ _matrix(origin))
+            poses.append(link @ origin)
         return PosedRobot(keyframe.name, keyframe.root, links, tuple(shapes), tuple(poses))
 
     def _shape(
@@ -292,13 +275,13 @@ class UrdfShapes:
             return None
 
 
-def _origin(element: object) -> Transform:
+def _origin(element: object) -> np.ndarray:
     origin = element.find("origin")  # type: ignore[attr-defined]
     if origin is None:
-        return Transform()
+        return np.eye(4)
     xyz = finite_numbers(origin.get("xyz"), 3) or (0.0, 0.0, 0.0)
     rpy = finite_numbers(origin.get("rpy"), 3) or (0.0, 0.0, 0.0)
-    return Transform(from_rpy(*rpy), xyz)  # type: ignore[arg-type]
+    return pose_matrix(xyz, quaternion_from_rpy(*rpy))
 
 
 def _top_level_colours(root: object) -> dict[str, tuple[float, float, float, float]]:
@@ -351,74 +334,48 @@ MANISKILL_VISUAL_GROUPS = (0, 2)
 class MjcfShapes:
     """An MJCF robot's geoms, placed by MuJoCo at each keyframe."""
 
-    def __init__(self, path: str, description: RobotDescription, layers: tuple[Layer, ...]) -> None:
-        mujoco = import_mujoco()
+    def __init__(
+        self, text: bytes, path: str, description: RobotDescription, layers: tuple[Layer, ...]
+    ) -> None:
+        import_mujoco()  # the render extra's, drawing offscreen
         self.problems: list[Diagnostic] = []
-        self.description = description
         self.layers = layers
+        self.poser: MjcfPoser | None = None
         try:
-            self.model = mujoco.MjModel.from_xml_path(path)
-        except Exception as exc:  # MuJoCo's compiler errors are plain ValueErrors
-            self.model = None
-            self.problems.append(
-                warning(
-                    Location(path),
-                    MJCF_UNLOADABLE,
-                    f"MuJoCo cannot load the MJCF for the pictures: {exc}",
-                    "the pictures show no robot",
-                )
-            )
+            self.model = compiled_model(text, path)
+        except ValueError as exc:
+            self._cannot(path, f"MuJoCo cannot load the MJCF for the pictures: {exc}")
             return
-        self.data = mujoco.MjData(self.model)
-        self.root = _articulated_root(self.model)
+        self.poser = MjcfPoser.of(description, self.model)
+        if self.poser is None:
+            self._cannot(path, "MuJoCo names the MJCF's bodies otherwise than robospec reads them")
+
+    def _cannot(self, path: str, message: str) -> None:
+        self.problems.append(
+            warning(Location(path), MJCF_UNLOADABLE, message, "the pictures show no robot")
+        )
 
     def posed(self, keyframe: KeyframePose) -> PosedRobot:
-        mujoco = import_mujoco()
-        model = self.model
-        if model is None:
+        if self.poser is None:
             return PosedRobot(keyframe.name, keyframe.root, {}, (), ())
-        data = self.data
-        data.qpos[:] = model.qpos0
-        for joint in range(model.njnt):
-            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
-            kind = int(model.jnt_type[joint])
-            if name in keyframe.qpos and kind in (
-                int(mujoco.mjtJoint.mjJNT_HINGE),
-                int(mujoco.mjtJoint.mjJNT_SLIDE),
-            ):
-                # ManiSkill's zero is the joint's reference (MuJoCo's qpos0)
-                address = model.jnt_qposadr[joint]
-                data.qpos[address] = model.qpos0[address] + keyframe.qpos[name]
-        mujoco.mj_kinematics(model, data)
-        # move the whole so that the root body is where the keyframe puts it
-        root_link = keyframe.root
-        p, q = root_body_pose(self.description, _pose_tuple(root_link))
-        wanted = pose_matrix(p, q)
-        actual = _body_matrix(data, self.root)
-        correction = wanted @ np.linalg.inv(actual)
-        links = {self.description.root_link: root_link}
-        members = [b for b in range(model.nbody) if _below(model, b, self.root)]
-        for body in members:
-            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
-            links[name] = correction @ _body_matrix(data, body)
+        placement = self.poser(keyframe.qpos)
+        links = {name: keyframe.root @ pose for name, pose in placement.links.items()}
+        # the geoms of the bodies ManiSkill loads, each on the link of its body
+        link_of = {body: link for link, (body, step) in self.poser.bodies.items() if step is None}
         shapes, poses = [], []
-        for geom in range(model.ngeom):
-            body = model.geom_bodyid[geom]
-            if body not in members:
+        for geom in range(self.model.ngeom):
+            link = link_of.get(int(self.model.geom_bodyid[geom]))
+            if link is None:
                 continue
-            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
-            pose = np.eye(4)
-            pose[:3, :3] = data.geom_xmat[geom].reshape(3, 3)
-            pose[:3, 3] = data.geom_xpos[geom]
-            for shape in self._shapes(geom, name):
+            pose = keyframe.root @ self.poser.geom_pose(geom)
+            for shape in self._shapes(geom, link):
                 shapes.append(shape)
-                poses.append(correction @ pose)
+                poses.append(pose)
         return PosedRobot(keyframe.name, keyframe.root, links, tuple(shapes), tuple(poses))
 
     def _shapes(self, geom: int, link: str) -> list[Shape]:
         mujoco = import_mujoco()
         model = self.model
-        assert model is not None
         kind = {
             int(mujoco.mjtGeom.mjGEOM_BOX): "box",
             int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
@@ -461,40 +418,6 @@ class MjcfShapes:
         ]
 
 
-def _articulated_root(model: object) -> int:
-    """The first body below the world whose subtree has joints (the one ManiSkill loads)."""
-    for body in range(1, model.nbody):  # type: ignore[attr-defined]
-        if model.body_parentid[body] != 0:  # type: ignore[attr-defined]
-            continue
-        subtree = [b for b in range(model.nbody) if _below(model, b, body)]  # type: ignore[attr-defined]
-        if any(model.body_jntnum[b] > 0 for b in subtree):  # type: ignore[attr-defined]
-            return body
-    return 1 if model.nbody > 1 else 0  # type: ignore[attr-defined]
-
-
-def _below(model: object, body: int, ancestor: int) -> bool:
-    while body > 0:
-        if body == ancestor:
-            return True
-        body = int(model.body_parentid[body])  # type: ignore[attr-defined]
-    return ancestor == 0
-
-
-def _body_matrix(data: object, body: int) -> np.ndarray:
-    matrix = np.eye(4)
-    matrix[:3, :3] = data.xmat[body].reshape(3, 3)  # type: ignore[attr-defined]
-    matrix[:3, 3] = data.xpos[body]  # type: ignore[attr-defined]
-    return matrix
-
-
-def _pose_tuple(matrix: np.ndarray) -> tuple[tuple[float, float, float], tuple[float, ...]]:
-    transform = Transform(
-        tuple(tuple(float(v) for v in row) for row in matrix[:3, :3]),  # type: ignore[arg-type]
-        tuple(float(v) for v in matrix[:3, 3]),  # type: ignore[arg-type]
-    )
-    return transform.translation, transform.quaternion()
-
-
 def posed_robots(
     robot: ResolvedRobot,
     description: RobotDescription,
@@ -502,15 +425,16 @@ def posed_robots(
     layers: tuple[Layer, ...],
 ) -> tuple[list[PosedRobot], list[Diagnostic]]:
     """The robot at each keyframe, and what could not be drawn (RS662, RS663)."""
+    ref = robot.description
+    # the file ManiSkill loads: the derived copy when the description needs mends
+    text = (
+        ref.generated_text.encode("utf-8")
+        if ref.generated_text is not None
+        else ref.absolute.read_bytes()
+    )
     source: UrdfShapes | MjcfShapes
     if robot.description_kind == "mjcf":
-        source = MjcfShapes(str(robot.description.absolute), description, layers)
+        source = MjcfShapes(text, str(ref.absolute), description, layers)
     else:
-        ref = robot.description
-        text = (
-            ref.generated_text.encode("utf-8")
-            if ref.generated_text is not None
-            else ref.absolute.read_bytes()
-        )
-        source = UrdfShapes(text, description.path, urdf_mesh_paths(robot, description), layers)
+        source = UrdfShapes(text, description, urdf_mesh_paths(robot, description), layers)
     return [source.posed(k) for k in keyframes], list(source.problems)

@@ -68,7 +68,7 @@ class View:
 
 
 def camera_view(camera: ResolvedCamera, mount: np.ndarray, name: str) -> View:
-    from robospec.pictures.posed import pose_matrix
+    from robospec.kinematics.placement import pose_matrix
 
     pose = mount @ pose_matrix(camera.p, camera.q)
     if camera.intrinsic is not None:

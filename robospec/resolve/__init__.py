@@ -16,7 +16,7 @@ from pathlib import Path
 from robospec.diagnostics import error
 from robospec.load.source_map import LoadedSpec
 from robospec.model.validate import SpecModelResult
-from robospec.resolve import members, parts
+from robospec.resolve import carried, members, parts
 from robospec.resolve.cameras import resolve_camera
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.controllers import resolve_controller
@@ -24,8 +24,15 @@ from robospec.resolve.description_files import load_inherited_description, load_
 from robospec.resolve.keyframes import resolve_keyframe
 from robospec.resolve.modes import resolve_modes
 from robospec.resolve.never_collide import resolve_never_collide
+from robospec.resolve.part_renaming import carry_parts
 from robospec.resolve.part_types import PartInput
-from robospec.resolve.resolved import ResolvedCollisionRule, ResolvedRobot
+from robospec.resolve.reset import resolve_reset
+from robospec.resolve.resolved import (
+    FileRef,
+    ResolvedCollisionRule,
+    ResolvedNeverCollide,
+    ResolvedRobot,
+)
 from robospec.resolve.selection import group_joints, select_joints, select_links
 from robospec.resolve.urdf_config import resolve_urdf_config
 
@@ -62,22 +69,8 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
     if description_ref is None or context.loaded_description is None:
         return None
     description = context.description
-    context.robot_description_ref = description_ref
-    context.part_plan = parts.make_plan(context)
-    for name in spec.groups:
-        if description.joint(name) is not None:
-            # a selection names a group or a joint by the same word: one of them would be
-            # unreachable, and the group would select itself (a false "circular" error)
-            context.diagnostics.append(
-                error(
-                    context.at_key(("groups", name)),
-                    "RS210",
-                    f"group '{name}' has the name of a joint",
-                    f"rename the group (e.g. '{name}_group')",
-                )
-            )
-            continue
-        group_joints(context, name)
+    context.carried = carry_parts(context, description_ref)
+    _resolve_groups(context)
     if spec.passive_joints is not None:
         select_joints(context, spec.passive_joints, ("passive_joints",))
 
@@ -89,19 +82,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
     )
     modes = resolve_modes(context)
     cameras = tuple(resolve_camera(context, uid, cam) for uid, cam in spec.cameras.items())
-    rules = tuple(
-        ResolvedCollisionRule(
-            tuple(select_links(context, rule.links, ("collision_rules", i, "links"))),
-            rule.group,
-            rule.bit,
-            rule.value,
-        )
-        for i, rule in enumerate(spec.collision_rules)
-    )
-    rules += tuple(context.part_plan.collision_rules)
-    packed, never_collide = resolve_never_collide(
-        context, rules, tuple(context.part_plan.never_collide)
-    )
+    rules, never_collide = _collision_rules(context, description_ref)
     robot = ResolvedRobot(
         uid=spec.uid,
         class_name=spec.class_name or class_name_for(spec.uid),
@@ -116,7 +97,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         controllers=controllers,
         modes=tuple(modes),
         cameras=cameras,
-        collision_rules=rules + packed,
+        collision_rules=rules,
         tcp=members.tcp(context),
         active_joints=description.active_joint_names,
         override=spec.override,
@@ -128,6 +109,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         is_static=members.is_static(context),
         is_standing=members.is_standing(context),
         is_fallen=members.is_fallen(context),
+        reset=resolve_reset(context, keyframes),
         link_states=members.link_states(context),
         proprioception=tuple(spec.proprioception),
         disable_gravity=members.disable_gravity(context),
@@ -136,7 +118,46 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         never_collide=never_collide,
         simulation=members.simulation(context),
     )
-    return parts.merge(context, robot)
+    return carried.with_parts(context, robot)
+
+
+def _resolve_groups(context: ResolveContext) -> None:
+    """Each group expanded once (into ``context.group_joints``)."""
+    for name in context.spec.groups:
+        if context.description.joint(name) is not None:
+            # a selection names a group or a joint by the same word: one of them would be
+            # unreachable, and the group would select itself (a false "circular" error)
+            context.diagnostics.append(
+                error(
+                    context.at_key(("groups", name)),
+                    "RS210",
+                    f"group '{name}' has the name of a joint",
+                    f"rename the group (e.g. '{name}_group')",
+                )
+            )
+            continue
+        group_joints(context, name)
+
+
+def _collision_rules(
+    context: ResolveContext, description_ref: FileRef
+) -> tuple[tuple[ResolvedCollisionRule, ...], ResolvedNeverCollide | None]:
+    """The spec's collision rules and the parts', then the bits ``never_collide`` (the
+    spec's and the parts') is packed into."""
+    rules = tuple(
+        ResolvedCollisionRule(
+            tuple(select_links(context, rule.links, ("collision_rules", i, "links"))),
+            rule.group,
+            rule.bit,
+            rule.value,
+        )
+        for i, rule in enumerate(context.spec.collision_rules)
+    )
+    rules += carried.collision_rules(context)
+    packed, never_collide = resolve_never_collide(
+        context, rules, carried.never_collide_entries(context, description_ref)
+    )
+    return rules + packed, never_collide
 
 
 def declared_sections(context: ResolveContext) -> frozenset[str]:

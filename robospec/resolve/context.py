@@ -17,8 +17,8 @@ from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult
-from robospec.resolve.part_types import Locator, PartInput, Plan
-from robospec.resolve.resolved import Bindings, FileRef, ResolvedRobot
+from robospec.resolve.part_types import CarriedPart, Locator, PartInput
+from robospec.resolve.resolved import Bindings, ResolvedRobot
 
 if TYPE_CHECKING:
     from robospec.compose.model import Composed
@@ -41,13 +41,10 @@ class ResolveContext:
     group_joints: dict[str, list[str]] = field(default_factory=dict)
     # the parts the spec mounts, compiled (robospec.resolve.parts), by name
     parts: dict[str, PartInput] = field(default_factory=dict)
-    # the combined description, once the parts are mounted, and what comes along from them
+    # the combined description, once the parts are mounted
     composed: Composed | None = None
-    part_plan: Plan | None = None
-    # the robot's URDF, when SAPIEN would have read an SRDF beside it (before parts were added)
-    base_srdf: str | None = None
-    # the robot's description as the generated agent names it (the combined one, with parts)
-    robot_description_ref: FileRef | None = None
+    # the parts in the robot's names, once the combined description is loaded
+    carried: tuple[CarriedPart, ...] = ()
     # paths of what came along from a part's spec -> where that part's spec wrote it
     origins: dict[KeyPath, tuple[Locator, KeyPath]] = field(default_factory=dict)
 

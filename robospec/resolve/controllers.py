@@ -11,52 +11,12 @@ from typing import Any
 
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
+from robospec.model.controller_kinds import FIELD_ORDER, controller_kind
 from robospec.model.frozen import MimicTarget
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.description_files import file_ref
 from robospec.resolve.resolved import FileRef, ResolvedController
 from robospec.resolve.selection import bound_joints, link, select_joints
-
-PER_JOINT_FIELDS = (
-    "stiffness",
-    "damping",
-    "force_limit",
-    "friction",
-    "lower",
-    "upper",
-    "vel_lower",
-    "vel_upper",
-    "drive_mode",
-)
-# ManiSkill's dataclass field order, so generated configs read like its own
-KWARG_ORDER = (
-    "joint_names",
-    "lower",
-    "upper",
-    "pos_lower",
-    "pos_upper",
-    "rot_lower",
-    "rot_upper",
-    "vel_lower",
-    "vel_upper",
-    "stiffness",
-    "damping",
-    "force_limit",
-    "friction",
-    "ee_link",
-    "urdf_path",
-    "frame",
-    "root_link_name",
-    "use_delta",
-    "use_target",
-    "interpolate",
-    "normalize_action",
-    "delta_solver_config",
-    "drive_mode",
-    "mimic",
-)
-# bounds of pd_base_forward_vel's 2-D action (forward speed, turn rate), not per joint
-FORWARD_VEL_AXES = ("forward", "turn")
 
 
 def resolve_controller(
@@ -66,6 +26,7 @@ def resolve_controller(
     joints = select_joints(context, config.joints, (*path, "joints"))
     # a joint name that did not bind leaves the list short: "not driven" would only repeat it
     whole = bound_joints(context, (*path, "joints")) is not None
+    kind = controller_kind(config.type)
     kwargs: list[tuple[str, Any]] = [("joint_names", joints)]
     required = {n for n, f in type(config).model_fields.items() if f.is_required()}
     for field_name in type(config).model_fields:
@@ -75,9 +36,9 @@ def resolve_controller(
             continue
         value = getattr(config, field_name)
         field_path = (*path, field_name)
-        if config.type == "pd_base_forward_vel" and field_name in ("lower", "upper"):
-            value = per_joint_values(context, value, FORWARD_VEL_AXES, field_path)
-        elif field_name in PER_JOINT_FIELDS:
+        if axes := kind.axes_bounded_by(field_name):  # one value per axis, not per joint
+            value = per_joint_values(context, value, axes, field_path)
+        elif field_name in kind.per_joint:
             value = per_joint_values(context, value, joints, field_path, whole=whole)
         elif field_name == "mimic":
             value = mimic_map(context, value, joints, field_path)
@@ -88,10 +49,10 @@ def resolve_controller(
         elif field_name == "delta_solver_config" and value is not None:
             value = value.model_dump()
         kwargs.append((field_name, value))
-    if config.type in ("pd_ee_pos", "pd_ee_pose") and "urdf_path" not in config.model_fields_set:
+    if kind.end_effector and "urdf_path" not in config.model_fields_set:
         # ManiSkill's own agents pass their URDF to the IK controller; so do we
         kwargs.append(("urdf_path", description_ref))
-    kwargs.sort(key=lambda item: KWARG_ORDER.index(item[0]))
+    kwargs.sort(key=lambda item: FIELD_ORDER.index(item[0]))
     group = (
         config.joints
         if isinstance(config.joints, str) and config.joints in context.spec.groups

@@ -11,8 +11,8 @@ from typing import Any
 
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Keyframe
+from robospec.resolve.carried import keyframe_values
 from robospec.resolve.context import ResolveContext
-from robospec.resolve.parts import keyframe_values
 from robospec.resolve.poses import position_and_quaternion
 from robospec.resolve.resolved import ResolvedKeyframe
 from robospec.resolve.root_pose import root_link_pose

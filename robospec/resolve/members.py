@@ -8,16 +8,15 @@ needed, a member defined twice) is judged by the checks (RS316, RS317).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import HeightBand
+from robospec.resolve.carried import part_named_link
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.keyframes import NEEDS_DOWNLOAD
-from robospec.resolve.parts import part_named_link
 from robospec.resolve.poses import position_and_quaternion
-from robospec.resolve.python_refs import RefKind, check_ref
 from robospec.resolve.resolved import (
     PythonRef,
     ResolvedDrive,
@@ -33,6 +32,10 @@ from robospec.resolve.resolved import (
     ResolvedTcp,
 )
 from robospec.resolve.selection import link, select_joints, select_links
+
+if TYPE_CHECKING:
+    # imported where a spec names Python (extends, hooks): most specs name none
+    from robospec.resolve.python_refs import RefKind
 
 AXES = {"x": 0, "y": 1, "z": 2}
 
@@ -211,6 +214,8 @@ def drives(context: ResolveContext) -> tuple[ResolvedDrive, ...]:
 def python_ref(
     context: ResolveContext, text: str, path: KeyPath, kind: RefKind
 ) -> PythonRef | None:
+    from robospec.resolve.python_refs import check_ref
+
     checked = check_ref(text, kind)
     if checked.problem is not None:
         context.err(path, "RS220", checked.problem, checked.hint)
@@ -221,6 +226,8 @@ def base_class(context: ResolveContext) -> tuple[PythonRef | None, Any]:
     """``extends``: the agent class the spec builds on, and the class itself."""
     if context.spec.extends is None:
         return None, None
+    from robospec.resolve.python_refs import check_ref
+
     checked = check_ref(context.spec.extends, "agent_class")
     if checked.problem is not None:
         context.err(("extends",), "RS220", checked.problem, checked.hint)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
+from robospec.resolve.carried import part_controllers
 from robospec.resolve.context import ResolveContext
-from robospec.resolve.parts import part_controller
 from robospec.resolve.resolved import ResolvedMode
 
 
@@ -40,8 +40,7 @@ def resolve_modes(context: ResolveContext) -> list[ResolvedMode]:
 
 
 def _known_controller(context: ResolveContext, name: str, path: KeyPath) -> None:
-    controllers = context.spec.controllers
-    if name not in controllers and not part_controller(context, name):
-        plan = context.part_plan
-        known = [*controllers, *(c.name for c in plan.controllers)] if plan else list(controllers)
+    """A controller of the spec's, or one a part brings (robospec.resolve.carried)."""
+    known = [*context.spec.controllers, *part_controllers(context)]
+    if name not in known:
         context.err(path, "RS204", f"unknown controller '{name}'", did_you_mean(name, known))

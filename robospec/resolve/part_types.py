@@ -1,28 +1,17 @@
 """The parts of a spec as the resolve stage holds them: each part's own compilation
-(:class:`PartInput`) and what comes along from them into the robot (:class:`Plan`). Plain data;
-:mod:`robospec.resolve.parts` fills it."""
+(:class:`PartInput`: :mod:`robospec.pipeline` and :mod:`robospec.resolve.parts` fill it), and
+each part renamed into the robot (:class:`CarriedPart`: :mod:`robospec.resolve.part_renaming`).
+Plain data."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass
 
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Location
 from robospec.load.source_map import KeyPath
-from robospec.resolve.resolved import (
-    FileRef,
-    ResolvedCamera,
-    ResolvedCollisionRule,
-    ResolvedController,
-    ResolvedDrive,
-    ResolvedGrasping,
-    ResolvedLinkState,
-    ResolvedPart,
-    ResolvedRobot,
-    ResolvedTcp,
-)
+from robospec.resolve.resolved import FileRef, ResolvedPart, ResolvedRobot
 
 # where a spec wrote a key path: its key's position (True) or its value's (False)
 Locator = Callable[[KeyPath, bool], Location]
@@ -48,26 +37,17 @@ class PartInput:
     cycle: bool = False  # its spec mounts, directly or not, the spec that mounts it
 
 
-@dataclass
-class Plan:
-    """What comes along from the parts' specs, under its name in the robot."""
+@dataclass(frozen=True)
+class CarriedPart:
+    """A part as the robot takes it: its own robot, resolved on its own and renamed into the
+    robot's names (:meth:`ResolvedRobot.renamed`), and what its mounting adds beside."""
 
-    controllers: list[ResolvedController] = field(default_factory=list)
-    # part -> the (key, controller) entries its default mode adds to each of the robot's modes
-    modes: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
-    # part -> the active joints it brings (named as in the combined description)
-    joints: dict[str, frozenset[str]] = field(default_factory=dict)
-    named_links: list[tuple[str, str | tuple[str, ...]]] = field(default_factory=list)
-    grasping: list[ResolvedGrasping] = field(default_factory=list)
-    link_states: list[ResolvedLinkState] = field(default_factory=list)
-    proprioception: list[str] = field(default_factory=list)
-    cameras: list[ResolvedCamera] = field(default_factory=list)
-    drives: list[ResolvedDrive] = field(default_factory=list)
-    disable_gravity: list[str] = field(default_factory=list)
-    collision_rules: list[ResolvedCollisionRule] = field(default_factory=list)
-    never_collide: list[tuple[str, ...]] = field(default_factory=list)
-    materials: dict[str, dict[str, Any]] = field(default_factory=dict)
-    link_rules: dict[str, dict[str, Any]] = field(default_factory=dict)
-    tcp: ResolvedTcp | None = None
-    passive_joints: list[str] = field(default_factory=list)
-    parts: list[ResolvedPart] = field(default_factory=list)
+    part: ResolvedPart  # where it is mounted, and its links and joints there
+    joints: tuple[str, ...]  # the active joints it brings, in its qpos order (named here)
+    robot: ResolvedRobot | None  # its spec's robot, renamed; None for a bare description
+    # the (key, controller) entries its chosen mode adds to each of the robot's modes
+    mode: tuple[tuple[str, str], ...] = ()
+    passive_joints: tuple[str, ...] = ()
+    # the link sets of the SRDF SAPIEN would have read beside its URDF: kept apart here
+    loader_pairs: tuple[tuple[str, ...], ...] = ()
+    locate: Locator | None = None  # where its spec wrote a key path (key or value)

@@ -11,6 +11,7 @@ import importlib.util
 import os
 from functools import cache
 from pathlib import Path
+from typing import Literal
 
 ASSETS_PLACEHOLDER = "{maniskill_assets}"
 DATA_PLACEHOLDER = "{maniskill_data}"
@@ -42,3 +43,20 @@ def split_data(text: str) -> str | None:
     if not text.startswith(DATA_PLACEHOLDER):
         return None
     return text[len(DATA_PLACEHOLDER) :].lstrip("/")
+
+
+FolderKind = Literal["maniskill_assets", "maniskill_data"]
+
+
+def in_maniskill(text: str) -> tuple[FolderKind, str, Path | None] | None:
+    """The ManiSkill folder a path starts with: its kind, the path below it and where that is
+    on this machine (None: the assets, and ManiSkill is not installed); None for a path that
+    names no ManiSkill folder."""
+    in_data = split_data(text)
+    if in_data is not None:
+        return "maniskill_data", in_data, maniskill_data_dir() / in_data
+    in_assets = split_assets(text)
+    if in_assets is not None:
+        assets = maniskill_assets_dir()
+        return "maniskill_assets", in_assets, assets / in_assets if assets is not None else None
+    return None

@@ -2,16 +2,25 @@
 
 Everything here is plain, frozen data in ManiSkill's own terms (joint-name lists, ordered qpos
 arrays, ``urdf_config`` dicts). The emitter reads only this.
+
+Each type that names something — a joint, a link, a controller, a group, a named link, ... —
+knows how to rename those references (``renamed``, through a :class:`Renaming`): a part's
+robot, resolved on its own, is renamed into the names of the robot it is mounted on, the way
+dm_control's ``attach`` scopes an attached model's names
+(robospec.resolve.part_renaming).
 """
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
 from robospec.geometry import Pose, Quaternion, Vector
 from robospec.load.source_map import KeyPath
+from robospec.model.controller_kinds import ControllerKind, controller_kind
 from robospec.resolve.paths import ASSETS_PLACEHOLDER, DATA_PLACEHOLDER
 
 
@@ -65,6 +74,20 @@ class FileRef:
         """Whether the generated package carries its own copy of this file."""
         return self.generated_text is not None or bool(self.mesh_paths)
 
+    def read_text(self) -> str:
+        """The description's text: robospec's own (an expansion, a derived or combined copy),
+        else the file's. OSError when the file cannot be read."""
+        return self.generated_text if self.generated_text is not None else self.absolute.read_text()
+
+    def read_bytes(self) -> bytes:
+        """:meth:`read_text` as bytes, the file's as they are (a regular file only: a FIFO
+        would block the read)."""
+        if self.generated_text is not None:
+            return self.generated_text.encode("utf-8")
+        from robospec.description.urdf import read_file_bytes
+
+        return read_file_bytes(str(self.absolute))
+
     @property
     def placeholder_text(self) -> str | None:
         """How a spec writes a file in ManiSkill's folders (``{maniskill_assets}/...``); None
@@ -74,6 +97,40 @@ class FileRef:
         if self.kind == "maniskill_data":
             return f"{DATA_PLACEHOLDER}/{self.relative}"
         return None
+
+
+@dataclass(frozen=True)
+class Renaming:
+    """A mounted part's names as the robot it is mounted on has them: its links and joints as
+    the combined description names them (robospec.compose), the names its spec gave, by the
+    section that gives them (``controllers``, ``groups``, ``named_links``, ``grasping``,
+    ``link_states``, ``cameras``, ``materials``, and ``mode_keys``: the keys of a control
+    mode), and the files its controllers name. A name it does not list stays as it is."""
+
+    links: Mapping[str, str] = field(default_factory=dict)
+    joints: Mapping[str, str] = field(default_factory=dict)
+    names: Mapping[str, Mapping[str, str]] = field(default_factory=dict)
+    # (the part's file, the robot's): its description, and the combined one where the IK
+    # chain of its end-effector controller now runs
+    files: tuple[tuple[FileRef, FileRef], ...] = ()
+
+    def link(self, name: str) -> str:
+        return self.links.get(name, name)
+
+    def joint(self, name: str) -> str:
+        return self.joints.get(name, name)
+
+    def name(self, section: str, name: str) -> str:
+        return self.names.get(section, {}).get(name, name)
+
+    def member(self, name: str) -> str:
+        """A finger's, a link state's or the tcp's link: a ``named_links`` attribute, else a
+        link."""
+        attributes = self.names.get("named_links", {})
+        return attributes[name] if name in attributes else self.link(name)
+
+    def file(self, ref: FileRef) -> FileRef:
+        return next((new for old, new in self.files if old == ref), ref)
 
 
 @dataclass(frozen=True)
@@ -89,6 +146,36 @@ class ResolvedController:
     def joint_names(self) -> tuple[str, ...]:
         return tuple(dict(self.kwargs)["joint_names"])
 
+    @property
+    def kind(self) -> ControllerKind:
+        """What its ``type`` is (:mod:`robospec.model.controller_kinds`)."""
+        return controller_kind(self.type)
+
+    def renamed(self, r: Renaming) -> ResolvedController:
+        group = self.joints_group
+        return ResolvedController(
+            r.name("controllers", self.name),
+            self.type,
+            tuple((key, _renamed_kwarg(key, value, r)) for key, value in self.kwargs),
+            r.name("groups", group) if group is not None else None,
+        )
+
+
+def _renamed_kwarg(key: str, value: Any, r: Renaming) -> Any:
+    """A controller config's argument with the joints, links and files it names renamed."""
+    if key == "joint_names":
+        return [r.joint(j) for j in value]
+    if key in ("ee_link", "root_link_name") and isinstance(value, str):
+        return r.link(value)
+    if key == "urdf_path" and isinstance(value, FileRef):
+        return r.file(value)
+    if key == "mimic" and isinstance(value, dict):
+        return {
+            r.joint(follower): {**target, "joint": r.joint(target["joint"])}
+            for follower, target in value.items()
+        }
+    return value
+
 
 @dataclass(frozen=True)
 class ResolvedMode:
@@ -97,6 +184,17 @@ class ResolvedMode:
     groups: tuple[tuple[str, str], ...] | None
     controller: str | None = None
     balance_passive_force: bool | None = None
+
+    def renamed(self, r: Renaming) -> ResolvedMode:
+        groups = self.groups
+        return ResolvedMode(
+            self.name,
+            tuple((r.name("mode_keys", k), r.name("controllers", c)) for k, c in groups)
+            if groups is not None
+            else None,
+            r.name("controllers", self.controller) if self.controller is not None else None,
+            self.balance_passive_force,
+        )
 
 
 @dataclass(frozen=True)
@@ -122,6 +220,9 @@ class ResolvedCamera:
     far: float
     shader_pack: str
 
+    def renamed(self, r: Renaming) -> ResolvedCamera:
+        return dataclasses.replace(self, uid=r.name("cameras", self.uid), mount=r.link(self.mount))
+
 
 @dataclass(frozen=True)
 class ResolvedCollisionRule:
@@ -129,6 +230,9 @@ class ResolvedCollisionRule:
     group: int
     bit: int
     value: int
+
+    def renamed(self, r: Renaming) -> ResolvedCollisionRule:
+        return dataclasses.replace(self, links=tuple(map(r.link, self.links)))
 
 
 @dataclass(frozen=True)
@@ -145,6 +249,17 @@ class ResolvedNeverCollide:
     uncovered: tuple[tuple[str, str], ...] = ()
     # loader.disable_self_collisions: nothing was packed
     skipped: bool = False
+
+    def renamed(self, r: Renaming) -> ResolvedNeverCollide:
+        def pairs(found: tuple[tuple[str, str], ...]) -> tuple[tuple[str, str], ...]:
+            return tuple((r.link(a), r.link(b)) for a, b in found)
+
+        return dataclasses.replace(
+            self,
+            entries=tuple(tuple(map(r.link, links)) for links in self.entries),
+            side_effects=tuple((index, pairs(found)) for index, found in self.side_effects),
+            uncovered=pairs(self.uncovered),
+        )
 
 
 @dataclass(frozen=True)
@@ -166,12 +281,23 @@ class ResolvedTcp:
     # with a midpoint: a link's name, or "midpoint" for the mean of the two quaternions
     orientation: str | None = None
 
+    def renamed(self, r: Renaming) -> ResolvedTcp:
+        midpoint, orientation = self.midpoint, self.orientation
+        return ResolvedTcp(
+            r.member(self.link) if self.link else None,
+            (r.member(midpoint[0]), r.member(midpoint[1])) if midpoint else None,
+            r.member(orientation) if orientation not in (None, "midpoint") else orientation,
+        )
+
 
 @dataclass(frozen=True)
 class ResolvedFinger:
     link: str  # a link name, or a named_links attribute (see ResolvedRobot.named_links)
     axis: int  # column of the link's rotation matrix: 0 x, 1 y, 2 z
     sign: int  # +1 or -1
+
+    def renamed(self, r: Renaming) -> ResolvedFinger:
+        return dataclasses.replace(self, link=r.member(self.link))
 
 
 @dataclass(frozen=True)
@@ -181,6 +307,14 @@ class ResolvedGrasping:
     min_force: float
     max_angle: float
 
+    def renamed(self, r: Renaming) -> ResolvedGrasping:
+        first, second = self.fingers
+        return dataclasses.replace(
+            self,
+            method=r.name("grasping", self.method),
+            fingers=(first.renamed(r), second.renamed(r)),
+        )
+
 
 @dataclass(frozen=True)
 class ResolvedStatic:
@@ -189,6 +323,19 @@ class ResolvedStatic:
     base_indices: tuple[int, ...] | None
     base_threshold: float | None
     absolute: bool
+
+
+@dataclass(frozen=True)
+class ResolvedReset:
+    """What the agent's ``reset()`` starts each episode at: keyframe ``keyframe``'s joints, with
+    Gaussian noise of ``qpos_noise`` on the qpos columns ``noise_columns`` (of ``dof``)."""
+
+    keyframe: str
+    qpos_noise: float
+    noise_columns: tuple[int, ...]
+    dof: int
+    # the keyframe sets joint velocities too: the reset restores them after the positions
+    with_qvel: bool = False
 
 
 @dataclass(frozen=True)
@@ -209,6 +356,9 @@ class ResolvedFallen:
     contact_links: tuple[str, ...] = ()
     force_above: float | None = None
 
+    def renamed(self, r: Renaming) -> ResolvedFallen:
+        return dataclasses.replace(self, contact_links=tuple(map(r.link, self.contact_links)))
+
 
 @dataclass(frozen=True)
 class ResolvedLinkState:
@@ -223,6 +373,14 @@ class ResolvedLinkState:
     def width(self) -> int:
         return 7 if self.quantity == "pose" else 3
 
+    def renamed(self, r: Renaming) -> ResolvedLinkState:
+        links = self.links
+        return dataclasses.replace(
+            self,
+            name=r.name("link_states", self.name),
+            links=r.member(links) if isinstance(links, str) else tuple(map(r.member, links)),
+        )
+
 
 @dataclass(frozen=True)
 class ResolvedDrive:
@@ -231,6 +389,9 @@ class ResolvedDrive:
     child: str
     child_pose: Pose
     limits: tuple[tuple[str, float, float], ...]  # ("x", lower, upper), ...
+
+    def renamed(self, r: Renaming) -> ResolvedDrive:
+        return dataclasses.replace(self, parent=r.link(self.parent), child=r.link(self.child))
 
 
 @dataclass(frozen=True)
@@ -320,6 +481,7 @@ class ResolvedRobot:
     is_static: ResolvedStatic | None = None
     is_standing: ResolvedStanding | None = None
     is_fallen: ResolvedFallen | None = None
+    reset: ResolvedReset | None = None
     link_states: tuple[ResolvedLinkState, ...] = ()
     proprioception: tuple[str, ...] = ()
     disable_gravity: tuple[str, ...] = ()
@@ -329,3 +491,75 @@ class ResolvedRobot:
     # the robots mounted on this one (their links and joints are in the description)
     parts: tuple[ResolvedPart, ...] = ()
     simulation: ResolvedSimulation = ResolvedSimulation()
+
+    @property
+    def own_collision_rules(self) -> tuple[ResolvedCollisionRule, ...]:
+        """The spec's collision rules, without the group-2 bits ``never_collide`` packed."""
+        packed = len(self.never_collide.bits) if self.never_collide is not None else 0
+        return self.collision_rules[: len(self.collision_rules) - packed]
+
+    def defined_names(self) -> Iterator[tuple[str, str]]:
+        """``(section, name)`` for each name this robot's spec defines that a renaming maps
+        (besides links, joints, materials and mode keys), in the order defined; a group once
+        per controller that names it."""
+        for controller in self.controllers:
+            yield "controllers", controller.name
+            if controller.joints_group is not None:
+                yield "groups", controller.joints_group
+        yield from (("named_links", attribute) for attribute, _ in self.named_links)
+        yield from (("grasping", check.method) for check in self.grasping)
+        yield from (("link_states", state.name) for state in self.link_states)
+        yield from (("cameras", camera.uid) for camera in self.cameras)
+
+    def renamed(self, r: Renaming) -> ResolvedRobot:
+        """This robot with every joint, link, controller, group, ... it names mapped through
+        ``r``: a part's robot in the names of the robot it is mounted on. Its description,
+        loader settings, hooks and the parts mounted on it are left as they are."""
+
+        def each(items: tuple[Any, ...]) -> tuple[Any, ...]:
+            return tuple(item.renamed(r) for item in items)
+
+        def optional(item: Any) -> Any:
+            return item.renamed(r) if item is not None else None
+
+        return dataclasses.replace(
+            self,
+            urdf_config=_renamed_urdf_config(self.urdf_config, r),
+            controllers=each(self.controllers),
+            modes=each(self.modes),
+            cameras=each(self.cameras),
+            collision_rules=each(self.collision_rules),
+            tcp=optional(self.tcp),
+            active_joints=tuple(map(r.joint, self.active_joints)),
+            named_links=tuple(
+                (
+                    r.name("named_links", attribute),
+                    r.link(value) if isinstance(value, str) else tuple(map(r.link, value)),
+                )
+                for attribute, value in self.named_links
+            ),
+            grasping=each(self.grasping),
+            is_fallen=optional(self.is_fallen),
+            link_states=each(self.link_states),
+            proprioception=tuple(r.name("link_states", n) for n in self.proprioception),
+            disable_gravity=tuple(map(r.link, self.disable_gravity)),
+            drives=each(self.drives),
+            never_collide=optional(self.never_collide),
+        )
+
+
+def _renamed_urdf_config(config: Mapping[str, Any], r: Renaming) -> dict[str, Any]:
+    """ManiSkill's ``urdf_config`` with its materials and the links its rules name renamed."""
+    out = dict(config)
+    if "_materials" in config:
+        out["_materials"] = {
+            r.name("materials", name): dict(values) for name, values in config["_materials"].items()
+        }
+    if "link" in config:
+        out["link"] = {
+            r.link(link): {**rule, "material": r.name("materials", rule["material"])}
+            if "material" in rule
+            else dict(rule)
+            for link, rule in config["link"].items()
+        }
+    return out

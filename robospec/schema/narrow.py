@@ -64,6 +64,7 @@ def robot_names(compiled: CompiledSpec) -> RobotNames:
             "controller": list(spec.controllers),
             "control-mode": list(spec.control_modes),
             "link-state": list(spec.link_states),
+            "keyframe": list(spec.keyframes),
         },
     )
 
@@ -102,6 +103,7 @@ _KIND_WORDS = {
     "controller": "a controller",
     "control-mode": "a control mode",
     "link-state": "a link_states property",
+    "keyframe": "a keyframe",
 }
 
 

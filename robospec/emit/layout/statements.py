@@ -110,6 +110,13 @@ class _Statements:
                 layout.maybe_parenthesize(node.iter, IF_BREAKS),
             )
             return self.clause(header, node.body, BLOCK, depth)
+        if isinstance(node, ast.If):
+            return self.if_chain(node, "if", depth)
+        if isinstance(node, ast.While):
+            if node.orelse:
+                raise TypeError("the emitter does not write while-else")
+            header = concat(Text("while "), layout.maybe_parenthesize(node.test, IF_BREAKS))
+            return self.clause(header, node.body, BLOCK, depth)
         if isinstance(node, ast.FunctionDef):
             return self.function(node, depth)
         if isinstance(node, ast.ClassDef):
@@ -139,6 +146,17 @@ class _Statements:
             lambda: self.layout.comma_separated(names, one_or_more=True)
         )
         return concat(Text(f"from {module} import "), names_doc)
+
+    def if_chain(self, node: ast.If, keyword: str, depth: int) -> Doc:
+        """``if``/``elif`` and its ``else``: a lone ``if`` in an ``else`` is an ``elif``."""
+        header = concat(Text(f"{keyword} "), self.layout.maybe_parenthesize(node.test, IF_BREAKS))
+        doc = self.clause(header, node.body, BLOCK, depth)
+        if not node.orelse:
+            return doc
+        alone = node.orelse[0] if len(node.orelse) == 1 else None
+        if isinstance(alone, ast.If):
+            return concat(doc, HARD_LINE, self.if_chain(alone, "elif", depth))
+        return concat(doc, HARD_LINE, self.clause(Text("else"), node.orelse, BLOCK, depth))
 
     def clause(self, header: Doc, body: list[ast.stmt], kind: str, depth: int) -> Doc:
         # the line break after the block belongs to whatever follows it

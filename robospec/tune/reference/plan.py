@@ -12,9 +12,6 @@ from dataclasses import dataclass
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.resolve.resolved import ResolvedRobot
 
-# the controller types whose drives take joint-position targets, with stiffness and damping
-POSITION_TYPES = frozenset({"pd_joint_pos", "pd_joint_pos_mimic", "pd_joint_pos_vel"})
-
 
 @dataclass(frozen=True)
 class Plan:
@@ -25,7 +22,8 @@ class Plan:
 
 
 def driving(robot: ResolvedRobot) -> dict[str, dict[str, tuple[str, str]]]:
-    """Per mode: joint -> (group, controller) for joints a position controller drives."""
+    """Per mode: joint -> (group, controller) for joints a position controller drives (one
+    whose drives take joint-position targets, with stiffness and damping)."""
     types = {c.name: c for c in robot.controllers}
     out: dict[str, dict[str, tuple[str, str]]] = {}
     for mode in robot.modes:
@@ -33,7 +31,7 @@ def driving(robot: ResolvedRobot) -> dict[str, dict[str, tuple[str, str]]]:
         found: dict[str, tuple[str, str]] = {}
         for group, name in pairs:
             controller = types.get(name)
-            if controller is None or controller.type not in POSITION_TYPES:
+            if controller is None or not controller.kind.joint_position_targets:
                 continue
             for joint in controller.joint_names:
                 found.setdefault(joint, (group, name))

@@ -1,0 +1,87 @@
+"""A URDF's link poses from yourdfpy's forward kinematics.
+
+yourdfpy reads only the kinematic skeleton here — each ``<link>``'s name and every
+``<joint>`` — so that a geometry it does not know (SAPIEN's ``<capsule>``, which pybullet's
+humanoid uses) or a mesh it cannot find does not stop it, and no mesh is read. Two of its
+readings are brought to SAPIEN's before it computes anything:
+
+* a ``<mimic>`` joint follows its leader in yourdfpy; SAPIEN's ``set_qpos`` sets every joint,
+  the followers too: here each joint takes its own value;
+* a joint axis is a direction: SAPIEN slides a prismatic joint along the unit vector; yourdfpy
+  would slide it by ``value`` times the vector as written.
+
+yourdfpy imports trimesh (about a second): it is imported when a URDF's poses are first asked
+for, never on ``validate``'s path.
+"""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Mapping
+from typing import Any
+
+from lxml import etree
+
+from robospec.description import RobotDescription
+from robospec.description.urdf import parse_xml
+from robospec.kinematics.placement import MOVING, Axis, Placement, Poser
+
+
+def urdf_poser(description: RobotDescription, text: bytes) -> Poser | None:
+    """Poses of the URDF ``text`` (already accepted by robospec's parse as ``description``);
+    None where yourdfpy cannot read its skeleton."""
+    model = _yourdfpy_model(text)
+    if model is None:
+        return None
+    import numpy as np
+
+    root = description.root_link
+    links = description.link_names
+    moving = [j for j in description.joints if j.type in MOVING and j.name in model.joint_map]
+    axes = {j.name: np.asarray(model.joint_map[j.name].axis, dtype=np.float64) for j in moving}
+
+    def place(qpos: Mapping[str, float]) -> Placement:
+        model.update_cfg({j.name: float(qpos.get(j.name, 0.0)) for j in moving})
+        poses = {link: model.get_transform(link, root) for link in links}
+        placed = {}
+        for joint in moving:
+            child = poses[joint.child]
+            # the child's frame turns about (or slides along) the axis through its origin
+            placed[joint.name] = Axis(child[:3, :3] @ axes[joint.name], child[:3, 3].copy())
+        return Placement(poses, placed)
+
+    return place
+
+
+def _yourdfpy_model(text: bytes) -> Any:
+    root, _ = parse_xml(text, "")
+    if root is None:
+        return None
+    skeleton = etree.Element("robot", name=root.get("name", "robot"))
+    for element in root:
+        if element.tag == "link":
+            etree.SubElement(skeleton, "link", name=element.get("name", ""))
+        elif element.tag == "joint":
+            skeleton.append(_without_mimic(element))
+    import numpy as np
+    import yourdfpy
+
+    try:
+        loaded = yourdfpy.URDF.load(
+            io.BytesIO(etree.tostring(skeleton)), build_scene_graph=False, load_meshes=False
+        )
+        for joint in loaded.robot.joints:
+            axis = np.asarray(joint.axis if joint.axis is not None else (1, 0, 0), dtype=float)
+            norm = float(np.linalg.norm(axis))
+            joint.axis = axis / norm if norm > 1e-12 else np.array([1.0, 0.0, 0.0])
+        return yourdfpy.URDF(robot=loaded.robot, build_scene_graph=True, load_meshes=False)
+    except (ValueError, KeyError, TypeError, AttributeError):  # what its parser raises
+        return None
+
+
+def _without_mimic(joint: etree._Element) -> etree._Element:
+    copy = etree.Element("joint", dict(joint.attrib))
+    for child in joint:
+        if isinstance(child.tag, str) and child.tag != "mimic":
+            copy.append(etree.fromstring(etree.tostring(child)))
+    return copy

@@ -1,0 +1,221 @@
+"""A robospec robot whose spec declares ``reset`` starts every episode at its reset keyframe,
+as ManiSkill's own robots start each tabletop episode where the scene builder puts them.
+
+``BaseEnv.reset`` calls ``agent.reset()`` with no joint positions and the scene builders set the
+joints only of the robots they list by uid: a robot they do not list starts each episode where
+the last one ended. The generated ``reset()`` (robospec/emit/reset.py) puts it at its keyframe,
+with noise drawn as the scene builders draw theirs. Proved here with the zoo's Panda and the
+two-link arm, each given a ``reset`` (``EPISODE_RESETS``): ManiSkill's seeded-reset property
+(the same observation after the same seed, whatever ran before) and its
+``get_state``/``set_state`` property hold, in ``Empty-v1`` and a tabletop task; the Panda's copy
+starts each PickCube episode exactly as ManiSkill's Panda does. The zoo's twins themselves
+declare no ``reset``: they reset as the robots they reproduce (none of their own).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from maniskill_compare import registered_maniskill_specs, shared_cache_dir
+
+pytestmark = [
+    pytest.mark.maniskill,
+    pytest.mark.filterwarnings("ignore::DeprecationWarning"),
+]
+
+ROOT = Path(__file__).resolve().parent.parent
+SEED = 2000
+STEPS = 5
+
+
+# the zoo's Panda and the two-link arm with the reset robospec new writes (the Panda's with the
+# noise ManiSkill's TableSceneBuilder gives its Panda), each under a uid of its own
+EPISODE_RESETS = {
+    "rs_panda": (
+        ROOT / "specs" / "maniskill" / "panda.yaml",
+        "uid: rs_panda\n",
+        "uid: rs_panda\nreset: {keyframe: rest, qpos_noise: 0.02, noise_joints: arm}\n",
+    ),
+    "twolink": (
+        ROOT / "specs" / "twolink.toml",
+        'uid = "twolink"\n',
+        'uid = "twolink"\nreset = { keyframe = "rest" }\n',
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def agents(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, type]]:
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    import robospec
+
+    with registered_maniskill_specs(shared_cache_dir(tmp_path_factory)) as zoo:
+        folder = tmp_path_factory.mktemp("episode-resets")
+        copies = []
+        for spec, line, declared in EPISODE_RESETS.values():
+            text = spec.read_text(encoding="utf-8")
+            assert line in text
+            copy = folder / spec.parent.relative_to(ROOT) / spec.name
+            copy.parent.mkdir(parents=True, exist_ok=True)
+            copy.write_text(text.replace(line, declared), encoding="utf-8")
+            copies.append(copy)
+        # the copies stand where their specs do, so their descriptions resolve alike
+        (folder / "specs" / "robots").symlink_to(ROOT / "specs" / "robots")
+        zoo_panda = REGISTERED_AGENTS["rs_panda"]  # the copy stands in under its uid
+        try:
+            own = robospec.register(
+                copies, cache_dir=tmp_path_factory.mktemp("episode-cache"), override={"rs_panda"}
+            )
+            yield {**zoo, **own}
+        finally:
+            REGISTERED_AGENTS.pop("twolink", None)
+            REGISTERED_AGENTS["rs_panda"] = zoo_panda
+
+
+def make(uid: str, task: str, **kwargs: Any) -> Any:
+    import gymnasium as gym
+    import mani_skill.envs  # noqa: F401
+
+    from robospec.maniskill.headless import headless_loading
+
+    with headless_loading():
+        return gym.make(
+            task,
+            robot_uids=uid,
+            obs_mode="state",
+            sim_backend="physx_cpu",
+            render_backend="none",
+            **kwargs,
+        )
+
+
+def seeded_twice(uid: str, task: str) -> tuple[Any, Any, Any]:
+    """The observation after ``reset(seed)``, after steps, and after ``reset(seed)`` again."""
+    import torch
+
+    env = make(uid, task)
+    try:
+        first, _ = env.reset(seed=SEED)
+        env.action_space.seed(0)
+        for _ in range(STEPS):
+            env.step(torch.as_tensor(env.action_space.sample()))
+        moved = env.unwrapped.agent.robot.get_qpos().clone()
+        again, _ = env.reset(seed=SEED)
+        return first, moved, again
+    finally:
+        env.close()
+
+
+# twolink has a tcp but no grasp check: PushCube-v1 is its tabletop task (PickCube calls
+# is_grasping)
+CASES = [
+    ("rs_panda", "Empty-v1"),
+    ("rs_panda", "PickCube-v1"),
+    ("twolink", "Empty-v1"),
+    ("twolink", "PushCube-v1"),
+]
+TABLETOP = {"rs_panda": "PickCube-v1", "twolink": "PushCube-v1"}
+
+
+@pytest.mark.parametrize(("uid", "task"), CASES)
+def test_a_seeded_reset_gives_the_first_observation_again(
+    agents: dict[str, type], uid: str, task: str
+) -> None:
+    import torch
+
+    first, moved, again = seeded_twice(uid, task)
+    assert torch.equal(first, again), (first - again).abs().max()
+    start = first[..., : moved.shape[-1]]  # the state observation opens with the qpos
+    assert not torch.allclose(moved, start), "the steps did not move the robot: vacuous"
+
+
+def test_the_panda_twin_starts_each_pickcube_episode_as_maniskills_panda(
+    agents: dict[str, type],
+) -> None:
+    """ManiSkill's TableSceneBuilder resets its Panda to its rest pose with 0.02 rad of noise
+    on the arm from the episode RNG; rs_panda's reset draws the same numbers, so the whole
+    observation (the cube's pose drawn after the noise included) is bit-identical."""
+    import torch
+
+    for enhanced in (False, True):
+        observations = []
+        for uid in ("panda", "rs_panda"):
+            env = make(uid, "PickCube-v1", enhanced_determinism=enhanced)
+            try:
+                first = env.reset(seed=0)[0]
+                env.action_space.seed(0)
+                env.step(torch.as_tensor(env.action_space.sample()))
+                observations.append([first, env.reset(seed=1)[0]])
+            finally:
+                env.close()
+        for theirs, ours in zip(*observations, strict=True):
+            assert torch.equal(theirs, ours), (enhanced, (theirs - ours).abs().max())
+
+
+def test_the_noise_moves_only_the_noise_joints_and_differs_each_episode(
+    agents: dict[str, type],
+) -> None:
+    """rs_panda's reset: noise on the arm (every episode its own), the fingers exactly at the
+    keyframe's 0.04."""
+    import torch
+
+    env = make("rs_panda", "Empty-v1")
+    try:
+        robot = env.unwrapped.agent.robot
+        keyframe = torch.as_tensor(env.unwrapped.agent.keyframes["rest"].qpos, dtype=torch.float32)
+        starts = []
+        for _ in range(2):
+            env.reset()
+            starts.append(robot.get_qpos()[0].clone())
+    finally:
+        env.close()
+    for start in starts:
+        assert torch.equal(start[7:], keyframe[7:])
+        assert 0 < (start[:7] - keyframe[:7]).abs().max() < 0.1
+    assert not torch.equal(starts[0], starts[1])
+
+
+def test_a_reset_by_hand_starts_at_the_keyframe_and_given_positions_win(
+    agents: dict[str, type],
+) -> None:
+    """Called by no environment there is no episode RNG to draw from: the keyframe itself."""
+    import torch
+
+    env = make("rs_panda", "Empty-v1")
+    try:
+        agent = env.unwrapped.agent
+        keyframe = torch.as_tensor(agent.keyframes["rest"].qpos, dtype=torch.float32)
+        env.reset(seed=SEED)
+        env.step(torch.as_tensor(env.action_space.sample()))
+        agent.reset()
+        assert torch.equal(agent.robot.get_qpos()[0], keyframe)
+        given = keyframe * 0.5
+        agent.reset(given)
+        assert torch.equal(agent.robot.get_qpos()[0], given)
+    finally:
+        env.close()
+
+
+@pytest.mark.parametrize("uid", ["rs_panda", "twolink"])
+def test_set_state_restores_the_observation(agents: dict[str, type], uid: str) -> None:
+    """In a tabletop task (Empty-v1 has no actors: its get_state fails for ManiSkill's own
+    robots too)."""
+    import torch
+
+    env = make(uid, TABLETOP[uid])
+    try:
+        env.reset(seed=SEED)
+        env.step(torch.as_tensor(env.action_space.sample()))
+        base = env.unwrapped
+        state, observation = base.get_state(), base.get_obs()
+        for _ in range(STEPS):
+            env.step(torch.as_tensor(env.action_space.sample()))
+        assert not torch.allclose(base.get_obs(), observation)
+        base.set_state(state)
+        torch.testing.assert_close(base.get_obs(), observation, rtol=0, atol=1e-6)
+    finally:
+        env.close()
