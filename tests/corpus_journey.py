@@ -249,7 +249,7 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
         return step, documents
 
     cli("inspect", "inspect", str(description), "--format", "json")
-    cli("new", "new", "--from-urdf", str(description), "-o", spec_name, "--format", "json")
+    cli("new", "new", str(description), "-o", spec_name, "--format", "json")
     if not (workdir / spec_name).is_file():
         return journey
     validate, _ = cli("validate", "validate", spec_name, "--format", "json")

@@ -45,7 +45,7 @@ grippers, dexterous hands, quadrupeds, humanoids and mobile bases, in URDF, xacr
 exactly as `robospec new` writes it:
 
 1. **inspect**: `robospec inspect FILE`
-2. **new**: `robospec new --from-urdf FILE -o SPEC`
+2. **new**: `robospec new FILE -o SPEC`
 3. **validate**: `robospec validate SPEC`, which must find no error
 4. **check**: `robospec check SPEC --steps {RANDOM_STEPS}`
 5. **register**: `robospec.register(SPEC)`, then `gym.make("Empty-v1", robot_uids=UID,

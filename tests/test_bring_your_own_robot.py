@@ -88,8 +88,26 @@ def apply_diff(text: str, diff: str) -> str:
 def test_the_page_copies_the_corpus_robot_it_names() -> None:
     page = PAGE.read_text(encoding="utf-8")
     folder = Path(ROBOT.path).parent.name
-    assert f"pybullet_data.getDataPath())')/{folder}\" robots/" in page
+    found = "python -c 'import pybullet_data; print(pybullet_data.getDataPath())'"
+    assert f'data="$({found})"' in page
+    assert f'cp -r "$data/{folder}" robots/' in page
     assert f"robots/{folder}/{Path(ROBOT.path).name}" in page
+
+
+def test_the_page_works_in_a_folder_of_its_own() -> None:
+    """Its first step makes a project folder and goes into it, before anything is written, and
+    every path a later command names lies inside it: run in the robospec clone, `-o
+    specs/laikago.yaml` would land among the example specs."""
+    blocks = list(BLOCK.finditer(PAGE.read_text(encoding="utf-8")))
+    first = blocks[0]["body"].splitlines()
+    made = re.fullmatch(r"mkdir (?P<folder>[\w.-]+) && cd (?P=folder)\b.*", first[0])
+    assert made, first[0]
+    for match in blocks:
+        if match["lang"] != "console":
+            continue
+        for command in re.findall(r"^\$ (.*)$", match["body"], flags=re.M):
+            for word in shlex.split(command)[1:]:
+                assert not word.startswith(("/", "~")) and ".." not in Path(word).parts, command
 
 
 def test_every_step_of_the_page_does_what_the_page_shows(tmp_path: Path) -> None:

@@ -276,3 +276,16 @@ def test_doc_plots_links_the_step_plots_check_and_tune_wrote_for_this_robot(
     links = re.findall(r"!\[([^\]]*)\]\(([^)]*)\)", out.read_text())
     assert links == [("arm_pos step response", "../plots/rs_panda/arm_pos.png")]
     assert (out.parent / links[0][1]).resolve() == (plots / "rs_panda" / "arm_pos.png").resolve()
+
+
+@pytest.mark.slow  # draws the robot (seconds)
+def test_doc_images_lists_every_file_it_wrote(tmp_path: Path) -> None:
+    """The card, then each picture: what a reader opens next, not the card's name alone."""
+    out = tmp_path / "panda.md"
+    result = run_robospec("doc", str(PANDA_SPEC), "-o", str(out), "--images")
+    assert result.returncode == 0, result.stderr
+    said = result.stdout.splitlines()
+    pictures = sorted(str(p) for p in (tmp_path / "panda_images").rglob("*.png"))
+    assert pictures
+    assert said[0] == f"wrote {out}"
+    assert sorted(said[1:]) == [f"wrote {p}" for p in pictures]

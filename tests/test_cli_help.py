@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import os
+import re
 import shlex
 import shutil
 import subprocess
@@ -121,3 +122,86 @@ def test_bash_completion_completes_command_names() -> None:
 def test_bash_completion_completes_option_names_and_choices() -> None:
     assert "--format" in _bash_complete("validate", "--f")
     assert {"text", "json"} <= set(_bash_complete("validate", "--format", ""))
+
+
+def test_version_prints_the_version_robospec_says_everywhere() -> None:
+    from robospec.version import __version__
+
+    result = run_robospec("--version")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == f"robospec {__version__}\n"
+
+
+# what typer writes for a value's Python type, e.g. `<list[Path]>`, `<str>`, `<int range>`
+_PYTHON_TYPE = re.compile(
+    r"<(?:list\[[^>]*\]|str|path|int|float|bool|tuple|uuid|datetime)(?: range)?>"
+)
+# a placeholder in a usage line: capitals (FILE, SPEC, MODULE:CLASS), maybe optional, maybe more
+_PLACEHOLDER = re.compile(r"^\[?[A-Z][A-Z0-9_:]*\]?(?:\.\.\.)?$")
+
+
+@pytest.mark.parametrize("name", ["", *COMMANDS])
+def test_every_help_shows_values_as_placeholders_not_python_types(name: str) -> None:
+    """``robospec validate [OPTIONS] SPEC...``, ``--out FILE``: never ``{spec}``,
+    ``<list[Path]>`` or ``<str>``; a choice shows its choices (``<text|json>``)."""
+    text = _help([name] if name else [], 100)
+    assert not _PYTHON_TYPE.search(text), _PYTHON_TYPE.search(text)
+    for shown in re.findall(r"<([^<>\s]*)>", text):
+        if "|" in shown:  # a choice: its values, each a lower-case word
+            assert all(re.fullmatch(r"[a-z][a-z0-9_]*", v) for v in shown.split("|")), shown
+    usage = next(line for line in text.splitlines() if "Usage:" in line)
+    pieces = usage.split("Usage:", 1)[1].split()[1:]  # after the program's name
+    pieces = [p for p in pieces if p not in (name, "[OPTIONS]", "COMMAND", "[ARGS]...")]
+    assert all(_PLACEHOLDER.match(piece) for piece in pieces), usage
+
+
+def test_an_optional_argument_is_shown_in_brackets_and_a_required_one_bare() -> None:
+    from typer.core import TyperArgument
+
+    from robospec.cli.help_style import _readable
+
+    required = TyperArgument(param_decls=["spec"], type_descriptor=_descriptor(), required=True)
+    optional = TyperArgument(param_decls=["file"], type_descriptor=_descriptor(), required=False)
+    shown = [p.get_usage_pieces(None) for p in _readable([required, optional])]
+    assert shown == [["SPEC"], ["[FILE]"]]
+    assert required.display_type_rich(None) is None  # no `<path>` beside its name
+
+
+def _descriptor() -> object:
+    from typer.core import TyperArgument
+
+    command = typer.main.get_command(app).commands["inspect"]  # type: ignore[attr-defined]
+    argument = next(p for p in command.params if isinstance(p, TyperArgument))
+    return argument.type_descriptor
+
+
+def _journey() -> list[str]:
+    """The commands of the README's "From a URDF to a registered robot" block, in order."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = readme.split("## From a URDF to a registered robot", 1)[1].split("```sh\n", 1)[1]
+    block = block.split("```", 1)[0]
+    return [line.split()[1] for line in block.splitlines() if line.startswith("robospec ")]
+
+
+def test_the_top_level_help_lists_commands_in_the_order_of_the_readmes_journey() -> None:
+    """A newcomer reads the commands in the order they use them: inspect and new first, then
+    validate, ..., build and solve last of the journey; the other commands come after it."""
+    from robospec.docgen.cli_page import command_names
+
+    journey = _journey()
+    assert journey[:2] == ["inspect", "new"] and journey[-2:] == ["build", "solve"], journey
+    listed = command_names()
+    assert listed[: len(journey)] == journey
+    text = _help([], 100)
+    at = [text.index(f"│ {name} ") for name in listed]
+    assert at == sorted(at)
+
+
+def test_every_page_spells_new_one_way_the_description_first() -> None:
+    """``robospec new FILE -o SPEC`` in the README and on every docs page: the description is
+    the command's one positional argument, with no option that names it another way."""
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    spelled = [p.name for p in pages if "--from-urdf" in p.read_text(encoding="utf-8")]
+    assert not spelled, spelled
+    assert "--from-urdf" not in _help(["new"], 100)
+    assert re.search(r"Usage: robospec new \[OPTIONS\] FILE *\n", _help(["new"], 100))

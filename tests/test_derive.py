@@ -242,9 +242,7 @@ def test_new_writes_the_mends_a_robot_needs_with_why_and_its_spec_validates(
     folder = tmp_path / "robot"
     shutil.copytree(CODE_EXAMPLES / "RS705", folder)
     out = folder / "new.yaml"
-    result = invoke_robospec(
-        "new", "--from-urdf", str(folder / "reduction.urdf"), "-o", str(out), "--no-sim"
-    )
+    result = invoke_robospec("new", str(folder / "reduction.urdf"), "-o", str(out), "--no-sim")
     assert result.exit_code == 0, result.output
     text = out.read_text()
     assert "  mend:  # robospec mends a copy" in text

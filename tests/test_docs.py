@@ -329,6 +329,111 @@ def test_a_screenshot_of_the_page_shows_materials_theme(
     assert len(colours) > 20  # text, highlighted code: more than a blank page
 
 
+# what a reader sees of a page at 1280 x 900, measured in the page by Chromium once it has
+# loaded: each table's header cells (shown, or past the edge of the table's scroll box or of
+# the window), each picture (loaded, with pixels), each code block (its lines whole, or cut at
+# its right edge, behind a scroll bar)
+READER_SCRIPT = """<script>
+window.addEventListener("load", () => {
+  const content = document.querySelector(".md-content");
+  const tables = [...content.querySelectorAll("table")].map((table) => {
+    const box = table.getBoundingClientRect();
+    const right = Math.min(box.left + table.clientWidth, window.innerWidth);
+    return [...table.querySelectorAll("th")].map((th) => {
+      const cell = th.getBoundingClientRect();
+      return [th.textContent.trim(), cell.width > 0 && cell.right <= right + 1];
+    });
+  });
+  const images = [...content.querySelectorAll("img")].map(
+    (img) => [img.getAttribute("src"), img.complete && img.naturalWidth > 0]);
+  const code = [...content.querySelectorAll("pre > code")].map(
+    (block) => [block.textContent.split("\\n")[0], block.scrollWidth > block.clientWidth + 1]);
+  document.body.setAttribute("data-reader", JSON.stringify({tables, images, code}));
+});
+</script>"""
+
+
+def _what_a_reader_sees(site: Path, page: str, tmp_path: Path) -> dict[str, list[list]]:
+    """The page, built, opened in headless Chromium at 1280 x 900 with :data:`READER_SCRIPT`
+    added: what that script measured, read back from the page's DOM."""
+    import html
+    import json
+
+    built = site / ("index.html" if page == "index.md" else f"{page[:-3]}/index.html")
+    probe = built.with_name("_reader.html")  # beside it: its links and pictures resolve
+    probe.write_text(
+        built.read_text(encoding="utf-8").replace("</body>", READER_SCRIPT + "</body>"),
+        encoding="utf-8",
+    )
+    try:
+        result = subprocess.run(
+            [
+                _chromium(),
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--hide-scrollbars",
+                f"--user-data-dir={tmp_path / 'profile'}",
+                "--window-size=1280,900",
+                "--virtual-time-budget=10000",
+                "--dump-dom",
+                probe.as_uri(),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=True,
+        )
+    finally:
+        probe.unlink()
+    found = re.search(r'data-reader="([^"]*)"', result.stdout)
+    assert found, f"the reader script did not run on {page}"
+    return json.loads(html.unescape(found.group(1)))
+
+
+# the pages a newcomer reads first (README's links), every column of whose tables must show
+FIRST_PAGES = ("index.md", "tutorial.md", "bring-your-own-robot.md", "cli.md", "robots.md")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "page", [page for _, page in _nav_pages(_mkdocs_config()["nav"]) if page.endswith(".md")]
+)
+def test_a_reader_at_1280_px_sees_every_picture_and_whole_code_lines(
+    site: Path, page: str, tmp_path: Path
+) -> None:
+    """And on the pages a newcomer reads first, every column of every table."""
+    seen = _what_a_reader_sees(site, page, tmp_path)
+    if page in FIRST_PAGES:
+        hidden = [name for table in seen["tables"] for name, shown in table if not shown]
+        assert not hidden, f"{page}: columns past the table's edge: {hidden}"
+    broken = [src for src, loaded in seen["images"] if not loaded]
+    assert not broken, f"{page}: pictures that did not load: {broken}"
+    cut = [first for first, clipped in seen["code"] if clipped]
+    assert not cut, f"{page}: code blocks cut at the right edge (lines over 80 columns): {cut}"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", ["index.md", "tutorial.md"])
+def test_the_home_page_and_the_tutorial_show_pictures_of_robots(
+    site: Path, page: str, tmp_path: Path
+) -> None:
+    seen = _what_a_reader_sees(site, page, tmp_path)
+    pictures = [src for src, loaded in seen["images"] if loaded and src.endswith(".png")]
+    assert len(pictures) >= 2, seen["images"]
+
+
+@pytest.mark.slow
+def test_the_robots_table_shows_all_ten_columns_at_1280_px(site: Path, tmp_path: Path) -> None:
+    """The journeys' table: register, build and check found were cut off at its right edge."""
+    seen = _what_a_reader_sees(site, "robots.md", tmp_path)
+    journeys = next(
+        t for t in seen["tables"] if [name for name, _ in t][:2] == ["robot", "category"]
+    )
+    assert [name for name, _ in journeys][-3:] == ["register", "build", "check found"]
+    assert all(shown for _, shown in journeys), journeys
+
+
 def _near(pixel: tuple[int, ...], colour: tuple[int, int, int], within: int = 12) -> bool:
     return all(abs(a - b) <= within for a, b in zip(pixel, colour, strict=False))
 

@@ -147,7 +147,13 @@ def test_the_physx_exemptions_come_shapeless_first_then_each_reason_once() -> No
     near = {("base", "flange"): 0.0, ("base", "yoke"): -0.001}
     space = JointSpace(tree, ["pitch", "roll"], [(-1.0, 1.0)] * 2)
     exempt = physx_exemptions(found, axes, space, [0.0] * 2, near, Sweep(lambda _: near, TOUCH))
-    assert exempt == [("base", "yoke"), ("flange", "yoke"), ("base", "flange")]
+    assert list(exempt) == [("base", "yoke"), ("flange", "yoke"), ("base", "flange")]
+    # each under the first reason found (the header's words for it)
+    assert list(exempt.values()) == ["shapeless", "shapeless", "welded"]
+    # a cross with a shape: the yoke and the base nest round it, no longer shapeless neighbours
+    found = bodies(tree, {"base", "flange", "cross", "yoke"})
+    exempt = physx_exemptions(found, axes, space, [0.0] * 2, near, Sweep(lambda _: near, TOUCH))
+    assert exempt == {("base", "yoke"): "yoke", ("base", "flange"): "welded"}
 
 
 def test_pairs_touching_in_every_pose_are_exempt_as_neighbours_or_after_a_thorough_search() -> None:

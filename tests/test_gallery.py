@@ -8,6 +8,7 @@ SAPIEN's link origins lands (tests/picture_truth.py)."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -15,11 +16,15 @@ from conftest import DOCS, MANISKILL_VERSION, ROOT
 from picture_truth import picture_faults, placement_errors, sapien_truth
 
 from robospec.docgen.gallery import (
+    PAGE_FOLDER,
+    PAGE_PICTURES,
     WRITE_COMMAND,
     ZOO_FOLDER,
     ZOO_PAGE,
     gallery_markdown,
+    page_inputs,
     recorded_inputs,
+    recorded_page_inputs,
     render_inputs,
     with_gallery,
     zoo_gallery,
@@ -50,6 +55,26 @@ def test_a_zoo_picture_is_drawn_from_what_the_spec_and_its_assets_say_now(spec: 
     assert render_inputs(compile_spec(spec)) == recorded.get(spec.stem), (
         f"docs/images/zoo/{spec.stem}.png is stale: run {WRITE_COMMAND}"
     )
+
+
+@pytest.mark.skipif(not ASSETS_PINNED, reason="drawn from ManiSkill 3.0.1's assets")
+def test_the_pages_own_pictures_are_drawn_from_what_their_specs_say_now_and_shown() -> None:
+    """The home page and the tutorial show robots drawn by doc --images: the tutorial's own
+    robot, and what its hand camera sees, current as the zoo's pictures are."""
+    assert page_inputs(ROOT) == recorded_page_inputs(DOCS), f"stale: run {WRITE_COMMAND}"
+    tutorial = (DOCS / "tutorial.md").read_text(encoding="utf-8")
+    for name in PAGE_PICTURES:
+        assert (DOCS / PAGE_FOLDER / f"{name}.png").is_file(), name
+        assert f"(images/pages/{name}.png)" in tutorial, name
+    home = (DOCS / "index.md").read_text(encoding="utf-8")
+    shown = re.findall(r"!\[[^\]]*\]\((images/[^)]+\.png)\)", home)
+    assert len(shown) >= 4 and all((DOCS / picture).is_file() for picture in shown), shown
+
+
+def test_a_camera_view_hashes_the_camera_and_a_gallery_view_as_it_always_did() -> None:
+    spec = compile_spec(ROOT / "docs" / "examples" / "tutorial" / "my_panda.yaml")
+    assert render_inputs(spec) == render_inputs(spec, "three_quarter")
+    assert render_inputs(spec, "table:hand_camera") != render_inputs(spec)
 
 
 def test_the_inputs_hash_changes_with_the_keyframe_and_not_with_the_gains(tmp_path: Path) -> None:

@@ -107,8 +107,9 @@ def _unreadable(path: Path) -> None:
 
 
 SPEC_CASES = [
-    Hostile("malformed.yaml", _text("robospec: 1\nuid: [rs_a, rs_b\n"), "RS002", 2, 17),
-    Hostile("malformed.toml", _text('robospec = 1\nuid = "rs_a\n'), "RS002", 2),
+    # a list and a string never closed: at the bracket and the quote (RS015)
+    Hostile("malformed.yaml", _text("robospec: 1\nuid: [rs_a, rs_b\n"), "RS015", 2, 6),
+    Hostile("malformed.toml", _text('robospec = 1\nuid = "rs_a\n'), "RS015", 2, 7),
     Hostile(
         "wrong_type.yaml",
         _text(GOOD_YAML.replace("stiffness: 1e3", "stiffness: [1]", 1)),

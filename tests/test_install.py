@@ -27,3 +27,35 @@ def test_pyproject_is_read_by_setuptools_without_a_deprecation() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         apply_configuration(Distribution(), ROOT / "pyproject.toml")
+
+
+def test_setup_installs_without_setuptools_editable_install_box() -> None:
+    """pip shows setuptools' "Editable installation" notice, a box of asterisks, whatever its
+    --quiet says: scripts/setup's pip install filters that warning, and only that one. Proved
+    on setuptools' own notice, raised in a process with the filter the script sets."""
+    import os
+    import re
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    script = (ROOT / "scripts" / "setup").read_text(encoding="utf-8")
+    (install,) = [line for line in script.splitlines() if "pip install --quiet -e" in line]
+    found = re.match(r'PYTHONWARNINGS="([^"]+)" ', install)
+    assert found, install
+    notice = (
+        "from setuptools.warnings import InformationOnly\n"
+        "InformationOnly.emit('Editable installation.', 'Please be careful with folders')\n"
+        "import warnings; warnings.warn('another warning')\n"
+    )
+    for filters, shown in ((found.group(1), False), ("", True)):
+        result = subprocess.run(
+            [sys.executable, "-c", notice],
+            capture_output=True,
+            text=True,
+            env={**os.environ, "PYTHONWARNINGS": filters},
+            check=True,
+        )
+        assert ("Editable installation" in result.stderr) is shown, result.stderr
+        assert "another warning" in result.stderr  # nothing else is silenced

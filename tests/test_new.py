@@ -15,6 +15,10 @@ from conftest import TWOLINK_XACRO, invoke_robospec, maniskill_assets, run_robos
 from ruamel.yaml import YAML
 
 from robospec.authoring.commands import run_new
+from robospec.authoring.description_file import read_description_file
+from robospec.authoring.new import rest_pose
+from robospec.authoring.new.exemptions import ADJACENT_WHY, COARSE_WHY, OVERLAPPING_WHY, THOROUGH
+from robospec.authoring.new.scaffold import FILTERED_WHY
 from robospec.pipeline import compile_spec
 from robospec.schema import schema_text
 
@@ -178,17 +182,15 @@ def test_a_robot_name_that_names_no_robot_gives_way_to_the_file_name(
 
 
 @pytest.mark.slow  # over a second: CI runs it, the fast loop does not
-def test_the_description_is_a_positional_argument_and_from_urdf_its_alias(tmp_path: Path) -> None:
+def test_the_description_is_the_one_positional_argument(tmp_path: Path) -> None:
     positional = run_robospec("new", str(TWOLINK_XACRO), "-o", str(tmp_path / "a.yaml"), "--no-sim")
     assert positional.returncode == 0, positional.stderr
+    # one spelling: the description is FILE, there is no option for it
     alias = ["new", "--from-urdf", str(TWOLINK_XACRO), "-o", str(tmp_path / "b.yaml"), "--no-sim"]
-    assert run_robospec(*alias).returncode == 0
-    assert (tmp_path / "a.yaml").read_text() == (tmp_path / "b.yaml").read_text()
-    both = run_robospec(*alias[:-1], str(TWOLINK_XACRO), "--force")
     neither = run_robospec("new", "-o", str(tmp_path / "c.yaml"))
-    for result in (both, neither):
+    for result, said in ((run_robospec(*alias), "No such option"), (neither, "Missing argument")):
         assert result.returncode == 2  # a usage error
-        assert "give the robot description once" in result.stderr
+        assert said in result.stderr and "robospec new [OPTIONS] FILE" in result.stderr
         assert "Traceback" not in result.stderr
 
 
@@ -261,7 +263,8 @@ def test_links_an_mjcf_s_collision_filters_keep_apart_are_declared_never_collide
     entries = [set(entry) for entry in data["never_collide"]]
     assert any({"torso", "shin"} <= entry for entry in entries)
     assert not any("foot" in entry for entry in entries)
-    assert "collision filters keep apart" in out.read_text()
+    clique = next(entry for entry in data["never_collide"] if {"torso", "shin"} <= set(entry))
+    assert f"#   {' + '.join(clique)}: {FILTERED_WHY}\n" in out.read_text()
 
 
 def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
@@ -427,7 +430,7 @@ def test_scaffolded_panda_registers_steps_in_both_modes_and_holds_its_keyframe(
 
     out = tmp_path / "panda.yaml"
     panda = maniskill_assets() / "robots/panda/panda_v2.urdf"
-    result = run_robospec("new", "--from-urdf", str(panda), "-o", str(out), "--uid", "rs_new_panda")
+    result = run_robospec("new", str(panda), "-o", str(out), "--uid", "rs_new_panda")
     assert result.returncode == 0, result.stderr
     check = run_robospec("validate", str(out))
     assert check.returncode == 0, check.stdout
@@ -497,3 +500,174 @@ def test_new_reads_a_description_given_as_a_spec_names_it(tmp_path: Path) -> Non
     assert f"urdf: '{given}'" in out.read_text(encoding="utf-8")
     shown = invoke_robospec("inspect", given)
     assert shown.exit_code == 0 and "panda_joint1" in shown.stdout
+
+
+def _arm_with_gripper(tmp_path: Path, frame: str, frame_parent: str = "hand") -> Path:
+    """Four revolute joints, a hand welded to the last link, two fingers sliding on it, and
+    ``frame`` welded to ``frame_parent``."""
+
+    def link(name: str) -> str:
+        return (
+            f'<link name="{name}"><inertial><mass value="0.5"/><inertia ixx="0.001" '
+            'iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>\n'
+        )
+
+    def joint(name: str, kind: str, parent: str, child: str, axis: str = "0 0 1") -> str:
+        limit = LIMIT.format(lo=-1.5, hi=1.5) if kind == "revolute" else ""
+        limit = LIMIT.format(lo=0, hi=0.04) if kind == "prismatic" else limit
+        return (
+            f'<joint name="{name}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+            f'<origin xyz="0 0 0.1"/><axis xyz="{axis}"/>{limit}</joint>\n'
+        )
+
+    links = ["base", "link1", "link2", "link3", "link4", "hand", "left_finger", "right_finger"]
+    body = "".join(link(name) for name in links) + f'<link name="{frame}"/>\n'
+    for i in range(1, 5):
+        body += joint(f"joint{i}", "revolute", links[i - 1], links[i])
+    body += joint("hand_joint", "fixed", "link4", "hand")
+    body += joint("left_finger_joint", "prismatic", "hand", "left_finger", "0 1 0")
+    body += joint("right_finger_joint", "prismatic", "hand", "right_finger", "0 -1 0")
+    body += joint(f"{frame}_joint", "fixed", frame_parent, frame)
+    return _robot(tmp_path / "arm.urdf", "my_arm", body)
+
+
+@pytest.mark.parametrize(
+    "frame",
+    [
+        "tcp",
+        "hand_tcp",
+        "grasp_frame",
+        "ee_link",
+        "/arm/ee_gripper_link",
+        "r_gripper_tool_frame",
+        "tool0",
+    ],
+)
+def test_a_link_named_as_a_tcp_welded_to_the_hand_is_the_tcp(tmp_path: Path, frame: str) -> None:
+    """Not the midpoint between the fingers: the description's own frame, found across the
+    hand's fixed joint to the arm (a revolute joint above it ends the search)."""
+    spec = scaffold(_arm_with_gripper(tmp_path, frame), tmp_path / "arm.yaml")
+    assert spec["tcp"] == frame
+    assert spec["grasping"]["is_grasping"]["fingers"][0]["link"] == "left_finger"
+    validate(tmp_path / "arm.yaml")
+
+
+def test_a_frame_named_as_a_tcp_but_beyond_a_moving_joint_is_not_the_gripper_s_tcp(
+    tmp_path: Path,
+) -> None:
+    urdf = _arm_with_gripper(tmp_path, "tool0", frame_parent="link2")
+    spec = scaffold(urdf, tmp_path / "arm.yaml")
+    assert spec["tcp"] == {
+        "link": "hand",
+        "midpoint": ["left_finger", "right_finger"],
+        "orientation": "hand",
+    }
+
+
+def test_a_sensor_s_tool_link_welded_to_the_hand_is_not_taken_for_the_tcp(tmp_path: Path) -> None:
+    """TALOS's wrist_left_ft_tool_link (a force-torque sensor's flange): "tool" is no tcp."""
+    spec = scaffold(_arm_with_gripper(tmp_path, "wrist_ft_tool_link"), tmp_path / "arm.yaml")
+    assert isinstance(spec["tcp"], dict) and spec["tcp"]["link"] == "hand"
+
+
+def test_of_several_tcp_names_the_one_that_says_tcp_wins(tmp_path: Path) -> None:
+    urdf = _arm_with_gripper(tmp_path, "tool0", frame_parent="link4")
+    text = urdf.read_text().replace(
+        "</robot>",
+        '<link name="panda_hand_tcp"/><joint name="t" type="fixed"><parent link="hand"/>'
+        '<child link="panda_hand_tcp"/></joint>\n</robot>',
+    )
+    urdf.write_text(text)
+    assert scaffold(urdf, tmp_path / "arm.yaml")["tcp"] == "panda_hand_tcp"
+
+
+def test_an_arm_without_a_gripper_takes_its_tool_flange_as_the_tcp_unless_two_arms_tie(
+    tmp_path: Path,
+) -> None:
+    chain = "".join(
+        f'<link name="l{i}"/><joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
+        f'<child link="l{i}"/><axis xyz="0 0 1"/>{LIMIT.format(lo=-1, hi=1)}</joint>\n'
+        for i in range(1, 4)
+    )
+    flange = (
+        '<link name="tool0"/><joint name="f" type="fixed"><parent link="l3"/>'
+        '<child link="tool0"/></joint>\n'
+    )
+    one = _robot(tmp_path / "one.urdf", "bare_arm", '<link name="l0"/>\n' + chain + flange)
+    assert scaffold(one, tmp_path / "one.yaml")["tcp"] == "tool0"
+    validate(tmp_path / "one.yaml")
+    # two arms with a flange each, as deep: the scaffold does not choose between them
+    left = chain.replace('"l', '"left_l').replace('"j', '"left_j').replace('"left_l0"', '"l0"')
+    right = chain.replace('"l', '"right_l').replace('"j', '"right_j').replace('"right_l0"', '"l0"')
+    flanges = flange.replace("tool0", "left_tool0").replace('"l3"', '"left_l3"').replace(
+        'name="f"', 'name="lf"'
+    ) + flange.replace("tool0", "right_tool0").replace('"l3"', '"right_l3"').replace(
+        'name="f"', 'name="rf"'
+    )
+    two = _robot(tmp_path / "two.urdf", "two_arms", '<link name="l0"/>\n' + left + right + flanges)
+    assert "tcp" not in scaffold(two, tmp_path / "two.yaml")
+
+
+def _six_links(tmp_path: Path) -> Path:
+    """A chain of six links on revolute joints from a base: l0 hangs from it, l1 from l0, ..."""
+    links = '<link name="base"/>\n' + "".join(
+        f'<link name="l{i}"/><joint name="j{i}" type="revolute">'
+        f'<parent link="{"base" if i == 0 else f"l{i - 1}"}"/><child link="l{i}"/>'
+        f'<axis xyz="0 0 1"/>{LIMIT.format(lo=-1, hi=1)}</joint>\n'
+        for i in range(6)
+    )
+    return _robot(tmp_path / "six.urdf", "six", links)
+
+
+def _answer_with(monkeypatch: pytest.MonkeyPatch, found: rest_pose.RestPose) -> None:
+    """``new`` as if the rest-pose search in ManiSkill had answered ``found``."""
+    monkeypatch.setattr(rest_pose, "maniskill_installed", lambda: True)
+    monkeypatch.setattr(rest_pose, "probe_rest_pose", lambda *args, **kwargs: (found, None))
+
+
+def test_the_header_gives_each_never_collide_pair_its_own_reason(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """One line per pair, saying why that pair: not one paragraph of every reason there is."""
+    urdf = _six_links(tmp_path)
+    # base + l0 one joint apart, l1 + l4 three: the second is coarse shapes, not the joint
+    overlapping, coarse = ("base", "l0"), ("l1", "l4")
+    yoke, welded, shapeless = ("l2", "l3"), ("base", "l5"), ("l0", "l5")
+    found = rest_pose.rest_from_answer(
+        {
+            "qpos": [0.0] * 6,
+            "touching": [[*overlapping, 0.002], [*coarse, 0.003]],
+            "always": [list(overlapping), list(coarse)],
+            "tried": THOROUGH,
+            "adjacent": [list(yoke), list(welded), list(shapeless)],
+            "adjacent_why": ["yoke", "welded", "shapeless"],
+        },
+        read_description_file(urdf)[0].description,  # type: ignore[union-attr]
+    )
+    _answer_with(monkeypatch, found)
+    out = tmp_path / "six.yaml"
+    result = run_new(urdf, out, "six", force=True, simulate=True).write()
+    assert not result.failed, [d.format_text() for d in result.diagnostics]
+    text = out.read_text()
+    header = [line for line in text.splitlines() if line.startswith("#   ")]
+    assert header == [
+        f"#   base + l0: {OVERLAPPING_WHY}",
+        f"#   l1 + l4: {COARSE_WHY}",
+        f"#   l2 + l3: {ADJACENT_WHY['yoke']}",
+        f"#   base + l5: {ADJACENT_WHY['welded']}",
+        f"#   l0 + l5: {ADJACENT_WHY['shapeless']}",
+    ]
+    assert "These are joined only through" not in text  # the old run-on paragraph
+
+
+def test_a_long_never_collide_list_is_written_one_pair_a_line_a_short_one_on_one_line() -> None:
+    from robospec.importer.specdata import SpecDoc
+    from robospec.importer.yamlout import to_yaml
+
+    short = to_yaml(SpecDoc({"robospec": 1, "never_collide": [["a", "b"], ["c", "d"]]}), "s")
+    assert "\nnever_collide: [[a, b], [c, d]]\n" in short
+    pairs = [[f"left_upper_leg_{i}", f"chassis_{i}"] for i in range(4)]
+    long = to_yaml(SpecDoc({"robospec": 1, "never_collide": pairs}), "s")
+    listed = "".join(f"  - [{a}, {b}]\n" for a, b in pairs)
+    assert f"\nnever_collide:\n{listed}" in long
+    assert YAML(typ="safe").load(long)["never_collide"] == pairs

@@ -88,6 +88,14 @@ def test_housings_that_overlap_their_thighs_in_every_pose_are_declared_never_col
     # hip turns on without touching it in any pose of the hip: PhysX leaves out body + hip only
     welded = [["body", f"leg_{leg}_housing"] for leg in "abcd"]
     assert data["never_collide"] == overlapping + welded
+    # and the header says why, pair by pair: the search's own reason for each
+    from robospec.authoring.new.exemptions import ADJACENT_WHY, OVERLAPPING_WHY
+
+    header = (tmp_path / "quad.yaml").read_text()
+    for a, b in overlapping:
+        assert f"#   {a} + {b}: {OVERLAPPING_WHY}\n" in header
+    for a, b in welded:
+        assert f"#   {a} + {b}: {ADJACENT_WHY['welded']}\n" in header
     # the rest pose itself stayed where it started: no contact needed moving it
     assert data["keyframes"]["rest"]["qpos"]["fl"] == [0.0, 0.0, -0.5]
 

@@ -12,6 +12,8 @@ README = (ROOT / "README.md").read_text(encoding="utf-8")
 MADE_BY = {
     ".venv/bin/mkdocs": ("scripts/demo", "docs"),  # the docs extra, set up by scripts/demo
     ".venv/bin/python": ("scripts/demo", "maniskill"),
+    ".venv/bin/robospec": ("scripts/demo", "maniskill"),
+    ".venv/bin/activate": ("scripts/demo", "maniskill"),
     ".venv/bin/ruff": ("scripts/test", "dev"),
     "out/fast-loop.json": ("scripts/test", "out/fast-loop.json"),
 }
@@ -55,3 +57,13 @@ def test_bring_your_own_robot_is_described_with_the_robot_the_page_uses() -> Non
     for text in (README, (ROOT / "docs" / "index.md").read_text(encoding="utf-8")):
         assert "pybullet's Panda" not in text
         assert "pybullet's Laikago" in text
+
+
+def test_the_readme_says_first_where_the_robospec_command_is_after_set_up() -> None:
+    """`robospec: command not found` after scripts/demo: the README's first section (before
+    any other) says the command is .venv/bin/robospec, or robospec in the activated
+    environment."""
+    first = README.split("\n## ", 1)[0]
+    assert "`.venv/bin/robospec" in first
+    assert "`source .venv/bin/activate`" in first
+    assert first.index("scripts/demo") < first.index(".venv/bin/robospec")

@@ -192,3 +192,73 @@ def test_a_list_that_fits_a_line_of_its_own_is_never_broken_where_it_starts_far_
     seven = [150.0, 100.0, 120.5, 80.25, 60.125, 40.0, 20.0]
     assert flow_list(seven, 85, 6) == "[150, 100, 120, 80.2, 60.1, 40, 20]"
     assert flow_list(seven, 85) == "[150, 100, 120, 80.2, 60.1, 40, 20]"
+
+
+SEVEN = tuple(f"j{i}" for i in range(1, 8))
+WRAPPED_SPEC = """\
+controllers:
+  arm_pos:   {type: pd_joint_pos, joints: arm, stiffness: 1e3, damping: 1e2,
+              force_limit: 100, normalize_action: false}
+"""
+
+
+def _seven_tuned(spec_name: str = "arm_pos") -> ControllerTuning:
+    before = Gains((1000.0,) * 7, (100.0,) * 7, (100.0,) * 7)
+    after = Gains(
+        (1230.0, 1450.0, 980.0, 1510.0, 812.0, 640.5, 433.0),
+        (123.0, 145.0, 98.0, 151.0, 81.2, 64.1, 43.3),
+        (100.0,) * 7,
+    )
+    return ControllerTuning(spec_name, "m", "arm", "position", SEVEN, "tuned", None, before, after)
+
+
+def test_gains_written_into_a_wrapped_flow_mapping_keep_its_lines_within_the_width() -> None:
+    """Two per-joint lists in one line of a flow mapping made it 140 characters long: the line
+    is broken after the mapping's commas, aligned after its brace, each list whole."""
+    from ruamel.yaml import YAML
+
+    edited = edit_yaml(WRAPPED_SPEC, [_seven_tuned()], None)
+    assert edited.splitlines() == [
+        "controllers:",
+        "  arm_pos:   {type: pd_joint_pos, joints: arm, stiffness: [1230, 1450, 980, 1510, 812, "
+        "640, 433],",
+        "              damping: [123, 145, 98, 151, 81.2, 64.1, 43.3],",
+        "              force_limit: 100, normalize_action: false}",
+    ]
+    gains = YAML(typ="safe").load(edited)["controllers"]["arm_pos"]
+    assert gains["damping"] == [123, 145, 98, 151, 81.2, 64.1, 43.3]
+
+
+def test_a_spec_written_wider_keeps_its_own_width() -> None:
+    wide = "# " + "a comment written wide " * 6 + "and on it goes\n" + WRAPPED_SPEC
+    assert max(map(len, wide.splitlines())) == 154
+    edited = edit_yaml(wide, [_seven_tuned()], None)
+    lines = edited.splitlines()
+    assert max(map(len, lines)) <= 154
+    # both lists fit the line, 145 characters in a spec that has lines of 154: not broken
+    assert len(lines[2]) == 145
+    assert lines[2].endswith("damping: [123, 145, 98, 151, 81.2, 64.1, 43.3],")
+
+
+def test_a_toml_list_past_the_width_breaks_inside_the_list_never_the_inline_table() -> None:
+    import tomllib
+
+    from robospec.tune.toml_write import edit_toml
+
+    spec = (
+        "[controllers]\n"
+        'arm_pos = { type = "pd_joint_pos", joints = "arm", stiffness = 1e3, damping = 1e2 }\n'
+    )
+    edited = edit_toml(spec, [_seven_tuned()], None)
+    lines = edited.splitlines()
+    assert max(map(len, lines)) <= 100, lines
+    assert len(lines) > 2  # broken, and only inside the arrays: the table reads back the same
+    assert tomllib.loads(edited)["controllers"]["arm_pos"]["damping"] == [
+        123,
+        145,
+        98,
+        151,
+        81.2,
+        64.1,
+        43.3,
+    ]

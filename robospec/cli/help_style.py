@@ -11,6 +11,11 @@ command or flag is held to it too):
   concatenation, no ``\\n``).
 - A boolean option is a flag (``--force``): the help shows no type for it, and it takes no
   value. Name it after what it turns on.
+- Every value is shown as a placeholder in capitals (``SPEC...``, ``FILE``, ``--out DIR``,
+  ``--steps N``), never as a Python type (``<list[Path]>``, ``<str>``): an argument is named
+  by its placeholder alone, in the usage line too (``[FILE]`` where it may be left out); an
+  option's placeholder is its ``metavar``, else its name in capitals; a choice shows its
+  choices (``<text|json>``).
 - A command that writes files says what it wrote (``wrote PATH``), on stdout.
 - A command that needs an extra says so: ``@app.command(needs=("maniskill",))``. It then
   stops at once, exit 2, naming the extra, where that extra is not installed (and so does any
@@ -25,7 +30,7 @@ from collections.abc import Callable
 from typing import Any, NoReturn
 
 import typer
-from typer.core import TyperCommand, TyperGroup, TyperOption
+from typer.core import TyperArgument, TyperCommand, TyperGroup, TyperOption
 
 from robospec.cli.extras import extra_of, missing_module, needs_extra_message
 
@@ -50,12 +55,32 @@ def reflow(text: str | None) -> str | None:
     return "\n\n".join(paragraphs)
 
 
-def _flags_read_as_flags(params: list[Any]) -> list[Any]:
-    # typer shows every option's type, "<bool>" for a flag too, which reads as if the flag took
-    # a value (`--force <bool>`); an empty metavar shows nothing there
+class _Placeholder(TyperArgument):
+    """An argument shown as its placeholder alone: typer shows an argument's Python type beside
+    its name (``SPEC <list[Path]>``) and wraps it in braces in the usage line (``{SPEC}...``)."""
+
+    def display_type_rich(self, ctx: Any) -> str | None:
+        return None
+
+    def _usage_display_name(self) -> str:
+        name = self.display_name_raw if self.required else f"[{self.display_name_raw}]"
+        return name + ("..." if self.nargs != 1 else "")
+
+
+def _readable(params: list[Any]) -> list[Any]:
+    """``params`` shown by placeholders, as the convention above says."""
     for param in params:
-        if isinstance(param, TyperOption) and param.is_flag and param.metavar is None:
-            param.metavar = ""
+        if isinstance(param, TyperOption):
+            # typer shows every option's type, "<bool>" for a flag too, which reads as if the
+            # flag took a value (`--force <bool>`); an empty metavar shows nothing there
+            if param.is_flag and param.metavar is None:
+                param.metavar = ""
+            elif param.metavar is None and not param.type_descriptor.is_choice:
+                param.metavar = (param.name or "value").upper()
+        elif isinstance(param, TyperArgument) and not isinstance(param, _Placeholder):
+            if param.metavar is None:
+                param.metavar = (param.name or "value").upper()
+            param.__class__ = _Placeholder  # the same argument, shown without its type
     return params
 
 
@@ -66,7 +91,7 @@ class ReflowCommand(TyperCommand):
         super().__init__(*args, help=reflow(help), **kwargs)
 
     def get_params(self, ctx: Any) -> list[Any]:
-        return _flags_read_as_flags(super().get_params(ctx))
+        return _readable(super().get_params(ctx))
 
 
 class ReflowGroup(TyperGroup):
@@ -76,7 +101,7 @@ class ReflowGroup(TyperGroup):
         super().__init__(*args, help=reflow(help), **kwargs)
 
     def get_params(self, ctx: Any) -> list[Any]:
-        return _flags_read_as_flags(super().get_params(ctx))
+        return _readable(super().get_params(ctx))
 
 
 class App(typer.Typer):

@@ -31,6 +31,7 @@ _CODES = [
     Code("RS012", "tab in YAML indentation"),
     Code("RS013", "TOML text value without quotes"),
     Code("RS014", "': ' inside a plain YAML value"),
+    Code("RS015", "bracket, brace or quote never closed, closed by the wrong one or twice"),
     # -- reading the robot description
     Code("RS050", "robot description file not found"),
     Code("RS051", "robot description is not well-formed XML"),

@@ -1,5 +1,7 @@
-"""Pictures of robots for the docs: the zoo's gallery (docs/zoo.md, written here) and the
-corpus's (docs/robots.md, written by ``tests/corpus.py --write``).
+"""Pictures of robots for the docs: the zoo's gallery (docs/zoo.md, written here), the
+pictures of the docs' own pages (the home page's, the tutorial's robot and what its camera
+sees: :data:`PAGE_PICTURES`) and the corpus's (docs/robots.md, written by ``tests/corpus.py
+--write``).
 
 A robot's gallery picture is its ``doc --images`` three-quarter view at its first keyframe
 (:mod:`robospec.pictures`). The pictures are checked in, and kept current by what they are
@@ -32,13 +34,24 @@ WRITE_COMMAND = ".venv/bin/python -m robospec.docgen.gallery --write docs"
 START = "<!-- gallery: generated (docs/development.md says how) -->"
 END = "<!-- end of gallery -->"
 COLUMNS = 3
+# the pictures the docs' pages show, beyond the galleries: name -> (spec, what it shows: a
+# standard view of the robot at its first keyframe, or ``table:<camera>``, what that camera
+# sees of a table before the robot)
+PAGE_FOLDER = Path("images") / "pages"
+PAGE_PICTURES = {
+    "tutorial_my_panda": ("docs/examples/tutorial/my_panda.yaml", GALLERY_VIEW),
+    "tutorial_my_panda_hand_camera": ("docs/examples/tutorial/my_panda.yaml", "table:hand_camera"),
+}
 
 
-def render_inputs(compiled: CompiledSpec) -> str:
-    """The hash of what the gallery picture of ``compiled`` is drawn from (no drawing)."""
+def render_inputs(compiled: CompiledSpec, view: str = GALLERY_VIEW) -> str:
+    """The hash of what the picture of ``compiled`` (its gallery picture, or ``view``) is
+    drawn from (no drawing)."""
     robot, description = compiled.robot, compiled.description
     assert robot is not None and description is not None
     digest = hashlib.sha256(f"robospec-gallery {RENDER_VERSION} {GALLERY_VIEW}\n".encode())
+    if view != GALLERY_VIEW:  # (the gallery's hashes stay as they were recorded)
+        digest.update(f"{view}\n{robot.cameras!r}\n".encode())
     text = robot.description.read_bytes()
     digest.update(robot.description_kind.encode() + b"\n" + text)
     for mesh in sorted(description.mesh_files, key=lambda m: (m.uri, m.role)):
@@ -51,17 +64,25 @@ def render_inputs(compiled: CompiledSpec) -> str:
     return digest.hexdigest()
 
 
-def gallery_picture(compiled: CompiledSpec) -> bytes:
-    """The robot's gallery picture (PNG). Raises RenderUnavailable where nothing is drawn."""
+def gallery_picture(compiled: CompiledSpec, view: str = GALLERY_VIEW) -> bytes:
+    """The robot's gallery picture, or ``view`` (:data:`PAGE_PICTURES`), as a PNG: what
+    ``doc --images`` draws. Raises RenderUnavailable where nothing is drawn."""
     from robospec.pictures.album import AlbumOptions, CameraSettings, make_album
     from robospec.pictures.camera_checks import Limits
 
     robot, description = compiled.robot, compiled.description
     assert robot is not None and description is not None
-    options = AlbumOptions(views=(GALLERY_VIEW,), cameras=False, first_keyframe_only=True)
+    kind, _, camera = view.partition(":")
+    camera_view = bool(camera)
+    options = AlbumOptions(
+        views=() if camera_view else (view,), cameras=camera_view, first_keyframe_only=True
+    )
     unused = CameraSettings(Limits(1.0, 1.0, 0.0, False), None, {})
     album = make_album(robot, description, unused, "", options)
-    return album.pictures[0].png
+    if not camera_view:
+        return album.pictures[0].png
+    (found,) = [p for p in album.pictures if p.kind == kind and p.name == camera]
+    return found.png
 
 
 def gallery_markdown(entries: Sequence[tuple[str, str]], columns: int = COLUMNS) -> str:
@@ -119,14 +140,46 @@ def write_zoo(root: Path, docs_dir: Path, only: Sequence[str] = ()) -> list[str]
     return drawn
 
 
+def recorded_page_inputs(docs_dir: Path) -> dict[str, str]:
+    path = docs_dir / PAGE_FOLDER / INPUTS_FILE
+    return json.loads(path.read_text(encoding="utf-8")) if path.is_file() else {}
+
+
+def page_inputs(root: Path) -> dict[str, str]:
+    """The inputs hash of each of :data:`PAGE_PICTURES`, as they are now."""
+    return {
+        name: render_inputs(compile_spec(root / spec), view)
+        for name, (spec, view) in sorted(PAGE_PICTURES.items())
+    }
+
+
+def write_pages(root: Path, docs_dir: Path) -> list[str]:
+    """Draw the stale pictures of :data:`PAGE_PICTURES`; returns the names drawn."""
+    recorded = recorded_page_inputs(docs_dir)
+    folder = docs_dir / PAGE_FOLDER
+    folder.mkdir(parents=True, exist_ok=True)
+    inputs = page_inputs(root)
+    drawn = []
+    for name, (spec, view) in sorted(PAGE_PICTURES.items()):
+        if inputs[name] != recorded.get(name) or not (folder / f"{name}.png").is_file():
+            (folder / f"{name}.png").write_bytes(gallery_picture(compile_spec(root / spec), view))
+            drawn.append(name)
+    (folder / INPUTS_FILE).write_text(json.dumps(inputs, indent=1, sort_keys=True) + "\n")
+    return drawn
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description="draw the zoo's pictures for docs/zoo.md")
+    parser = argparse.ArgumentParser(
+        description="draw the zoo's pictures for docs/zoo.md and the pages' own pictures"
+    )
     parser.add_argument("--write", type=Path, required=True, metavar="DOCS")
     parser.add_argument("--only", nargs="+", default=(), metavar="NAME", help="draw these again")
     args = parser.parse_args(argv)
     root = args.write.resolve().parent
     for name in write_zoo(root, args.write, args.only):
         print(f"drew {(args.write / ZOO_FOLDER / name).as_posix()}.png")
+    for name in write_pages(root, args.write):
+        print(f"drew {(args.write / PAGE_FOLDER / name).as_posix()}.png")
     return 0
 
 

@@ -1,8 +1,10 @@
 """Stage 3 of `robospec import`: spec data → YAML text, written with ruamel.yaml.
 
-Sections are block mappings; a mapping below a section that fits on a few lines, and every
-list, is written in flow style, laid out as in the hand-written specs (a long flow mapping
-starts on its own line and breaks after commas, never between a key and its value). Numbers
+Sections are block mappings (a section that is a list of mappings, or of lists too long for
+one line, is a block sequence: one item a line); a mapping below a section that fits on a few
+lines, and every other list, is written in flow style, laid out as in the hand-written specs (a
+long flow mapping starts on its own line and breaks after commas, never between a key and its
+value). Numbers
 are Python's ``repr`` (which reads back exactly), or a ``pi`` expression where that evaluates to
 exactly the same float.
 """
@@ -173,6 +175,16 @@ class _Writer:
             and value
             and all(isinstance(item, dict) for item in value)
         ):  # a section that is a list of mappings (collision_rules): one mapping a line
+            seq = CommentedSeq()
+            seq.extend(self.node(item, (*path, i), indent + 2) for i, item in enumerate(value))
+            return seq
+        if (
+            len(path) == 1
+            and isinstance(value, list)
+            and value
+            and all(isinstance(item, list) for item in value)
+            and len(layout(flow_pieces(value), len(str(path[0])) + 2)) > 1
+        ):  # a section that is a list of lists too long for a line (never_collide): one a line
             seq = CommentedSeq()
             seq.extend(self.node(item, (*path, i), indent + 2) for i, item in enumerate(value))
             return seq

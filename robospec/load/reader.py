@@ -16,7 +16,7 @@ from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap, WrittenNumb
 
 if TYPE_CHECKING:
     # imported where a syntax error is explained: a spec that parses needs none of it
-    from robospec.load.syntax_hints import Explained
+    from robospec.load.explained import Explained
 
 SPEC_SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml"}
 MAX_BYTES = 2 * 1024 * 1024
@@ -133,7 +133,7 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
             warnings.simplefilter("ignore")
             document = yaml.load(text)
     except DuplicateKeyError as exc:
-        return None, [_marked(exc, text, source, "RS003", _duplicate_message(exc))]
+        return None, [_explained(_duplicate_yaml(exc, text), source)]
     except MarkedYAMLError as exc:
         explained = _explained_yaml(exc, text)
         if explained is not None:
@@ -299,9 +299,13 @@ def _unreadable_character(exc: Any, text: str, source: SourceMap) -> Diagnostic:
     )
 
 
-def _duplicate_message(exc: Any) -> str:
+def _duplicate_yaml(exc: Any, text: str) -> Explained:
+    from robospec.load.syntax_hints import duplicate_key
+
     match = re.search(r'found duplicate key "([^"]*)"', str(exc))
-    return f"duplicate key '{match.group(1)}'" if match else "duplicate key"
+    mark = exc.problem_mark
+    line, column = _within_text(text, mark.line + 1, mark.column + 1)
+    return duplicate_key(text, match.group(1) if match else None, line, column, "yaml")
 
 
 def _explained_yaml(exc: Any, text: str) -> Explained | None:
@@ -310,7 +314,15 @@ def _explained_yaml(exc: Any, text: str) -> Explained | None:
     mark = exc.problem_mark or exc.context_mark
     if mark is None:
         return None
-    return explain_yaml(exc.problem or "", text, mark.line + 1, mark.column + 1)
+    opened = exc.context_mark if exc.problem_mark is not None else None
+    return explain_yaml(
+        exc.problem or "",
+        text,
+        mark.line + 1,
+        mark.column + 1,
+        exc.context or "",
+        (opened.line + 1, opened.column + 1) if opened is not None else None,
+    )
 
 
 def _explained(explained: Explained, source: SourceMap) -> Diagnostic:
@@ -423,17 +435,18 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        from robospec.load.syntax_hints import explain_toml
+        from robospec.load.syntax_hints import duplicate_key, explain_toml
         from robospec.load.toml_positions import tomllib_error_location
 
         line, column, message = tomllib_error_location(exc, text)
         explained = explain_toml(message, text, line, column)
+        if explained is None and ("overwrite" in message or "twice" in message):
+            explained = duplicate_key(text, None, line, column, "toml")
         if explained is not None:
             return None, [_explained(explained, source)]
         # "end of document" after a final newline is a line the file does not show
         location = Location(source.file, *_within_text(text, line, column))
-        code = "RS003" if "overwrite" in message.lower() else "RS002"
-        return None, [error(location, code, f"TOML: {message}")]
+        return None, [error(location, "RS002", f"TOML: {message}")]
     except ValueError as exc:  # an integer longer than Python converts
         return None, [_value_error(exc, text, source, "TOML")]
     except RecursionError:

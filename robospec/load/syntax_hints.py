@@ -5,13 +5,17 @@ The parsers (ruamel.yaml, tomllib) stop at the first error and name it in their 
 ("mapping values are not allowed here", "expected <block end>, but found '<block mapping
 start>'", "Invalid value"). Each function here looks at the text around the parser's mark and
 returns a :class:`Explained` when it recognises the mistake, else None (the parser's words are
-kept, under RS002).
+kept, under RS002). Brackets, braces and quotes left open or closed wrongly are
+:mod:`.brackets`' (RS015); a key given twice names the line of the first (RS003).
 """
 
 from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+
+from robospec.load import brackets
+from robospec.load.explained import Explained
 
 _KEY = re.compile(
     r"^(?P<indent> *)(?:- +)?(?P<key>[^\s:#'\"{\[][^:#]*?|'[^']*'|\"[^\"]*\")\s*:(?:\s|$)"
@@ -21,15 +25,6 @@ _BARE = re.compile(r"[A-Za-z_][\w.\-]*")
 # a TOML string, basic or literal: bare words inside one are not values
 _QUOTED = re.compile(r"(\"(?:[^\"\\]|\\.)*\"|'[^']*')")
 # a line that starts with a key (in a sequence item, too): `  - name: ...`
-
-
-@dataclass(frozen=True)
-class Explained:
-    code: str
-    line: int  # 1-based
-    column: int  # 1-based
-    message: str
-    hint: str
 
 
 @dataclass(frozen=True)
@@ -80,12 +75,26 @@ def _where(level: tuple[int, _Line, _Line | None]) -> str:
     return f"column {indent + 1} ({owner}, as '{sibling.key}' on line {sibling.number})"
 
 
-def explain_yaml(problem: str, text: str, line: int, column: int) -> Explained | None:
-    """The mistake behind ruamel.yaml's ``problem`` at ``line``:``column`` (1-based)."""
+def explain_yaml(
+    problem: str,
+    text: str,
+    line: int,
+    column: int,
+    context: str = "",
+    opened: tuple[int, int] | None = None,
+) -> Explained | None:
+    """The mistake behind ruamel.yaml's ``problem`` at ``line``:``column`` (1-based), said
+    ``context`` about what began at ``opened`` (its context mark: a bracket, a quote)."""
+    unbalanced = brackets.explain_yaml(context, problem, text, opened, (line, column))
+    if unbalanced is not None:
+        return unbalanced
     lines = text.split("\n")
     if not 1 <= line <= len(lines):
         return None
     here = lines[line - 1]
+    alias = re.match(r"found undefined alias '(.*)'$", problem)
+    if alias and here[column - 1 : column] == "*":
+        return _glob_read_as_alias(alias.group(1), here, line, column)
     if "'\\t'" in problem:
         return _tab(lines, line)
     match = _KEY.match(here)
@@ -122,6 +131,24 @@ def explain_yaml(problem: str, text: str, line: int, column: int) -> Explained |
     return None
 
 
+def _glob_read_as_alias(name: str, here: str, line: int, column: int) -> Explained:
+    """``arm: *joint[1-7]``: a glob that starts with ``*``, which YAML reads as an alias."""
+    word = re.match(r"\*[^\s,]*", here[column - 1 :])
+    pattern = word.group() if word else f"*{name}"
+    while pattern[-1:] in ("]", "}") and pattern.count(pattern[-1]) > pattern.count(
+        "[" if pattern[-1] == "]" else "{"
+    ):
+        pattern = pattern[:-1]  # the end of the flow collection it stands in
+    return Explained(
+        "RS002",
+        line,
+        column,
+        f"'{pattern}' starts with '*', which YAML reads as an alias: a reference to an "
+        f"anchor '&{name}', which the spec does not define",
+        f"a name pattern that starts with '*' needs quotes: \"{pattern}\"",
+    )
+
+
 def _more_indented(
     match: re.Match[str] | None, indent: int, above: list[_Line], line: int
 ) -> Explained | None:
@@ -137,6 +164,72 @@ def _more_indented(
         "which already has a value: YAML reads it as part of that value",
         "indent it to " + " or ".join(_where(level) for level in _levels(above)),
     )
+
+
+_TOML_KEY = re.compile(r"^\s*(?P<key>[^=#\[]+?)\s*=")
+_TOML_HEADER = re.compile(r"^\s*\[")
+
+
+def duplicate_key(text: str, key: str | None, line: int, column: int, language: str) -> Explained:
+    """A key given twice in one mapping (YAML) or table (TOML): at the second, naming the line
+    of the first, which the parser does not say. ``key``: YAML's (the parser names it); TOML's
+    is read from the line tomllib names, whose column lies at the end of the value."""
+    lines = text.split("\n")
+    here = lines[line - 1] if 1 <= line <= len(lines) else ""
+    if language == "toml" and _TOML_HEADER.match(here):
+        header = here.split("#", 1)[0].strip()
+        first = next(
+            (n for n in range(1, line) if lines[n - 1].split("#", 1)[0].strip() == header), None
+        )
+        return Explained(
+            "RS003",
+            line,
+            len(here) - len(here.lstrip()) + 1,
+            f"the table {header} is declared twice"
+            + (f" (first on line {first})" if first is not None else ""),
+            "keep one header: put the table's keys under the first",
+        )
+    if language == "toml":
+        found = _TOML_KEY.match(here)
+        key = found["key"] if found else None
+        column = found.start("key") + 1 if found else column
+    first = _first_occurrence(lines, line, key, language) if key else None
+    before = f" (first on line {first})" if first is not None else ""
+    shown = f"'{key}'" if key else "a key"
+    return Explained(
+        "RS003",
+        line,
+        column,
+        f"{shown} is given twice in the same {'mapping' if language == 'yaml' else 'table'}"
+        f"{before}",
+        "keep one of them: a key names one value (merge the two if both hold part of it)",
+    )
+
+
+def _first_occurrence(lines: list[str], line: int, key: str, language: str) -> int | None:
+    """The line above ``line`` where ``key`` is given at the same level: the same indentation
+    in YAML, the same [table] in TOML."""
+    if not 1 <= line <= len(lines):
+        return None
+    indent = len(lines[line - 1]) - len(lines[line - 1].lstrip(" "))
+    for number in range(line - 1, 0, -1):
+        text = lines[number - 1]
+        if language == "toml":
+            if _TOML_HEADER.match(text):
+                return None
+            found = _TOML_KEY.match(text)
+            if found and found["key"] == key:
+                return number
+            continue
+        match = _KEY.match(text)
+        if match is None:
+            continue
+        level = len(match["indent"])
+        if level < indent:
+            return None
+        if level == indent and match["key"].strip("'\"") == key:
+            return number
+    return None
 
 
 def _tab(lines: list[str], line: int) -> Explained:
@@ -160,6 +253,32 @@ def _tab(lines: list[str], line: int) -> Explained:
 
 def explain_toml(message: str, text: str, line: int, column: int) -> Explained | None:
     """The mistake behind tomllib's ``message`` at ``line``:``column`` (1-based)."""
+    for explain in (_unquoted_text, _colon_for_equals, brackets.explain_toml):
+        explained = explain(message, text, line, column)
+        if explained is not None:
+            return explained
+    return None
+
+
+def _colon_for_equals(message: str, text: str, line: int, column: int) -> Explained | None:
+    """``uid: "my_arm"`` in TOML, as YAML writes it."""
+    lines = text.split("\n")
+    if not message.startswith("Expected '=' after a key") or not 1 <= line <= len(lines):
+        return None
+    here = lines[line - 1]
+    if here[column - 1 : column] != ":":
+        return None
+    key, value = here[: column - 1].strip(), here[column:].strip()
+    return Explained(
+        "RS002",
+        line,
+        column,
+        f"'{key}' is followed by ':', as in YAML: TOML writes a key and its value with '='",
+        f"write {key} = {value}",
+    )
+
+
+def _unquoted_text(message: str, text: str, line: int, column: int) -> Explained | None:
     lines = text.split("\n")
     if "Invalid value" not in message or not 1 <= line <= len(lines):
         return None

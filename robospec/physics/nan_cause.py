@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -24,6 +25,11 @@ from robospec.checks.mimic_joints import physx_mimic_joints
 class NanCause:
     cause: str  # "the URDF <mimic> tags (...): SAPIEN turns them into ..."
     hint: str
+    brief: str = ""  # the cause in fewer words (scripts/demo's note): the pairs counted
+
+    def __post_init__(self) -> None:
+        if not self.brief:
+            object.__setattr__(self, "brief", self.cause)
 
 
 def nan_cause(
@@ -35,13 +41,15 @@ def nan_cause(
     if mimics:
         pairs = ", ".join(f"'{j.name}' mimics '{j.mimic.joint}'" for j in mimics if j.mimic)
         where = context.at_description(mimics[0].line)
+        physx = "SAPIEN turns them into PhysX mimic joints, which alone go NaN on the CPU"
         return NanCause(
-            f"the URDF <mimic> tags ({pairs}; {where.file}:{where.line}): "
-            "SAPIEN turns them into PhysX mimic joints, which alone go NaN on the CPU",
+            f"the URDF <mimic> tags ({pairs}; {where.file}:{where.line}): {physx}",
             "remove the <mimic> tags from the URDF and drive each pair with a "
             "pd_joint_pos_mimic controller, e.g. mimic: {"
             + ", ".join(f"{j.name}: {j.mimic.joint}" for j in mimics if j.mimic)
             + "}",
+            f"the URDF's {len(mimics)} <mimic> tags ({Path(where.file).name}:{where.line}): "
+            f"{physx}",
         )
     unbounded = [f"group '{name}'" for name, c in controllers if _normalized_over_infinity(c)]
     if unbounded:

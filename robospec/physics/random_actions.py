@@ -25,7 +25,9 @@ mimic controller drives them, so the hand goes NaN within a few steps (RS502, na
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -160,6 +162,69 @@ def _run_mode(run: CheckRun, sim: Sim, start: ResolvedKeyframe | None) -> Findin
     return Finding(NAME, sim.mode, origin, status, summary, values, diagnostics)
 
 
+@dataclass(frozen=True)
+class Runaway:
+    """A bound of ``checks.random_actions`` that random actions broke: a joint carried past its
+    limit by more than ``joint_limit_tolerance`` (RS503), a joint faster than
+    ``max_joint_speed`` or a floating robot's centre of mass faster than ``max_root_speed``
+    (RS504). What check fails a robot for, and scripts/demo tells."""
+
+    code: str  # RS503 or RS504
+    joint: int | None  # the joint's index; None: the robot's centre of mass
+    value: float  # how far past the limit (the tolerance included), or how fast
+    bound: float  # the tolerance, or the speed counted as a runaway
+
+    def unit(self, prismatic: Sequence[bool]) -> str:
+        if self.joint is None:
+            return "m/s"
+        length = "m" if prismatic[self.joint] else "rad"
+        return length if self.code == "RS503" else f"{length}/s"
+
+    def brief(self, names: Sequence[str], prismatic: Sequence[bool]) -> str:
+        """``joint_14.0 at 3.48e+04 rad/s``, ``joint_15.0 1.62e+03 rad past its limit``."""
+        unit = self.unit(prismatic)
+        if self.joint is None:
+            return f"centre of mass at {self.value:.3g} {unit}"
+        if self.code == "RS503":
+            return f"{names[self.joint]} {self.value:.3g} {unit} past its limit"
+        return f"{names[self.joint]} at {self.value:.3g} {unit}"
+
+    def said(self, names: Sequence[str], prismatic: Sequence[bool]) -> str:
+        """:meth:`brief`, with the bound it broke: ``... (max_joint_speed 200 rad/s)``."""
+        unit = self.unit(prismatic)
+        setting = {"RS503": "joint_limit_tolerance"}.get(self.code, "max_joint_speed")
+        if self.joint is None:
+            setting = "max_root_speed"
+        return f"{self.brief(names, prismatic)} ({setting} {self.bound:g} {unit})"
+
+
+def runaways(
+    past_limit: np.ndarray,
+    top_speed: np.ndarray,
+    top_root_speed: float,
+    settings: Any,
+    excused_limit: np.ndarray | None = None,
+    excused_speed: np.ndarray | None = None,
+) -> list[Runaway]:
+    """What ``checks.random_actions`` (``settings``) counts as running away, worst first of
+    each kind: the joint furthest past its limit (``past_limit``: beyond the tolerance), the
+    fastest joint, the centre of mass. A joint the floor ``excused`` comes after the robot's
+    own failures (check then warns about it instead of failing the robot)."""
+    tolerance = settings.joint_limit_tolerance
+    none = np.zeros(len(past_limit), dtype=bool)
+    found = []
+    worst = _worst(past_limit, none if excused_limit is None else excused_limit, 0.0)
+    if len(past_limit) and past_limit[worst] > 0:
+        found.append(Runaway("RS503", worst, float(past_limit[worst]) + tolerance, tolerance))
+    bound = settings.max_joint_speed
+    fastest = _worst(top_speed, none if excused_speed is None else excused_speed, bound)
+    if len(top_speed) and top_speed[fastest] > bound:
+        found.append(Runaway("RS504", fastest, float(top_speed[fastest]), bound))
+    if top_root_speed > settings.max_root_speed:
+        found.append(Runaway("RS504", None, float(top_root_speed), settings.max_root_speed))
+    return found
+
+
 def _touching_ground(sim: Sim) -> set[str]:
     return {link for link, _, _ in sim.ground_contacts()}
 
@@ -251,25 +316,37 @@ def _problems(
             )
         )
         return tuple(found)
-    past_limit, top_speed = trace.past_limit, trace.top_speed
     # the robot's own failures first: the floor's excuse covers only the joints it moved
     floor_limit = trace.grounded & (not buried)
     floor_speed = trace.flung & (not buried)
-    worst = _worst(past_limit, floor_limit, 0.0)
-    if past_limit[worst] > 0:
-        went = (
-            f"mode {sim.mode} ({origin}): joint '{sim.joint_names[worst]}' went "
-            f"{past_limit[worst] + tolerance:.3g} past its limit (tolerance {tolerance:g})"
-        )
-        if floor_limit[worst]:
+    for runaway in runaways(
+        trace.past_limit, trace.top_speed, trace.top_root_speed, settings, floor_limit, floor_speed
+    ):
+        joint = runaway.joint
+        if joint is None:
             found.append(
-                _floor_warning(run, sim, "RS503", went, "pushed the joint through its limit")
+                run.fail(
+                    where,
+                    "RS504",
+                    f"mode {sim.mode} ({origin}): the robot ran away: its centre of mass reached "
+                    f"{runaway.value:.3g} m/s (max_root_speed {runaway.bound:g}){buried}",
+                    "check the root's mass and the forces the controllers can apply",
+                )
             )
-        else:
-            if held is not None and held.past_limit[worst] > 0:
+        elif runaway.code == "RS503":
+            went = (
+                f"mode {sim.mode} ({origin}): joint '{sim.joint_names[joint]}' went "
+                f"{runaway.value:.3g} past its limit (tolerance {tolerance:g})"
+            )
+            if floor_limit[joint]:
+                found.append(
+                    _floor_warning(run, sim, "RS503", went, "pushed the joint through its limit")
+                )
+                continue
+            if held is not None and held.past_limit[joint] > 0:
                 went += (
                     "; held clear of the floor on a test stand, the same actions still take it "
-                    f"{held.past_limit[worst] + tolerance:.3g} past"
+                    f"{held.past_limit[joint] + tolerance:.3g} past"
                 )
             found.append(
                 run.fail(
@@ -281,19 +358,18 @@ def _problems(
                     "narrow the controller's lower/upper to the joint's range",
                 )
             )
-    fastest = _worst(top_speed, floor_speed, settings.max_joint_speed)
-    if top_speed[fastest] > settings.max_joint_speed:
-        ran_away = (
-            f"mode {sim.mode} ({origin}): joint '{sim.joint_names[fastest]}' ran away at "
-            f"{top_speed[fastest]:.3g}/s (max_joint_speed {settings.max_joint_speed:g})"
-        )
-        if floor_speed[fastest]:
-            found.append(_floor_warning(run, sim, "RS504", ran_away, "flung the joint"))
         else:
-            if held is not None and held.top_speed[fastest] > settings.max_joint_speed:
+            ran_away = (
+                f"mode {sim.mode} ({origin}): joint '{sim.joint_names[joint]}' ran away at "
+                f"{runaway.value:.3g}/s (max_joint_speed {runaway.bound:g})"
+            )
+            if floor_speed[joint]:
+                found.append(_floor_warning(run, sim, "RS504", ran_away, "flung the joint"))
+                continue
+            if held is not None and held.top_speed[joint] > settings.max_joint_speed:
                 ran_away += (
                     "; held clear of the floor on a test stand, the same actions still run it "
-                    f"at {held.top_speed[fastest]:.3g}/s"
+                    f"at {held.top_speed[joint]:.3g}/s"
                 )
             found.append(
                 run.fail(
@@ -303,15 +379,4 @@ def _problems(
                     "add damping to the joint's controller, or lower its force_limit",
                 )
             )
-    if trace.top_root_speed > settings.max_root_speed:
-        found.append(
-            run.fail(
-                where,
-                "RS504",
-                f"mode {sim.mode} ({origin}): the robot ran away: its centre of mass reached "
-                f"{trace.top_root_speed:.3g} m/s "
-                f"(max_root_speed {settings.max_root_speed:g}){buried}",
-                "check the root's mass and the forces the controllers can apply",
-            )
-        )
     return tuple(found)

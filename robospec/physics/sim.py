@@ -127,7 +127,7 @@ class Sim:
         self.control_freq: int = int(self.base.control_freq)
         # what the loader made of it: ManiSkill's MJCF loader frees a root with a <freejoint>
         # whatever fix_root_link says
-        self.fixed_root = self.robot._objs[0].root.joint.type == "fixed"
+        self.fixed_root = has_fixed_root(self.robot)
         # the scene users get: Empty-v1's ground, whatever the robot (a fixed robot at the
         # origin that reaches through it meets it there too: robospec.physics.ground says so)
         self.ground = self.base.ground
@@ -246,22 +246,8 @@ class Sim:
         return all(bool(np.all(np.asarray(link.disable_gravity))) for link in self.robot.links)
 
     def root_speed(self) -> np.ndarray:
-        """How fast the robot as a whole moves: the speed of its centre of mass, one per
-        environment. Not the root link's: ManiSkill's MJCF loader roots a free-jointed robot
-        in a massless link at the world body's frame, which can lie far from the robot (the
-        dm_control humanoid's, 1.5 m below its torso), and a robot turning in place swings
-        it round fast (24 m/s while the humanoid's centre of mass moved at 1.7 m/s)."""
-        total = None
-        momentum = None
-        for link in self.robot.links:
-            mass = link.mass.reshape(-1, 1)  # (num_envs, 1)
-            part = link.linear_velocity * mass  # the link's centre of mass's velocity
-            momentum = part if momentum is None else momentum + part
-            total = mass if total is None else total + mass
-        if momentum is None or total is None:
-            return np.zeros(self.backend.num_envs)
-        velocity = (momentum / total.clamp(min=1e-12)).cpu().numpy().astype(np.float64)
-        return np.linalg.norm(velocity, axis=-1)
+        """How fast the robot as a whole moves: :func:`centre_of_mass_speed`."""
+        return centre_of_mass_speed(self.robot, self.backend.num_envs)
 
     # -- stepping ------------------------------------------------------------------------------
 
@@ -541,6 +527,31 @@ class Sim:
             pair = (min(a, b), max(a, b))
             touching[pair] = max(touching.get(pair, -np.inf), float(depth))
         return touching
+
+
+def has_fixed_root(robot: Any) -> bool:
+    """Whether the loader fixed the robot's root (ManiSkill's MJCF loader frees a root with a
+    ``<freejoint>`` whatever ``fix_root_link`` says): what the articulation says, not the spec."""
+    return bool(robot._objs[0].root.joint.type == "fixed")
+
+
+def centre_of_mass_speed(robot: Any, num_envs: int) -> np.ndarray:
+    """How fast the robot (a ManiSkill articulation) as a whole moves: the speed of its centre
+    of mass, one per environment. Not the root link's: ManiSkill's MJCF loader roots a
+    free-jointed robot in a massless link at the world body's frame, which can lie far from
+    the robot (the dm_control humanoid's, 1.5 m below its torso), and a robot turning in place
+    swings it round fast (24 m/s while the humanoid's centre of mass moved at 1.7 m/s)."""
+    total = None
+    momentum = None
+    for link in robot.links:
+        mass = link.mass.reshape(-1, 1)  # (num_envs, 1)
+        part = link.linear_velocity * mass  # the link's centre of mass's velocity
+        momentum = part if momentum is None else momentum + part
+        total = mass if total is None else total + mass
+    if momentum is None or total is None:
+        return np.zeros(num_envs)
+    velocity = (momentum / total.clamp(min=1e-12)).cpu().numpy().astype(np.float64)
+    return np.linalg.norm(velocity, axis=-1)
 
 
 def set_keyframe(robot: Any, keyframe: ResolvedKeyframe, num_envs: int) -> None:

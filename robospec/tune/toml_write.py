@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from robospec.tune.edits import Edit, WriteError, number, plan, uniform
+from robospec.tune.edits import Edit, WriteError, fit_lines, line_width, number, plan, uniform
 from robospec.tune.results import ControllerTuning
 
 
@@ -33,7 +33,8 @@ def edit_toml(
         raise WriteError("the spec has no controllers table")
     for edit in plan(controllers, tunings, current):
         _set(controllers[edit.owner], edit)
-    return tomlkit.dumps(document)
+    # (a list tomlkit writes is one line: broken after its commas where it passes the width)
+    return fit_lines(tomlkit.dumps(document), source, line_width(source), "[")
 
 
 def _set(entry: Any, edit: Edit) -> None:

@@ -11,7 +11,16 @@ from typing import Any
 from ruamel.yaml import YAML
 from ruamel.yaml.comments import CommentedMap, CommentedSeq
 
-from robospec.tune.edits import Edit, WriteError, flow_list, number_text, plan, uniform
+from robospec.tune.edits import (
+    Edit,
+    WriteError,
+    fit_lines,
+    flow_list,
+    line_width,
+    number_text,
+    plan,
+    uniform,
+)
 from robospec.tune.results import ControllerTuning
 
 Span = tuple[int, int]  # offsets into the text: [start, end)
@@ -23,8 +32,9 @@ Replacement = str | Callable[[int, int], str]  # (column, indent of its line + 2
 class Text:
     """The spec's text and the replacements to make in it (applied last to first)."""
 
-    def __init__(self, text: str) -> None:
+    def __init__(self, text: str, width: int) -> None:
         self.text = text
+        self.width = width  # what no edited line may pass
         self.starts = [0]
         for line in text.splitlines(keepends=True):
             self.starts.append(self.starts[-1] + len(line))
@@ -54,7 +64,7 @@ class Text:
             out.append(new)
             done = end
         out.append(self.text[done:])
-        return "".join(out)
+        return fit_lines("".join(out), self.text, self.width, "[{")
 
     # -- token extents -----------------------------------------------------------------
 
@@ -134,7 +144,7 @@ def edit_yaml(
     current: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> str:
     data = _load(source)
-    text = Text(source)
+    text = Text(source, line_width(source))
     if uid is not None:
         if "uid" not in data:
             raise WriteError("the spec has no uid to change")
@@ -180,7 +190,8 @@ def _set(text: Text, entry: CommentedMap, edit: Edit) -> None:
     if uniform(values):
         text.replace(span, number_text(values[0]))
     else:
-        text.replace(span, lambda column, indent: flow_list(values, column, indent))
+        width = text.width
+        text.replace(span, lambda column, indent: flow_list(values, column, indent, width))
 
 
 def _insert(text: Text, controllers: CommentedMap, owner: str, edits: Sequence[Edit]) -> None:
@@ -201,7 +212,7 @@ def _insert(text: Text, controllers: CommentedMap, owner: str, edits: Sequence[E
                 out += (
                     number_text(edit.values[0])
                     if uniform(edit.values)
-                    else flow_list(edit.values, here, indent)
+                    else flow_list(edit.values, here, indent, text.width)
                 )
             return out
 
@@ -217,7 +228,7 @@ def _insert(text: Text, controllers: CommentedMap, owner: str, edits: Sequence[E
         value = (
             number_text(edit.values[0])
             if uniform(edit.values)
-            else flow_list(edit.values, len(prefix))
+            else flow_list(edit.values, len(prefix), width=text.width)
         )
         lines.append(prefix + value + "\n")
     insertion = "".join(lines)

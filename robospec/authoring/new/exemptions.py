@@ -42,6 +42,17 @@ MECHANISM_SAMPLES = 9
 MEET = 1e-4
 HINGES = frozenset({"revolute", "continuous"})
 
+# why robospec new exempts a pair, in a few words: the scaffold's header gives each
+# never_collide entry its own (:func:`overlap_reason`; :func:`physx_exemptions`' kinds)
+OVERLAPPING_WHY = "touch in every pose tried: their shapes overlap at the joint"
+COARSE_WHY = "touch in every pose tried: coarse collision shapes"
+ADJACENT_WHY = {
+    "shapeless": "joined only through links without collision shapes",
+    "yoke": "the ends of a universal joint, nested round its cross",
+    "welded": "welded together, or across a joint over whose range they never touch",
+    "mechanism": "parts of one mimic mechanism, kept apart by its coupling",
+}
+
 Line = tuple[Vector, Vector]  # a point on it, its direction (a unit vector)
 Near = Mapping[Pair, float]  # the pairs PhysX reports within its contact offset: pair -> depth
 
@@ -60,6 +71,12 @@ def overlapping(
         for a, b, _ in touching
         if (a, b) in always and (tree.joints_apart(a, b) <= NEIGHBOURS or tried >= THOROUGH)
     )
+
+
+def overlap_reason(pair: Pair, tree: KinematicTree) -> str:
+    """Why a pair :func:`overlapping` found is exempt: its shapes overlap where the two links
+    are joined (neighbours), or, farther apart, the shapes are coarse."""
+    return OVERLAPPING_WHY if tree.joints_apart(*pair) <= NEIGHBOURS else COARSE_WHY
 
 
 @dataclass(frozen=True)
@@ -258,18 +275,21 @@ def physx_exemptions(
     qpos: list[float],
     near: Near,
     sweep: Sweep,
-) -> list[Pair]:
+) -> dict[Pair, str]:
     """The pairs the simulation collides and the robot does not, at the rest pose ``qpos``
-    (``near``: the pairs PhysX reports there, within its contact offset): joined through
-    shapeless links first, then the nesting yokes, welded neighbours and a mechanism's parts
-    not among them (the order of the scaffold's comment)."""
-    shapeless = shapeless_neighbours(found)
-    more = (
-        nesting_yokes(found, axes, near)
-        + welded_neighbours(found, space, qpos, near, sweep)
-        + mechanism_pairs(space, qpos, sweep)
-    )
-    return shapeless + [pair for pair in dict.fromkeys(more) if pair not in shapeless]
+    (``near``: the pairs PhysX reports there, within its contact offset), each with the kind
+    of reason that found it (a key of :data:`ADJACENT_WHY`): joined through shapeless links
+    first, then the nesting yokes, welded neighbours and a mechanism's parts not among them
+    (the order of the scaffold's comment), each pair once, under the first reason found."""
+    exempt = dict.fromkeys(shapeless_neighbours(found), "shapeless")
+    for kind, pairs in (
+        ("yoke", nesting_yokes(found, axes, near)),
+        ("welded", welded_neighbours(found, space, qpos, near, sweep)),
+        ("mechanism", mechanism_pairs(space, qpos, sweep)),
+    ):
+        for pair in pairs:
+            exempt.setdefault(pair, kind)
+    return exempt
 
 
 def filtered_cliques(description: RobotDescription) -> list[tuple[str, ...]]:

@@ -193,7 +193,7 @@ def _search(request: Request, robot: LoadedRobot) -> dict[str, Any]:
     near = robot.posed(qpos)  # the rest pose, within PhysX's contact offset
     found = robot.bodies(space.tree)
     sweep = robot.sweep(request.min_depth)
-    adjacent = physx_exemptions(found, robot.sim.hinge_axes(), space, qpos, near, sweep)
+    exempt = physx_exemptions(found, robot.sim.hinge_axes(), space, qpos, near, sweep)
     return {
         "qpos": qpos,
         # in contact as robospec check counts it (the search kept a clearance besides), with a
@@ -209,7 +209,9 @@ def _search(request: Request, robot: LoadedRobot) -> dict[str, Any]:
         "always": sorted(search.always or ()),
         "root_height": height,
         "upright": list(request.upright),
-        "adjacent": adjacent,
+        "adjacent": list(exempt),
+        # why each adjacent pair is (exemptions.ADJACENT_WHY's keys), for the scaffold's header
+        "adjacent_why": list(exempt.values()),
     }
 
 

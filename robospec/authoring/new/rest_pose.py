@@ -15,11 +15,13 @@ import signal
 import subprocess
 import sys
 import tempfile
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from robospec.authoring.new import exemptions
+from robospec.authoring.new.exemptions import ADJACENT_WHY, OVERLAPPING_WHY
 from robospec.authoring.new.groups import MimicLink
 from robospec.description import RobotDescription
 from robospec.geometry import IDENTITY, Quaternion
@@ -54,6 +56,15 @@ class RestPose:
     # parent and child are, whose collisions PhysX leaves out; declared never_collide as
     # MoveIt's setup assistant disables adjacent links
     adjacent: tuple[tuple[str, str], ...] = ()
+    # why each pair of ``overlapping`` and ``adjacent`` is declared never_collide (the texts
+    # above); a pair not here reads as overlapping, or joined through shapeless links
+    why: Mapping[tuple[str, str], str] = field(default_factory=dict)
+
+    def reason(self, pair: tuple[str, str]) -> str:
+        """Why ``pair``, one of :attr:`never_collide`, is declared so, in a few words."""
+        if pair in self.why:
+            return self.why[pair]
+        return OVERLAPPING_WHY if pair in self.overlapping else ADJACENT_WHY["shapeless"]
 
     @property
     def never_collide(self) -> tuple[tuple[str, str], ...]:
@@ -156,7 +167,13 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
     touching = tuple((a, b, float(d)) for a, b, d in answer["touching"])
     always = {(a, b) for a, b in answer.get("always", [])}
     tried = int(answer["tried"])
-    overlapping = exemptions.overlapping(touching, always, tried, KinematicTree(description))
+    tree = KinematicTree(description)
+    overlapping = exemptions.overlapping(touching, always, tried, tree)
+    why = {pair: exemptions.overlap_reason(pair, tree) for pair in overlapping}
+    adjacent = tuple((str(a), str(b)) for a, b in answer.get("adjacent", []))
+    # (the probe's kind of reason for each, in order; an answer without them reads as shapeless)
+    for pair, kind in zip(adjacent, answer.get("adjacent_why", []), strict=False):
+        why.setdefault(pair, ADJACENT_WHY.get(kind, ADJACENT_WHY["shapeless"]))
     return RestPose(
         qpos=qpos,
         root_height=None if height is None else _tidy(height),
@@ -164,7 +181,8 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
         touching=touching,
         overlapping=overlapping,
         tried=tried,
-        adjacent=tuple((str(a), str(b)) for a, b in answer.get("adjacent", [])),
+        adjacent=adjacent,
+        why=why,
         upright=tuple(float(v) for v in answer.get("upright", IDENTITY)),  # type: ignore[arg-type]
     )
 

@@ -185,14 +185,10 @@ def scaffold(
     notes[("reset",)] = (
         "every episode starts at rest (ManiSkill's tasks reset only the robots they know)"
     )
-    filtered = filtered_cliques(source.description)
-    kept_apart = {pair for links in filtered for pair in clique_pairs(links)}
-    entries = [list(links) for links in filtered] + [
-        list(pair) for pair in rest.never_collide if tuple(sorted(pair)) not in kept_apart
-    ]
+    entries = _never_collide(analysis, rest)
     if entries:
-        # (the header says why: a note here cannot follow the flow list the writer makes)
-        data["never_collide"] = entries
+        # (the header says why, entry by entry)
+        data["never_collide"] = [list(links) for links, _ in entries]
 
     if analysis.loops:
         data["loops"] = {
@@ -215,11 +211,38 @@ def scaffold(
     members = task_members(analysis, rest.qpos)
     if members:
         data.update(members)
-        notes[(next(iter(members)),)] = (
-            "what ManiSkill's tasks call (PickCube-v1: tcp_pose, is_grasping, is_static): "
-            "guessed from the gripper, check them"
-        )
-    return SpecDoc(data, _header(analysis, rest, filtered), notes)
+        notes[(next(iter(members)),)] = _members_note(members)
+    return SpecDoc(data, _header(analysis, rest, entries), notes)
+
+
+# why an MJCF's collision filters make a never_collide entry (the header says it for each)
+FILTERED_WHY = "kept apart by the MJCF's collision filters (contype, conaffinity)"
+
+
+def _never_collide(analysis: RobotAnalysis, rest: RestPose) -> list[tuple[tuple[str, ...], str]]:
+    """The scaffold's never_collide entries, each with why it is there: the links an MJCF's
+    collision filters keep apart, then the pairs the rest-pose search declared."""
+    filtered = filtered_cliques(analysis.source.description)
+    kept_apart = {pair for links in filtered for pair in clique_pairs(links)}
+    entries = [(tuple(links), FILTERED_WHY) for links in filtered]
+    entries += [
+        (pair, rest.reason(pair))
+        for pair in rest.never_collide
+        if tuple(sorted(pair)) not in kept_apart
+    ]
+    return entries
+
+
+def _members_note(members: dict[str, Any]) -> str:
+    """The comment on what ManiSkill's tasks call: where each part of it came from."""
+    named = isinstance(members.get("tcp"), str)
+    if "grasping" not in members:
+        return "what ManiSkill's tasks call (agent.tcp): the link named as a tcp, check it"
+    tcp = "tcp: the link named so; " if named else ""
+    return (
+        "what ManiSkill's tasks call (PickCube-v1: tcp_pose, is_grasping, is_static): "
+        f"{tcp}guessed from the gripper, check them"
+    )
 
 
 def _gains_note(analysis: RobotAnalysis, refined: bool) -> str:
@@ -298,7 +321,7 @@ def _tidy(value: float) -> float:
 
 
 def _header(
-    analysis: RobotAnalysis, rest: RestPose, filtered: list[tuple[str, ...]]
+    analysis: RobotAnalysis, rest: RestPose, never_collide: list[tuple[tuple[str, ...], str]]
 ) -> tuple[str, ...]:
     source = analysis.source
     body = analysis.body
@@ -363,21 +386,20 @@ def _header(
             "gripper controller; their other joints are passive (group linkage): the linkage "
             "moves them."
         )
-    if filtered:  # never_collide's entries for the MJCF's collision filters
-        paragraphs.append(
-            (
-                "never_collide's first entry"
-                if len(filtered) == 1
-                else f"never_collide's first {len(filtered)} entries"
-            )
-            + f": the {len(analysis.description.filtered_pairs)} pair(s) of links the MJCF's "
-            "collision filters keep apart (their geoms' contype and conaffinity share no bit), "
-            "which ManiSkill would collide."
-        )
     paragraphs.append(_rest_paragraph(analysis, rest))
     for paragraph in paragraphs:
         lines.append("")
         lines.extend(textwrap.wrap(paragraph, HEADER_WIDTH, break_on_hyphens=False))
+    if never_collide:
+        lines += ["", "never_collide: links that do not collide with each other, and why:"]
+        for links, why in never_collide:
+            lines += textwrap.wrap(
+                f"{' + '.join(links)}: {why}",
+                HEADER_WIDTH,
+                initial_indent="  ",
+                subsequent_indent="    ",
+                break_on_hyphens=False,
+            )
     return tuple(lines)
 
 
@@ -401,24 +423,6 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
         text = (
             f"rest keyframe: no two links touch (robospec check's test, in ManiSkill; "
             f"{rest.tried} pose(s) tried)."
-        )
-    adjacent = [p for p in rest.adjacent if p not in rest.overlapping]
-    if adjacent:
-        pairs = ", ".join(f"{a} + {b}" for a, b in adjacent)
-        text += (
-            f" These are joined only through links without collision shapes (a joint of "
-            f"several axes), nest millimetres apart round a universal joint (two hinges whose "
-            f"axes meet), or are welded (fixed joints) to one another or to a parent and its "
-            f"child, adjacent as a parent and its child are, whose collisions PhysX leaves out; "
-            f"or are parts of one mechanism that its mimic coupling keeps apart over its whole "
-            f"range, which drives standing in for the linkage let meet. PhysX collides these, "
-            f"and they are declared never_collide: {pairs}."
-        )
-    if rest.overlapping:
-        pairs = ", ".join(f"{a} + {b}" for a, b in rest.overlapping)
-        text += (
-            f" These touched in every pose tried, their shapes overlapping (where they are "
-            f"joined, or coarse shapes), and are declared never_collide: {pairs}."
         )
     standing = standing_pose(analysis, rest)
     if standing is not None and analysis.body.floating:

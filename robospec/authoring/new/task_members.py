@@ -14,9 +14,11 @@ scaffolded arm with a gripper runs ``PickCube-v1`` as written.
   in its own frame at rest, to the nearest axis (at a closed rest pose the centres coincide and
   say nothing). A finger no joint moves (a fixed jaw), or whose move does not part the fingers
   (its centre on its joint's axis, fingers side by side that curl), opens away from the other.
-* **tcp.** A link welded near the fingers' parent named like a tool centre point (``tcp``,
-  ``grasp``, ``ee_gripper``, ``tool0``, ``eef``, ``end_effector``); else the midpoint of the
-  two fingers, oriented as their parent link, which ``self.tcp`` is bound to.
+* **tcp.** A link named like a tool centre point, as conventions name one (:data:`TCP_NAMES`,
+  best first: ``tcp``, ``*_tcp``, ``grasp_frame``; ``ee_link``, ``eef``, ``end_effector``,
+  ``tool_frame``; ``tool0``), welded (fixed joints) to the fingers' parent; else the midpoint
+  of the two fingers, oriented as their parent link, which ``self.tcp`` is bound to. A robot
+  without a gripper gets its tcp-named link, where it has one (the deepest of the best-named).
 * **is_static** over the arm groups.
 """
 
@@ -33,7 +35,17 @@ from robospec.authoring.new.analysis import RobotAnalysis
 if TYPE_CHECKING:
     import numpy as np
 
-_TCP_NAME = re.compile(r"(tcp|grasp|ee_gripper|tool0|end_?effector|eef)", re.IGNORECASE)
+# what conventions name a tool centre point, best first: a name of the first kind says tcp;
+# an end effector's frame; a tool flange (ROS-Industrial's tool0), the tcp of a bare arm
+# (whole words of the name: after its start or a separator, `_` or a namespace's `/`)
+TCP_NAMES = tuple(
+    re.compile(rf"(?<![a-z0-9])({words})(?![a-z])", re.IGNORECASE)
+    for words in (
+        r"tcp|tool_?cent(?:er|re)_?point|grasp\w*|gripper_cent(?:er|re)",
+        r"ee|eef|ee_link|ee_gripper|end_?effector|tool_?frame",
+        r"tool0",
+    )
+)
 GRIPPING_KINDS = ("gripper", "mimic")
 ARM_KINDS = ("arm",)
 AXES = ("+x", "-x", "+y", "-y", "+z", "-z")
@@ -57,6 +69,9 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
     fingers = _fingers(analysis, poses, qpos)
     out: dict[str, Any] = {}
     if fingers is None:
+        named = _tcp_link(analysis, None)
+        if named is not None:
+            out["tcp"] = named
         return out
     tcp = _tcp_link(analysis, fingers.parent)
     # a midpoint tcp still binds self.tcp to a link (PushCube-v1 reads agent.tcp.pose): the
@@ -276,24 +291,48 @@ def _nearest_axis(pose: np.ndarray, direction: np.ndarray) -> str:
     return AXES[2 * index + (0 if local[index] >= 0 else 1)]
 
 
-def _tcp_link(analysis: RobotAnalysis, parent: str) -> str | None:
-    """A link welded to ``parent`` or to the two links above it (fixed joints only), or one of
-    those, named like a tool centre point."""
+def _tcp_link(analysis: RobotAnalysis, parent: str | None) -> str | None:
+    """The link named most like a tool centre point (:data:`TCP_NAMES`): of the links welded
+    to ``parent`` (fixed joints up and down from it), the nearest; with no ``parent``, of all
+    the robot's links, the deepest (the end of the arm), and none where two branches tie."""
     model = analysis.kinematics
     assert model is not None
-    below: dict[str, list[str]] = {}
-    above: dict[str, str] = {}
-    for joint in model.joints:
-        above[joint.child] = joint.parent
-        if joint.type == "fixed":
-            below.setdefault(joint.parent, []).append(joint.child)
-    top = parent
-    for _ in range(2):
-        top = above.get(top, top)
-    queue, found = [top], []
-    while queue:
-        link = queue.pop(0)
-        if _TCP_NAME.search(link):
-            found.append(link)
-        queue.extend(below.get(link, []))
-    return found[0] if found else None
+    up = {j.child: j for j in model.joints}
+    if parent is not None:
+        top = parent
+        while top in up and up[top].type == "fixed":
+            top = up[top].parent
+        fixed_below: dict[str, list[str]] = {}
+        for joint in model.joints:
+            if joint.type == "fixed":
+                fixed_below.setdefault(joint.parent, []).append(joint.child)
+        welded, queue = [], [top]
+        while queue:
+            link = queue.pop(0)
+            welded.append(link)
+            queue.extend(fixed_below.get(link, []))
+        # nearest first: the parent's own welded links by how far they hang from it
+        candidates = sorted(welded, key=lambda link: _welds_between(up, link, parent))
+    else:
+        links = {model.root, *up}
+        candidates = sorted(links, key=lambda link: (-_depth(up, link), link))
+    for names in TCP_NAMES:
+        found = [link for link in candidates if names.search(link)]
+        if parent is None and len(found) > 1 and _depth(up, found[0]) == _depth(up, found[1]):
+            return None  # two arms, or two frames as deep: which one is for the user to say
+        if found:
+            return found[0]
+    return None
+
+
+def _depth(up: Mapping[str, Any], link: str) -> int:
+    depth = 0
+    while link in up:
+        link, depth = up[link].parent, depth + 1
+    return depth
+
+
+def _welds_between(up: Mapping[str, Any], link: str, parent: str) -> int:
+    """How many joints lie between ``link`` and ``parent`` in one welded body."""
+    a, b = _depth(up, link), _depth(up, parent)
+    return abs(a - b)
