@@ -318,3 +318,21 @@ def test_each_syntax_mistake_is_told_as_itself_where_it_was_made(
     # the parser's own words stay out of it
     for parser_words in ("while parsing", "but got", "Unclosed", "Invalid value"):
         assert parser_words not in said, said
+
+
+def test_a_quote_never_closed_after_a_lone_carriage_return_is_rs015_on_the_line_yaml_counts(
+    tmp_path: Path,
+) -> None:
+    """YAML (and ruamel.yaml's marks) count a lone carriage return as a line break: the quote
+    opened after one is on line 2 (the hint once read the text's lines by newline alone and
+    raised IndexError)."""
+    spec = tmp_path / "spec.yaml"
+    spec.write_bytes(b"robospec: 1\r'open")
+    loaded, diagnostics = read_spec(spec)
+    assert loaded is None
+    (diagnostic,) = diagnostics
+    assert (diagnostic.code, diagnostic.location.line, diagnostic.location.column) == (
+        "RS015",
+        2,
+        1,
+    ), diagnostic.format_text()

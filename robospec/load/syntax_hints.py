@@ -85,6 +85,9 @@ def explain_yaml(
 ) -> Explained | None:
     """The mistake behind ruamel.yaml's ``problem`` at ``line``:``column`` (1-based), said
     ``context`` about what began at ``opened`` (its context mark: a bracket, a quote)."""
+    # ruamel.yaml counts a lone carriage return as a line break, as YAML does: so do the lines
+    # read here, or its marks point past them
+    text = re.sub(r"\r\n?", "\n", text)
     unbalanced = brackets.explain_yaml(context, problem, text, opened, (line, column))
     if unbalanced is not None:
         return unbalanced
