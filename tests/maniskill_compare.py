@@ -115,11 +115,29 @@ def random_actions(action_space: Any, seed: int, steps: int) -> np.ndarray:
     return rng.uniform(low, high, size=(steps, *low.shape)).astype(np.float32)
 
 
-def rollout(env: Any, actions: np.ndarray, seed: int) -> tuple[torch.Tensor, torch.Tensor]:
-    """Reset with ``seed``, step through ``actions``; qpos and qvel after the reset and after
-    every step, stacked: two tensors of shape (len(actions) + 1, num_envs, dof)."""
+def upstream_start(env: Any, seed: int) -> torch.Tensor:
+    """The joint positions ManiSkill's agent has after ``env.reset(seed)``: where the task's
+    scene puts it, in ``Empty-v1`` where SAPIEN built it."""
     env.reset(seed=seed)
-    robot = env.unwrapped.agent.robot
+    return env.unwrapped.agent.robot.get_qpos().clone()
+
+
+def rollout(
+    env: Any, actions: np.ndarray, seed: int, start: torch.Tensor | None = None
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """Reset with ``seed``, step through ``actions``; qpos and qvel after the reset and after
+    every step, stacked: two tensors of shape (len(actions) + 1, num_envs, dof).
+
+    ``start``: the joint positions both twins start from. ``Empty-v1`` resets no robot's
+    joints, so ManiSkill's agent starts where SAPIEN built it and robospec's at its reset
+    keyframe; the comparison of their controllers starts both where ManiSkill's starts
+    (``upstream_start``)."""
+    env.reset(seed=seed)
+    agent = env.unwrapped.agent
+    if start is not None:
+        agent.reset(start)
+        agent.controller.reset()
+    robot = agent.robot
     qpos = [robot.get_qpos().clone()]
     qvel = [robot.get_qvel().clone()]
     for action in actions:

@@ -39,7 +39,7 @@ import numpy as np  # noqa: E402
 import torch  # noqa: E402
 from conftest import MANISKILL_VERSION, SPECS, maniskill_assets  # noqa: E402
 from corpus import BY_KEY, locate  # noqa: E402
-from maniskill_compare import make_env, random_actions, rollout  # noqa: E402
+from maniskill_compare import make_env, random_actions, rollout, upstream_start  # noqa: E402
 
 import robospec  # noqa: E402
 
@@ -76,8 +76,9 @@ def _same_rollouts(ours: str, theirs: str, mode: str) -> tuple[torch.Tensor, tor
     try:
         actions = random_actions(b.action_space, SEED, STEPS)
         assert a.action_space.shape == b.action_space.shape
-        qa, va = rollout(a, actions, SEED)
-        qb, vb = rollout(b, actions, SEED)
+        start = upstream_start(b, SEED)  # where ManiSkill's own agent starts
+        qa, va = rollout(a, actions, SEED, start)
+        qb, vb = rollout(b, actions, SEED, start)
     finally:
         a.close()
         b.close()

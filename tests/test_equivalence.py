@@ -53,6 +53,7 @@ from maniskill_compare import (  # noqa: E402
     registered_maniskill_specs,
     rollout,
     shared_cache_dir,
+    upstream_start,
 )
 
 SEED = 2024
@@ -746,7 +747,8 @@ def test_every_collision_rule_of_the_spec_sets_its_bit_on_both_loaded_robots(
 def _rollouts(twins: Twins) -> tuple[tuple[torch.Tensor, ...], tuple[torch.Tensor, ...]]:
     # both agents get the same actions: drawn from upstream's space, equal to ours (tested)
     actions = random_actions(twins.upstream.action_space, SEED, STEPS)
-    return rollout(twins.upstream, actions, SEED), rollout(twins.ours, actions, SEED)
+    start = upstream_start(twins.upstream, SEED)
+    return rollout(twins.upstream, actions, SEED, start), rollout(twins.ours, actions, SEED, start)
 
 
 def test_rollout_is_bit_identical(twins_in_mode: Twins) -> None:

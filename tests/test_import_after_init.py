@@ -21,7 +21,13 @@ from typing import Any
 import pytest
 import torch
 from conftest import CRASHING_MODES, MANISKILL_VERSION
-from maniskill_compare import BUNDLED_AGENTS, make_env, random_actions, rollout
+from maniskill_compare import (
+    BUNDLED_AGENTS,
+    make_env,
+    random_actions,
+    rollout,
+    upstream_start,
+)
 
 pytestmark = [
     pytest.mark.minutes,
@@ -152,9 +158,10 @@ def test_imported_spec_is_rollout_identical_with_the_same_collision_bits(
         try:
             actions = random_actions(theirs_env.action_space, SEED, STEPS)
             assert our_env.action_space == theirs_env.action_space, mode
+            start = upstream_start(theirs_env, SEED)  # where ManiSkill's own agent starts
             (qpos_up, qvel_up), (qpos, qvel) = (
-                rollout(theirs_env, actions, SEED),
-                rollout(our_env, actions, SEED),
+                rollout(theirs_env, actions, SEED, start),
+                rollout(our_env, actions, SEED, start),
             )
         finally:
             theirs_env.close()

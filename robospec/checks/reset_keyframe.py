@@ -13,8 +13,7 @@ Failing (RS326: ``mounted`` places the root only)::
     reset: {keyframe: mounted}
 
 Without ``reset.keyframe`` the agent resets to the first keyframe where that one sets joint
-positions, and keeps ManiSkill's behaviour (joints left where they are) where it does not;
-without ``reset`` at all it keeps ManiSkill's behaviour.
+positions, and keeps ManiSkill's behaviour (joints left where they are) where it does not.
 """
 
 from __future__ import annotations
@@ -26,7 +25,7 @@ from robospec.diagnostics import Diagnostic, error
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
-    name = context.spec.reset.keyframe if context.spec.reset is not None else None
+    name = context.spec.reset.keyframe
     frame = context.spec.keyframes.get(name) if name is not None else None
     if frame is not None and frame.qpos is None:
         yield error(

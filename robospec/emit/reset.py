@@ -6,11 +6,13 @@ by uid, so without this a robospec robot would start each episode where the last
 A caller that passes joint positions (a scene builder resetting a robot it knows, a user) gets
 them, as from ``BaseAgent.reset``.
 
-The noise is drawn exactly as ManiSkill's ``TableSceneBuilder`` draws its robots': from the
-resetting environment's episode RNG (the batched one under enhanced determinism), for every
-joint of each environment being reset, in float64, then kept on the noisy joints only. A seeded
-reset therefore repeats it, and the draws leave the episode RNG where the scene builder's
-would have, so the task's own randomness is the same as with ManiSkill's robot. The code works
+The noise is drawn from a generator of the agent's own per environment, seeded from the
+environment's episode seed whenever the environment seeds a new episode RNG (a seeded reset; every
+reset under enhanced determinism): a seeded reset repeats it, an unseeded one draws on, and the
+same seeds give the same noise on CPU and GPU. It never draws from the environment's episode
+RNG, so the task's own randomness is what it would be with ManiSkill's robot, and where a scene
+builder resets the robot itself (a spec standing in under a uid ManiSkill's scenes know), the
+builder's draws and the state it sets are exactly those ManiSkill's robot gets. The code works
 on batches (the GPU simulation resets several environments at once) and is the same on CPU.
 """
 
@@ -23,7 +25,10 @@ from robospec.emit.values import const
 from robospec.resolve.resolved import ResolvedReset
 
 # the members this module defines: no derived attribute may take these names
-RESET_MEMBERS = ("reset", "_keyframe_noise")
+RESET_MEMBERS = ("reset", "_keyframe_noise", "_noise_generators")
+# the noise's generator is seeded by (episode seed, NOISE_STREAM): a stream of its own, apart
+# from the ones the episode seed starts for the task
+NOISE_STREAM = 0x5EED
 
 
 def generate_reset(reset: ResolvedReset) -> list[ast.stmt]:
@@ -65,11 +70,7 @@ def generate_reset(reset: ResolvedReset) -> list[ast.stmt]:
 
 def _noise(reset: ResolvedReset) -> ast.FunctionDef:
     quiet = [i for i in range(reset.dof) if i not in set(reset.noise_columns)]
-    keep = (
-        "noise[:, QUIET] = 0  # drawn for every joint, as the scene builders do, kept on some"
-        if quiet
-        else ""
-    )
+    keep = "noise[:, QUIET] = 0  # drawn for every joint, kept on some" if quiet else ""
     method = function(
         "_keyframe_noise",
         f'''
@@ -79,29 +80,37 @@ def _noise(reset: ResolvedReset) -> ast.FunctionDef:
             env = None
             while frame is not None and env is None:
                 caller = frame.f_locals.get("self")
-                if getattr(caller, "scene", None) is self.scene and hasattr(caller, "_episode_rng"):
+                ours = getattr(caller, "scene", None) is self.scene
+                if ours and hasattr(caller, "_batched_episode_rng"):
                     env = caller
                 frame = frame.f_back
             if env is None:
                 return np.zeros(DOF)
             env_idx = np.flatnonzero(common.to_numpy(self.scene._reset_mask))
-            if env._enhanced_determinism:
-                noise = env._batched_episode_rng[env_idx].normal(0, STD, DOF)
-            else:
-                noise = env._episode_rng.normal(0, STD, [len(env_idx), DOF])
+            generators = self.__dict__.setdefault("_noise_generators", {{}})
+            noise = np.zeros((len(env_idx), DOF))
+            for row in range(len(env_idx)):
+                i = int(env_idx[row])
+                episode_rng = env._batched_episode_rng[i]
+                if generators.get(i, [None])[0] is not episode_rng:
+                    seed = [int(env._episode_seed[i]), STREAM]
+                    generators[i] = [episode_rng, np.random.RandomState(seed)]
+                noise[row] = generators[i][1].normal(0, STD, DOF)
             {keep}
             return noise
         ''',
         DOF=ast.Constant(reset.dof),
         STD=const(reset.qpos_noise),
         QUIET=ast.List([ast.Constant(i) for i in quiet], ast.Load()),
+        STREAM=ast.Constant(NOISE_STREAM),
     )
     doc = method.body[0]
     assert isinstance(doc, ast.Expr) and isinstance(doc.value, ast.Constant)
     doc.value.value = (
         "Gaussian noise on the keyframe's joint positions, one row per environment being\n"
-        "reset, from the resetting environment's episode RNG (none when no environment resets\n"
-        "the agent: a call by hand starts at the keyframe itself). The agent holds no\n"
+        "reset, from a generator of the agent's own per environment, seeded from the episode\n"
+        "seed whenever the environment seeds a new episode RNG (none when no environment\n"
+        "resets the agent: a call by hand starts at the keyframe itself). The agent holds no\n"
         "reference to its environment: it is the caller whose scene this is (BaseEnv.reset)."
     )
     return method

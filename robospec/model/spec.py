@@ -572,12 +572,10 @@ class Spec(StrictModel):
         description="Named robot states (root pose, joint positions and velocities).",
         examples=[{"rest": _REST}],
     )
-    reset: Reset | None = Field(
-        default=None,
+    reset: Reset = Field(
+        default_factory=Reset,
         description="Where every episode starts: the keyframe the agent resets its joints to "
-        "(ManiSkill's tasks reset only the robots they know), with optional noise. Without "
-        "it the agent resets as ManiSkill's own agents do: its joints stay where the last "
-        "episode left them unless the task's scene builder knows the robot.",
+        "(ManiSkill's tasks reset only the robots they know), with optional noise.",
         examples=[{"keyframe": "rest", "qpos_noise": 0.02, "noise_joints": "arm"}],
     )
     controllers: dict[

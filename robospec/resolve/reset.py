@@ -2,9 +2,8 @@
 
 A robot ManiSkill's scene builders do not know is never reset between episodes by the tasks
 (``BaseEnv.reset`` calls ``agent.reset()`` with no joint positions, which keeps them where they
-are), so a spec that declares ``reset`` gets an agent that resets itself: to
-``reset.keyframe``, by default the first keyframe. Without ``reset`` the agent is ManiSkill's
-(the zoo's twins reset exactly as the robots they reproduce); ``robospec new`` writes one.
+are), so robospec's agent resets itself: to the spec's ``reset.keyframe``, by default the first
+keyframe. A spec that ``extends`` a class keeps the class's reset unless it declares its own.
 """
 
 from __future__ import annotations
@@ -19,7 +18,8 @@ def resolve_reset(
 ) -> ResolvedReset | None:
     spec = context.spec
     rule = spec.reset
-    if rule is None:  # ManiSkill's own reset: the scene builder's, or none
+    declared = "reset" in spec.model_fields_set
+    if spec.extends is not None and not declared:
         return None
     by_name = {frame.name: frame for frame in keyframes}
     if rule.keyframe is not None and rule.keyframe not in by_name:
