@@ -10,7 +10,7 @@ located in the user's file by the same lines: every later diagnostic points at t
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -180,6 +180,18 @@ class Document:
                 continue
             mapping[line] = self.origins.get(old, (self.source.shown, _line(old)))
         return mapping
+
+
+def insert_after(anchor: etree._Element, added: Sequence[etree._Element]) -> None:
+    """``added`` after ``anchor``, on its last line: every later element keeps its line (so
+    the diagnostics of the derived copy still point at the description's lines)."""
+    tail = anchor.tail
+    previous = anchor
+    for element in added:
+        previous.addnext(element)
+        previous.tail = " "
+        previous = element
+    previous.tail = tail
 
 
 def _line(at: etree._Element | int) -> int:

@@ -29,7 +29,7 @@ from typing import Any, Literal
 
 from lxml import etree
 
-from robospec.derive.document import Document
+from robospec.derive.document import Document, insert_after
 from robospec.derive.mjcf_tree import classes, effective, robot_body, whole
 
 NAME = "planar_base"
@@ -105,7 +105,7 @@ def _apply_urdf(document: Document, policy: Mapping[str, Any]) -> None:
         _massless(y_link),
         _joint(yaw_name, "continuous", y_link, base, "0 0 1"),
     ]
-    _insert_after(anchor, added)
+    insert_after(anchor, added)
     if hanging is not None:
         document.remove(hanging)
     document.changed(
@@ -171,17 +171,6 @@ def _joint(name: str, kind: str, parent: str, child: str, axis: str) -> etree._E
             joint, "limit", lower=f"-{_TRAVEL}", upper=_TRAVEL, effort="1e6", velocity="100"
         )
     return joint
-
-
-def _insert_after(anchor: etree._Element, added: Sequence[etree._Element]) -> None:
-    """``added`` after ``anchor``, on its last line: every later element keeps its line."""
-    tail = anchor.tail
-    previous = anchor
-    for element in added:
-        previous.addnext(element)
-        previous.tail = " "
-        previous = element
-    previous.tail = tail
 
 
 def _unique(name: str, taken: set[str | None]) -> str:

@@ -15,7 +15,7 @@ from typing import Literal
 
 from lxml import etree
 
-from robospec.derive.document import Document
+from robospec.derive.document import Document, insert_after
 
 NAME = "spherical"
 KINDS = frozenset({"urdf"})
@@ -56,14 +56,7 @@ def apply(document: Document, policy: str) -> None:
             etree.SubElement(extra, "child", link=links[i] if i < 2 else original_child)
             etree.SubElement(extra, "axis", xyz=_AXES[i][1])
             added.append(extra)
-        tail = joint.tail
-        anchor = joint
-        for element in added:
-            anchor.addnext(element)
-            element.tail = " "
-            anchor = element
-        anchor.tail = tail
-        joint.tail = " "
+        insert_after(joint, added)
         document.changed(
             joint, f"joint '{name}'", f'type="{kind}"', f"continuous joints {', '.join(joints)}"
         )
