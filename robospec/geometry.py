@@ -161,13 +161,6 @@ def quaternion_from_matrix(m: Matrix) -> Quaternion:
     return normalized(q)
 
 
-def rotation_angle(m: Matrix) -> float:
-    """How far the rotation matrix ``m`` turns about its axis, in radians (0 to pi): from its
-    trace, 1 + 2 cos(angle)."""
-    cosine = (m[0][0] + m[1][1] + m[2][2] - 1) / 2
-    return math.acos(max(-1.0, min(1.0, cosine)))
-
-
 def matrix_from_quaternion(q: Quaternion) -> Matrix:
     """The rotation matrix of ``q`` (normalized here)."""
     w, x, y, z = normalized(q)

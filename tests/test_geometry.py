@@ -141,25 +141,6 @@ def test_a_quaternions_matrix_is_scipys(q: geometry.Quaternion) -> None:
     )
 
 
-@given(quaternions)
-def test_a_matrixs_rotation_angle_is_scipys_magnitude(q: geometry.Quaternion) -> None:
-    # acos near 0 and pi loses half the digits: 1e-8 rad where the trace is near 3 or -1
-    angle = geometry.rotation_angle(geometry.matrix_from_quaternion(q))
-    assert angle == pytest.approx(scipy_rotation(q).magnitude(), abs=1e-6)
-
-
-@pytest.mark.parametrize(
-    ("diagonal", "expected"),
-    [((1.0 + 1e-15, 1.0, 1.0), 0.0), ((1.0, -1.0 - 1e-15, -1.0), math.pi)],
-    ids=["no turn", "half turn"],
-)
-def test_a_rotation_angle_takes_a_trace_rounded_past_its_range_as_its_end(
-    diagonal: geometry.Vector, expected: float
-) -> None:
-    x, y, z = diagonal
-    assert geometry.rotation_angle(((x, 0.0, 0.0), (0.0, y, 0.0), (0.0, 0.0, z))) == expected
-
-
 @pytest.mark.parametrize(
     "q",
     [
