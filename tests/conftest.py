@@ -30,7 +30,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
-from collections.abc import Container, Iterable, Mapping
+from collections.abc import Container, Iterable, Iterator, Mapping
 from functools import cache
 from pathlib import Path
 from types import ModuleType
@@ -374,6 +374,34 @@ os.environ["ROBOSPEC_CACHE_DIR"] = _COLLECTION_CACHE
 def _isolated_cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):
     # never touch the user's ~/.cache from tests
     monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "cache"))
+
+
+def _maniskill_registry() -> dict[str, Any] | None:
+    """ManiSkill's registry of agents, where ManiSkill has been imported (never imported here)."""
+    registration = sys.modules.get("mani_skill.agents.registration")
+    return None if registration is None else registration.REGISTERED_AGENTS
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _maniskill_registry_as_found() -> Iterator[None]:
+    """Each test module leaves ManiSkill's registry of agents as it found it: a uid a module
+    registered (robospec.register in a test, run_solve, a picture's truth) would otherwise
+    refuse the same uid in a later module of the same xdist worker (RS306), so that a
+    module's outcome depended on which modules ran before it in its worker."""
+    registry = _maniskill_registry()
+    before = dict(registry) if registry is not None else None
+    yield
+    registry = _maniskill_registry()
+    if registry is None:
+        return
+    if before is None:  # imported by this module: ManiSkill's own agents are what stays
+        before = {
+            uid: entry
+            for uid, entry in registry.items()
+            if entry.agent_cls.__module__.startswith("mani_skill.")
+        }
+    registry.clear()
+    registry.update(before)
 
 
 __all__ = [

@@ -25,34 +25,20 @@ ROOT = Path(__file__).resolve().parent.parent
 PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
 
 
-def panda_that_resets(folder: Path) -> Path:
-    """The zoo's Panda with the reset robospec new writes (and the noise ManiSkill's tabletop
-    scenes give their Panda), under a uid of its own: the zoo's twin declares no reset, as
-    ManiSkill's Panda has none, so under its own uid no scene builder would reset it and every
-    episode would start where SAPIEN built it (all joints at 0) or the last one ended."""
-    spec = folder / "panda_that_resets.yaml"
-    text = PANDA.read_text(encoding="utf-8")
-    assert "uid: rs_panda\n" in text
-    reset = "reset: {keyframe: rest, qpos_noise: 0.02, noise_joints: arm}\n"
-    spec.write_text(text.replace("uid: rs_panda\n", "uid: rs_panda_resets\n" + reset))
-    return spec
-
-
 def test_the_panda_picks_the_cube_and_the_replay_reproduces_each_success(
     tmp_path: Path,
 ) -> None:
     from robospec.solve.command import render_report, run_solve
     from robospec.solve.replay import main as replay
 
-    panda = panda_that_resets(tmp_path)
-    report = run_solve(panda, "PickCube-v1", 2, tmp_path, 1, 0, progress=False)
+    report = run_solve(PANDA, "PickCube-v1", 2, tmp_path, 1, 0, progress=False)
     assert not report.diagnostics, render_report(report, "text")
     assert [e.success for e in report.episodes] == [True, True]
     assert report.trajectory == tmp_path / "PickCube-v1.h5"
     assert report.trajectory.with_suffix(".json").is_file()
     printed = io.StringIO()
     with contextlib.redirect_stdout(printed):
-        replay([str(panda), "--traj-path", str(report.trajectory)])
+        replay([str(PANDA), "--traj-path", str(report.trajectory)])
     assert re.search(r"Replayed 2 episodes, 2/2=100\.00% demos saved", printed.getvalue())
 
 
@@ -118,11 +104,10 @@ def test_check_solve_asks_each_task_for_its_episodes() -> None:
 
 
 @pytest.mark.slow
-def test_check_solve_reports_the_success_of_the_tasks_solution(tmp_path: Path) -> None:
+def test_check_solve_reports_the_success_of_the_tasks_solution() -> None:
     """About two minutes: the whole of check, then two episodes."""
     from conftest import run_robospec
 
-    panda = panda_that_resets(tmp_path)
-    done = run_robospec("check", str(panda), "--task", "PickCube-v1", "--solve", "2", timeout=600)
+    done = run_robospec("check", str(PANDA), "--task", "PickCube-v1", "--solve", "2", timeout=600)
     assert done.returncode == 0, done.stdout + done.stderr
     assert re.search(r"solve .* PickCube-v1 +pass +ManiSkill's solution: 2 of 2", done.stdout)
