@@ -71,7 +71,9 @@ def sapien_truth(spec: Path) -> Truth:
     compiled = compile_spec(spec)
     robot, description = compiled.robot, compiled.description
     assert robot is not None and description is not None, compiled.diagnostics
-    robospec.register(spec)
+    # two robots of the corpus may share a uid (rtb_panda's and pb_panda's scaffolds): each
+    # truth replaces the last
+    robospec.register(spec, override=True)
     first = robot.keyframes[0] if robot.keyframes else None
     setting = Setting(
         first.p if first else (0.0, 0.0, 0.0),

@@ -37,12 +37,7 @@ STEPS = 8
 CALLED = ("is_static", "is_standing", "is_fallen", "get_proprioception")
 READ = ("tcp_pos", "tcp_pose", "tip_poses", "palm_pose")
 # members of hand-written agents that no spec section declares, and why
-NOT_REPRODUCED: dict[str, dict[str, str]] = {
-    "allegro_hand_right_touch": {
-        "get_proprioception": "adds force-sensor impulses from contact queries (Python)",
-        "link:fsr_links": "bound only for those contact queries",
-    },
-}
+NOT_REPRODUCED: dict[str, dict[str, str]] = {}
 
 
 @pytest.fixture(scope="module")
