@@ -1,6 +1,7 @@
 """The layout the pipeline promises, checked on the source itself: no import cycles anywhere in
-robospec/, and every semantic check (RS3xx) a module of the checks stage, one rule each, with
-its code and a passing and a failing example in its docstring."""
+robospec/, every semantic check (RS3xx) a module of the checks stage, one rule each, with
+its code and a passing and a failing example in its docstring, and no function over 80 lines
+but a listed few, each with its reason."""
 
 from __future__ import annotations
 
@@ -294,3 +295,108 @@ def test_only_the_command_line_reaches_robospec_tune() -> None:
         and any(t.startswith("robospec.tune.reference") for t in targets)
     }
     assert into_reference <= {"robospec.tune.command"}
+
+
+# -- the length of functions -------------------------------------------------------------------
+
+LONGEST = 80  # lines a function may have, measured as function_lengths says
+# Each function allowed to be longer, with why: at most three (issue 33). The SPLIT_PENDING ones
+# are in packages that other branches are splitting now; each leaves as its branch lands (an
+# entry whose function is no longer long fails the test), and the count then covers them all.
+SPLIT_PENDING = "split pending: package under change in a parallel branch"
+LONG_FUNCTIONS: dict[str, str] = {
+    "robospec/description/mjcf.py::parse_mjcf": SPLIT_PENDING,
+    "robospec/description/urdf.py::_read_joint": SPLIT_PENDING,
+    "robospec/description/urdf.py::_articulation": SPLIT_PENDING,
+    "robospec/description/urdf.py::_kinematic_tree": SPLIT_PENDING,
+    "robospec/physics/step_response.py::_finding": SPLIT_PENDING,
+    "robospec/physics/step_response.py::step_trace": SPLIT_PENDING,
+    "robospec/physics/random_actions.py::_problems": SPLIT_PENDING,
+    "robospec/authoring/new/scaffold.py::_header": SPLIT_PENDING,
+}
+MOST_ALLOWED = 3
+
+
+def _is_typer_command(node: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """Decorated ``@app.command(...)`` (or ``@<anything>.command``)."""
+    for decorator in node.decorator_list:
+        target = decorator.func if isinstance(decorator, ast.Call) else decorator
+        if isinstance(target, ast.Attribute) and target.attr == "command":
+            return True
+    return False
+
+
+def function_lengths(source: str, *, commands_by_body: bool) -> dict[str, int]:
+    """Each function's (and method's, nested ones too) qualified name -> its length in lines.
+
+    A function counts from its ``def`` line to its last, signature and docstring included
+    (decorators not): what a reader reads to know what it does. A typer command
+    (``@app.command``, with ``commands_by_body``: robospec/cli) counts from the first line of
+    its body, its docstring included: its signature is a table of typer options, one
+    ``Annotated[..., typer.Option(...)]`` with its help text each, that typer reads as the
+    command's interface, not logic to follow; a long body is still too long."""
+    lengths: dict[str, int] = {}
+
+    def visit(node: ast.AST, prefix: str) -> None:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                name = f"{prefix}{child.name}"
+                end = child.end_lineno or child.lineno
+                start = child.lineno
+                if commands_by_body and _is_typer_command(child):
+                    start = child.body[0].lineno
+                lengths[name] = end - start + 1
+                visit(child, f"{name}.")
+            elif isinstance(child, ast.ClassDef):
+                visit(child, f"{prefix}{child.name}.")
+            else:
+                visit(child, prefix)
+
+    visit(ast.parse(source), "")
+    return lengths
+
+
+def long_functions() -> dict[str, int]:
+    """``robospec/<module>.py::<qualified name>`` -> its length, for each over LONGEST."""
+    found = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        shown = path.relative_to(PACKAGE.parent).as_posix()
+        in_cli = shown.startswith("robospec/cli/")
+        lengths = function_lengths(path.read_text(encoding="utf-8"), commands_by_body=in_cli)
+        found.update({f"{shown}::{name}": n for name, n in lengths.items() if n > LONGEST})
+    return found
+
+
+def test_no_function_is_longer_than_80_lines_but_the_listed_ones() -> None:
+    found = long_functions()
+    assert sorted(set(found) - set(LONG_FUNCTIONS)) == [], found
+    # an entry whose function was split (or is gone) leaves the list
+    assert sorted(set(LONG_FUNCTIONS) - set(found)) == []
+
+
+def test_at_most_three_functions_are_allowed_to_be_long_each_with_its_reason() -> None:
+    assert all(reason.strip() for reason in LONG_FUNCTIONS.values())
+    # the functions of packages other branches are splitting leave when those branches land
+    allowed = [name for name, reason in LONG_FUNCTIONS.items() if reason != SPLIT_PENDING]
+    assert len(allowed) <= MOST_ALLOWED, allowed
+
+
+def test_a_typer_command_counts_by_its_body_and_any_other_function_whole() -> None:
+    options = "".join(f"    option_{i}: int = typer.Option(0, help='...'),\n" for i in range(90))
+    body = "".join(f"    x = {i}\n" for i in range(10))
+    source = (
+        "@app.command()\n"
+        f"def command(\n{options}) -> None:\n    '''Help.'''\n{body}\n"
+        f"def plain(\n{options}) -> None:\n{body}\n"
+        "class Owner:\n"
+        "    def method(self) -> None:\n"
+        "        def inner() -> None:\n"
+        "            pass\n"
+    )
+    lengths = function_lengths(source, commands_by_body=True)
+    assert lengths["command"] == 11  # the docstring and the body
+    assert lengths["plain"] == 1 + 90 + 1 + 10
+    assert lengths["Owner.method.inner"] == 2
+    assert lengths["Owner.method"] == 3
+    # outside robospec/cli a command is measured as any other function
+    assert function_lengths(source, commands_by_body=False)["command"] == 1 + 90 + 2 + 10

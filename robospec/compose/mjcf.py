@@ -236,34 +236,12 @@ def _mount(
 ) -> tuple[Mounted | None, list[Problem]]:
     base_folder = os.path.dirname(base.path)
     here, there = ModelFolders(root, base_folder), ModelFolders(tree, os.path.dirname(part.path))
-    if (here.degrees, here.eulerseq.lower()) != (there.degrees, there.eulerseq.lower()):
-        units = {True: "degrees", False: "radians"}
-        return None, [
-            Problem(
-                ("parts", part.name, part.key),
-                MIXED_FORMATS,
-                f"part '{part.name}' measures angles in {units[there.degrees]} "
-                f"(eulerseq {there.eulerseq}) and this robot in {units[here.degrees]} "
-                f"(eulerseq {here.eulerseq}): robospec does not convert one model's angles",
-                "set the part's <compiler angle> and eulerseq as the robot's",
-            )
-        ]
-    worldbody = tree.find("worldbody")
-    bodies = worldbody.findall("body") if worldbody is not None else []
-    if (
-        len(bodies) != 1
-        or bodies[0].find("freejoint") is not None
-        or any(j.get("type") == "free" for j in bodies[0].findall("joint"))
-    ):
-        what = f"{len(bodies)} bodies under <worldbody>" if len(bodies) != 1 else "a free root"
-        return None, [
-            Problem(
-                ("parts", part.name, part.key),
-                NOT_A_FIXED_TREE,
-                f"part '{part.name}' is not one body tree fixed at its root: it has {what}",
-                "mount a model of the part with one body tree and no free joint",
-            )
-        ]
+    mixed = _mixed_angles(part, here, there)
+    if mixed is not None:
+        return None, [mixed]
+    root_body = _root_body(tree, part)
+    if isinstance(root_body, Problem):
+        return None, [root_body]
     problems: list[Problem] = []
     dropped = _same_assets(root, tree, here, there)
     renames = _renames(tree, part, names, dropped, problems)
@@ -280,19 +258,10 @@ def _mount(
             folder = here.dirs[FILE_FOLDERS[str(element.tag)]]
             element.set("file", relative_file(full, folder))
     _apply(tree, renames)
-    robot_body = bodies[0]
-    try:
-        own = body_pose(dict(robot_body.attrib), there.degrees, there.eulerseq)
-    except (Unparsable, ValueError):
-        own = IDENTITY_POSE
-    position, quaternion = compose((part.position, part.quaternion), own)
-    for attribute in ("pos", *ORIENTATION_ATTRIBUTES):
-        robot_body.attrib.pop(attribute, None)
-    robot_body.set("pos", " ".join(number(v) for v in position))
-    robot_body.set("quat", " ".join(number(v) for v in quaternion))
-    if robot_body.get("childclass") is None and tree.find("default") is not None:
-        robot_body.set("childclass", main_class)  # a part without defaults gets no class
-    joints = [j for j in robot_body.iter("joint") if j.getparent() is not None]
+    _pose_root_body(root_body, part, there)
+    if root_body.get("childclass") is None and tree.find("default") is not None:
+        root_body.set("childclass", main_class)  # a part without defaults gets no class
+    joints = [j for j in root_body.iter("joint") if j.getparent() is not None]
     _extend_keys(root, joints, len(_children(tree, "actuator")))
     _merge_defaults(root, tree, main_class)
     _merge_assets(root, tree, dropped)
@@ -303,8 +272,67 @@ def _mount(
             f"part '{part.name}' ({part.shown}), mounted on '{at.get('name')}' by robospec"
         )
     )
-    append_lines(at, [header, robot_body], INDENT * (_depth(at) + 1))
-    links = [str(b.get("name")) for b in robot_body.iter("body") if b.get("name")]
+    append_lines(at, [header, root_body], INDENT * (_depth(at) + 1))
+    return _mounted(part, at, root_body, joints, renames), problems
+
+
+def _mixed_angles(part: PartSource, here: ModelFolders, there: ModelFolders) -> Problem | None:
+    """RS735 when the part measures angles otherwise than the robot."""
+    if (here.degrees, here.eulerseq.lower()) == (there.degrees, there.eulerseq.lower()):
+        return None
+    units = {True: "degrees", False: "radians"}
+    return Problem(
+        ("parts", part.name, part.key),
+        MIXED_FORMATS,
+        f"part '{part.name}' measures angles in {units[there.degrees]} "
+        f"(eulerseq {there.eulerseq}) and this robot in {units[here.degrees]} "
+        f"(eulerseq {here.eulerseq}): robospec does not convert one model's angles",
+        "set the part's <compiler angle> and eulerseq as the robot's",
+    )
+
+
+def _root_body(tree: etree._Element, part: PartSource) -> etree._Element | Problem:
+    """The part's one body under its ``<worldbody>``, or RS731 when it has
+    none, several or a free one."""
+    worldbody = tree.find("worldbody")
+    bodies = worldbody.findall("body") if worldbody is not None else []
+    if (
+        len(bodies) != 1
+        or bodies[0].find("freejoint") is not None
+        or any(j.get("type") == "free" for j in bodies[0].findall("joint"))
+    ):
+        what = f"{len(bodies)} bodies under <worldbody>" if len(bodies) != 1 else "a free root"
+        return Problem(
+            ("parts", part.name, part.key),
+            NOT_A_FIXED_TREE,
+            f"part '{part.name}' is not one body tree fixed at its root: it has {what}",
+            "mount a model of the part with one body tree and no free joint",
+        )
+    return bodies[0]
+
+
+def _pose_root_body(root_body: etree._Element, part: PartSource, there: ModelFolders) -> None:
+    """The mount pose composed with the root body's own, written as ``pos`` and ``quat``."""
+    try:
+        own = body_pose(dict(root_body.attrib), there.degrees, there.eulerseq)
+    except (Unparsable, ValueError):
+        own = IDENTITY_POSE
+    position, quaternion = compose((part.position, part.quaternion), own)
+    for attribute in ("pos", *ORIENTATION_ATTRIBUTES):
+        root_body.attrib.pop(attribute, None)
+    root_body.set("pos", " ".join(number(v) for v in position))
+    root_body.set("quat", " ".join(number(v) for v in quaternion))
+
+
+def _mounted(
+    part: PartSource,
+    at: etree._Element,
+    root_body: etree._Element,
+    joints: list[etree._Element],
+    renames: dict[str, dict[str, str]],
+) -> Mounted:
+    """The part as mounted: its links and joints, and each name it changed."""
+    links = [str(b.get("name")) for b in root_body.iter("body") if b.get("name")]
     renamed = tuple(
         (kind, old, new)
         for kind, table in sorted(renames.items())
@@ -316,19 +344,16 @@ def _mount(
         ("link", f"{old}{suffix}", f"{new}{suffix}")
         for kind, old, new in renamed
         if kind == "body"
-        for suffix in ("", *(f"_dummy_{i}" for i in range(_joint_count(robot_body, new) - 1)))
+        for suffix in ("", *(f"_dummy_{i}" for i in range(_joint_count(root_body, new) - 1)))
     )
-    return (
-        Mounted(
-            name=part.name,
-            at=str(at.get("name")),
-            joint="",
-            root=str(robot_body.get("name") or ""),
-            links=tuple(links),
-            joints=tuple(str(j.get("name")) for j in joints if j.get("name")),
-            renamed=link_renames + renamed,
-        ),
-        problems,
+    return Mounted(
+        name=part.name,
+        at=str(at.get("name")),
+        joint="",
+        root=str(root_body.get("name") or ""),
+        links=tuple(links),
+        joints=tuple(str(j.get("name")) for j in joints if j.get("name")),
+        renamed=link_renames + renamed,
     )
 
 

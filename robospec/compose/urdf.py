@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from collections.abc import Set as AbstractSet
+from dataclasses import dataclass
 from typing import Any
 
 from lxml import etree
@@ -85,28 +87,62 @@ def _mount(
     provenance: Provenance,
 ) -> tuple[Mounted | None, list[Problem]]:
     """Mount ``part`` (its tree) on ``root``: the part as mounted, or None, and the problems."""
-    links, joints = _names(tree, "link"), _names(tree, "joint")
+    root_name = _part_root(tree, part)
+    if isinstance(root_name, Problem):
+        return None, [root_name]
+    place, problems = _placement(root, tree, part, root_name, mounted)
+    links, joints = _names(tree, "link"), _names(tree, "joint")  # without a folded root frame
+    names = _part_names(root, tree, part, place, links, joints, problems)
+    if any(p.severity == "error" for p in problems):
+        return None, problems
+    return _write_part(root, tree, part, place, names, base_folder, provenance), problems
+
+
+def _part_root(tree: etree._Element, part: PartSource) -> str | Problem:
+    """The part's one root link, or RS731 when its links hang from none or several."""
+    links = _names(tree, "link")
     children = {c.get("link") for j in tree.findall("joint") for c in j.findall("child")} - {None}
     roots = [name for name in links if name not in children]
-    if len(roots) != 1:
-        what = (
-            "no root link (every link is a joint's child)"
-            if not roots
-            else (f"{len(roots)} root links ({', '.join(roots[:4])})")
-        )
-        return None, [
-            Problem(
-                ("parts", part.name, part.key),
-                NOT_A_FIXED_TREE,
-                f"part '{part.name}' is not one tree of links: its description has {what}",
-                "mount a description whose links hang from one root",
-            )
-        ]
+    if len(roots) == 1:
+        return roots[0]
+    what = (
+        "no root link (every link is a joint's child)"
+        if not roots
+        else (f"{len(roots)} root links ({', '.join(roots[:4])})")
+    )
+    return Problem(
+        ("parts", part.name, part.key),
+        NOT_A_FIXED_TREE,
+        f"part '{part.name}' is not one tree of links: its description has {what}",
+        "mount a description whose links hang from one root",
+    )
+
+
+@dataclass(frozen=True)
+class _Placement:
+    """Where a part hangs once empty frames are folded away (``fold_frames``)."""
+
+    at: str  # the link it is mounted on
+    pose: Pose  # its root's pose there
+    root: str  # the part's root link
+    folded: tuple[str, ...]  # the frames left out, and the part's joint that held its root
+    holder: etree._Element | None  # the robot's joint that held a folded mount frame
+    taken_links: frozenset[str]  # the robot's links, less a folded mount frame
+
+
+def _placement(
+    root: etree._Element,
+    tree: etree._Element,
+    part: PartSource,
+    root_name: str,
+    mounted: list[Mounted],
+) -> tuple[_Placement, list[Problem]]:
+    """Where the part goes, with its empty root frame and an empty mount frame folded away
+    (removed from ``tree`` and ``root``), and a warning (RS741) when ``fold_frames`` finds
+    neither."""
     taken_links = set(_names(root, "link"))
-    problems: list[Problem] = []
     pose = (part.position, part.quaternion)
     folded: list[str] = []
-    root_name = roots[0]
     inner = None
     if part.fold_frames:
         found = _root_frame(tree, root_name)
@@ -116,7 +152,6 @@ def _mount(
             folded += [str(frame.get("name")), str(joint.get("name"))]
             tree.remove(frame)
             tree.remove(joint)
-            links, joints = _names(tree, "link"), _names(tree, "joint")
     at = _mount_link(part.at, taken_links, mounted)
     holder = _leaf_frame(root, at) if part.fold_frames else None
     if holder is not None:
@@ -126,6 +161,7 @@ def _mount(
         pose = compose(outer, pose)
         root.remove(frame)
         taken_links.discard(str(frame.get("name")))
+    problems: list[Problem] = []
     if part.fold_frames and not folded:
         problems.append(
             Problem(
@@ -140,15 +176,42 @@ def _mount(
         )
     if inner is not None:
         pose = compose(pose, inner)
+    holder_joint = holder[1] if holder is not None else None
+    place = _Placement(at, pose, root_name, tuple(folded), holder_joint, frozenset(taken_links))
+    return place, problems
+
+
+@dataclass(frozen=True)
+class _PartNames:
+    """The part's names in the combined description (a material the robot defines alike:
+    None), and the name of the joint that mounts it."""
+
+    links: dict[str, str]
+    joints: dict[str, str]
+    materials: dict[str, str | None]
+    mount_joint: str
+
+
+def _part_names(
+    root: etree._Element,
+    tree: etree._Element,
+    part: PartSource,
+    place: _Placement,
+    links: list[str],
+    joints: list[str],
+    problems: list[Problem],
+) -> _PartNames:
+    """The part's links, joints and materials renamed where the robot has them; a clash each
+    is a problem (RS732), and so is a mount joint named as one of the robot's."""
     taken_joints = set(_names(root, "joint"))
-    if holder is not None:
-        taken_joints.discard(str(holder[1].get("name")))
-    link_names = _renames(part, "link", links, taken_links, problems)
+    if place.holder is not None:
+        taken_joints.discard(str(place.holder.get("name")))
+    link_names = _renames(part, "link", links, place.taken_links, problems)
     joint_names = _renames(part, "joint", joints, taken_joints, problems)
     materials = _material_renames(root, tree, part, problems)
     mount_joint = part.joint
-    if holder is not None and not part.joint_given:
-        mount_joint = str(holder[1].get("name"))  # the frame's joint now holds the part
+    if place.holder is not None and not part.joint_given:
+        mount_joint = str(place.holder.get("name"))  # the frame's joint now holds the part
     if mount_joint in taken_joints or mount_joint in joint_names.values():
         problems.append(
             Problem(
@@ -159,24 +222,39 @@ def _mount(
                 "name it with `joint:`",
             )
         )
-    if any(p.severity == "error" for p in problems):
-        return None, problems
-    _rename(tree, link_names, joint_names, materials)
+    return _PartNames(link_names, joint_names, materials, mount_joint)
+
+
+def _write_part(
+    root: etree._Element,
+    tree: etree._Element,
+    part: PartSource,
+    place: _Placement,
+    names: _PartNames,
+    base_folder: str,
+    provenance: Provenance,
+) -> Mounted:
+    """The part renamed and appended to ``root`` after a comment, with the fixed joint that
+    mounts it (or the folded frame's joint holding it)."""
+    links, joints = _names(tree, "link"), _names(tree, "joint")  # the part's own names
+    materials = names.materials
+    _rename(tree, names.links, names.joints, materials)
     _move_files(tree, part, base_folder)
     provenance.remember(
         (e for e in tree.iter(etree.Element) if e is not tree), part.shown, path=part.path
     )
-    child = link_names.get(root_name, root_name)
-    rpy = part.rpy if part.rpy is not None and not folded else rpy_from_quaternion(pose[1])
+    child = names.links.get(place.root, place.root)
+    pose = place.pose
+    rpy = part.rpy if part.rpy is not None and not place.folded else rpy_from_quaternion(pose[1])
     origin = (pose[0], rpy)
-    if holder is not None:
+    if place.holder is not None:
         joint = None
-        _hold(holder[1], mount_joint, child, origin)
+        _hold(place.holder, names.mount_joint, child, origin)
     else:
-        joint = _mount_joint(mount_joint, at, child, origin)
+        joint = _mount_joint(names.mount_joint, place.at, child, origin)
         provenance.remember(joint.iter(etree.Element), *part.entry, path=part.entry_path)
     header = etree.Comment(
-        comment_text(f"part '{part.name}' ({part.shown}), mounted on '{at}' by robospec")
+        comment_text(f"part '{part.name}' ({part.shown}), mounted on '{place.at}' by robospec")
     )
     # a material the robot defines alike is left out; everything else moves, comments too
     moved = [
@@ -186,8 +264,8 @@ def _mount(
     ]
     append_lines(root, [header, *([joint] if joint is not None else []), *moved], INDENT)
     renamed = tuple(
-        [("link", old, new) for old, new in link_names.items() if old != new]
-        + [("joint", old, new) for old, new in joint_names.items() if old != new]
+        [("link", old, new) for old, new in names.links.items() if old != new]
+        + [("joint", old, new) for old, new in names.joints.items() if old != new]
         + [
             ("material", old, new)
             for old, new in materials.items()
@@ -196,18 +274,18 @@ def _mount(
     )
     return Mounted(
         name=part.name,
-        at=at,
-        joint=mount_joint,
+        at=place.at,
+        joint=names.mount_joint,
         root=child,
-        links=tuple(link_names.get(n, n) for n in links),
-        joints=tuple(joint_names.get(n, n) for n in joints),
+        links=tuple(names.links.get(n, n) for n in links),
+        joints=tuple(names.joints.get(n, n) for n in joints),
         renamed=renamed,
-        folded=tuple(folded),
-    ), problems
+        folded=place.folded,
+    )
 
 
 def _renames(
-    part: PartSource, what: str, names: list[str], taken: set[str], problems: list[Problem]
+    part: PartSource, what: str, names: list[str], taken: AbstractSet[str], problems: list[Problem]
 ) -> dict[str, str]:
     """Each of the part's ``names`` -> its name in the combined description: prefixed where
     the robot has it already. A prefixed name the robot (or the part) also has is RS732."""

@@ -60,29 +60,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", default=20, type=int)
     args = parser.parse_args(argv)
 
-    from robospec.diagnostics import has_errors
-    from robospec.output.package import build_package
-    from robospec.pipeline import compile_all
-    from robospec.reporting import render
-
-    started = time.perf_counter()
-    compiled, diagnostics = compile_all(args.specs)
-    for item in compiled:
-        diagnostics.extend(item.diagnostics)
-    if has_errors(diagnostics):
-        print(render(diagnostics, len(compiled), "text"))
-        return 1
     robospec = command("robospec")
     specs = " ".join(str(path) for path in args.specs)
-    # warnings are told by `robospec validate`, with their excerpts; here, how many of which
-    print(warnings_line(diagnostics, len(compiled), f"{robospec} validate {specs}"))
-    result = build_package(compiled, args.out, check=False)
-    if has_errors(result.diagnostics):
-        print(render(result.diagnostics, len(compiled), "text"))
+    compiled = _build(args.specs, args.out, f"{robospec} validate {specs}")
+    if compiled is None:
         return 1
-    modules = [n for n in result.files if n.endswith(".py") and not n.startswith("_")]
-    print(f"built {args.out}/ in {time.perf_counter() - started:.2f} s: {len(modules)} modules")
-
     said: dict[tuple[str, str, str], Said] = {}
     with captured_output() as output:
         import mani_skill.envs  # noqa: F401  (registers the environments)
@@ -93,26 +75,71 @@ def main(argv: list[str] | None = None) -> int:
     robots = {item.robot.uid: item for item in compiled if item.robot is not None}
     print(f"imported {args.out.name}: {len(package.AGENTS)} agents registered")
 
+    verdicts = _verdicts(package.AGENTS, robots, args.steps, said)
+    print()
+    _print_verdicts(verdicts, robots, args.steps, robospec)
+    _print_said(said)
+    print()
+    print(next_steps(args.out, len(package.AGENTS), verdicts, robots, robospec, specs))
+    return 0
+
+
+def _build(specs: list[Path], out: Path, validate: str) -> list[Any] | None:
+    """The specs compiled and built into the package ``out``, saying how many warnings of
+    which codes they have; None (the errors printed) when they do not compile or build."""
+    from robospec.diagnostics import has_errors
+    from robospec.output.package import build_package
+    from robospec.pipeline import compile_all
+    from robospec.reporting import render
+
+    started = time.perf_counter()
+    compiled, diagnostics = compile_all(specs)
+    for item in compiled:
+        diagnostics.extend(item.diagnostics)
+    if has_errors(diagnostics):
+        print(render(diagnostics, len(compiled), "text"))
+        return None
+    # warnings are told by `robospec validate`, with their excerpts; here, how many of which
+    print(warnings_line(diagnostics, len(compiled), validate))
+    result = build_package(compiled, out, check=False)
+    if has_errors(result.diagnostics):
+        print(render(result.diagnostics, len(compiled), "text"))
+        return None
+    modules = [n for n in result.files if n.endswith(".py") and not n.startswith("_")]
+    print(f"built {out}/ in {time.perf_counter() - started:.2f} s: {len(modules)} modules")
+    return compiled
+
+
+def _verdicts(
+    agents: Any, robots: dict[str, Any], steps: int, said: dict[tuple[str, str, str], Said]
+) -> list[Verdict]:
+    """Each agent run and judged, in the table's order; one that misbehaves beside ManiSkill's
+    own agent for the same description (each of those run once)."""
     verdicts = []
     twins: dict[str, Run] = {}  # ManiSkill's agents, each run once
-    for uid in package.AGENTS:
+    for uid in agents:
         item = robots.get(uid)
         settings = _settings(item)
         with captured_output() as output:
-            ran = _run(uid, args.steps, settings)
+            ran = _run(uid, steps, settings)
         _gather(said, output.messages(), uid)
-        twin = _upstream_twin(item, set(package.AGENTS)) if ran.misbehaved else None
+        twin = _upstream_twin(item, set(agents)) if ran.misbehaved else None
         if twin is not None and twin not in twins:
             with captured_output() as output:
-                twins[twin] = _run(twin, args.steps, settings)
+                twins[twin] = _run(twin, steps, settings)
             _gather(said, output.messages(), twin)
         verdicts.append(judge(uid, ran, twin, twins.get(twin) if twin else None))
     verdicts.sort(key=lambda v: (VERDICTS.index(v.verdict), v.uid))
+    return verdicts
 
-    print()
+
+def _print_verdicts(
+    verdicts: list[Verdict], robots: dict[str, Any], steps: int, robospec: str
+) -> None:
+    """The table of verdicts, then the numbered notes on each robot that is not ok."""
     print(
         textwrap.fill(
-            f"{args.steps} random actions in each robot's default control mode, on physx_cpu, "
+            f"{steps} random actions in each robot's default control mode, on physx_cpu, "
             "judged as robospec check judges them (checks.random_actions): robots that run "
             "fine, then those that behave as ManiSkill's own agent does, then failures; by "
             "uid within each:",
@@ -135,6 +162,10 @@ def main(argv: list[str] | None = None) -> int:
     print(_table(rows))
     for number, note in enumerate(notes, 1):
         print(_wrapped(f"[{number}] ", note))
+
+
+def _print_said(said: dict[tuple[str, str, str], Said]) -> None:
+    """What ManiSkill and SAPIEN printed over the run, each message once."""
     if said:
         print("\nManiSkill and SAPIEN said, each message once:")
         for entry in said.values():
@@ -143,9 +174,6 @@ def main(argv: list[str] | None = None) -> int:
             )
             counted = replace(entry.message, count=entry.count)
             print(_wrapped("  ", f"{counted.describe()} [{robots_said}]"))
-    print()
-    print(next_steps(args.out, len(package.AGENTS), verdicts, robots, robospec, specs))
-    return 0
 
 
 # -- what is said ---------------------------------------------------------------------------

@@ -320,86 +320,20 @@ def read_agent(
     """
     diagnostics: list[Diagnostic] = []
     class_at = _source_of(cls) or SourceRef(shown_path(cls.__module__))
-
-    def at(ref: SourceRef | None) -> Location:
-        ref = ref or class_at
-        return Location(ref.file, ref.line, ref.column)
-
-    if cls.urdf_path is None and cls.mjcf_path is None:
-        diagnostics.append(
-            error(
-                at(class_at),
-                "RS413",
-                f"{cls.__name__} has neither urdf_path nor mjcf_path; write the spec's "
-                "description by hand",
-            )
-        )
-    robot = StandInRobot(description)
-    obj, failure = instantiate(cls, robot)
-    if failure is not None:
-        diagnostics.append(
-            warning(
-                at(_defined_at(cls, "__init__")),
-                "RS404",
-                f"{cls.__name__}.__init__ raised {type(failure).__name__}: {failure}; "
-                "reading the class attributes only",
-            )
-        )
-
+    obj = _instance(cls, description, class_at, diagnostics)
     controllers_at = _defined_at(cls, "_controller_configs")
-    modes: list[ModeRecord] = []
-    try:
-        configs = obj._controller_configs
-    except Exception as exc:
-        diagnostics.append(
-            error(
-                at(controllers_at),
-                "RS404",
-                f"{cls.__name__}._controller_configs raised {type(exc).__name__}: {exc}",
-                "the spec has no control modes; write them by hand",
-            )
-        )
-        configs = {}
-    for mode_name, mode in configs.items():
-        record = _mode(str(mode_name), mode, cls, at(controllers_at), diagnostics)
-        if record is not None:
-            modes.append(record)
-
-    cameras: list[CameraRecord] = []
-    sensors_at = _defined_at(cls, "_sensor_configs")
-    try:
-        sensors = list(obj._sensor_configs)
-    except Exception as exc:
-        diagnostics.append(
-            error(
-                at(sensors_at),
-                "RS404",
-                f"{cls.__name__}._sensor_configs raised {type(exc).__name__}: {exc}",
-                "the spec has no cameras; write them by hand",
-            )
-        )
-        sensors = []
-    for sensor in sensors:
-        camera = _camera(sensor, at(sensors_at), diagnostics)
-        if camera is not None:
-            cameras.append(camera)
-
+    modes = _read_modes(cls, obj, _location(controllers_at, class_at), diagnostics)
+    cameras = _read_cameras(cls, obj, class_at, diagnostics)
     materials, link_rules = _urdf_config(
-        getattr(obj, "urdf_config", None), at(_defined_at(cls, "urdf_config")), diagnostics
+        getattr(obj, "urdf_config", None),
+        _location(_defined_at(cls, "urdf_config"), class_at),
+        diagnostics,
     )
     keyframes = tuple(
         _keyframe(str(name), frame)
         for name, frame in (getattr(obj, "keyframes", None) or {}).items()
     )
-
-    from mani_skill.agents.registration import REGISTERED_AGENTS
-
-    downloads: tuple[str, ...] = ()
-    for klass in _own_classes(cls):  # the class's own ids, else its nearest registered base's
-        entry = REGISTERED_AGENTS.get(getattr(klass, "uid", ""))
-        if entry is not None and entry.agent_cls is klass and entry.asset_download_ids:
-            downloads = tuple(entry.asset_download_ids)
-            break
+    downloads = _asset_download_ids(cls)
 
     from robospec.importer.afterinit import read_hooks
 
@@ -422,8 +356,8 @@ def read_agent(
         materials=materials,
         link_rules=link_rules,
         keyframes=keyframes,
-        modes=tuple(modes),
-        cameras=tuple(cameras),
+        modes=modes,
+        cameras=cameras,
         asset_download_ids=downloads,
         unreproduced=_unreproduced(cls, hooks),
         active_joints=(
@@ -442,6 +376,103 @@ def read_agent(
         hooks=hooks,
     )
     return record, diagnostics
+
+
+def _location(ref: SourceRef | None, class_at: SourceRef) -> Location:
+    """Where ``ref`` points, or the class itself when a member's line is unknown."""
+    ref = ref or class_at
+    return Location(ref.file, ref.line, ref.column)
+
+
+def _instance(
+    cls: type,
+    description: RobotDescription | None,
+    class_at: SourceRef,
+    diagnostics: list[Diagnostic],
+) -> Any:
+    """``cls`` instantiated over a stand-in robot (its class when ``__init__`` raised)."""
+    if cls.urdf_path is None and cls.mjcf_path is None:
+        diagnostics.append(
+            error(
+                _location(class_at, class_at),
+                "RS413",
+                f"{cls.__name__} has neither urdf_path nor mjcf_path; write the spec's "
+                "description by hand",
+            )
+        )
+    robot = StandInRobot(description)
+    obj, failure = instantiate(cls, robot)
+    if failure is not None:
+        diagnostics.append(
+            warning(
+                _location(_defined_at(cls, "__init__"), class_at),
+                "RS404",
+                f"{cls.__name__}.__init__ raised {type(failure).__name__}: {failure}; "
+                "reading the class attributes only",
+            )
+        )
+    return obj
+
+
+def _read_modes(
+    cls: type, obj: Any, location: Location, diagnostics: list[Diagnostic]
+) -> tuple[ModeRecord, ...]:
+    """The control modes of ``obj._controller_configs`` (none when it raised)."""
+    try:
+        configs = obj._controller_configs
+    except Exception as exc:
+        diagnostics.append(
+            error(
+                location,
+                "RS404",
+                f"{cls.__name__}._controller_configs raised {type(exc).__name__}: {exc}",
+                "the spec has no control modes; write them by hand",
+            )
+        )
+        configs = {}
+    modes: list[ModeRecord] = []
+    for mode_name, mode in configs.items():
+        record = _mode(str(mode_name), mode, cls, location, diagnostics)
+        if record is not None:
+            modes.append(record)
+    return tuple(modes)
+
+
+def _read_cameras(
+    cls: type, obj: Any, class_at: SourceRef, diagnostics: list[Diagnostic]
+) -> tuple[CameraRecord, ...]:
+    """The cameras of ``obj._sensor_configs`` (none when it raised)."""
+    location = _location(_defined_at(cls, "_sensor_configs"), class_at)
+    try:
+        sensors = list(obj._sensor_configs)
+    except Exception as exc:
+        diagnostics.append(
+            error(
+                location,
+                "RS404",
+                f"{cls.__name__}._sensor_configs raised {type(exc).__name__}: {exc}",
+                "the spec has no cameras; write them by hand",
+            )
+        )
+        sensors = []
+    cameras: list[CameraRecord] = []
+    for sensor in sensors:
+        camera = _camera(sensor, location, diagnostics)
+        if camera is not None:
+            cameras.append(camera)
+    return tuple(cameras)
+
+
+def _asset_download_ids(cls: type) -> tuple[str, ...]:
+    """ManiSkill's asset download ids for ``cls``: the class's own ids, else its nearest
+    registered base's."""
+    from mani_skill.agents.registration import REGISTERED_AGENTS
+
+    for klass in _own_classes(cls):
+        entry = REGISTERED_AGENTS.get(getattr(klass, "uid", ""))
+        if entry is not None and entry.agent_cls is klass and entry.asset_download_ids:
+            return tuple(entry.asset_download_ids)
+    return ()
 
 
 def _mode(

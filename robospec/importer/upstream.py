@@ -54,18 +54,39 @@ def find_upstream_mistakes(record: AgentRecord, path_text: Callable[[str], str |
     controllers_at = record.controllers_at or record.source
     links = set(record.link_names) if record.link_names is not None else None
     limits = {j.name: j for j in record.active_joints} if record.active_joints else None
+    _controller_mistakes(record, path_text, controllers_at, links, limits, found)
+    _keyframes(record, found)
+    _driven_twice(record, controllers_at, found)
+    if links is not None:
+        _unknown_rule_and_mount_links(record, links, found)
+    return found
 
-    # warnings that several controllers share are reported once, for all their modes
-    pending: dict[tuple[str, str], tuple[list[str], str, str]] = {}
+
+def _controllers_and_their_modes(
+    record: AgentRecord,
+) -> dict[str, tuple[ControllerRecord, list[str]]]:
+    """Each distinct controller (by key), with the modes that use it."""
     modes_of: dict[str, list[str]] = {}
     distinct: dict[str, ControllerRecord] = {}
     for mode in record.modes:
         for _, controller in mode.entries:
             modes_of.setdefault(controller.key, []).append(mode.name)
             distinct.setdefault(controller.key, controller)
+    return {key: (controller, modes_of[key]) for key, controller in distinct.items()}
 
-    for key, controller in distinct.items():
-        modes = modes_of[key]
+
+def _controller_mistakes(
+    record: AgentRecord,
+    path_text: Callable[[str], str | None],
+    controllers_at: SourceRef,
+    links: set[str] | None,
+    limits: dict[str, JointFacts] | None,
+    found: Findings,
+) -> None:
+    """RS405 and RS406 for each controller (its modes are left out), then the warnings that
+    several controllers share, once for all their modes."""
+    pending: dict[tuple[str, str], tuple[list[str], str, str]] = {}
+    for controller, modes in _controllers_and_their_modes(record).values():
         where = ", ".join(modes)
         problem = _rejected_field(controller, path_text)
         if problem is not None:
@@ -107,35 +128,35 @@ def find_upstream_mistakes(record: AgentRecord, path_text: Callable[[str], str |
             warning(_at(controllers_at), code, f"mode(s) {where}: {message}", hint)
         )
 
-    _keyframes(record, found)
-    _driven_twice(record, controllers_at, found)
-    if links is not None:
-        at = record.urdf_config_at or record.source
-        for link, _ in record.link_rules:
-            if link not in links:
-                found.diagnostics.append(
-                    error(
-                        _at(record.locate(link, at)),
-                        "RS406",
-                        f"urdf_config names link {link!r}, which the robot description does not "
-                        "have; ManiSkill ignores it silently, and the spec leaves the rule out",
-                        _did_you_mean(link, links),
-                    )
+
+def _unknown_rule_and_mount_links(record: AgentRecord, links: set[str], found: Findings) -> None:
+    """RS406 for a urdf_config rule (left out) or a camera mount (the camera left out) naming
+    a link the description does not have."""
+    at = record.urdf_config_at or record.source
+    for link, _ in record.link_rules:
+        if link not in links:
+            found.diagnostics.append(
+                error(
+                    _at(record.locate(link, at)),
+                    "RS406",
+                    f"urdf_config names link {link!r}, which the robot description does not "
+                    "have; ManiSkill ignores it silently, and the spec leaves the rule out",
+                    _did_you_mean(link, links),
                 )
-                found.dropped_rules[link] = "no such link"
-        for camera in record.cameras:
-            if camera.mount is not None and camera.mount not in links:
-                found.diagnostics.append(
-                    error(
-                        _at(record.locate(camera.mount)),
-                        "RS406",
-                        f"camera {camera.uid!r} is mounted on {camera.mount!r}, which is no link "
-                        "of the robot description; the camera is left out",
-                        _did_you_mean(camera.mount, links),
-                    )
+            )
+            found.dropped_rules[link] = "no such link"
+    for camera in record.cameras:
+        if camera.mount is not None and camera.mount not in links:
+            found.diagnostics.append(
+                error(
+                    _at(record.locate(camera.mount)),
+                    "RS406",
+                    f"camera {camera.uid!r} is mounted on {camera.mount!r}, which is no link "
+                    "of the robot description; the camera is left out",
+                    _did_you_mean(camera.mount, links),
                 )
-                found.dropped_cameras[camera.uid] = f"mount {camera.mount!r} is no link"
-    return found
+            )
+            found.dropped_cameras[camera.uid] = f"mount {camera.mount!r} is no link"
 
 
 def _driven_twice(record: AgentRecord, at: SourceRef, found: Findings) -> None:

@@ -234,39 +234,64 @@ def explain_toml(message: str, text: str, line: int, column: int) -> Explained |
     # at the end of the file), not at a character tomllib refuses inside it
     open_line = scan.offset >= len(text) or text[scan.offset] == "\n"
     if scan.string is not None and len(scan.string.char) == 1 and open_line:
-        where = position_of(text, scan.string.offset)
-        quote = repr(scan.string.char)
+        return _toml_unclosed_string(scan.string, text, lines)
+    if scan.mismatch is not None or not scan.brackets:
+        return _toml_stray_closer(message, text, at, line, column)
+    if scan.brackets[-1].char == "header":
+        return _toml_unclosed_header(scan.brackets[-1], text, lines)
+    return _toml_unclosed_bracket(scan, text, lines, at, (line, column))
+
+
+def _toml_unclosed_string(string: _Open, text: str, lines: list[str]) -> Explained:
+    where = position_of(text, string.offset)
+    quote = repr(string.char)
+    return Explained(
+        CODE,
+        *where,
+        f"the string opened with {quote} is not closed on its line: a TOML string ends "
+        f'on the line it starts (one in """ may span lines)',
+        f"close it with {quote} after {last_word(lines[where[0] - 1])} on line {where[0]}",
+    )
+
+
+def _toml_stray_closer(
+    message: str, text: str, at: int, line: int, column: int
+) -> Explained | None:
+    """A closer where every bracket before it is closed (or none of tomllib's brackets)."""
+    closer = text[at] if at < len(text) else ""
+    if closer in _OPENER and "Expected newline" in message:
+        kind = _TOML_KIND[_OPENER[closer]]
         return Explained(
             CODE,
-            *where,
-            f"the string opened with {quote} is not closed on its line: a TOML string ends "
-            f'on the line it starts (one in """ may span lines)',
-            f"close it with {quote} after {last_word(lines[where[0] - 1])} on line {where[0]}",
+            line,
+            column,
+            f"this '{closer}' closes no {kind}: every '{_OPENER[closer]}' before it is closed",
+            f"delete this '{closer}'",
         )
-    if scan.mismatch is not None or not scan.brackets:
-        closer = text[at] if at < len(text) else ""
-        if closer in _OPENER and "Expected newline" in message:
-            kind = _TOML_KIND[_OPENER[closer]]
-            return Explained(
-                CODE,
-                line,
-                column,
-                f"this '{closer}' closes no {kind}: every '{_OPENER[closer]}' before it is closed",
-                f"delete this '{closer}'",
-            )
-        return None
+    return None
+
+
+def _toml_unclosed_header(header_open: _Open, text: str, lines: list[str]) -> Explained | None:
+    opened = position_of(text, header_open.offset)
+    header = content(lines[opened[0] - 1])
+    if header.count("]") >= header.count("["):
+        return None  # closed: tomllib stopped at it for another reason
+    return Explained(
+        CODE,
+        *opened,
+        "the table header opened with '[' is not closed on its line",
+        f"write {header}]" if header.count("[") == 1 else f"write {header}]]",
+    )
+
+
+def _toml_unclosed_bracket(
+    scan: _Scan, text: str, lines: list[str], at: int, stopped: Position
+) -> Explained:
+    """The innermost array or inline table open where tomllib stopped: closed by the wrong
+    closer, closed further on (a missing ',', or an inline table over several lines: RS002),
+    or never closed."""
     innermost = scan.brackets[-1]
     opened = position_of(text, innermost.offset)
-    if innermost.char == "header":
-        header = content(lines[opened[0] - 1])
-        if header.count("]") >= header.count("["):
-            return None  # closed: tomllib stopped at it for another reason
-        return Explained(
-            CODE,
-            *opened,
-            "the table header opened with '[' is not closed on its line",
-            f"write {header}]" if header.count("[") == 1 else f"write {header}]]",
-        )
     kind, closer = _TOML_KIND[innermost.char], _CLOSER[innermost.char]
     here = text[at] if at < len(text) else ""
     if here in _OPENER and here != closer:
@@ -276,7 +301,7 @@ def explain_toml(message: str, text: str, line: int, column: int) -> Explained |
             if outer is not None and outer.char == _OPENER[here]
             else None
         )
-        return _wrong_closer(kind, closer, here, (line, column), enclosing, opened)
+        return _wrong_closer(kind, closer, here, stopped, enclosing, opened)
     if scan.closes(innermost):
         if innermost.char == "{":
             return Explained(
@@ -288,8 +313,7 @@ def explain_toml(message: str, text: str, line: int, column: int) -> Explained |
             )
         return Explained(
             "RS002",
-            line,
-            column,
+            *stopped,
             f"a ',' is missing before this value of the array opened on line {opened[0]}",
             f"write ',' after {last_word(text[:at])}",
         )

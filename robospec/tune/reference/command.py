@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import sys
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -74,63 +75,105 @@ def reference_report(
     report = _Report(item, reference)
     if not item.ok or item.context is None or item.robot is None:
         return 1, report.render(output_format, diagnostics)
-    robot, context = item.robot, item.context
     usage = _unknown_controllers(item, controllers)
-    ref: Reference | None = None
-    mjcf: str | None = None
-    if reference == MUJOCO:
-        if robot.description_kind != "mjcf":
-            usage.append(
-                error(
-                    Location(COMMAND_LINE),
-                    "RS647",
-                    f"--reference mujoco needs an MJCF robot; '{robot.uid}' is described in URDF",
-                    "record a trajectory (CSV or NPZ) and pass it as --reference FILE",
-                )
-            )
-        joints = tuple(
-            a.joint
-            for a in context.description.actuators
-            if a.type in ("position", "general") and a.kp is not None and a.joint is not None
-        )
-        if robot.description_kind == "mjcf" and not joints:
-            usage.append(
-                error(
-                    Location(context.description_file),
-                    "RS647",
-                    f"--reference mujoco: '{context.description_file}' has no position "
-                    "actuator (<position>, or <general> with a servo's gain and bias)",
-                    "MuJoCo would not move the robot: record a trajectory instead",
-                )
-            )
-        mjcf = str(robot.description.absolute)
-    else:
-        ref, problems = read_reference(Path(reference), reference)
-        usage.extend(problems)
-        joints = ref.joints if ref is not None else ()
+    source = _reference_source(item, reference)
+    usage.extend(source.problems)
     if has_errors(usage):
         return 2, report.render(output_format, [*diagnostics, *usage])
-    active = context.description.active_joint_names
-    if reference == MUJOCO:
-        joints = tuple(j for j in active if j in set(joints))  # ManiSkill's order
-        chosen, problems = _mujoco_plan(item, joints, controllers)
-    else:
-        assert ref is not None
-        chosen, problems = plan(robot, active, joints, ref.location, controllers)
-        if chosen is not None:
-            problems += _still(ref)
+    chosen, problems = _fit_plan(item, reference, source, controllers)
     if chosen is None or has_errors(problems):
         return 2, report.render(output_format, [*diagnostics, *problems])
-    outcome = _run_worker(item, Request(item.path.resolve(), item.display, chosen, ref, mjcf))
+    request = Request(item.path.resolve(), item.display, chosen, source.ref, source.mjcf)
+    outcome = _run_worker(item, request)
     report.outcome = outcome
     diagnostics += [d for d in outcome.diagnostics if d not in diagnostics]
-    fitted = outcome.fit
-    if fitted is None:
+    if outcome.fit is None:
         return 1, report.render(output_format, diagnostics)
-    where = context.key(("controllers", outcome.plan.controllers[0]))
+    diagnostics += _fit_findings(item, outcome, reference)
+    if write and not has_errors(diagnostics):
+        report.written, found = _write(item, outcome, uid)
+        diagnostics += found
+    if plot is not None:
+        from robospec.tune.reference.plot import plot_reference
+
+        report.plots = [str(plot_reference(plot, item.robot.uid, outcome))]
+    return (1 if has_errors(diagnostics) else 0), report.render(output_format, diagnostics)
+
+
+@dataclass(frozen=True)
+class _ReferenceSource:
+    """What the fit replays: a recorded trajectory (``ref``) or the robot's MJCF in MuJoCo
+    (``mjcf``); the joints it moves, and what is wrong with it."""
+
+    joints: tuple[str, ...]
+    ref: Reference | None
+    mjcf: str | None
+    problems: tuple[Diagnostic, ...]
+
+
+def _reference_source(item: CompiledSpec, reference: str) -> _ReferenceSource:
+    """``--reference``'s argument read: ``mujoco`` (the MJCF's position actuators), or a
+    trajectory file."""
+    if reference != MUJOCO:
+        ref, problems = read_reference(Path(reference), reference)
+        return _ReferenceSource(ref.joints if ref is not None else (), ref, None, tuple(problems))
+    robot, context = item.robot, item.context
+    assert robot is not None and context is not None
+    problems: list[Diagnostic] = []
+    if robot.description_kind != "mjcf":
+        problems.append(
+            error(
+                Location(COMMAND_LINE),
+                "RS647",
+                f"--reference mujoco needs an MJCF robot; '{robot.uid}' is described in URDF",
+                "record a trajectory (CSV or NPZ) and pass it as --reference FILE",
+            )
+        )
+    joints = tuple(
+        a.joint
+        for a in context.description.actuators
+        if a.type in ("position", "general") and a.kp is not None and a.joint is not None
+    )
+    if robot.description_kind == "mjcf" and not joints:
+        problems.append(
+            error(
+                Location(context.description_file),
+                "RS647",
+                f"--reference mujoco: '{context.description_file}' has no position "
+                "actuator (<position>, or <general> with a servo's gain and bias)",
+                "MuJoCo would not move the robot: record a trajectory instead",
+            )
+        )
+    return _ReferenceSource(joints, None, str(robot.description.absolute), tuple(problems))
+
+
+def _fit_plan(
+    item: CompiledSpec, reference: str, source: _ReferenceSource, controllers: Sequence[str]
+) -> tuple[Plan | None, list[Diagnostic]]:
+    """The joints and controllers the fit is about, and why there are none."""
+    assert item.robot is not None and item.context is not None
+    active = item.context.description.active_joint_names
+    if reference == MUJOCO:
+        joints = tuple(j for j in active if j in set(source.joints))  # ManiSkill's order
+        return _mujoco_plan(item, joints, controllers)
+    ref = source.ref
+    assert ref is not None
+    chosen, problems = plan(item.robot, active, source.joints, ref.location, controllers)
+    if chosen is not None:
+        problems += _still(ref)
+    return chosen, problems
+
+
+def _fit_findings(item: CompiledSpec, outcome: Outcome, reference: str) -> list[Diagnostic]:
+    """RS649 for joints whose stiffness and damping the reference does not tell apart, RS648
+    when the fitted robot still does not match."""
+    assert item.context is not None and outcome.fit is not None
+    fitted = outcome.fit
+    where = item.context.key(("controllers", outcome.plan.controllers[0]))
+    found: list[Diagnostic] = []
     ill = [outcome.plan.joints[k] for k in fitted.ill_determined]
     if ill:
-        diagnostics.append(
+        found.append(
             warning(
                 where,
                 "RS649",
@@ -149,7 +192,7 @@ def reference_report(
             for k in worst
             if not fitted.errors_after[k] <= MATCH
         )
-        diagnostics.append(
+        found.append(
             error(
                 where,
                 "RS648",
@@ -161,14 +204,7 @@ def reference_report(
                 + (", and what ManiSkill's MJCF loader drops" if reference == MUJOCO else ""),
             )
         )
-    if write and not has_errors(diagnostics):
-        report.written, found = _write(item, outcome, uid)
-        diagnostics += found
-    if plot is not None:
-        from robospec.tune.reference.plot import plot_reference
-
-        report.plots = [str(plot_reference(plot, robot.uid, outcome))]
-    return (1 if has_errors(diagnostics) else 0), report.render(output_format, diagnostics)
+    return found
 
 
 def _unknown_controllers(item: CompiledSpec, names: Sequence[str]) -> list[Diagnostic]:

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -130,85 +131,26 @@ class Fit:
 
 
 def fit(replay: Replay, max_replays: int = 600) -> Fit:
-    from scipy.optimize import least_squares
-
     began = time.perf_counter()
-    measured = replay.reference.qpos
-    weights = 1.0 / (_motion(measured) * np.sqrt(measured.shape[0] * measured.shape[1]))
-    n = len(replay.slots)
+    replays = _Replays(replay)
+    measured = replays.measured
     spec = replay.spec_drives
-    count = 0
-
-    def simulate(drives: Drives) -> np.ndarray:
-        nonlocal count
-        count += 1
-        return replay.run(drives)
-
-    def residual_of(simulated: np.ndarray) -> np.ndarray:
-        out = (simulated - measured) * weights
-        return np.where(np.isfinite(out), out, 1e3).T.ravel()  # joint by joint; NaN: far off
-
-    simulated_before = simulate(spec)
+    simulated_before = replays.simulate(spec)
     errors_before = normalized_errors(simulated_before, measured)
-    # every start and grid point is one replay with all joints set at once; each joint then
-    # takes what suited it best (its error depends mostly on its own gains)
-    best = _Best(spec, errors_before)
-    for candidate in _closed_form_starts(replay, spec, simulated_before):
-        best.offer(candidate, normalized_errors(simulate(candidate), measured))
-    for span in GRID_SPANS:
-        center = best.drives
-        for dk in np.linspace(-span, span, GRID_POINTS):
-            for dd in np.linspace(-span, span, GRID_POINTS):
-                if dk == 0 and dd == 0:
-                    continue
-                candidate = Drives(
-                    center.stiffness * 10**dk, center.damping * 10**dd, center.friction
-                )
-                best.offer(candidate, normalized_errors(simulate(candidate), measured))
-    base = best.drives
-    base_k = np.maximum(base.stiffness, 1e-9)
-    base_d = np.maximum(base.damping, 1e-9)
-
-    def drives_of(x: np.ndarray, friction: np.ndarray | None = None) -> Drives:
-        return Drives(
-            base_k * np.exp(x[:n] - OFFSET),
-            base_d * np.exp(x[n : 2 * n] - OFFSET),
-            base.friction if friction is None else friction,
-        )
-
-    budget = max(max_replays - count, 10)
-    gains = least_squares(
-        lambda x: residual_of(simulate(drives_of(x))),
-        np.full(2 * n, OFFSET),
-        jac_sparsity=None,
-        diff_step=DIFF_STEP,
-        x_scale=1.0,
-        max_nfev=budget,
-        xtol=1e-8,
-        ftol=1e-10,
-    )
-    after = drives_of(gains.x)
-    simulated_after = simulate(after)
+    base = _coarse_search(replays, spec, simulated_before, errors_before)
+    scale = _LogGains.around(base, len(replay.slots))
+    gains = _fit_gains(replays, scale, max_replays)
+    after = scale.drives(gains.x)
+    simulated_after = replays.simulate(after)
     errors_after = normalized_errors(simulated_after, measured)
     friction_fitted = False
-    if overall(errors_after) > 0.02 and count < max_replays - 10:
+    if overall(errors_after) > 0.02 and replays.count < max_replays - 10:
         # friction: tried only when the gains leave a visible error (a stiction offset, a
         # slow creep); kept only when it pays
-        with_friction = least_squares(
-            lambda x: residual_of(simulate(drives_of(x[: 2 * n], x[2 * n :]))),
-            np.concatenate([gains.x, base.friction]),
-            jac_sparsity=None,
-            diff_step=DIFF_STEP,
-            bounds=(
-                np.r_[np.full(2 * n, -np.inf), np.zeros(n)],
-                np.r_[np.full(2 * n, np.inf), np.full(n, np.inf)],
-            ),
-            max_nfev=max(max_replays - count, 10),
-            xtol=1e-8,
-            ftol=1e-10,
-        )
-        candidate = drives_of(with_friction.x[: 2 * n], with_friction.x[2 * n :])
-        simulated = simulate(candidate)
+        with_friction = _fit_gains_and_friction(replays, scale, gains.x, max_replays)
+        n = scale.n
+        candidate = scale.drives(with_friction.x[: 2 * n], with_friction.x[2 * n :])
+        simulated = replays.simulate(candidate)
         errors = normalized_errors(simulated, measured)
         if overall(errors) <= FRICTION_WORTH * overall(errors_after):
             after, simulated_after, errors_after = candidate, simulated, errors
@@ -219,12 +161,119 @@ def fit(replay: Replay, max_replays: int = 600) -> Fit:
         after=after,
         errors_before=errors_before,
         errors_after=errors_after,
-        replays=count,
+        replays=replays.count,
         seconds=time.perf_counter() - began,
         friction_fitted=friction_fitted,
-        ill_determined=_ill_determined(gains.jac, n),
+        ill_determined=_ill_determined(gains.jac, scale.n),
         simulated_before=simulated_before,
         simulated_after=simulated_after,
+    )
+
+
+class _Replays:
+    """The replay, counting its runs (the fit's budget), and the residual it minimizes."""
+
+    def __init__(self, replay: Replay) -> None:
+        self.replay = replay
+        self.measured = replay.reference.qpos
+        shape = self.measured.shape
+        self.weights = 1.0 / (_motion(self.measured) * np.sqrt(shape[0] * shape[1]))
+        self.count = 0
+
+    def simulate(self, drives: Drives) -> np.ndarray:
+        self.count += 1
+        return self.replay.run(drives)
+
+    def residual(self, simulated: np.ndarray) -> np.ndarray:
+        out = (simulated - self.measured) * self.weights
+        return np.where(np.isfinite(out), out, 1e3).T.ravel()  # joint by joint; NaN: far off
+
+
+@dataclass(frozen=True)
+class _LogGains:
+    """The least-squares variables: OFFSET + log(gain / base) per joint, stiffness then
+    damping (then friction, as it is, when that is fitted too)."""
+
+    stiffness: np.ndarray  # the base gains, kept off zero so that their logarithm exists
+    damping: np.ndarray
+    friction: np.ndarray
+    n: int  # joints
+
+    @classmethod
+    def around(cls, base: Drives, n: int) -> _LogGains:
+        return cls(
+            np.maximum(base.stiffness, 1e-9), np.maximum(base.damping, 1e-9), base.friction, n
+        )
+
+    def drives(self, x: np.ndarray, friction: np.ndarray | None = None) -> Drives:
+        n = self.n
+        return Drives(
+            self.stiffness * np.exp(x[:n] - OFFSET),
+            self.damping * np.exp(x[n : 2 * n] - OFFSET),
+            self.friction if friction is None else friction,
+        )
+
+
+def _coarse_search(
+    replays: _Replays, spec: Drives, simulated_before: np.ndarray, errors_before: np.ndarray
+) -> Drives:
+    """The closed-form starts, then a grid of decades about the best: each joint's best."""
+    measured = replays.measured
+    # every start and grid point is one replay with all joints set at once; each joint then
+    # takes what suited it best (its error depends mostly on its own gains)
+    best = _Best(spec, errors_before)
+    for candidate in _closed_form_starts(replays.replay, spec, simulated_before):
+        best.offer(candidate, normalized_errors(replays.simulate(candidate), measured))
+    for span in GRID_SPANS:
+        center = best.drives
+        for dk in np.linspace(-span, span, GRID_POINTS):
+            for dd in np.linspace(-span, span, GRID_POINTS):
+                if dk == 0 and dd == 0:
+                    continue
+                candidate = Drives(
+                    center.stiffness * 10**dk, center.damping * 10**dd, center.friction
+                )
+                best.offer(candidate, normalized_errors(replays.simulate(candidate), measured))
+    return best.drives
+
+
+def _fit_gains(replays: _Replays, scale: _LogGains, max_replays: int) -> Any:
+    """Least squares over stiffness and damping, from the coarse search's best."""
+    from scipy.optimize import least_squares
+
+    budget = max(max_replays - replays.count, 10)
+    return least_squares(
+        lambda x: replays.residual(replays.simulate(scale.drives(x))),
+        np.full(2 * scale.n, OFFSET),
+        jac_sparsity=None,
+        diff_step=DIFF_STEP,
+        x_scale=1.0,
+        max_nfev=budget,
+        xtol=1e-8,
+        ftol=1e-10,
+    )
+
+
+def _fit_gains_and_friction(
+    replays: _Replays, scale: _LogGains, gains: np.ndarray, max_replays: int
+) -> Any:
+    """Least squares over stiffness, damping and (non-negative) joint friction, from the
+    fitted gains."""
+    from scipy.optimize import least_squares
+
+    n = scale.n
+    return least_squares(
+        lambda x: replays.residual(replays.simulate(scale.drives(x[: 2 * n], x[2 * n :]))),
+        np.concatenate([gains, scale.friction]),
+        jac_sparsity=None,
+        diff_step=DIFF_STEP,
+        bounds=(
+            np.r_[np.full(2 * n, -np.inf), np.zeros(n)],
+            np.r_[np.full(2 * n, np.inf), np.full(n, np.inf)],
+        ),
+        max_nfev=max(max_replays - replays.count, 10),
+        xtol=1e-8,
+        ftol=1e-10,
     )
 
 

@@ -86,8 +86,44 @@ def read_reference(path: Path, display: str | None = None) -> Read:
     return reference, _check_times(reference)
 
 
+Cells = list[tuple[int, str]]  # (column, cell) of one CSV line
+
+
+@dataclass(frozen=True)
+class _Columns:
+    """Which header column holds the time, and each joint's target and measured position."""
+
+    time: int
+    targets: dict[str, int]
+    measured: dict[str, int]
+    joints: tuple[str, ...]  # those with both, in the order of their qpos columns
+
+
 def _read_csv(text: str, shown: str) -> Read:
-    rows: list[tuple[int, list[tuple[int, str]]]] = []  # (line, [(column, cell)])
+    rows = _csv_rows(text)
+    if not rows:
+        return None, [error(Location(shown), "RS641", f"reference '{shown}' has no header row")]
+    header_line, header = rows[0]
+    columns, problems = _csv_columns(header_line, header, shown)
+    if columns is None:
+        return None, problems
+    values, problems = _csv_values(rows[1:], [name for _, name in header], shown)
+    if problems:
+        return None, problems
+    joints, measured = columns.joints, columns.measured
+    return Reference(
+        t=values[:, columns.time],
+        target=values[:, [columns.targets[j] for j in joints]],
+        qpos=values[:, [measured[j] for j in joints]],
+        joints=joints,
+        source=shown,
+        joint_locations=tuple(Location(shown, header_line, header[measured[j]][0]) for j in joints),
+    ), []
+
+
+def _csv_rows(text: str) -> list[tuple[int, Cells]]:
+    """Each line that is not blank or a comment: its number and its stripped cells."""
+    rows: list[tuple[int, Cells]] = []
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
@@ -97,9 +133,13 @@ def _read_csv(text: str, shown: str) -> Read:
             cells.append((column + len(cell) - len(cell.lstrip()), stripped))
             column += len(cell) + 1
         rows.append((number, cells))
-    if not rows:
-        return None, [error(Location(shown), "RS641", f"reference '{shown}' has no header row")]
-    header_line, header = rows[0]
+    return rows
+
+
+def _csv_columns(
+    header_line: int, header: Cells, shown: str
+) -> tuple[_Columns | None, list[Diagnostic]]:
+    """The header's columns, or what is wrong with them (RS641)."""
     names = [name for _, name in header]
     problems: list[Diagnostic] = []
     time_index = next((i for i, name in enumerate(names) if name in TIME_COLUMNS), None)
@@ -153,14 +193,23 @@ def _read_csv(text: str, shown: str) -> Read:
         )
     if problems or time_index is None:
         return None, problems
-    values = np.empty((len(rows) - 1, len(header)))
-    for r, (line, cells) in enumerate(rows[1:]):
-        if len(cells) != len(header):
+    return _Columns(time_index, targets, measured, tuple(joints)), []
+
+
+def _csv_values(
+    rows: list[tuple[int, Cells]], names: list[str], shown: str
+) -> tuple[np.ndarray, list[Diagnostic]]:
+    """The samples as numbers (one row each, in the header's columns), and the cells that are
+    not finite numbers (RS641, RS642)."""
+    problems: list[Diagnostic] = []
+    values = np.empty((len(rows), len(names)))
+    for r, (line, cells) in enumerate(rows):
+        if len(cells) != len(names):
             problems.append(
                 error(
                     Location(shown, line, 1),
                     "RS641",
-                    f"row has {len(cells)} cells, the header {len(header)}",
+                    f"row has {len(cells)} cells, the header {len(names)}",
                 )
             )
             continue
@@ -183,16 +232,7 @@ def _read_csv(text: str, shown: str) -> Read:
                 )
         if len(problems) >= 20:  # a broken file: the first ones say enough
             break
-    if problems:
-        return None, problems
-    return Reference(
-        t=values[:, time_index],
-        target=values[:, [targets[j] for j in joints]],
-        qpos=values[:, [measured[j] for j in joints]],
-        joints=tuple(joints),
-        source=shown,
-        joint_locations=tuple(Location(shown, header_line, header[measured[j]][0]) for j in joints),
-    ), []
+    return values, problems
 
 
 def _read_npz(path: Path, shown: str) -> Read:
