@@ -403,17 +403,6 @@ def test_a_file_keyframe_past_a_joint_limit_is_clamped_into_it_with_a_note(
     assert "knee -2.794 -> -2.775 (moved 0.019)" in line
 
 
-def test_robot_without_active_joints_is_rs602(tmp_path: Path) -> None:
-    body = '<link name="a"/><link name="b"/>\n<joint name="j" type="fixed">'
-    body += '<parent link="a"/><child link="b"/></joint>\n'
-    urdf = _robot(tmp_path / "fixed.urdf", "fixed", body)
-    out = tmp_path / "fixed.yaml"
-    result = run_robospec("new", str(urdf), "-o", str(out))
-    assert result.returncode == 1
-    assert "error[RS602]" in result.stderr
-    assert not out.exists()
-
-
 @pytest.mark.usefixtures("maniskill")
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::UserWarning")

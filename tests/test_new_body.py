@@ -178,7 +178,7 @@ def _joint(
     )
 
 
-def test_a_robot_on_wheels_floats_and_is_told_how_to_get_a_base_controller(
+def test_a_robot_on_wheels_gets_a_planar_base_with_its_wheels_and_caster_off_the_floor(
     tmp_path: Path,
 ) -> None:
     rover = _urdf(
@@ -192,14 +192,15 @@ def test_a_robot_on_wheels_floats_and_is_told_how_to_get_a_base_controller(
         ],
     )
     data, text = scaffold(rover, tmp_path / "rover.yaml")
-    assert data["loader"] == {"fix_root_link": False}
-    assert data["groups"] == {"wheels": ["left_wheel_joint", "right_wheel_joint"]}
-    wheels = data["controllers"]["wheels_vel"]
-    assert (wheels["type"], wheels["lower"], wheels["upper"]) == ("pd_joint_vel", -12.0, 12.0)
+    assert "loader" not in data  # the base's slides start from a fixed root
+    assert data["mobile_base"] == {
+        "wheels": ["left_wheel", "right_wheel", "caster"],
+        "wheel_joints": "fixed",
+    }
+    assert data["groups"] == {"base": ["base_x_joint", "base_y_joint", "base_yaw_joint"]}
     said = header(text)
-    assert "it drives on its wheels" in said
-    assert "base controllers (pd_base_vel, pd_base_forward_vel)" in said
-    assert "add those joints" in said
+    assert "it rolls on wheels (left_wheel_joint, right_wheel_joint)" in said
+    assert "pd_base_vel" in said and "add those joints" not in said
 
 
 @pytest.mark.parametrize(

@@ -1,6 +1,6 @@
 """``robospec new`` on robots nobody here wrote (the corpus of tests/corpus.py; needs the
 ``corpus`` extra: ``pip install -e '.[corpus]'``, which scripts/setup installs): quadrupeds get
-their legs by side and stand, a humanoid MJCF floats, a car drives on its wheels, and a robot
+their legs by side and stand, a humanoid MJCF floats, a car drives its base, and a robot
 ManiSkill cannot load still gets its scaffold, with a warning that says why it went unchecked.
 
 tests/test_corpus.py takes every corpus robot through the whole journey; these pin what the
@@ -70,10 +70,11 @@ def test_a_humanoid_mjcf_floats_on_its_legs(tmp_path: Path) -> None:
     assert data["keyframes"]["rest"]["pose"]["p"][2] > 1.0  # the torso stands above the feet
 
 
-def test_a_car_drives_on_its_wheels(tmp_path: Path) -> None:
+def test_a_car_drives_its_base_and_steers_its_hinges(tmp_path: Path) -> None:
     data, _ = scaffold("pb_racecar", tmp_path / "racecar.yaml")
-    assert data["loader"] == {"fix_root_link": False}
-    assert data["controllers"]["wheels_vel"]["type"] == "pd_joint_vel"
+    assert "loader" not in data  # a planar base from a fixed root
+    assert data["mobile_base"]["wheel_joints"] == "fixed"  # the wheels welded, off the floor
+    assert "wheels" not in data["groups"]
     assert data["groups"]["steering_hinge"] == [
         "left_steering_hinge_joint",
         "right_steering_hinge_joint",

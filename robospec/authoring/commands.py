@@ -96,15 +96,17 @@ def run_new(
     self-contact and a floating robot's standing height measured, in a child process.
     ``uid_location`` is where ``uid`` was given (the command line's ``--uid``), for the
     diagnostics about it."""
-    from robospec.authoring.description_file import read_description_file
     from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.mobile_base import read_for_new
     from robospec.authoring.new.scaffold import SCHEMA_BESIDE, schema_reference
     from robospec.authoring.new.spec_text import scaffold_text
 
     refused = _refused(description, out, uid, force, uid_location)
     if refused:
         return CommandResult(diagnostics=tuple(refused))
-    source, diagnostics = read_description_file(description)
+    # (a robot with no joint that moves, or on a planar or floating root joint, is read with
+    # a planar base: something to drive)
+    source, diagnostics = read_for_new(description)
     if source is None:
         return CommandResult(diagnostics=tuple(diagnostics))
     if not source.description.active_joints:

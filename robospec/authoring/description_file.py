@@ -6,6 +6,7 @@ malformed file gets exactly the located diagnostics ``robospec validate`` gives.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -35,6 +36,10 @@ class DescriptionFile:
     text: bytes = b""
     # the mends it needs to load (robospec.derive): class -> policy, in the order they run
     mends: dict[str, Any] = field(default_factory=dict)
+    # the spec's mobile_base section the description was read with (``new``'s planar base:
+    # robospec.authoring.new.mobile_base), and why the robot has one; None: none
+    mobile_base: dict[str, Any] | None = None
+    mobile_base_why: str | None = None
 
 
 def file_kind(path: Path) -> FileKind | None:
@@ -42,7 +47,7 @@ def file_kind(path: Path) -> FileKind | None:
 
 
 def read_description_file(
-    path: Path, *, keep_errors: bool = False
+    path: Path, *, keep_errors: bool = False, sections: Mapping[str, Any] | None = None
 ) -> tuple[DescriptionFile | None, list[Diagnostic]]:
     """The parsed description, or None and located diagnostics (never raises on bad input).
 
@@ -51,7 +56,9 @@ def read_description_file(
     with the mends it needs to load. ``keep_errors`` keeps a description whose kinematic tree
     is intact although robospec found errors in it (a bad mimic target; what ManiSkill's loader
     would make of an MJCF: a mesh 1000 times too large, a frame turned): ``inspect`` shows such
-    a robot and its errors both."""
+    a robot and its errors both. ``sections``: what a spec's sections change in the derived
+    copy (section -> settings, robospec.derive.SECTIONS: ``new``'s planar base), read as the
+    spec that has them will read it."""
     from robospec.resolve.description_loading import (
         DescriptionEntry,
         Loaded,
@@ -72,7 +79,7 @@ def read_description_file(
         ]
     # the command line names the file itself: its problems are shown at the path as given
     reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
-    loaded = load(reader, DescriptionEntry(text, kind, mends=None))
+    loaded = load(reader, DescriptionEntry(text, kind, mends=None, sections=sections or {}))
     diagnostics = reader.diagnostics
     if not isinstance(loaded, Loaded) or (has_errors(diagnostics) and not keep_errors):
         return None, diagnostics

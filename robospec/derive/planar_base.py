@@ -6,18 +6,23 @@ Wheels rolling on a floor simulate slowly and transfer badly, so the base is dri
 a slide along x, a slide along y and a hinge about z, from a fixed root, each link between
 them without mass (Fetch's ``root``, ``root_arm_1_link_1`` and ``root_arm_1_link_2``).
 
-- URDF: the chain goes above the base link. A base link that is the root gets a new root; one
-  that hangs from its parent by a ``planar``, ``floating`` or ``fixed`` joint has that joint
-  replaced by the chain (SAPIEN loads neither a planar nor a floating joint as one). A base
-  link under a joint that moves is refused.
+- URDF: the chain goes above the base link (default: the root, or the link a root moves by its
+  only joint when that joint is ``planar`` or ``floating``). A base link that is the root gets
+  a new root; one that hangs from its parent by a ``planar``, ``floating`` or ``fixed`` joint
+  has that joint replaced by the chain (SAPIEN loads neither a planar nor a floating joint as
+  one). A base link under a joint that moves is refused.
 - MJCF: the three joints become the first joints of the base body (ManiSkill's loader chains
   several joints of one body through links of its own); a free joint there is replaced.
+
+The section's ``height`` lifts the chain (the x slide's origin; an MJCF base body's ``pos``):
+ManiSkill's scenes load a fixed-root robot at the origin, and a base link that sits above its
+wheels must ride that high.
 
 Wheels (the section's link patterns) leave the floor's collisions at run time (the agent sets
 their collision bit); here, their ball joints, which ManiSkill loads in neither format, are
 welded, and with ``wheel_joints: fixed`` every joint that moves only wheels is. This is a
-transformation the spec asks for in its own section, not a ``description.mend``: it is
-applied after the mends that make the file loadable and before those that read joint types
+transformation the spec asks for in its own section, not a ``description.mend``: it is applied
+after the mends that make the file loadable and before those that read joint types
 (``spherical``, ``mimic``).
 """
 
@@ -67,10 +72,11 @@ def _apply_urdf(document: Document, policy: Mapping[str, Any]) -> None:
     links = {e.get("name"): e for e in root.iterfind("link")}
     joints = list(root.iterfind("joint"))
     parent_of = {_link(j, "child"): j for j in joints}
-    base = policy.get("link") or _root(links, parent_of)
+    base = policy.get("link") or _default_base(_root(links, parent_of), joints)
     if base is None or base not in links:
         return  # an unknown base link: the spec's key says so (RS202)
     x_name, y_name, yaw_name = policy["joints"]
+    height = float(policy.get("height") or 0.0)  # the slides lie this high above the floor
     taken = {e.get("name") for e in root if isinstance(e.tag, str)}
     x_link, y_link = (_unique(_link_name(n), taken) for n in (x_name, y_name))
     hanging = parent_of.get(base)
@@ -88,6 +94,8 @@ def _apply_urdf(document: Document, policy: Mapping[str, Any]) -> None:
         anchor = links[base]
         added = [_massless(top), _massless(x_link)]
         first = _joint(x_name, "prismatic", top, x_link, "1 0 0")
+        if height:
+            first.insert(0, etree.Element("origin", xyz=f"0 0 {height:g}"))
         added.append(first)
         subject, before = f"link '{base}'", "the root"
     else:  # the joint it hangs from becomes the x slide, where it stood
@@ -97,8 +105,12 @@ def _apply_urdf(document: Document, policy: Mapping[str, Any]) -> None:
         subject = f"link '{base}'"
         first = _joint(x_name, "prismatic", top, x_link, "1 0 0")
         origin = hanging.find("origin")
-        if origin is not None:
-            first.insert(0, etree.Element("origin", dict(origin.attrib)))
+        if origin is not None or height:
+            attributes = dict(origin.attrib) if origin is not None else {}
+            xyz = [float(v) for v in attributes.get("xyz", "0 0 0").split()]
+            if height and len(xyz) == 3:
+                attributes["xyz"] = f"{xyz[0]:g} {xyz[1]:g} {xyz[2] + height:g}"
+            first.insert(0, etree.Element("origin", attributes))
         added = [first, _massless(x_link)]
     added += [
         _joint(y_name, "prismatic", x_link, y_link, "0 1 0"),
@@ -141,6 +153,15 @@ def _weld_wheels(
 
 def _root(links: Mapping[str | None, Any], parent_of: Mapping[str, Any]) -> str | None:
     return next((n for n in links if n is not None and n not in parent_of), None)
+
+
+def _default_base(root: str | None, joints: Sequence[etree._Element]) -> str | None:
+    """The base link when the spec names none: the link the root moves by its one
+    ``planar`` or ``floating`` joint (a ``world`` link above the robot: the chain replaces
+    that joint), else the root."""
+    below = [j for j in joints if _link(j, "parent") == root]
+    moving = [j for j in below if j.get("type") in ("planar", "floating")]
+    return _link(moving[0], "child") if len(moving) == 1 and len(below) == 1 else root
 
 
 def _link(joint: etree._Element, which: str) -> str:
@@ -236,6 +257,11 @@ def _apply_mjcf(document: Document, policy: Mapping[str, Any]) -> None:
     body.text = " "
     for index, element in enumerate(added):
         body.insert(index, element)
+    height = float(policy.get("height") or 0.0)
+    if height:
+        pos = [float(v) for v in (body.get("pos") or "0 0 0").split()]
+        if len(pos) == 3:
+            body.set("pos", f"{pos[0]:g} {pos[1]:g} {pos[2] + height:g}")
     before = "its free joint" if free else "fixed to the world"
     for joint in free:
         document.remove(joint)

@@ -71,8 +71,16 @@ class MobileBase(StrictModel):
 
     link: LinkName | None = Field(
         default=None,
-        description="The base link the joints are added above; default: the robot's root.",
+        description="The base link the joints are added above; default: the robot's root, "
+        "or the link the root moves by its only joint when that is `planar` or `floating`.",
         examples=["base_link"],
+    )
+    height: Number = Field(
+        default=0.0,
+        description="How high above the floor the base link rides (m): where the slides lie. "
+        "ManiSkill's scenes load a fixed-root robot at the origin, so a robot whose base link "
+        "is above its wheels rides at the base link's height (`robospec new` measures it).",
+        examples=[0.48],
     )
     wheels: LinkPatterns = Field(
         default_factory=list,

@@ -77,14 +77,19 @@ def derived_sections(spec: Any) -> dict[str, Any]:
     base = getattr(spec, "mobile_base", None)
     if base is None:
         return {}
+    return {"mobile_base": mobile_base_settings(base)}
+
+
+def mobile_base_settings(base: Any) -> dict[str, Any]:
+    """What a ``mobile_base`` section (robospec.model.mechanisms.MobileBase) changes in the
+    derived copy, as the planar base's settings (robospec.derive.planar_base)."""
     wheels = base.wheels if isinstance(base.wheels, list) else [base.wheels]
     return {
-        "mobile_base": {
-            "link": base.link,
-            "joints": list(base.joints),
-            "wheels": list(wheels),
-            "wheel_joints": base.wheel_joints,
-        }
+        "link": base.link,
+        "height": float(base.height),
+        "joints": list(base.joints),
+        "wheels": list(wheels),
+        "wheel_joints": base.wheel_joints,
     }
 
 
@@ -299,7 +304,9 @@ def _mended(
     source = Source(str(ref.absolute), shown, prepared.kind, data, prepared.packages)
     if declared is None:
         mends, derived = suggest_mends(source)
-        if not mends:
+        if sections:  # what a section changes, after the mends the file needs to load
+            derived = derive(source, mends, sections)
+        elif not mends:
             return prepared
     else:
         mends, derived = dict(declared), derive(source, declared, sections)

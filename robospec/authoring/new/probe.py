@@ -222,7 +222,6 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Refined:
     import tempfile
     from pathlib import Path
 
-    from robospec.authoring.description_file import read_description_file
     from robospec.authoring.new.analysis import analyse
     from robospec.authoring.new.joint_gains import joint_gains
     from robospec.authoring.new.refinement import refine
@@ -237,7 +236,9 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Refined:
 
     assert request.refinement is not None
     description, out, schema = request.refinement
-    source, _ = read_description_file(Path(description))
+    from robospec.authoring.new.mobile_base import read_for_new
+
+    source, _ = read_for_new(Path(description))
     if source is None:
         raise ValueError(f"cannot read {description} again")
     analysis = analyse(source)

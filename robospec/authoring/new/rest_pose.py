@@ -107,9 +107,11 @@ def probe_rest_pose(
     refinement: Refinement | None = None,
     upright: Quaternion = IDENTITY,
     joined: tuple[tuple[str, str], ...] = (),
+    mode: str = PROBE_MODE,
 ) -> tuple[RestPose, RefinedGains | str | None]:
     """Search from ``start`` in ManiSkill; ``draft`` is the text of a valid spec of the robot
-    whose uid is :data:`PROBE_UID` and which has a :data:`PROBE_MODE` mode; ``joined``: the
+    whose uid is :data:`PROBE_UID` and which has ``mode`` (a planar base with nothing else to
+    drive has only its base's); ``joined``: the
     pairs of links closed loops join, which may touch. With ``refinement``, the scaffold at the
     pose found is then measured too: its refined gains (a string when they could not be
     measured; None without ``refinement``)."""
@@ -120,7 +122,7 @@ def probe_rest_pose(
     index = {name: i for i, name in enumerate(joints)}
     request: dict[str, Any] = {
         "uid": PROBE_UID,
-        "mode": PROBE_MODE,
+        "mode": mode,
         "joints": joints,
         "start": [start[name] for name in joints],
         "limits": [[j.lower, j.upper] for j in description.active_joints],

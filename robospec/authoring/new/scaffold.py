@@ -176,6 +176,13 @@ def scaffold(
     if floating:
         data["loader"] = {"fix_root_link": False}
         notes[("loader", "fix_root_link")] = analysis.body.why_floating
+    if source.mobile_base is not None:
+        data["mobile_base"] = dict(source.mobile_base)
+        if rest.root_height:  # ManiSkill's scenes load it at the origin: the base rides up
+            data["mobile_base"] = {"height": rest.root_height, **source.mobile_base}
+        notes[("mobile_base",)] = (
+            "driven directly: x and y slides and a z hinge above the base link (pd_base_vel)"
+        )
 
     data["groups"] = {name: list(joints) for name, joints in groups.groups.items()}
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
@@ -204,10 +211,11 @@ def scaffold(
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
     controllers, modes = controllers_and_modes(analysis, grip_gains(analysis, gains), rest.qpos)
-    data["controllers"] = controllers
-    notes[("controllers",)] = _gains_note(analysis, refined)
-    data["control_modes"] = modes
-    notes[("control_modes",)] = "the first is the default"
+    if controllers:  # (a base with nothing else to drive: the mobile_base section's mode)
+        data["controllers"] = controllers
+        notes[("controllers",)] = _gains_note(analysis, refined)
+        data["control_modes"] = modes
+        notes[("control_modes",)] = "the first is the default"
     members = task_members(analysis, rest.qpos)
     if members:
         data.update(members)
@@ -303,8 +311,8 @@ def standing_pose(analysis: RobotAnalysis, rest: RestPose) -> Pose | None:
     fixed one that reaches below the ground at the origin: the root link that high, upright —
     written as a keyframe's pose means it (for an MJCF robot the root body's, which hangs below
     that link: robospec.resolve.root_pose)."""
-    if rest.root_height is None:
-        return None
+    if rest.root_height is None or analysis.source.mobile_base is not None:
+        return None  # (a planar base rides at its height: mobile_base.height)
     return root_body_pose(analysis.description, ((0.0, 0.0, rest.root_height), rest.upright))
 
 
@@ -359,16 +367,37 @@ def _header(
             "Joints no MJCF actuator drives are passive; every mode has balance_passive_force: "
             "false, or ManiSkill would hold them up against gravity."
         )
-    if body.wheels and body.planar_base is None:
+    if source.mobile_base is not None:
+        wheels = source.mobile_base.get("wheels")
+        floor = (
+            f" {', '.join(wheels)} {'leave' if len(wheels) > 1 else 'leaves'} the floor's "
+            "collisions (group 2, bit 30, which "
+            "ManiSkill's scenes set on the ground)"
+            + (" and their joints are welded" if "wheel_joints" in source.mobile_base else "")
+            + (
+                ": wheels rolling on a floor simulate slowly and transfer badly."
+                if "wheel_joints" in source.mobile_base
+                else ": the base slides over it instead of dragging on it."
+            )
+            if wheels
+            else ""
+        )
+        paragraphs.append(
+            f"Mobile base: {source.mobile_base_why}. As ManiSkill's guide builds a mobile base, "
+            "mobile_base adds to a copy of the description a slide along x, a slide along y "
+            "and a hinge about z above the base link, and drives them with a pd_base_vel "
+            "controller (base) in every mode: forward and sideways speed, turning speed." + floor
+        )
+    elif body.wheels and body.planar_base is None:
         paragraphs.append(
             "Mobile base: ManiSkill's base controllers (pd_base_vel, pd_base_forward_vel) move "
             "a base through three joints at its root that slide along x and y and turn about z "
             "(ManiSkill's fetch.urdf: root_x_axis_joint, root_y_axis_joint, "
             "root_z_rotation_joint). This description has none, so its wheels are driven by "
-            "joint velocity (group wheels). To drive the base directly, add those joints above "
-            "the base link and give them a pd_base_vel controller."
+            "joint velocity (group wheels). To drive the base directly, write a mobile_base "
+            "section (docs/reference.md)."
         )
-    if body.planar_base is not None:
+    if body.planar_base is not None and source.mobile_base is None:
         paragraphs.append(
             "Mobile base: the base moves through its planar joints ("
             + ", ".join(body.planar_base)
@@ -436,6 +465,11 @@ def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
                 "sideways of its root frame): the pose's q turns it upright in ManiSkill's "
                 "z-up world."
             )
+    elif analysis.source.mobile_base is not None and rest.root_height:
+        text += (
+            f" The base rides {rest.root_height:.3f} m up (mobile_base.height): at the "
+            "origin, where ManiSkill's scenes load it, its links reach into the ground."
+        )
     elif standing is not None:
         text += (
             f" Its pose mounts the robot {rest.root_height:.3f} m up: at the origin, where "

@@ -10,7 +10,8 @@ group.
 * joints that cannot move (equal limits): one ``passive`` controller
   that leaves them be (gravity compensation stays on: they cannot fall);
 * a planar base: ``pd_base_forward_vel`` when the robot has wheels (they roll forward, not
-  sideways), else ``pd_base_vel``;
+  sideways), else ``pd_base_vel``; none where the scaffold's ``mobile_base`` section adds the
+  base (:mod:`.mobile_base`): the section's ``pd_base_vel`` joins every mode;
 * wheels and a mobile root without planar joints: ``pd_joint_vel`` (±the wheels' velocity limit,
   else ±10 rad/s for wheels, ±1 for a root);
 * joints no MJCF actuator drives: ``passive``;
@@ -54,6 +55,8 @@ def controllers_and_modes(
     relative: dict[str, Any] = {}
     for name, kind in groups.kinds.items():
         joints = groups.groups[name]
+        if kind == "planar_base" and analysis.source.mobile_base is not None:
+            continue  # the mobile_base section drives it (its pd_base_vel joins every mode)
         if kind == "planar_base":
             controllers[f"{name}_vel"] = _planar_base(name, analysis.body.rolls)
             absolute[name] = relative[name] = f"{name}_vel"
@@ -98,6 +101,8 @@ def controllers_and_modes(
             }
             absolute[name] = f"{name}_pos"
             relative[name] = f"{name}_delta_pos"
+    if not controllers:
+        return {}, {}
     if unbalanced(analysis):
         absolute["balance_passive_force"] = relative["balance_passive_force"] = False
     return controllers, dict(zip(MODES, (relative, absolute), strict=True))

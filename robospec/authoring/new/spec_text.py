@@ -63,7 +63,12 @@ def _measured(
 ) -> tuple[RestPose, RefinedGains | str | None]:
     """The rest pose and the refined gains (a string: why they were not measured; None: not
     asked for): from the probe's child process with ``simulate``, else the starting pose."""
-    from robospec.authoring.new.rest_pose import PROBE_UID, Refinement, probe_rest_pose
+    from robospec.authoring.new.rest_pose import (
+        PROBE_MODE,
+        PROBE_UID,
+        Refinement,
+        probe_rest_pose,
+    )
     from robospec.authoring.new.scaffold import scaffold
     from robospec.importer.yamlout import to_yaml
 
@@ -72,6 +77,11 @@ def _measured(
         return RestPose(start, unchecked_because="robospec new --no-sim"), None
     draft = scaffold(analysis, out, RestPose(start), PROBE_UID, absolute_paths=True)
     refinement = Refinement(str(analysis.source.path.resolve()), str(out), schema)
+    mode = PROBE_MODE
+    if "control_modes" not in draft.data:  # a base and nothing else: no gains to refine
+        from robospec.resolve.mechanisms import BASE_MODE
+
+        mode, refinement = BASE_MODE, None
     return probe_rest_pose(
         to_yaml(draft, schema),
         analysis.description,
@@ -81,6 +91,7 @@ def _measured(
         refinement,
         analysis.upright(start),
         analysis.loop_joined_pairs(),
+        mode,
     )
 
 
