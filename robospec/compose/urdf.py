@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from typing import Any
 
 from lxml import etree
 
@@ -169,12 +168,12 @@ def _mount(
     child = link_names.get(root_name, root_name)
     rpy = part.rpy if part.rpy is not None and not folded else rpy_from_quaternion(pose[1])
     origin = (pose[0], rpy)
+    mount: etree._Element | None = None
     if holder is not None:
-        joint = None
         _hold(holder[1], mount_joint, child, origin)
     else:
-        joint = _mount_joint(mount_joint, at, child, origin)
-        provenance.remember(joint.iter(etree.Element), *part.entry, path=part.entry_path)
+        mount = _mount_joint(mount_joint, at, child, origin)
+        provenance.remember(mount.iter(etree.Element), *part.entry, path=part.entry_path)
     header = etree.Comment(
         comment_text(f"part '{part.name}' ({part.shown}), mounted on '{at}' by robospec")
     )
@@ -182,9 +181,11 @@ def _mount(
     moved = [
         e
         for e in tree
-        if not (e.tag == "material" and e.get("name") in materials and not materials[e.get("name")])
+        if not (
+            e.tag == "material" and e.get("name") in materials and not materials[str(e.get("name"))]
+        )
     ]
-    append_lines(root, [header, *([joint] if joint is not None else []), *moved], INDENT)
+    append_lines(root, [header, *([mount] if mount is not None else []), *moved], INDENT)
     renamed = tuple(
         [("link", old, new) for old, new in link_names.items() if old != new]
         + [("joint", old, new) for old, new in joint_names.items() if old != new]
@@ -385,7 +386,9 @@ def _leaf_frame(
     return (frame, above[0], origin) if origin is not None else None
 
 
-def _hold(joint: etree._Element, name: str, child: str, origin: tuple[Any, Any]) -> None:
+def _hold(
+    joint: etree._Element, name: str, child: str, origin: tuple[Sequence[float], Sequence[float]]
+) -> None:
     """Make the joint that held a folded mount frame hold the part's root instead."""
     joint.set("name", name)
     for end in joint.findall("child"):
@@ -397,17 +400,19 @@ def _hold(joint: etree._Element, name: str, child: str, origin: tuple[Any, Any])
     element.set("rpy", " ".join(number(v) for v in origin[1]))
 
 
-def _mount_joint(name: str, at: str, child: str, origin: tuple[Any, Any]) -> etree._Element:
+def _mount_joint(
+    name: str, at: str, child: str, origin: tuple[Sequence[float], Sequence[float]]
+) -> etree._Element:
     position, rpy = origin
     joint = etree.Element("joint", name=name, type="fixed")
     joint.text = "\n" + INDENT * 2
-    origin = etree.SubElement(
+    origin_element = etree.SubElement(
         joint,
         "origin",
         xyz=" ".join(number(v) for v in position),
         rpy=" ".join(number(v) for v in rpy),
     )
-    origin.tail = "\n" + INDENT * 2
+    origin_element.tail = "\n" + INDENT * 2
     parent = etree.SubElement(joint, "parent", link=at)
     parent.tail = "\n" + INDENT * 2
     child_element = etree.SubElement(joint, "child", link=child)

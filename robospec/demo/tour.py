@@ -67,8 +67,8 @@ def main(argv: list[str] | None = None) -> int:
 
     started = time.perf_counter()
     compiled, diagnostics = compile_all(args.specs)
-    for item in compiled:
-        diagnostics.extend(item.diagnostics)
+    for spec_item in compiled:
+        diagnostics.extend(spec_item.diagnostics)
     if has_errors(diagnostics):
         print(render(diagnostics, len(compiled), "text"))
         return 1

@@ -269,7 +269,7 @@ def _write(item: CompiledSpec, outcome: Outcome, uid: str | None) -> tuple[bool,
     return write_gains(item, tunings, uid)
 
 
-def _per_joint(value: object, n: int) -> tuple[float, ...]:
+def _per_joint(value: float | list[float] | tuple[float, ...] | None, n: int) -> tuple[float, ...]:
     if isinstance(value, list | tuple):
         return tuple(float(v) for v in value)
     return (float(value),) * n if value is not None else (0.0,) * n

@@ -154,11 +154,11 @@ def _read_csv(text: str, shown: str) -> Read:
     if problems or time_index is None:
         return None, problems
     values = np.empty((len(rows) - 1, len(header)))
-    for r, (line, cells) in enumerate(rows[1:]):
+    for r, (row_line, cells) in enumerate(rows[1:]):
         if len(cells) != len(header):
             problems.append(
                 error(
-                    Location(shown, line, 1),
+                    Location(shown, row_line, 1),
                     "RS641",
                     f"row has {len(cells)} cells, the header {len(header)}",
                 )
@@ -169,13 +169,13 @@ def _read_csv(text: str, shown: str) -> Read:
                 values[r, c] = float(cell)
             except ValueError:
                 problems.append(
-                    error(Location(shown, line, column), "RS641", f"'{cell}' is not a number")
+                    error(Location(shown, row_line, column), "RS641", f"'{cell}' is not a number")
                 )
                 continue
             if not np.isfinite(values[r, c]):
                 problems.append(
                     error(
-                        Location(shown, line, column),
+                        Location(shown, row_line, column),
                         "RS642",
                         f"{names[c]} is {cell} (not a finite number)",
                         "drop or fill the samples where the recording has no value",
