@@ -11,6 +11,7 @@ made again; an unwritable cache still validates), and the hints to the schema th
 
 from __future__ import annotations
 
+import ast
 import copy
 import dataclasses
 import functools
@@ -490,3 +491,23 @@ def test_required_fields_are_known_to_the_later_stages() -> None:
     fields = frozen.PDJointPosConfig.model_fields
     assert fields["stiffness"].is_required() and not fields["use_delta"].is_required()
     assert list(fields) == list(_pydantic_class("PDJointPosConfig").model_fields)
+
+
+def test_what_a_type_checker_reads_in_frozen_is_the_model_each_record_is_frozen_from() -> None:
+    # model/frozen.py declares, under TYPE_CHECKING, each record it is imported for as the
+    # pydantic model of that name: so that holds only while the two have the same fields
+    tree = ast.parse(Path(frozen.__file__).read_text(encoding="utf-8"))
+    declared = {
+        alias.asname or alias.name: node.module
+        for block in tree.body
+        if isinstance(block, ast.If) and ast.unparse(block.test) == "TYPE_CHECKING"
+        for node in block.body
+        if isinstance(node, ast.ImportFrom)
+        for alias in node.names
+    }
+    assert declared, "no TYPE_CHECKING declarations found in model/frozen.py"
+    models = {model.__name__: model for model in model_classes()}
+    for name, module in declared.items():
+        model = models[name]
+        assert model.__module__ == module
+        assert set(frozen.RECORDS[name].model_fields) == set(model.model_fields), name

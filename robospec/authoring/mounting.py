@@ -87,10 +87,10 @@ def _urdf_flanges(
                 ", named as a tool flange" if named else ""
             )
             found.append((named, MountingFrame(link, IDENTITY_POSE, why, "flange")))
-    named = [frame for is_named, frame in found if is_named]
+    flanges = [frame for is_named, frame in found if is_named]
     # an unnamed empty leaf is a flange only when it is the one there is (a hand's fingertip
     # frames are not)
-    return named or ([found[0][1]] if len(found) == 1 else [])
+    return flanges or ([found[0][1]] if len(found) == 1 else [])
 
 
 def _mjcf_sites(root: etree._Element | None) -> list[MountingFrame]:

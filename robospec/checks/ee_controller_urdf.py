@@ -37,7 +37,11 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
     for name, config in context.spec.controllers.items():
         if not controller_kind(config.type).end_effector:
             continue
-        if "urdf_path" in config.model_fields_set and config.urdf_path is not None:
+        # an end-effector kind's config (the kinds' registry says which): it has urdf_path
+        if (
+            "urdf_path" in config.model_fields_set
+            and getattr(config, "urdf_path", None) is not None
+        ):
             continue
         yield error(
             context.value(("controllers", name, "type")),

@@ -245,6 +245,7 @@ def schema(
     """
     from robospec.schema import schema_text
 
+    text: str | None
     if for_spec is None:
         text = schema_text()
     else:

@@ -80,6 +80,6 @@ def run(args: ValidateArgs) -> int:
         sys.stdout.flush()
     except BrokenPipeError:
         # as click does: a closed pipe (`robospec validate ... | head`) is exit 1, quietly
-        sys.stdout = None  # type: ignore[assignment]
+        sys.stdout = None
         return 1
     return 1 if has_errors(diagnostics) else 0

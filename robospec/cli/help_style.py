@@ -133,10 +133,10 @@ class App(typer.Typer):
                 try:
                     return function(*args, **kwargs)
                 except ModuleNotFoundError as exc:
-                    extra = extra_of(exc.name)
-                    if extra is None:
+                    missing_extra = extra_of(exc.name)
+                    if missing_extra is None:
                         raise
-                    _stop(command, extra, exc.name or extra)
+                    _stop(command, missing_extra, exc.name or missing_extra)
 
             register(run)
             return function

@@ -9,7 +9,6 @@ import os
 from collections.abc import Sequence
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
-from typing import Any
 
 from lxml import etree
 
@@ -176,8 +175,14 @@ def _placement(
         )
     if inner is not None:
         pose = compose(pose, inner)
-    holder_joint = holder[1] if holder is not None else None
-    place = _Placement(at, pose, root_name, tuple(folded), holder_joint, frozenset(taken_links))
+    place = _Placement(
+        at,
+        pose,
+        root_name,
+        tuple(folded),
+        holder[1] if holder is not None else None,
+        frozenset(taken_links),
+    )
     return place, problems
 
 
@@ -247,12 +252,12 @@ def _write_part(
     pose = place.pose
     rpy = part.rpy if part.rpy is not None and not place.folded else rpy_from_quaternion(pose[1])
     origin = (pose[0], rpy)
+    mount: etree._Element | None = None
     if place.holder is not None:
-        joint = None
         _hold(place.holder, names.mount_joint, child, origin)
     else:
-        joint = _mount_joint(names.mount_joint, place.at, child, origin)
-        provenance.remember(joint.iter(etree.Element), *part.entry, path=part.entry_path)
+        mount = _mount_joint(names.mount_joint, place.at, child, origin)
+        provenance.remember(mount.iter(etree.Element), *part.entry, path=part.entry_path)
     header = etree.Comment(
         comment_text(f"part '{part.name}' ({part.shown}), mounted on '{place.at}' by robospec")
     )
@@ -260,9 +265,11 @@ def _write_part(
     moved = [
         e
         for e in tree
-        if not (e.tag == "material" and e.get("name") in materials and not materials[e.get("name")])
+        if not (
+            e.tag == "material" and e.get("name") in materials and not materials[str(e.get("name"))]
+        )
     ]
-    append_lines(root, [header, *([joint] if joint is not None else []), *moved], INDENT)
+    append_lines(root, [header, *([mount] if mount is not None else []), *moved], INDENT)
     renamed = tuple(
         [("link", old, new) for old, new in names.links.items() if old != new]
         + [("joint", old, new) for old, new in names.joints.items() if old != new]
@@ -463,7 +470,9 @@ def _leaf_frame(
     return (frame, above[0], origin) if origin is not None else None
 
 
-def _hold(joint: etree._Element, name: str, child: str, origin: tuple[Any, Any]) -> None:
+def _hold(
+    joint: etree._Element, name: str, child: str, origin: tuple[Sequence[float], Sequence[float]]
+) -> None:
     """Make the joint that held a folded mount frame hold the part's root instead."""
     joint.set("name", name)
     for end in joint.findall("child"):
@@ -475,17 +484,19 @@ def _hold(joint: etree._Element, name: str, child: str, origin: tuple[Any, Any])
     element.set("rpy", " ".join(number(v) for v in origin[1]))
 
 
-def _mount_joint(name: str, at: str, child: str, origin: tuple[Any, Any]) -> etree._Element:
+def _mount_joint(
+    name: str, at: str, child: str, origin: tuple[Sequence[float], Sequence[float]]
+) -> etree._Element:
     position, rpy = origin
     joint = etree.Element("joint", name=name, type="fixed")
     joint.text = "\n" + INDENT * 2
-    origin = etree.SubElement(
+    origin_element = etree.SubElement(
         joint,
         "origin",
         xyz=" ".join(number(v) for v in position),
         rpy=" ".join(number(v) for v in rpy),
     )
-    origin.tail = "\n" + INDENT * 2
+    origin_element.tail = "\n" + INDENT * 2
     parent = etree.SubElement(joint, "parent", link=at)
     parent.tail = "\n" + INDENT * 2
     child_element = etree.SubElement(joint, "child", link=child)

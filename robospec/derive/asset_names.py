@@ -53,7 +53,7 @@ def apply(document: Document, policy: str) -> None:
             name = element.get("name") or mujoco_mesh_name(element)
             document.changed(
                 element,
-                f"{element.tag} '{name}' (defined again, line {kept.sourceline} kept)",
+                f"{element.tag!s} '{name}' (defined again, line {kept.sourceline} kept)",
                 _described(element),
                 "removed",
             )

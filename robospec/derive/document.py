@@ -103,7 +103,10 @@ class Document:
 
     def changed(self, at: etree._Element | int, subject: str, before: str, after: str) -> None:
         tag = at.tag if isinstance(at, etree._Element) and isinstance(at.tag, str) else ""
-        file, line = self.origins.get(at, ("", _line(at))) if tag else ("", _line(at))
+        if tag and isinstance(at, etree._Element):
+            file, line = self.origins.get(at, ("", _line(at)))
+        else:
+            file, line = "", _line(at)
         self.changes.append(Change(line, subject, before, after, tag, file))
 
     def refuse(self, at: etree._Element | int, code: str, message: str, hint: str) -> None:

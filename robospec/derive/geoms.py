@@ -26,7 +26,7 @@ def apply(document: Document, policy: str) -> None:
     types = _geom_types(document)
     for geom in list(document.tree.iter("geom")):
         parent = geom.getparent()
-        if parent is None or parent.tag == "default" or parent.tag.startswith("{"):
+        if parent is None or parent.tag == "default" or str(parent.tag).startswith("{"):
             continue
         kind = geom.get("type") or types.get(geom.get("class") or "", "sphere")
         if kind in UNLOADABLE:

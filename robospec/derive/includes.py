@@ -81,7 +81,7 @@ def _inline(
         read = parent is document.tree  # ManiSkill reads these, from beside the model only
         document.changed(
             where[1] if where else include,
-            f'<include file="{file}"> in <{parent.tag}>',
+            f'<include file="{file}"> in <{parent.tag!s}>',
             "read from beside the model" if read else "not read by ManiSkill",
             f"its {len(children)} element(s) written in place",
         )

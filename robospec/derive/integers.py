@@ -23,7 +23,8 @@ WHY = "sizes SAPIEN reads as integers are written as decimals"
 
 def apply(document: Document, policy: str) -> None:
     for image in document.tree.iter("image"):
-        if image.getparent() is None or image.getparent().tag != "camera":
+        camera = image.getparent()
+        if camera is None or camera.tag != "camera":
             continue
         for size in ("width", "height"):
             element = image.find(size)

@@ -102,7 +102,7 @@ def _scale(text: str | None) -> tuple[float, float, float] | None:
         values = tuple(float(v) for v in text.split())
     except ValueError:
         return None
-    return values if len(values) == 3 else None  # type: ignore[return-value]
+    return values if len(values) == 3 else None
 
 
 def _find(uri: str, base_dir: str, finder: PackageFinder) -> str | None:

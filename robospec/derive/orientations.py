@@ -60,7 +60,7 @@ def apply(document: Document, policy: str) -> None:
         read_as = " (degrees: no <compiler angle>)" if unsaid and name == "euler" else ""
         document.changed(
             element,
-            f"{element.tag} '{label}'" if label else f"<{element.tag}>",
+            f"{element.tag!s} '{label}'" if label else f"<{element.tag!s}>",
             f'{name}="{attributes[name]}"{read_as}'
             + (" (ManiSkill's loader fails on it)" if theirs is None else ""),
             f'quat="{written}"',

@@ -31,12 +31,12 @@ _ANY = re.compile(r"\$[({]")
 
 
 def _subject(element: etree._Element, attribute: str | None) -> str:
-    owner = element
+    owner: etree._Element | None = element
     while owner is not None and owner.get("name") is None:
         owner = owner.getparent()
-    named = f"{owner.tag} '{owner.get('name')}' " if owner is not None else ""
+    named = f"{owner.tag!s} '{owner.get('name')}' " if owner is not None else ""
     where = f"{attribute}=" if attribute else "text"
-    return f"{named}<{element.tag}> {where}"
+    return f"{named}<{element.tag!s}> {where}"
 
 
 def _expanded(raw: str) -> str | None:

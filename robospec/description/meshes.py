@@ -126,7 +126,7 @@ def file_references(root: etree._Element) -> Iterator[_Named]:
             for mesh in link.iterfind(f"{role}/geometry/mesh"):
                 uri = mesh.get("filename")
                 if uri:  # a mesh without one is a structure error (robospec.description.urdf)
-                    yield _Named(mesh, uri, role, owner)  # type: ignore[arg-type]  # role is one of the two
+                    yield _Named(mesh, uri, role, owner)
         for texture in link.iterfind("visual/material/texture"):
             if texture.get("filename"):
                 yield _Named(texture, texture.get("filename", ""), "texture", owner)

@@ -202,7 +202,7 @@ def parse_mjcf(
     # root link then stands where the wrapper would).
     tags = [child.tag for child in body if isinstance(child.tag, str)]
     if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
-        body = body.find("body")
+        body = next(body.iterchildren("body"))  # the one counted
     root_defaults = state.classes.get("__root__", {})
     _parse_body(body, root_name, None, root_defaults, state)
     if any(d.is_error for d in diagnostics):
@@ -367,7 +367,7 @@ def _parse_default(node: etree._Element, parent: etree._Element | None, state: _
     """
     class_name = node.get("class", "__root__")
     if parent is not None and parent.get("class") is not None:
-        state.classes[class_name] = copy.deepcopy(state.classes.get(parent.get("class"), {}))
+        state.classes[class_name] = copy.deepcopy(state.classes.get(parent.get("class", ""), {}))
     else:
         state.classes[class_name] = {}
     state.class_lines[class_name] = line_of(node)

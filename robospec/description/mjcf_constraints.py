@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import Literal
 
 from lxml import etree
 
@@ -274,7 +275,7 @@ def closures(loaded: LoadedMjcf, robot: Robot) -> tuple[Closure, ...]:
             if first not in robot.bodies or second not in robot.bodies or len(anchor) != 3:
                 continue
             point = (anchor[0], anchor[1], anchor[2])
-            kind = "connect" if element.tag == "connect" else "weld"
+            kind: Literal["connect", "weld"] = "connect" if element.tag == "connect" else "weld"
             found.append(Closure(kind, first, second, point, loaded.where(element).line))
     return tuple(found)
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import TYPE_CHECKING, Union
 
 from robospec.geometry import (
     IDENTITY,
@@ -38,6 +39,13 @@ from robospec.geometry import (
     unit,
     z_towards,
 )
+
+if TYPE_CHECKING:
+    from lxml import etree
+
+Attributes = Union[Mapping[str, str], "etree._Attrib"]
+"""An element's attributes: lxml's (``element.attrib``, not a Mapping to a type checker) or a
+plain mapping of them."""
 
 ORIENTATION_ATTRIBUTES = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
 _AXES: dict[str, Vector] = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
@@ -58,12 +66,12 @@ def numbers(text: str, count: int) -> tuple[float, ...]:
     return values[:count]
 
 
-def orientation_attribute(attributes: Mapping[str, str]) -> str | None:
+def orientation_attribute(attributes: Attributes) -> str | None:
     """The orientation attribute MuJoCo uses (it allows only one); None: no rotation."""
     return next((name for name in ORIENTATION_ATTRIBUTES if name in attributes), None)
 
 
-def mujoco_rotation(attributes: Mapping[str, str], degrees: bool, eulerseq: str) -> Quaternion:
+def mujoco_rotation(attributes: Attributes, degrees: bool, eulerseq: str) -> Quaternion:
     """The frame's rotation as MuJoCo computes it (identity when none is given)."""
     name = orientation_attribute(attributes)
     if name is None:
@@ -95,7 +103,7 @@ def mujoco_rotation(attributes: Mapping[str, str], degrees: bool, eulerseq: str)
     return z_towards(z)
 
 
-def maniskill_rotation(attributes: Mapping[str, str], degrees: bool) -> Quaternion | None:
+def maniskill_rotation(attributes: Attributes, degrees: bool) -> Quaternion | None:
     """The frame's rotation as ManiSkill's loader computes it; None where it fails
     (``zaxis`` along ±z)."""
     name = orientation_attribute(attributes)
@@ -126,7 +134,7 @@ def maniskill_rotation(attributes: Mapping[str, str], degrees: bool) -> Quaterni
     return quaternion_from_matrix(transpose((x, unit(cross(z, x)), z)))
 
 
-def body_pose(attributes: Mapping[str, str], degrees: bool, eulerseq: str) -> Pose:
+def body_pose(attributes: Attributes, degrees: bool, eulerseq: str) -> Pose:
     """A body's pose in its parent's frame as MuJoCo reads it (``pos`` and orientation)."""
     position = numbers(attributes.get("pos", "0 0 0"), 3)
     rotation = mujoco_rotation(attributes, degrees, eulerseq)

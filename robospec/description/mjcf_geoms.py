@@ -150,12 +150,12 @@ def mesh_files(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         compiler is not None and "assetdir" in compiler.attrib and "meshdir" not in compiler.attrib
     )
     for geom in loaded.geoms():
-        mesh = table.get(geom.attributes.get("mesh", ""))
-        if geom.type != "mesh" or mesh is None or mesh.get("file") is None:
+        used = table.get(geom.attributes.get("mesh", ""))
+        if geom.type != "mesh" or used is None or used.get("file") is None:
             continue
-        if not os.path.isfile(os.path.join(folder, mesh.get("file", ""))):
+        if not os.path.isfile(os.path.join(folder, used.get("file", ""))):
             (missing_collision if geom.collides else missing_visual).append(
-                (geom, mesh.get("file", ""))
+                (geom, used.get("file", ""))
             )
     for found, report, what in (
         (missing_collision, error, "its collision shape is missing, and its mass"),

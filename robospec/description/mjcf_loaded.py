@@ -189,7 +189,7 @@ def _parsed_elements(loaded: LoadedMjcf) -> Iterator[tuple[etree._Element, dict[
         if body.find("freejoint") is not None or next(body.iter("joint"), None) is not None:
             tags = [child.tag for child in body if isinstance(child.tag, str)]
             if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
-                body = body.find("body")
+                body = next(body.iterchildren("body"))  # the one counted
             yield from articulation(body, root_defaults)
         else:
             # a static or free actor: the loader reads the geoms down the first-child chain

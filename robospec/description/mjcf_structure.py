@@ -66,7 +66,7 @@ def unread_includes(
         bodies = [b for b in included.iter("body")]
         joints = [j for j in included.iter("joint", "freejoint")]
         parent = include.getparent()
-        where_it_is = f"<{parent.tag}>" if parent is not None else "here"
+        where_it_is = f"<{parent.tag!s}>" if parent is not None else "here"
         message = (
             f'<include file="{file}"> inside {where_it_is} is not read by ManiSkill\'s MJCF '
             "loader (only those directly under <mujoco> are)"

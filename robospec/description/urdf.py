@@ -116,7 +116,7 @@ def parse_root(
     root, diagnostics = parse_xml(text, path)
     if root is not None and root.tag != tag:
         diagnostics.append(
-            error(at(path, root), INVALID_STRUCTURE, f"root element is <{root.tag}>, not <{tag}>")
+            error(at(path, root), INVALID_STRUCTURE, f"root element is <{root.tag!s}>, not <{tag}>")
         )
         return None, diagnostics
     return root, diagnostics

@@ -108,7 +108,7 @@ def _shape(element: etree._Element, what: str, path: str, found: Findings) -> No
         )
         return
     for shape in shapes:
-        shape_what = f"{what} <{shape.tag}>"
+        shape_what = f"{what} <{shape.tag!s}>"
         for attribute, count in _SHAPES[str(shape.tag)]:
             if shape.get(attribute) is None:
                 found.add(_missing(path, shape, shape_what, attribute))

@@ -13,7 +13,15 @@ import re
 from collections import Counter
 from dataclasses import dataclass
 
-from robospec.emit.values import FileExpression, assign, call, const, name, value_key
+from robospec.emit.values import (
+    NO_TYPE_PARAMS,
+    FileExpression,
+    assign,
+    call,
+    const,
+    name,
+    value_key,
+)
 from robospec.model.controller_kinds import GAINS
 from robospec.resolve.resolved import ResolvedController, ResolvedRobot
 
@@ -29,7 +37,7 @@ class ClassAttributes:
     def statements(self, robot: ResolvedRobot) -> list[list[ast.stmt]]:
         """The attribute assignments, in paragraphs: the joint lists, then each group's gains."""
         paragraphs: list[list[ast.stmt]] = []
-        joints = []
+        joints: list[ast.stmt] = []
         for group, attribute in self.joint_names.items():
             controller = next(c for c in robot.controllers if c.joints_group == group)
             joints.append(assign(attribute, const(list(controller.joint_names))))
@@ -159,5 +167,5 @@ def generate_controller_configs(
 def property_method(method_name: str, body: list[ast.stmt]) -> ast.FunctionDef:
     arguments = ast.arguments([], [ast.arg("self")], None, [], [], None, [])
     return ast.FunctionDef(
-        method_name, arguments, body, [ast.Name("property", ast.Load())], None, type_params=[]
+        method_name, arguments, body, [ast.Name("property", ast.Load())], None, **NO_TYPE_PARAMS
     )

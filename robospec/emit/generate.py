@@ -27,6 +27,7 @@ from robospec.emit.module_imports import IMPORTABLE, import_statements, used_nam
 from robospec.emit.python_refs import PythonNames, python_names, rename
 from robospec.emit.reset import RESET_MEMBERS, generate_reset
 from robospec.emit.values import (
+    NO_TYPE_PARAMS,
     UnsafeIdentifier,
     assign,
     call,
@@ -162,7 +163,7 @@ def generate_class(robot: ResolvedRobot, body: list[ast.stmt], base: str | None)
         keywords=[],
         body=body,
         decorator_list=[call("register_agent", **decorator_args)],
-        type_params=[],
+        **NO_TYPE_PARAMS,
     )
 
 

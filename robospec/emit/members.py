@@ -13,8 +13,8 @@ import textwrap
 from typing import Any
 
 from robospec.emit.python_refs import PythonNames
+from robospec.emit.values import NO_TYPE_PARAMS, safe_identifier
 from robospec.emit.values import const as constant
-from robospec.emit.values import safe_identifier
 from robospec.resolve.resolved import (
     ResolvedFallen,
     ResolvedGrasping,
@@ -453,7 +453,7 @@ def generate_after_init_helpers(robot: ResolvedRobot) -> list[ast.stmt]:
 def method(name: str, body: list[ast.stmt]) -> ast.FunctionDef:
     """``def name(self): body``."""
     args = ast.arguments([], [ast.arg("self")], None, [], [], None, [])
-    return ast.FunctionDef(name, args, body, [], None, type_params=[])
+    return ast.FunctionDef(name, args, body, [], None, **NO_TYPE_PARAMS)
 
 
 def as_property(node: ast.FunctionDef) -> ast.FunctionDef:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import ast
 import keyword
 import math
+import sys
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -20,6 +21,11 @@ FileExpression = Callable[[FileRef], ast.expr]
 
 class UnsafeIdentifier(ValueError):
     pass
+
+
+# Python 3.12 added type parameters to function and class definitions (ast's type_params): the
+# nodes are given none there, and nothing where the field does not exist
+NO_TYPE_PARAMS: dict[str, Any] = {"type_params": []} if sys.version_info >= (3, 12) else {}
 
 
 def safe_identifier(text: str) -> str:
@@ -39,7 +45,7 @@ def name(dotted: str) -> ast.expr:
     return node
 
 
-def call(func: str, args: list[ast.expr] | None = None, **kwargs: ast.expr) -> ast.Call:
+def call(func: str, args: list[ast.expr] | None = None, /, **kwargs: ast.expr) -> ast.Call:
     return ast.Call(name(func), args or [], [ast.keyword(k, v) for k, v in kwargs.items()])
 
 

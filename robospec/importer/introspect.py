@@ -16,10 +16,11 @@ import inspect
 import os
 import sys
 from collections.abc import Iterator
-from typing import Any
+from typing import Any, ClassVar, Literal, Protocol
 
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.geometry import Quaternion, Vector
 from robospec.importer.records import (
     ALL_JOINTS,
     AgentRecord,
@@ -50,7 +51,18 @@ class _Named:
         return self.name
 
 
-class _AnyName(dict):  # type: ignore[type-arg]
+class AgentClass(Protocol):
+    """What is read off a ManiSkill agent class: BaseAgent's class attributes (ManiSkill has no
+    type annotations)."""
+
+    urdf_path: ClassVar[str | None]
+    mjcf_path: ClassVar[str | None]
+    fix_root_link: ClassVar[bool]
+    load_multiple_collisions: ClassVar[bool]
+    disable_self_collisions: ClassVar[bool]
+
+
+class _AnyName(dict[str, _Named]):
     """``links_map`` when the description is not installed: every name is a link."""
 
     def __missing__(self, key: str) -> _Named:
@@ -94,14 +106,14 @@ def _without_base_init() -> Iterator[None]:
     def no_op(self: Any, *args: Any, **kwargs: Any) -> None:
         return None
 
-    BaseAgent.__init__ = no_op  # type: ignore[method-assign]
+    BaseAgent.__init__ = no_op
     try:
         yield
     finally:
-        BaseAgent.__init__ = original  # type: ignore[method-assign]
+        BaseAgent.__init__ = original
 
 
-def instantiate(cls: type, robot: StandInRobot) -> tuple[Any, BaseException | None]:
+def instantiate(cls: Any, robot: StandInRobot) -> tuple[Any, BaseException | None]:
     """An instance of ``cls`` with only its own ``__init__`` code run, and ``robot`` set."""
     obj = cls.__new__(cls)
     failure: BaseException | None = None
@@ -148,7 +160,7 @@ def plain(value: Any, *, float32_short: bool = False) -> Any:
     return value
 
 
-def _pose(pose: Any) -> tuple[tuple[float, ...], tuple[float, ...]]:
+def _pose(pose: Any) -> tuple[Vector, Quaternion]:
     p, q = pose.p, pose.q
     if getattr(p, "ndim", 1) == 2:  # a batched ManiSkill Pose
         p, q = p[0], q[0]
@@ -283,12 +295,12 @@ def asset_roots() -> tuple[tuple[str, str], ...]:
 
 
 def load_installed_description(
-    cls: type,
+    cls: type[AgentClass],
 ) -> tuple[str | None, RobotDescription | None, list[Diagnostic]]:
     """The description file of ``cls`` on this machine and its facts, when installed."""
     from robospec.description import load_description
 
-    kind = "urdf" if cls.urdf_path is not None else "mjcf"
+    kind: Literal["urdf", "mjcf"] = "urdf" if cls.urdf_path is not None else "mjcf"
     raw = cls.urdf_path if cls.urdf_path is not None else cls.mjcf_path
     if raw is None:
         return None, None, []
@@ -312,7 +324,7 @@ def _relocated(diagnostic: Diagnostic, path: str) -> Diagnostic:
 
 
 def read_agent(
-    cls: type, description: RobotDescription | None, description_file: str | None
+    cls: type[AgentClass], description: RobotDescription | None, description_file: str | None
 ) -> tuple[AgentRecord, list[Diagnostic]]:
     """Everything a spec can say about ``cls``, plus diagnostics for what could not be read.
 
@@ -339,7 +351,7 @@ def read_agent(
 
     hooks = read_hooks(cls, obj, description.link_names if description is not None else None)
 
-    kind = "urdf" if cls.urdf_path is not None else "mjcf"
+    kind: Literal["urdf", "mjcf"] = "urdf" if cls.urdf_path is not None else "mjcf"
     raw_path = cls.urdf_path if cls.urdf_path is not None else cls.mjcf_path
     record = AgentRecord(
         module=cls.__module__,
@@ -385,7 +397,7 @@ def _location(ref: SourceRef | None, class_at: SourceRef) -> Location:
 
 
 def _instance(
-    cls: type,
+    cls: type[AgentClass],
     description: RobotDescription | None,
     class_at: SourceRef,
     diagnostics: list[Diagnostic],

@@ -103,8 +103,8 @@ def _controller_mistakes(
                     f"ManiSkill fails when the mode is selected, so mode(s) {where} are left out",
                 )
             )
-            for mode in modes:
-                found.dropped_modes.setdefault(mode, f"{name}={value!r} is not a valid {name}")
+            for mode_name in modes:
+                found.dropped_modes.setdefault(mode_name, f"{name}={value!r} is not a valid {name}")
             continue
         for name in LINK_FIELDS:
             value = controller.get(name)
@@ -118,8 +118,8 @@ def _controller_mistakes(
                         _did_you_mean(value, links),
                     )
                 )
-                for mode in modes:
-                    found.dropped_modes.setdefault(mode, f"{name} {value!r} is no link")
+                for mode_name in modes:
+                    found.dropped_modes.setdefault(mode_name, f"{name} {value!r} is no link")
         _unbounded_normalize(controller, modes, limits, pending)
         _positional_gains(controller, modes, pending, found)
     for (code, _detail), (modes, message, hint) in pending.items():

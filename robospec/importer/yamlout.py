@@ -106,8 +106,8 @@ def _flow_scalar(value: Any, kind: type) -> str:
     return stream.getvalue().strip()[1:-1]
 
 
-def _text(value: Any) -> str:
-    return _flow_scalar(value, type(value))
+def _text(value: object) -> str:
+    return _flow_scalar(value, type(value))  # type: ignore[arg-type]  # a class is hashable
 
 
 def flow_pieces(value: Any) -> list[str]:
@@ -199,9 +199,10 @@ class _Writer:
         if isinstance(value, dict):
             node = CommentedMap()
             for key, item in value.items():
-                node[key] = self.node(item, (*path, key), indent + 2)
-                if (*path, key) in self.notes:
-                    node.yaml_add_eol_comment("# " + self.notes[(*path, key)], key)
+                where = (*path, key)
+                node[key] = self.node(item, where, indent + 2)
+                if where in self.notes:
+                    node.yaml_add_eol_comment("# " + self.notes[where], key)
             return node
         return _scalar(value)
 

@@ -46,6 +46,7 @@ def kinematics_of(description: RobotDescription, text: bytes, path: str) -> Kine
     """The forward kinematics of the description read from ``text`` (the file at ``path``, or
     what stands in for it: a derived copy, an expansion); None where the library that computes
     them cannot read it (robospec's own parse says what is wrong, where it can)."""
+    poser: Poser | None
     if description.kind == "mjcf":
         from robospec.kinematics.mjcf_poses import mjcf_poser
 

@@ -59,8 +59,8 @@ def motion(kind: str, axis: Axis, value: float) -> np.ndarray:
     if kind == "prismatic":
         moved[:3, 3] = axis.direction * value
     elif kind in ("revolute", "continuous") and value != 0.0:
-        direction = tuple(float(c) for c in axis.direction)
-        turn = np.array(matrix_from_quaternion(about_axis(direction, value)))  # type: ignore[arg-type]
+        x, y, z = (float(c) for c in axis.direction)
+        turn = np.array(matrix_from_quaternion(about_axis((x, y, z), value)))
         moved[:3, :3] = turn
         moved[:3, 3] = axis.anchor - turn @ axis.anchor
     return moved

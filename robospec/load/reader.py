@@ -430,7 +430,7 @@ def written_number(value: float, position: tuple[int, int] | None, lines: list[s
 
 
 def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
-    import tomllib
+    from robospec.load.toml_parser import tomllib
 
     try:
         data = tomllib.loads(text)

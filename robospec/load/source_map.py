@@ -70,5 +70,6 @@ class WrittenNumber(float):
         number.text = text
         return number
 
-    def __getnewargs__(self) -> tuple[float, str]:  # pickle and copy keep the text
+    # pickle and copy keep the text (float's own gives the value alone)
+    def __getnewargs__(self) -> tuple[float, str]:  # type: ignore[override]
         return (float(self), self.text)

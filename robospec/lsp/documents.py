@@ -236,7 +236,7 @@ class Workspace:
                 continue
             reader = Reader(spec.parent, spec.parent, lambda _: Location(str(spec)))
             with remembering(self.memo):
-                loaded = load(reader, DescriptionEntry(text, kind))  # type: ignore[arg-type]
+                loaded = load(reader, DescriptionEntry(text, kind))
             return loaded.description if isinstance(loaded, Loaded) else None
         return None
 

@@ -109,7 +109,7 @@ def strip_urdf_visuals(urdf_string: str) -> str:
             parent.text = (parent.text or "") + kept
         parent.remove(visual)
     # what stood before <robot> (the XML declaration, comments) becomes blank lines
-    return "\n" * (root.sourceline - 1) + etree.tostring(root, encoding="unicode")
+    return "\n" * ((root.sourceline or 1) - 1) + etree.tostring(root, encoding="unicode")
 
 
 def render_device_available() -> bool:

@@ -101,7 +101,7 @@ def _to_json(scan: Scan) -> dict[str, object]:
     }
 
 
-def _from_json(data: dict) -> Scan:  # type: ignore[type-arg]
+def _from_json(data: dict) -> Scan:
     tasks = {k: Task(k, v[0], tuple(v[1])) for k, v in data["tasks"].items()}
     if not tasks:
         raise ValueError("empty scan")

@@ -205,7 +205,7 @@ def _rebind_handlers(stream: TextIO) -> None:
     for logger in loggers:
         for handler in getattr(logger, "handlers", ()):
             if isinstance(handler, logging.StreamHandler) and handler.stream is stream:
-                handler.setStream(_CurrentStderr())  # type: ignore[arg-type]
+                handler.setStream(_CurrentStderr())
 
 
 @contextmanager

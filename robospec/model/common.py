@@ -99,7 +99,7 @@ class AllBut(StrictModel):
 class AllLinksBut(AllBut):
     """Every link except the ones selected: `{all_but: base_link}`."""
 
-    all_but: LinkPatterns = Field(  # type: ignore[assignment]
+    all_but: LinkPatterns = Field(
         description="The links or link globs to leave out.",
         examples=["panda_link0", ["root", "*_base"]],
     )

@@ -336,12 +336,12 @@ class PDEEPoseConfig(PDEEPosConfig):
         "three axes or a list of three.",
         examples=[0.1],
     )
-    frame: Literal[  # type: ignore[assignment]
+    frame: Literal[
         "body_translation:root_aligned_body_rotation",
         "root_translation:root_aligned_body_rotation",
         "body_translation:body_aligned_body_rotation",
         "root_translation:body_aligned_body_rotation",
-    ] = Field(
+    ] = Field(  # type: ignore[assignment]  # the pose's frames add rotation's: a field retyped
         default="root_translation:root_aligned_body_rotation",
         description="The frames actions move and turn the link in, as translation:rotation; "
         "only the default works in GPU simulation.",

@@ -84,7 +84,7 @@ def model_classes() -> list[type[StrictModel]]:
     return found
 
 
-def _all_subclasses(cls: type) -> set[type]:
+def _all_subclasses(cls: type[object]) -> set[type]:
     out: set[type] = set()
     for sub in cls.__subclasses__():
         if sub.__module__.startswith("robospec.model."):
@@ -136,9 +136,10 @@ def _name(obj: Any, where: str) -> Ref:
     if isinstance(obj, functools.partial):
         return _constraint(obj, where)
     if callable(obj) and getattr(obj, "__module__", None) == rules.__name__:
-        if getattr(rules, obj.__name__, None) is not obj:
+        function_name = obj.__name__
+        if getattr(rules, function_name, None) is not obj:
             raise FreezeError(f"{where}: {obj.__qualname__} is not a name in {rules.__name__}")
-        return Ref(f"rules.{obj.__name__}")
+        return Ref(f"rules.{function_name}")
     raise FreezeError(
         f"{where}: {obj!r} cannot be frozen; validators and default factories of spec models "
         f"must be functions of {rules.__name__}"

@@ -24,13 +24,28 @@ import warnings
 from importlib.machinery import SourceFileLoader
 from pathlib import Path
 from types import CodeType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pydantic_core import SchemaValidator
 
 from robospec.files import write_atomically
 from robospec.model.frozen_cache import entry_path
 from robospec.model.record import Record
+
+if TYPE_CHECKING:
+    # The records are made by exec below, which a type checker cannot follow. Each has the name,
+    # the fields and the mixins of the pydantic model it is frozen from (robospec.model.freeze
+    # writes it from that model), so a checker reads it as that model; the records offer the
+    # part of BaseModel the later stages use (robospec.model.record). A name used from here is
+    # added to this list ("X as X": a re-export).
+    from robospec.model.check_settings import Checks as Checks
+    from robospec.model.common import AllBut as AllBut
+    from robospec.model.common import Pose as Pose
+    from robospec.model.controllers import MimicTarget as MimicTarget
+    from robospec.model.controllers import PDJointPosConfig as PDJointPosConfig
+    from robospec.model.members import HeightBand as HeightBand
+    from robospec.model.spec import Keyframe as Keyframe
+    from robospec.model.spec import Spec as Spec
 
 SCHEMAS: dict[str, Any] = {}
 """Each model's pydantic-core schema, by class name (set by the frozen module's text below)."""

@@ -45,7 +45,7 @@ class Record:
 
     def __init__(self, **fields: Any) -> None:
         """Validate ``fields`` as the model does (how default values are made)."""
-        self.validator_for(type(self).__name__).validate_python(fields, self_instance=self)
+        type(self).validator_for(type(self).__name__).validate_python(fields, self_instance=self)
 
     @property
     def model_fields_set(self) -> set[str]:

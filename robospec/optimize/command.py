@@ -26,7 +26,7 @@ from __future__ import annotations
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
 from robospec.optimize.options import COMMAND_LINE, OptimizeOptions, ShapeMethod, option_problems
@@ -42,6 +42,9 @@ from robospec.optimize.outputs import (
     write_urdf,
 )
 from robospec.optimize.report import OptimizeReport, OptimizeResult, shape_json
+
+if TYPE_CHECKING:
+    from robospec.pipeline import CompiledSpec
 
 
 def run_optimize(spec: Path, out: Path, options: OptimizeOptions | None = None) -> OptimizeResult:
@@ -76,6 +79,7 @@ def _run_optimize(spec: Path, out: Path, options: OptimizeOptions) -> OptimizeRe
     owned = not_ours(targets)
     if owned:
         return OptimizeResult(None, owned)
+    assert compiled.robot is not None  # refused above otherwise
     report = OptimizeReport(
         str(spec), str(out), targets.urdf.name, options.uid or f"{compiled.robot.uid}_optimized"
     )
@@ -102,7 +106,7 @@ def _run_optimize(spec: Path, out: Path, options: OptimizeOptions) -> OptimizeRe
     return OptimizeResult(report, report.diagnostics)
 
 
-def _refused(spec: Path, compiled: Any) -> list[Diagnostic]:
+def _refused(spec: Path, compiled: CompiledSpec) -> list[Diagnostic]:
     """Why this spec cannot be optimized: it does not compile, it is composed of parts, or its
     description is not URDF; nothing when it can."""
     if not compiled.ok or compiled.robot is None or compiled.context is None:
@@ -153,7 +157,7 @@ def _named_by_python(spec: Path, robot: Any) -> list[Diagnostic]:
 
 def _optimize_into(
     staging: Path,
-    compiled: Any,
+    compiled: CompiledSpec,
     targets: Targets,
     options: OptimizeOptions,
     report: OptimizeReport,
@@ -169,6 +173,7 @@ def _optimize_into(
     # two renders: one that works from the staging folder, checked there, and the one that
     # works from OUT's folder, which replaces the first when everything is moved into place
     robot = compiled.robot
+    assert robot is not None  # compiled
     urdf_file = staging / targets.urdf.name
     source = robot.description.relative
     write_urdf(shaped, urdf_file, staging, staging, source)
@@ -184,10 +189,11 @@ def _optimize_into(
 
 
 def _condensed(
-    compiled: Any, options: OptimizeOptions, report: OptimizeReport
+    compiled: CompiledSpec, options: OptimizeOptions, report: OptimizeReport
 ) -> tuple[Any, list[Diagnostic]]:
     """The spec's URDF with fixed joints merged (every link the spec names kept), what was
     merged and kept in the report; or the errors that stop it."""
+    assert compiled.robot is not None and compiled.description is not None  # compiled
     from robospec.optimize import links
     from robospec.optimize.condense import condense
 
@@ -210,10 +216,15 @@ def _condensed(
 
 
 def _shaped(
-    robot: Any, folder: Path, compiled: Any, options: OptimizeOptions, report: OptimizeReport
+    robot: Any,
+    folder: Path,
+    compiled: CompiledSpec,
+    options: OptimizeOptions,
+    report: OptimizeReport,
 ) -> tuple[Any, list[Diagnostic]]:
     """``robot`` with its collision meshes made by the shapes method (new meshes written under
     ``folder``), the changes in the report; or the errors that stop it."""
+    assert compiled.robot is not None  # compiled
     method = options.shape_method
     if method == ShapeMethod.keep:
         return robot, []
@@ -239,7 +250,7 @@ def _shaped(
     return robot, []
 
 
-def _unfitted(compiled: Any, changes: Sequence[Any], bound: float) -> list[Diagnostic]:
+def _unfitted(compiled: CompiledSpec, changes: Sequence[Any], bound: float) -> list[Diagnostic]:
     """RS674 when some collision meshes fit no primitive within the bound: which, and the
     nearest miss."""
     missed = [c for c in changes if c.reason == "no primitive within the bound"]
@@ -262,7 +273,7 @@ def _write_spec(
     staged_spec: Path,
     urdf_file: Path,
     urdf: Any,
-    compiled: Any,
+    compiled: CompiledSpec,
     targets: Targets,
     options: OptimizeOptions,
     report: OptimizeReport,
@@ -303,7 +314,7 @@ def _packing_problems(spec: Path) -> bool:
     return record is not None and bool(record.side_effects or record.uncovered)
 
 
-def _optimized_spec(compiled: Any, targets: Targets, report: OptimizeReport) -> str:
+def _optimized_spec(compiled: CompiledSpec, targets: Targets, report: OptimizeReport) -> str:
     """The spec as written, with its uid, description and never_collide changed: a YAML spec
     through ruamel's round trip (comments and order kept), a TOML one as YAML."""
     from robospec.optimize.spec_rewrite import rewrite_spec

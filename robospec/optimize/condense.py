@@ -219,7 +219,7 @@ def _indent_before(element: etree._Element) -> str:
     previous = element.getprevious()
     parent = element.getparent()
     before = previous.tail if previous is not None else parent.text if parent is not None else ""
-    return before if _blank(before) and "\n" in (before or "") else "\n"
+    return before if before is not None and _blank(before) and "\n" in before else "\n"
 
 
 def _blank(text: str | None) -> bool:

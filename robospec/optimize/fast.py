@@ -22,7 +22,10 @@ from __future__ import annotations
 
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from robospec.pipeline import CompiledSpec
 
 # solver iterations (position, velocity) by category
 ITERATIONS = {"manipulation": (15, 1), "locomotion": (4, 1)}
@@ -51,10 +54,11 @@ def category_of(robot: Any, asked: str | None, description: Any = None) -> str:
 
 
 def fast_simulation(
-    urdf_file: Path, staged_spec: Path, compiled: Any, matrix: Any, options: Any
+    urdf_file: Path, staged_spec: Path, compiled: CompiledSpec, matrix: Any, options: Any
 ) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     """The spec's ``simulation`` section for the fast profile, and the contact counts it
     measured (at ManiSkill's offset, then at the profile's; none without a matrix)."""
+    assert compiled.robot is not None  # compiled
     from robospec.optimize.contacts import LARGEST_OFFSET
 
     robot = compiled.robot

@@ -11,12 +11,19 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error
 
+if TYPE_CHECKING:
+    from lxml import etree
 
-def absolute_meshes(text: str, description: Any) -> Any:
+    from robospec.description import RobotDescription
+    from robospec.pipeline import CompiledSpec
+    from robospec.resolve.resolved import FileRef
+
+
+def absolute_meshes(text: str, description: RobotDescription) -> etree._Element:
     """The URDF's <robot> with every mesh and texture robospec found named by absolute path."""
     from lxml import etree
 
@@ -29,7 +36,7 @@ def absolute_meshes(text: str, description: Any) -> Any:
     return root
 
 
-def srdf_of(ref: Any) -> str | None:
+def srdf_of(ref: FileRef) -> str | None:
     """The SRDF SAPIEN reads beside the spec's URDF (never beside a xacro expansion)."""
     if not ref.has_srdf_beside:
         return None
@@ -45,8 +52,9 @@ def child(joint: Any) -> str | None:
     return found.get("link") if found is not None else None
 
 
-def links_to_keep(compiled: Any, keep: Sequence[str]) -> set[str]:
+def links_to_keep(compiled: CompiledSpec, keep: Sequence[str]) -> set[str]:
     """The links the spec names, those ``keep`` pins and those of the SRDF's pairs."""
+    assert compiled.robot is not None and compiled.context is not None  # refused otherwise
     kept = {name for _, name in compiled.context.bindings.link_names}
     kept.update(keep)
     srdf = srdf_of(compiled.robot.description)
@@ -58,7 +66,7 @@ def links_to_keep(compiled: Any, keep: Sequence[str]) -> set[str]:
     return kept
 
 
-def unknown_keep(description: Any, keep: Sequence[str]) -> list[Diagnostic]:
+def unknown_keep(description: RobotDescription, keep: Sequence[str]) -> list[Diagnostic]:
     """RS202 for each ``--keep`` link the description lacks."""
     return [
         error(Location("<command line>"), "RS202", f"--keep: unknown link '{name}'")
@@ -67,10 +75,11 @@ def unknown_keep(description: Any, keep: Sequence[str]) -> list[Diagnostic]:
     ]
 
 
-def named_links_merged_away(compiled: Any, condensed: Any) -> list[Diagnostic]:
+def named_links_merged_away(compiled: CompiledSpec, condensed: Any) -> list[Diagnostic]:
     """RS673 for each link the spec names that the condensed description lacks, where the
     spec names it: optimize keeps every link the spec names, so this is a link named where
     the keep list did not look, and the optimized spec would not compile."""
+    assert compiled.context is not None  # compiled
     present = {link.get("name") for link in condensed.findall("link")}
     problems = []
     seen: set[str] = set()

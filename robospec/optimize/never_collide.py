@@ -17,9 +17,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Collection, Iterable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.resolve.collision_packing import FREE_BITS, Pair, clique_pairs, pack
+
+if TYPE_CHECKING:
+    from robospec.pipeline import CompiledSpec
 
 
 def never_collide_entries(
@@ -94,11 +97,12 @@ def _tree_distance(parents: Mapping[str, str]) -> Callable[[Pair], int]:
 
 
 def sampled_entries(
-    urdf_file: Path, urdf: Any, compiled: Any, samples: int, seed: int
+    urdf_file: Path, urdf: Any, compiled: CompiledSpec, samples: int, seed: int
 ) -> tuple[list[list[str]], Any]:
     """never_collide entries for the pairs of the URDF (``urdf_file``, read as ``urdf``) that
     touched in no sampled configuration and no keyframe (or in every one), within the group-2
     bits the spec leaves free; and the collision matrix they come from."""
+    assert compiled.robot is not None and compiled.context is not None  # compiled
     from robospec.optimize.collision_matrix import sample_collision_matrix
     from robospec.optimize.links import child
 
@@ -117,6 +121,7 @@ def sampled_entries(
     )
     taken = {rule.bit for rule in robot.collision_rules if rule.group == 2}
     taken |= set(compiled.context.spec.scene_collision_bits)
+    assert compiled.description is not None
     taken |= {bit for bit, _ in compiled.description.loader_collision_bits}
     parents = {
         name: parent.get("link")

@@ -46,7 +46,7 @@ def rewrite_spec(
     yaml.preserve_quotes = True
     yaml.width = 4096  # an entry on one line: a wrapped flow list leaves trailing spaces
     if spec.suffix in TOML_SUFFIXES:
-        import tomllib
+        from robospec.load.toml_parser import tomllib
 
         document = tomllib.loads(text)
     else:

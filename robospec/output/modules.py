@@ -143,7 +143,7 @@ def carried_urdf(ref: FileRef, module_dir: Path, copies: dict[str, str] | None =
     if ref.parts:
         how = f", with {', '.join(ref.parts)} mounted"
     root.addprevious(etree.Comment(f" {GENERATED_MARKER} from {ref.relative}{how}: do not edit "))
-    text = etree.tostring(root.getroottree(), encoding="unicode", xml_declaration=False)
+    text = etree.tostring(root.getroottree(), encoding="unicode")  # text: no XML declaration
     return text if text.endswith("\n") else text + "\n"
 
 

@@ -100,7 +100,7 @@ def load_contacts(run: CheckRun) -> dict[tuple[str, str], float]:
                 if depth >= run.settings.self_contact.min_depth
             }
         run.clearances["load contacts"] = touching
-    return run.clearances["load contacts"]  # type: ignore[no-any-return]
+    return run.clearances["load contacts"]
 
 
 def load_skipped(run: CheckRun, start: ResolvedKeyframe | None) -> bool:
@@ -135,6 +135,7 @@ def _start(run: CheckRun, start: ResolvedKeyframe | None) -> Finding:
         f"{where}, links {found.links()} reach {found.depth * 100:.3g} cm below the ground of "
         "ManiSkill's scenes: PhysX pushes them out from the first step"
     )
+    path: tuple[str, ...]
     if start is not None:
         path = ("keyframes", start.name, "pose")
         p = [round(v, 4) for v in start.p]

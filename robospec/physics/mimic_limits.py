@@ -61,7 +61,9 @@ def contradictions(run: CheckRun) -> dict[str, Contradiction]:
             joint, control = joints.get(name), joints.get(rule["joint"])
             if joint is None or control is None or name in found:
                 continue
-            if None in (joint.lower, joint.upper, control.lower, control.upper):
+            if control.lower is None or control.upper is None:
+                continue
+            if joint.lower is None or joint.upper is None:
                 continue
             multiplier = float(rule.get("multiplier", 1.0))
             offset = float(rule.get("offset", 0.0))

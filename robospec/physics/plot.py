@@ -20,13 +20,19 @@ import numpy as np
 
 
 class StepTrace(Protocol):
-    """What a plot reads of a measured step (``robospec.physics.step_response.StepTrace``)."""
+    """What a plot reads of a measured step (``robospec.physics.step_response.StepTrace``,
+    frozen: read-only properties)."""
 
-    kind: str
-    joints: tuple[str, ...]
-    dt: float
-    fraction: np.ndarray
-    size: np.ndarray
+    @property
+    def kind(self) -> str: ...
+    @property
+    def joints(self) -> tuple[str, ...]: ...
+    @property
+    def dt(self) -> float: ...
+    @property
+    def fraction(self) -> np.ndarray: ...
+    @property
+    def size(self) -> np.ndarray: ...
 
 
 LEGEND_JOINTS = 12  # more joints than this: no legend (the lines would hide the plot)

@@ -495,8 +495,8 @@ class Sim:
             if id(b) not in ground or id(a) not in links:
                 continue
             for point in contact.points:
-                p = tuple(float(v) for v in point.position)
-                found.append((links[id(a)], p, float(-point.separation)))  # type: ignore[arg-type]
+                x, y, z = (float(v) for v in point.position)
+                found.append((links[id(a)], (x, y, z), float(-point.separation)))
         return found
 
     def centre_of_mass(self) -> np.ndarray:

@@ -226,9 +226,9 @@ def step_trace(
         sim.sim_step(pin)
         position[i] = sim.qpos()[0, joints]
         velocity[i] = sim.qvel()[0, joints]
-    trace = position if group.kind == "position" else velocity
+    measured = position if group.kind == "position" else velocity
     with np.errstate(divide="ignore", invalid="ignore"):
-        fraction = (trace - origin) / np.where(signed != 0, signed, np.nan)
+        fraction = (measured - origin) / np.where(signed != 0, signed, np.nan)
     fraction = np.where(np.isfinite(fraction), fraction, np.nan)
     responses = []
     for k, joint in enumerate(joints):

@@ -223,7 +223,8 @@ def _run(run: CheckRun, request: TaskRequest) -> Finding:
         stage = "step"
         space = env.action_space
         space.seed(0)
-        agent = env.unwrapped.agent
+        unwrapped: Any = env.unwrapped  # ManiSkill's BaseEnv (ManiSkill has no types)
+        agent = unwrapped.agent
         for step in range(STEPS):
             env.step(torch.as_tensor(np.asarray(space.sample()), dtype=torch.float32))
             qpos = agent.robot.get_qpos().cpu().numpy()

@@ -81,7 +81,7 @@ def _read_cached(path: Path) -> tuple[MeshPart, ...] | None:
                 MeshPart(
                     stored[f"v{i}"],
                     stored[f"f{i}"],
-                    None if np.isnan(stored[f"c{i}"]).any() else tuple(stored[f"c{i}"].tolist()),  # type: ignore[arg-type]
+                    None if np.isnan(stored[f"c{i}"]).any() else tuple(stored[f"c{i}"].tolist()),
                 )
                 for i in range(count)
             )
@@ -112,6 +112,7 @@ def _read_mesh(path: str) -> tuple[MeshPart, ...]:
         scene = trimesh.load(path, force="scene")
     except Exception as exc:  # trimesh raises whatever its readers raise
         raise MeshError(f"trimesh cannot read it ({type(exc).__name__}: {exc})") from exc
+    assert isinstance(scene, trimesh.Scene)  # force="scene"
     parts: list[MeshPart] = []
     for node in scene.graph.nodes_geometry:
         transform, name = scene.graph[node]

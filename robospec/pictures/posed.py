@@ -235,7 +235,7 @@ class UrdfShapes:
             if not radius or not length or radius[0] <= 0:
                 return None
             half = max(length[0] / 2, SHEET)
-            return Shape(link, layer, kind, (radius[0], half), rgba=rgba)  # type: ignore[arg-type]
+            return Shape(link, layer, kind, (radius[0], half), rgba=rgba)
         if kind != "mesh":
             return None
         uri = kind_element.get("filename", "")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Literal
 
 from robospec.diagnostics import error
 from robospec.load.source_map import LoadedSpec
@@ -59,6 +60,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
     base_ref, base_class = members.base_class(context)
     if spec.extends is not None and base_ref is None:
         return None
+    description_kind: Literal["urdf", "mjcf"]
     if spec.description is not None:
         description_ref = load_spec_description(
             context, parts.compose_parts if spec.parts else None

@@ -161,8 +161,8 @@ def wheel_joints(description: RobotDescription, wheels: tuple[str, ...]) -> tupl
     return tuple(
         j
         for j in description.active_joint_names
-        if (joint := description.joint(j)) is not None and only_wheels(joint.child)
-        if by_child.get(joint.child) is joint
+        if (active := description.joint(j)) is not None and only_wheels(active.child)
+        if by_child.get(active.child) is active
     )
 
 

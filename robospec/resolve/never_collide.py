@@ -70,11 +70,11 @@ def resolve_never_collide(
     side = set(packing.side_effects)
     for _, links in packing.cliques:
         pairs = clique_pairs(links)
-        extra = pairs & side
-        if extra:
+        carried = pairs & side
+        if carried:
             # reported at the first entry whose pairs this bit carries
             source = min(requested[p] for p in pairs if p in requested and p not in free)
-            side_effects.setdefault(source, set()).update(extra)
+            side_effects.setdefault(source, set()).update(carried)
     record = ResolvedNeverCollide(
         entries=entries,
         bits=packing.bits,

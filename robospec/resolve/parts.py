@@ -127,7 +127,7 @@ def _part_source(
         at=part.at,
         position=p,
         quaternion=q,
-        rpy=rpy,  # type: ignore[arg-type]
+        rpy=rpy,
         joint=part.joint_name(name),
         prefix=part.name_prefix(name),
         files={m.uri: m.path for m in description.mesh_files if m.path is not None},

@@ -40,7 +40,7 @@ def _change(before: str, after: str) -> str:
 
 def _rows(tuning: ControllerTuning) -> list[tuple[str, ...]]:
     assert tuning.before is not None and tuning.after is not None
-    rows = []
+    rows: list[tuple[str, ...]] = []
     for k, joint in enumerate(tuning.joints):
         b, a = tuning.before_timings[k], tuning.after_timings[k]
         rows.append(

@@ -3,12 +3,15 @@ overrides (``checks.tune.controllers``)."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 from robospec.tune.results import Targets
 
+if TYPE_CHECKING:
+    from robospec.model.frozen import Checks
 
-def targets_for(checks: Any, controller: str) -> Targets:
+
+def targets_for(checks: Checks, controller: str) -> Targets:
     """``checks`` is the spec's ``checks`` section (a frozen-model record)."""
     tune = checks.tune.for_controller(controller)
     step = checks.step_response.for_controller(controller)

@@ -4,7 +4,7 @@ item, so its layout stays too."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping, MutableMapping, Sequence
 from typing import Any
 
 from robospec.tune.edits import Edit, WriteError, fit_lines, line_width, number, plan, uniform
@@ -48,7 +48,7 @@ def _set(entry: Any, edit: Edit) -> None:
         for index, value in enumerate(values):
             if node[index] != value:
                 node[index] = value
-    elif isinstance(node, Mapping) and set(node) == set(edit.joints):
+    elif isinstance(node, MutableMapping) and set(node) == set(edit.joints):
         for joint, value in zip(edit.joints, values, strict=True):
             if node[joint] != value:
                 node[joint] = value

@@ -255,7 +255,7 @@ def _seam_pairs(
             return [], []  # check and optimize find the pairs later; the scaffold stands
     if "error" in answer:
         return [], []
-    return [tuple(pair) for pair in answer["pairs"]], []  # type: ignore[misc]
+    return [tuple(pair) for pair in answer["pairs"]], []
 
 
 def seam_pairs(request: dict[str, Any]) -> list[list[str]]:

@@ -381,15 +381,15 @@ def joint_loads(
             if link not in world:
                 continue
             mass, com, about_com = world[link]
-            arm = tuple(com[i] - pivot[i] for i in range(3))
+            arm = (com[0] - pivot[0], com[1] - pivot[1], com[2] - pivot[2])
             weight = (0.0, 0.0, -GRAVITY * mass)
             if joint.type == "prismatic":
                 inertia += mass
                 torque += dot(axis, weight)
             else:
                 inertia += _quadratic(about_com, axis)
-                inertia += mass * sum(c * c for c in cross(axis, arm))  # type: ignore[arg-type]
-                torque += dot(axis, cross(arm, weight))  # type: ignore[arg-type]
+                inertia += mass * sum(c * c for c in cross(axis, arm))
+                torque += dot(axis, cross(arm, weight))
         standing = None
         topple = 0.0
         if support:
@@ -403,8 +403,8 @@ def joint_loads(
                 if joint.type == "prismatic":
                     standing += dot(axis, push)
                 else:
-                    arm = tuple(point[0][i] - pivot[i] for i in range(3))
-                    standing += dot(axis, cross(arm, push))  # type: ignore[arg-type]
+                    arm = (point[0][0] - pivot[0], point[0][1] - pivot[1], point[0][2] - pivot[2])
+                    standing += dot(axis, cross(arm, push))
             if carried > 0 and joint.type != "prismatic":
                 topple = _topple(world, beyond, total_mass, total_moment, axis, pivot)
                 topple *= carried / (GRAVITY * total_mass)
@@ -430,7 +430,8 @@ def _topple(
         total_moment[i] - sum(world[k][0] * world[k][1][i] for k in beyond if k in world)
         for i in range(3)
     ]
-    arm = tuple(moment[i] / mass - pivot[i] for i in range(3))
+    arm = (moment[0] / mass - pivot[0], moment[1] / mass - pivot[1], moment[2] / mass - pivot[2])
+
     height = arm[2] - dot(axis, arm) * axis[2]  # the arm's part across the axis, upward
     return max(GRAVITY * mass * height, 0.0)
 

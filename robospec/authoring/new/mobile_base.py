@@ -51,8 +51,8 @@ def read_for_new(path: Path) -> tuple[DescriptionFile | None, list[Diagnostic]]:
             return source, diagnostics
         links, joints = rolling
         why = "it rolls on wheels (" + ", ".join(joints) + ")"
-        section = {"wheels": links, "wheel_joints": "fixed"}
-        return _with_base(path, section, why, (source, diagnostics))
+        wheeled = {"wheels": links, "wheel_joints": "fixed"}
+        return _with_base(path, wheeled, why, (source, diagnostics))
     # no joint that moves, or none ManiSkill loads as it is: a base is something to control
     as_written, _ = read_description_file(path, keep_errors=True)
     based, more = read_description_file(path, sections=_sections({}))

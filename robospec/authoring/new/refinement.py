@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,6 +37,10 @@ from robospec.authoring.new.gains import HOLD_SHARE  # of check's max_joint_drif
 from robospec.physics.findings import significant
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe
+
+if TYPE_CHECKING:
+    from robospec.model.frozen import Checks
+    from robospec.tune.results import Targets
 
 HOLD_ROUNDS = 4
 RANDOM_ROUNDS = 3
@@ -58,7 +62,9 @@ class Refined:
     changed: list[str] = field(default_factory=list)  # the controllers whose gains changed
 
 
-def refine(sim: Sim, checks: Any, ratings: dict[str, float], keyframe: ResolvedKeyframe) -> Refined:
+def refine(
+    sim: Sim, checks: Checks, ratings: dict[str, float], keyframe: ResolvedKeyframe
+) -> Refined:
     """Refine the gains of ``sim``'s mode (the draft's pd_joint_pos) at ``keyframe``.
     ``checks``: the draft's ``checks`` section (its defaults); ``ratings``: joint -> the most
     force its motor is rated for."""
@@ -76,7 +82,7 @@ def refine(sim: Sim, checks: Any, ratings: dict[str, float], keyframe: ResolvedK
 
 def _search(
     sim: Sim,
-    checks: Any,
+    checks: Checks,
     keyframe: ResolvedKeyframe,
     ratings: dict[str, float],
     found: Refined,
@@ -126,7 +132,7 @@ def _search(
                 found.over_rating[joint] = (asked, rating)
 
 
-def targets(checks: Any, controller: str) -> Any:
+def targets(checks: Checks, controller: str) -> Targets:
     """What the refinement aims for: inside ``robospec check``'s thresholds by a margin (half
     its overshoot and steady-state error; settled within half the step's duration, which also
     keeps the rise well under max_rise_time), not tune's tighter defaults — a scaffold's gains
@@ -157,7 +163,7 @@ def _apply(sim: Sim, gains: dict[str, tuple[float, float, float]]) -> None:
 
 def _hold(
     sim: Sim,
-    checks: Any,
+    checks: Checks,
     keyframe: ResolvedKeyframe,
     found: Refined,
     ratings: dict[str, float],
@@ -229,7 +235,7 @@ def _drift(
     return drift
 
 
-def _random(sim: Sim, checks: Any, keyframe: ResolvedKeyframe, found: Refined) -> set[str]:
+def _random(sim: Sim, checks: Checks, keyframe: ResolvedKeyframe, found: Refined) -> set[str]:
     """Damp the joints that random actions fling (see the module's doc, 3); the joints it
     damped."""
     settings = checks.random_actions

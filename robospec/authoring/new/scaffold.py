@@ -404,12 +404,12 @@ def _header(
             + "), driven by a base controller."
         )
     if analysis.loops:
-        found = "; ".join(
+        closed = "; ".join(
             f"{loop.name}: {loop.links[0]} meets {loop.links[1]} ({loop.source})"
             for loop in analysis.loops
         )
         paragraphs.append(
-            f"Closed loops ({found}): a PhysX articulation is a tree, so each loop is closed "
+            f"Closed loops ({closed}): a PhysX articulation is a tree, so each loop is closed "
             "after loading by a drive between the two links where they meet (loops:), as "
             "ManiSkill's Robotiq agents close their four-bars. The loops' drivers make the "
             "gripper controller; their other joints are passive (group linkage): the linkage "

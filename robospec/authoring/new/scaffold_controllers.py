@@ -110,13 +110,13 @@ def controllers_and_modes(
 
 def target_range(
     analysis: RobotAnalysis, joints: list[str], rest: Mapping[str, float]
-) -> tuple[Any, Any]:
+) -> tuple[dict[str, float | int] | None, dict[str, float | int] | None]:
     """The absolute controller's lower and upper targets: null (the joints' own limits),
     except where a joint's limits span more than a full turn: its targets then span one turn
     about its rest position (by joint). One turn reaches every orientation of the joint; a
     wider range only lets a target wind it round again, and a random target across Solo-12's
     ±10 rad (a placeholder range) flung its hip 4 rad past its limit."""
-    spans = {}
+    spans: dict[str, tuple[float | None, float | None] | None] = {}
     for name in joints:
         joint = analysis.description.joint(name)
         if joint is None or joint.type == "prismatic":
@@ -137,8 +137,9 @@ def target_range(
     lower: dict[str, float | int] = {}
     upper: dict[str, float | int] = {}
     for name, span in spans.items():
-        assert span is not None and span[0] is not None and span[1] is not None
+        assert span is not None
         low, high = span
+        assert low is not None and high is not None
         if name in wide:
             centre = min(max(rest.get(name, 0.0), low + HALF_TURN), high - HALF_TURN)
             low, high = centre - HALF_TURN, centre + HALF_TURN

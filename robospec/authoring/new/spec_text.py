@@ -76,7 +76,9 @@ def _measured(
     if not simulate:
         return RestPose(start, unchecked_because="robospec new --no-sim"), None
     draft = scaffold(analysis, out, RestPose(start), PROBE_UID, absolute_paths=True)
-    refinement = Refinement(str(analysis.source.path.resolve()), str(out), schema)
+    refinement: Refinement | None = Refinement(
+        str(analysis.source.path.resolve()), str(out), schema
+    )
     mode = PROBE_MODE
     if "control_modes" not in draft.data:  # a base and nothing else: no gains to refine
         from robospec.resolve.mechanisms import BASE_MODE

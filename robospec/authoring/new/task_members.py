@@ -168,8 +168,8 @@ def _fingers(
             pairs.append(tips)
     if not pairs:
         return None
-    a, b, parent = max(pairs, key=lambda pair: _distance(analysis, poses, pair[0], pair[1]))
-    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b))
+    left, right, parent = max(pairs, key=lambda pair: _distance(analysis, poses, pair[0], pair[1]))
+    return Fingers((left, right), parent, _openings(analysis, poses, qpos, left, right))
 
 
 def _finger_tips(

@@ -266,6 +266,7 @@ class ExpressionLayout:
             return docs
 
         def content() -> Doc:
+            element: Doc
             if isinstance(node, ast.DictComp):
                 key = concat(Group(self.expression(node.key)), Text(":"), SPACE)
                 element = concat(key, self.expression(node.value))

@@ -8,6 +8,7 @@ functions; one around methods and after a class docstring; none elsewhere.
 from __future__ import annotations
 
 import ast
+import functools
 import textwrap
 from collections.abc import Collection
 
@@ -76,7 +77,7 @@ class _Statements:
                 docs.append(self.docstring(statement, depth))
             else:
                 docs.append(
-                    self.layout.at_level(level, lambda s=statement: self.statement(s, depth))
+                    self.layout.at_level(level, functools.partial(self.statement, statement, depth))
                 )
             previous = statement
         return concat(*docs)
@@ -140,7 +141,7 @@ class _Statements:
         return layout.maybe_parenthesize(value, IF_BREAKS)
 
     def import_from(self, node: ast.ImportFrom) -> Doc:
-        names = [Text(_alias(alias)) for alias in node.names]
+        names: list[Doc] = [Text(_alias(alias)) for alias in node.names]
         module = "." * node.level + (node.module or "")
         names_doc = self.layout.parenthesize_if_expands(
             lambda: self.layout.comma_separated(names, one_or_more=True)
@@ -216,6 +217,7 @@ class _Statements:
         Lines too long for the width are wrapped between words (ruff keeps line breaks in
         docstrings as they are: a name too long for any line stands on one of its own)."""
         assert isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant)
+        assert isinstance(node.value.value, str)
         lines = docstring_lines(node.value.value)
         width = LINE_LENGTH - INDENT_WIDTH * depth
         wrapped: list[str] = []

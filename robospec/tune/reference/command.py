@@ -115,8 +115,10 @@ def _reference_source(item: CompiledSpec, reference: str) -> _ReferenceSource:
     """``--reference``'s argument read: ``mujoco`` (the MJCF's position actuators), or a
     trajectory file."""
     if reference != MUJOCO:
-        ref, problems = read_reference(Path(reference), reference)
-        return _ReferenceSource(ref.joints if ref is not None else (), ref, None, tuple(problems))
+        ref, read_problems = read_reference(Path(reference), reference)
+        return _ReferenceSource(
+            ref.joints if ref is not None else (), ref, None, tuple(read_problems)
+        )
     robot, context = item.robot, item.context
     assert robot is not None and context is not None
     problems: list[Diagnostic] = []
@@ -305,7 +307,7 @@ def _write(item: CompiledSpec, outcome: Outcome, uid: str | None) -> tuple[bool,
     return write_gains(item, tunings, uid)
 
 
-def _per_joint(value: object, n: int) -> tuple[float, ...]:
+def _per_joint(value: float | list[float] | tuple[float, ...] | None, n: int) -> tuple[float, ...]:
     if isinstance(value, list | tuple):
         return tuple(float(v) for v in value)
     return (float(value),) * n if value is not None else (0.0,) * n

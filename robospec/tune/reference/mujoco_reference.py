@@ -36,7 +36,7 @@ def position_actuators(model: object) -> dict[str, tuple[int, float, float, floa
     import mujoco
 
     found: dict[str, tuple[int, float, float, float]] = {}
-    m: mujoco.MjModel = model  # type: ignore[assignment]
+    m: mujoco.MjModel = model
     for a in range(m.nu):
         if m.actuator_trntype[a] != mujoco.mjtTrn.mjTRN_JOINT:
             continue

@@ -54,7 +54,7 @@ def run(request: Request, phase: object) -> Outcome:
     exception inside ManiSkill, SAPIEN or MuJoCo becomes RS650."""
     outcome = Outcome(request.plan, request.reference)
     try:
-        _run(request, outcome, phase)  # type: ignore[arg-type]
+        _run(request, outcome, phase)
     except Exception as exc:
         from robospec.physics.crash import from_exception
 
