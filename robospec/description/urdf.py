@@ -195,6 +195,24 @@ def _kinematic_tree(
     root: etree._Element, path: str, diagnostics: list[Diagnostic]
 ) -> RobotDescription | None:
     """The articulation ManiSkill loads from the URDF ``root``; None when there is no tree."""
+    links, links_fatal = _read_links(root, path, diagnostics)
+    raw_joints, parent_joint, joints_fatal = _read_joints(root, links, path, diagnostics)
+    _drop_unknown_mimics(raw_joints, path, diagnostics)
+    if links_fatal or joints_fatal:
+        return None
+    if not links:
+        diagnostics.append(error(at(path, root), INVALID_STRUCTURE, "the robot has no <link>"))
+        return None
+    base = _single_root(links, raw_joints, parent_joint, path, diagnostics)
+    if base is None:
+        return None
+    return _articulation(path, links, raw_joints, parent_joint, base, diagnostics)
+
+
+def _read_links(
+    root: etree._Element, path: str, diagnostics: list[Diagnostic]
+) -> tuple[dict[str, Link], bool]:
+    """The named links, in declaration order, and whether one cannot take part in a tree."""
     fatal = False
     links: dict[str, Link] = {}
     for element in root.findall("link"):
@@ -214,7 +232,15 @@ def _kinematic_tree(
             fatal = True
             continue
         links[name] = Link(name, line_of(element))
+    return links, fatal
 
+
+def _read_joints(
+    root: etree._Element, links: Mapping[str, Link], path: str, diagnostics: list[Diagnostic]
+) -> tuple[dict[str, _RawJoint], dict[str, _RawJoint], bool]:
+    """The joints by name, the joint that attaches each child link, and whether one cannot
+    take part in a tree (a link has one parent)."""
+    fatal = False
     raw_joints: dict[str, _RawJoint] = {}
     parent_joint: dict[str, _RawJoint] = {}  # child link -> the joint that attaches it
     for element in root.findall("joint"):
@@ -236,7 +262,13 @@ def _kinematic_tree(
             fatal = True
             continue
         parent_joint[raw.child] = raw
+    return raw_joints, parent_joint, fatal
 
+
+def _drop_unknown_mimics(
+    raw_joints: Mapping[str, _RawJoint], path: str, diagnostics: list[Diagnostic]
+) -> None:
+    """A ``<mimic>`` of itself or of a joint that does not exist is reported and left out."""
     for raw in raw_joints.values():
         if raw.mimic is None or raw.mimic_element is None:
             continue
@@ -261,17 +293,22 @@ def _kinematic_tree(
             )
             raw.mimic = None
 
-    if fatal:
-        return None
-    if not links:
-        diagnostics.append(error(at(path, root), INVALID_STRUCTURE, "the robot has no <link>"))
-        return None
 
+def _single_root(
+    links: Mapping[str, Link],
+    raw_joints: Mapping[str, _RawJoint],
+    parent_joint: Mapping[str, _RawJoint],
+    path: str,
+    diagnostics: list[Diagnostic],
+) -> str | None:
+    """The one link that is no joint's child; None (diagnostics say why) for a cycle or
+    several roots."""
     roots = [name for name in links if name not in parent_joint]
     children: dict[str, list[str]] = {name: [] for name in links}
     for raw in raw_joints.values():
         children[raw.parent].append(raw.child)
 
+    fatal = False
     reachable: set[str] = set()
     for name in roots:
         reachable.update(bfs_order(name, children))
@@ -291,9 +328,7 @@ def _kinematic_tree(
         fatal = True
     if fatal or not roots:
         return None
-    base = roots[0]
-
-    return _articulation(path, links, raw_joints, parent_joint, base, diagnostics)
+    return roots[0]
 
 
 def _read_joint(
@@ -304,6 +339,46 @@ def _read_joint(
     diagnostics: list[Diagnostic],
 ) -> _RawJoint | None:
     """Read one <joint>; None when it cannot take part in the tree (diagnostics say why)."""
+    named = _joint_name_and_type(element, seen, path, diagnostics)
+    if named is None:
+        return None
+    name, joint_type = named
+    ends = _joint_ends(element, name, links, path, diagnostics)
+    if ends is None:
+        return None
+
+    raw = _RawJoint(name, joint_type, ends[0], ends[1], element)
+    what = f"joint '{name}'"
+    if joint_type == "planar":
+        diagnostics.append(
+            error(
+                at(path, element),
+                INVALID_STRUCTURE,
+                f"joint '{name}' is planar; SAPIEN cannot load planar joints",
+                "use two prismatic joints and a revolute joint with dummy links",
+            )
+        )
+    if joint_type in ("revolute", "prismatic"):
+        _read_limits(raw, path, diagnostics)
+    elif joint_type == "continuous":
+        _read_rates(raw, path, diagnostics)
+    # Numbers SAPIEN parses for every joint: a typo there fails the load too.
+    for tag, attribute in (("origin", "xyz"), ("origin", "rpy"), ("axis", "xyz")):
+        sub = element.find(tag)
+        if sub is not None:
+            read_floats(sub, attribute, 3, path, diagnostics, f"{what} <{tag}>")
+
+    _read_mimic(raw, path, diagnostics)
+    return raw
+
+
+def _joint_name_and_type(
+    element: etree._Element,
+    seen: Mapping[str, _RawJoint],
+    path: str,
+    diagnostics: list[Diagnostic],
+) -> tuple[str, str] | None:
+    """A joint's unique name and known type; None (diagnostics say why) otherwise."""
     name = element.get("name")
     if not name:
         diagnostics.append(error(at(path, element), INVALID_STRUCTURE, "joint without a name"))
@@ -336,7 +411,17 @@ def _read_joint(
             )
         )
         return None
+    return name, joint_type
 
+
+def _joint_ends(
+    element: etree._Element,
+    name: str,
+    links: Mapping[str, Link],
+    path: str,
+    diagnostics: list[Diagnostic],
+) -> tuple[str, str] | None:
+    """A joint's parent and child links, both known and not the same; None otherwise."""
     ends: dict[str, str] = {}
     for role in ("parent", "child"):
         end = element.find(role)
@@ -372,29 +457,13 @@ def _read_joint(
             )
         )
         return None
+    return ends["parent"], ends["child"]
 
-    raw = _RawJoint(name, joint_type, ends["parent"], ends["child"], element)
-    what = f"joint '{name}'"
-    if joint_type == "planar":
-        diagnostics.append(
-            error(
-                at(path, element),
-                INVALID_STRUCTURE,
-                f"joint '{name}' is planar; SAPIEN cannot load planar joints",
-                "use two prismatic joints and a revolute joint with dummy links",
-            )
-        )
-    if joint_type in ("revolute", "prismatic"):
-        _read_limits(raw, path, diagnostics)
-    elif joint_type == "continuous":
-        _read_rates(raw, path, diagnostics)
-    # Numbers SAPIEN parses for every joint: a typo there fails the load too.
-    for tag, attribute in (("origin", "xyz"), ("origin", "rpy"), ("axis", "xyz")):
-        sub = element.find(tag)
-        if sub is not None:
-            read_floats(sub, attribute, 3, path, diagnostics, f"{what} <{tag}>")
 
-    mimic = element.find("mimic")
+def _read_mimic(raw: _RawJoint, path: str, diagnostics: list[Diagnostic]) -> None:
+    """Fill raw.mimic from <mimic joint= multiplier= offset=> (the target is checked later)."""
+    what = f"joint '{raw.name}'"
+    mimic = raw.element.find("mimic")
     if mimic is not None:
         target = mimic.get("joint")
         if not target:
@@ -410,7 +479,6 @@ def _read_joint(
                 offset[0] if offset else 0.0,
             )
             raw.mimic_element = mimic
-    return raw
 
 
 def _read_limits(raw: _RawJoint, path: str, diagnostics: list[Diagnostic]) -> None:
@@ -516,6 +584,55 @@ def _articulation(
     joint each root a separate object, and ManiSkill's BaseAgent keeps only the first one that
     has joints (``parse(...)["articulation_builders"][0]``).
     """
+    children, roots = _split_at_floating(path, links, raw_joints, base, diagnostics)
+    chosen = next((name for name in roots if children[name]), None)
+    if chosen is None:
+        diagnostics.append(
+            error(
+                Location(path, links[base].line, 1),
+                INVALID_STRUCTURE,
+                "the robot has no joints to articulate; ManiSkill loads a robot as an "
+                "articulation and needs at least one non-floating joint",
+            )
+        )
+        chosen = base
+    order = bfs_order(chosen, children)
+    articulated = set(order)  # built once: rebuilding it per link made this quadratic
+    dropped = [name for name in links if name not in articulated]
+    # The usual "world --floating--> base" pattern drops only the empty world link: expected.
+    if dropped and not (chosen != base and dropped == [base]):
+        shown = ", ".join(f"'{name}'" for name in dropped[:5])
+        more = f" and {len(dropped) - 5} more" if len(dropped) > 5 else ""
+        diagnostics.append(
+            warning(
+                Location(path, links[dropped[0]].line, 1),
+                INVALID_STRUCTURE,
+                f"links {shown}{more} are not part of the articulation ManiSkill loads "
+                f"(rooted at '{chosen}'); floating joints split the tree",
+            )
+        )
+
+    joints = _joints_in_order(order, parent_joint)
+    return RobotDescription(
+        kind="urdf",
+        path=path,
+        links=tuple(links[name] for name in order),
+        joints=tuple(joints),
+        active_joint_names=tuple(j.name for j in joints if j.type in ACTIVE_JOINT_TYPES),
+        root_link=chosen,
+        floating_root=chosen != base,
+    )
+
+
+def _split_at_floating(
+    path: str,
+    links: Mapping[str, Link],
+    raw_joints: Mapping[str, _RawJoint],
+    base: str,
+    diagnostics: list[Diagnostic],
+) -> tuple[dict[str, list[str]], list[str]]:
+    """Each link's children through joints that are not floating, and the roots of the
+    objects SAPIEN builds: the base link, then each floating joint's child."""
     children: dict[str, list[str]] = {name: [] for name in links}
     roots = [base]
     for raw in raw_joints.values():  # declaration order, as SAPIEN builds them
@@ -548,33 +665,11 @@ def _articulation(
                 )
             )
 
-    chosen = next((name for name in roots if children[name]), None)
-    if chosen is None:
-        diagnostics.append(
-            error(
-                Location(path, links[base].line, 1),
-                INVALID_STRUCTURE,
-                "the robot has no joints to articulate; ManiSkill loads a robot as an "
-                "articulation and needs at least one non-floating joint",
-            )
-        )
-        chosen = base
-    order = bfs_order(chosen, children)
-    articulated = set(order)  # built once: rebuilding it per link made this quadratic
-    dropped = [name for name in links if name not in articulated]
-    # The usual "world --floating--> base" pattern drops only the empty world link: expected.
-    if dropped and not (chosen != base and dropped == [base]):
-        shown = ", ".join(f"'{name}'" for name in dropped[:5])
-        more = f" and {len(dropped) - 5} more" if len(dropped) > 5 else ""
-        diagnostics.append(
-            warning(
-                Location(path, links[dropped[0]].line, 1),
-                INVALID_STRUCTURE,
-                f"links {shown}{more} are not part of the articulation ManiSkill loads "
-                f"(rooted at '{chosen}'); floating joints split the tree",
-            )
-        )
+    return children, roots
 
+
+def _joints_in_order(order: Sequence[str], parent_joint: Mapping[str, _RawJoint]) -> list[Joint]:
+    """The joints attaching the links of ``order`` after its root, as robospec's facts."""
     joints: list[Joint] = []
     for name in order[1:]:
         raw = parent_joint[name]
@@ -596,15 +691,7 @@ def _articulation(
                 effort=raw.effort,
             )
         )
-    return RobotDescription(
-        kind="urdf",
-        path=path,
-        links=tuple(links[name] for name in order),
-        joints=tuple(joints),
-        active_joint_names=tuple(j.name for j in joints if j.type in ACTIVE_JOINT_TYPES),
-        root_link=chosen,
-        floating_root=chosen != base,
-    )
+    return joints
 
 
 _UNKNOWN_TYPE = re.compile(r"^joint '.*' has unknown type '(?P<type>[^']*)'$")
