@@ -5,7 +5,7 @@ ManiSkill 3's own MJCF loader reads no ``<inertial>`` (every link weighs what it
 their density), stops at 32 bodies, loads no ball joint and gives a body of visual geoms no
 mass. MuJoCo's compiler is the reference for what the file means — defaults and classes,
 includes, angle units, mesh scale and recentring, ``inertiafromgeom``, frames — so this route
-compiles the file with MuJoCo (:func:`robospec.kinematics.mjcf_poses.compiled_model`) and
+compiles the file with MuJoCo (:func:`robospec.derive.mjcf_files.compiled_model`) and
 writes what the compiled ``MjModel`` says:
 
 - every body a link, named as the MJCF names it (an unnamed one ``body<id>``, MuJoCo's id), at
@@ -78,7 +78,7 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
     """The URDF of the MJCF ``source`` as MuJoCo compiles it; its text None (and an RS790
     error) where MuJoCo refuses the file: at the line MuJoCo names, else at ``entry`` (where
     the spec names the file)."""
-    from robospec.kinematics.mjcf_poses import compiled_model
+    from robospec.derive.mjcf_files import compiled_model
 
     lines = _source_lines(source)
     try:
@@ -104,6 +104,14 @@ class _Lines:
     named: dict[tuple[str, str], tuple[str, int]] = field(default_factory=dict)
     first: dict[str, tuple[str, int]] = field(default_factory=dict)
     shown: str = ""
+    paths: dict[str, str] = field(default_factory=dict)  # file as shown -> its path
+
+    def location(self, at: tuple[str, int], tag: str) -> Location:
+        """The location of the element ``tag`` at ``at``: its start tag's column."""
+        from robospec.description.source_columns import tag_column
+
+        path = self.paths.get(at[0])
+        return Location(at[0], at[1], tag_column(path, at[1], tag) if path else 1)
 
     def of(self, tag: str, name: str | None = None) -> tuple[str, int]:
         """(file, line) of the element: by name, else the first of its tag, else line 1."""
@@ -116,7 +124,7 @@ def _source_lines(source: Source) -> _Lines:
     from robospec.description.mjcf_mujoco import MAX_INCLUDE_DEPTH, Includes
     from robospec.description.urdf import parse_xml, read_file_bytes
 
-    found = _Lines(shown=source.shown)
+    found = _Lines(shown=source.shown, paths={source.shown: source.path})
     root, _ = parse_xml(source.data, source.path)
     includes = Includes(source.path, read_file_bytes, {})
     folder = os.path.dirname(os.path.abspath(source.path))
@@ -133,6 +141,7 @@ def _source_lines(source: Source) -> _Lines:
                     shown_there = os.path.normpath(
                         os.path.join(os.path.dirname(source.shown), relative)
                     )
+                    found.paths[shown_there] = path
                     walk(included, shown_there, depth + 1)
                 continue
             found.first.setdefault(inner.tag, (shown, inner.sourceline))
@@ -202,8 +211,8 @@ class _Writer:
         self.taken_joints: set[str] = set()
         # (tag, URDF name) -> (file, line) of the MJCF element it was written from
         self.origin_of: dict[tuple[str, str], tuple[str, int]] = {}
-        # kind -> (file, line) of the first, and what
-        self.dropped: dict[str, tuple[tuple[str, int], list[str]]] = {}
+        # kind -> the first's (file, line) and tag, and what
+        self.dropped: dict[str, tuple[tuple[str, int], str, list[str]]] = {}
         self.limit_cones: list[str] = []
 
     # -- names
@@ -232,7 +241,7 @@ class _Writer:
         if not tops:
             self.diagnostics.append(
                 error(
-                    Location(*self.lines.of("worldbody"), 1),
+                    self.lines.location(self.lines.of("worldbody"), "worldbody"),
                     COMPILE_ERROR,
                     f"'{self.source.shown}' has no body below <worldbody>: no robot to load",
                     "give the robot's bodies in <worldbody>",
@@ -480,8 +489,8 @@ class _Writer:
     # -- what is not carried
 
     def _drop(self, tag: str, kind: str, what: str, mjcf_name: str | None) -> None:
-        line = self.lines.of(tag, mjcf_name)
-        self.dropped.setdefault(kind, (line, []))[1].append(what)
+        at = self.lines.of(tag, mjcf_name)
+        self.dropped.setdefault(kind, (at, tag, []))[2].append(what)
 
     def _report_dropped(self) -> None:
         model = self.model
@@ -493,19 +502,20 @@ class _Writer:
         )
         for tag, count, kind in counted:
             if count:
-                self.dropped[kind] = (self.lines.of(tag), [f"{count} in the model"])
+                self.dropped[kind] = (self.lines.of(tag), tag, [f"{count} in the model"])
         if self.limit_cones:
             self.dropped["ball joint cones (each of its hinges gets the cone's angle)"] = (
                 self.lines.of("joint", self.limit_cones[0]),
+                "joint",
                 self.limit_cones,
             )
-        for kind, ((file, line), listed) in self.dropped.items():
+        for kind, (at, tag, listed) in self.dropped.items():
             shown = ", ".join(listed[:_LISTED])
             more = f" and {len(listed) - _LISTED} more" if len(listed) > _LISTED else ""
             what = shown + more
             self.diagnostics.append(
                 warning(
-                    Location(file, line, 1),
+                    self.lines.location(at, tag),
                     NOT_CARRIED,
                     f"the URDF written from MuJoCo's model carries no {kind}: {what}",
                     "ManiSkill's URDF loader has nothing for them; give what matters as the "
