@@ -72,6 +72,9 @@ class Compiled:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     line_map: tuple[tuple[int, tuple[str, int]], ...] = ()
     files: tuple[str, ...] = ()  # the files MuJoCo read besides the model (meshes, includes)
+    # what the URDF's text cannot say and the description carries (RobotDescription's fields):
+    # the model's <key> keyframes and actuators as MuJoCo compiled them, a floating root
+    facts: dict[str, Any] = field(default_factory=dict)
 
 
 def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
@@ -88,9 +91,13 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
     writer = _Writer(model, source, lines)
     writer.write()
     text = etree.tostring(writer.robot, encoding="unicode", pretty_print=True)
-    return Compiled(
-        text, writer.diagnostics, writer.line_map(text), tuple(sorted(_read_files(source)))
-    )
+    facts = {
+        "keyframes": writer.keyframes(),
+        "actuators": writer.actuators(),
+        "floating_root": writer.floating,
+    }
+    files = tuple(sorted(_read_files(source)))
+    return Compiled(text, writer.diagnostics, writer.line_map(text), files, facts)
 
 
 # -- reading the user's file: where its elements stand -------------------------------------
@@ -214,6 +221,10 @@ class _Writer:
         # kind -> the first's (file, line) and tag, and what
         self.dropped: dict[str, tuple[tuple[str, int], str, list[str]]] = {}
         self.limit_cones: list[str] = []
+        self.floating = False  # the root body's free joint: the root link floats
+        self.free_joint: int | None = None
+        self.ball_joints: dict[int, list[str]] = {}  # ball joint -> its three hinges' names
+        self.hinges: dict[int, str] = {}  # hinge or slide -> its URDF joint
 
     # -- names
 
@@ -262,6 +273,8 @@ class _Writer:
         jointed = [int(model.body_jntadr[top]) + k for k in range(int(model.body_jntnum[top]))]
         free = [j for j in jointed if int(model.jnt_type[j]) == int(mj.mjtJoint.mjJNT_FREE)]
         if not jointed or (free and len(jointed) == 1):
+            self.floating = bool(free)
+            self.free_joint = free[0] if free else None
             root = self._link(self.body_name(top), "body", self.body_name(top))
             self.links[top] = root
             self._inertial(root, top)
@@ -304,7 +317,13 @@ class _Writer:
             else:
                 child = self._link(f"{name}_{label}", "joint", self.joint_name(joint))
                 self._intermediate(child)
-            self._joint(label, kind, previous, child, origin, (joint, axis), "joint", None)
+            written = self._joint(
+                label, kind, previous, child, origin, (joint, axis), "joint", None
+            )
+            if int(self.model.jnt_type[joint]) == int(self.mujoco.mjtJoint.mjJNT_BALL):
+                self.ball_joints.setdefault(joint, []).append(written)
+            else:
+                self.hinges[joint] = written
             self.origin_of[("joint", label)] = self.lines.of("joint", self.joint_name(joint))
             previous = child
             offset = ((-anchor[0], -anchor[1], -anchor[2]), IDENTITY)
@@ -365,7 +384,7 @@ class _Writer:
         moving: tuple[int, Vector] | None,
         tag: str,
         mjcf_name: str | None,
-    ) -> None:
+    ) -> str:
         name = self._unique(name, self.taken_joints)
         element = etree.SubElement(self.robot, "joint", name=name, type=kind)
         etree.SubElement(element, "parent", link=parent)
@@ -373,7 +392,7 @@ class _Writer:
         _origin(element, origin)
         self.origin_of.setdefault(("joint", name), self.lines.of(tag, mjcf_name))
         if moving is None:
-            return
+            return name
         model = self.model
         joint, axis = moving
         etree.SubElement(element, "axis", xyz=_numbers(axis))
@@ -410,6 +429,7 @@ class _Writer:
             )
         if float(model.dof_armature[dof]):
             self._drop("joint", "joint armature", self.joint_name(joint), self.joint_name(joint))
+        return name
 
     def _inertial(self, link: str, body: int) -> None:
         model = self.model
@@ -523,6 +543,83 @@ class _Writer:
                 )
             )
 
+    # -- what the description carries besides the URDF
+
+    def keyframes(self) -> tuple[Any, ...]:
+        """The model's ``<key>`` elements in ManiSkill's terms: each joint counted from its
+        ``qpos0`` (``ref``), a ball joint as its three hinges' turns (x, then y, then z), the
+        free root's part as the root body's world pose."""
+        from robospec.description.facts import FileKeyframe
+
+        model, mj = self.model, self.mujoco
+        found = []
+        for key in range(int(model.nkey)):
+            qpos, qvel = model.key_qpos[key], model.key_qvel[key]
+            positions: list[tuple[str, float]] = []
+            velocities: list[tuple[str, float]] = []
+            for joint, name in self.hinges.items():
+                address, dof = int(model.jnt_qposadr[joint]), int(model.jnt_dofadr[joint])
+                positions.append((name, float(qpos[address] - model.qpos0[address])))
+                velocities.append((name, float(qvel[dof])))
+            for joint, names in self.ball_joints.items():
+                address = int(model.jnt_qposadr[joint])
+                turns = _xyz_turns(_quaternion(qpos[address : address + 4]))
+                positions.extend(zip(names, turns, strict=True))
+            root_pose = None
+            if self.free_joint is not None:
+                address = int(model.jnt_qposadr[self.free_joint])
+                root_pose = (_vector(qpos[address : address + 3]), _quaternion(qpos[address + 3 :]))
+            name = mj.mj_id2name(model, mj.mjtObj.mjOBJ_KEY, key) or f"key{key}"
+            found.append(
+                FileKeyframe(
+                    name=name,
+                    line=self.lines.of("key", name)[1],
+                    qpos=tuple(positions),  # the parsed URDF's qpos order: resolve sorts them
+                    root_pose=root_pose,
+                    qvel=tuple(v for v in velocities if v[1]),
+                )
+            )
+        return tuple(found)
+
+    def actuators(self) -> tuple[Any, ...]:
+        """The model's actuators on joints as MuJoCo compiled them: a position servo's kp and
+        kv where the gain is fixed and the bias affine ``(0, -kp, -kv)``, a velocity servo's
+        kv, a motor's ranges."""
+        from robospec.description.facts import Actuator
+
+        model, mj = self.model, self.mujoco
+        found = []
+        for actuator in range(int(model.nu)):
+            name = mj.mj_id2name(model, mj.mjtObj.mjOBJ_ACTUATOR, actuator) or ""
+            transmission = int(model.actuator_trntype[actuator])
+            target = int(model.actuator_trnid[actuator][0])
+            joint = self.hinges.get(target) if transmission == int(mj.mjtTrn.mjTRN_JOINT) else None
+            kind, kp, kv = _servo(model, actuator, mj)
+            ctrl = tuple(float(v) for v in model.actuator_ctrlrange[actuator])
+            force = tuple(float(v) for v in model.actuator_forcerange[actuator])
+            found.append(
+                Actuator(
+                    name=name,
+                    line=self._actuator_line(name),
+                    type=kind,
+                    joint=joint,
+                    kp=kp,
+                    kv=kv,
+                    ctrl_range=ctrl if bool(model.actuator_ctrllimited[actuator]) else None,
+                    force_range=force if bool(model.actuator_forcelimited[actuator]) else None,
+                    gear=float(model.actuator_gear[actuator][0]),
+                )
+            )
+        return tuple(found)
+
+    def _actuator_line(self, name: str) -> int:
+        from robospec.description.mjcf_control import ACTUATOR_TAGS
+
+        for tag in ACTUATOR_TAGS if name else ():
+            if (tag, name) in self.lines.named:
+                return self.lines.named[(tag, name)][1]
+        return self.lines.of("actuator")[1]
+
     def line_map(self, text: str) -> tuple[tuple[int, tuple[str, int]], ...]:
         """Each line of ``text`` in a link or a joint -> the line of the MJCF element it was
         written from: the URDF's diagnostics point into the user's file."""
@@ -538,6 +635,32 @@ class _Writer:
 
 
 # -- numbers, frames and files -------------------------------------------------------------
+
+
+def _servo(model: Any, actuator: int, mj: Any) -> tuple[str, float | None, float | None]:
+    """What the actuator is (as MuJoCo's shortcut elements name it) and its servo gains."""
+    gain, bias = model.actuator_gainprm[actuator], model.actuator_biasprm[actuator]
+    fixed = int(model.actuator_gaintype[actuator]) == int(mj.mjtGain.mjGAIN_FIXED)
+    biastype = int(model.actuator_biastype[actuator])
+    if fixed and biastype == int(mj.mjtBias.mjBIAS_NONE):
+        return "motor", None, None
+    if fixed and biastype == int(mj.mjtBias.mjBIAS_AFFINE) and float(bias[0]) == 0:
+        kp = float(gain[0])
+        if kp and math.isclose(float(bias[1]), -kp, rel_tol=1e-9, abs_tol=1e-12):
+            return "position", kp, -float(bias[2]) + 0.0
+        if float(bias[1]) == 0 and math.isclose(float(bias[2]), -kp, rel_tol=1e-9):
+            return "velocity", None, kp
+    return "general", None, None
+
+
+def _xyz_turns(quaternion: tuple[float, float, float, float]) -> Vector:
+    """The turns about x, then the turned y, then the twice-turned z (R = Rx Ry Rz) that make
+    the rotation ``quaternion``: URDF's rpy of its inverse (R^T = Rz(-c) Ry(-b) Rx(-a)),
+    negated."""
+    from robospec.geometry import conjugate, normalized
+
+    roll, pitch, yaw = rpy_from_quaternion(conjugate(normalized(quaternion)))
+    return (-roll + 0.0, -pitch + 0.0, -yaw + 0.0)
 
 
 def _model_name(source: Source) -> str:

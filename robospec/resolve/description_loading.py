@@ -139,6 +139,9 @@ class Prepared:
     mends: dict[str, Any] = field(default_factory=dict)  # the mends applied to it
     expanded: bool = False  # read as xacro: named so, or a URDF whose content is xacro
     compiled: bool = False  # an MJCF MuJoCo compiled, written as a URDF (loader: mujoco)
+    # what the description carries that its text does not say (a compiled MJCF's keyframes,
+    # actuators and floating root): RobotDescription's fields
+    facts: Mapping[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -311,7 +314,9 @@ def _compiled(reader: Reader, prepared: Prepared, where: KeyPath) -> Prepared | 
         has_srdf_beside=False,
         sources=tuple(dict.fromkeys((*ref.sources, *compiled.files))),
     )
-    return dataclasses.replace(prepared, ref=ref, kind="urdf", derived=derived, compiled=True)
+    return dataclasses.replace(
+        prepared, ref=ref, kind="urdf", derived=derived, compiled=True, facts=compiled.facts
+    )
 
 
 def _xacro_content(reader: Reader, ref: FileRef, shown: str) -> bool:
@@ -425,6 +430,8 @@ def parse(
     )
     if prepared.compiled:  # an MJCF has no rate limits to write: no warning says so
         diags = without_codes(diags, _NOT_FOR_COMPILED)
+        if description is not None:
+            description = _with_facts(description, prepared.facts)
     if derived is not None and composed is None:
         diags = derived.located(diags, absolute)
     diags = _unless_shipped(diags, ref)
@@ -467,6 +474,19 @@ def _carried_mesh_paths(
 # spec cannot change and ManiSkill's own agents load as they are (Fetch's fingers, the Allegro
 # hand). Errors are said of every description.
 _WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
+
+
+def _with_facts(description: RobotDescription, facts: Mapping[str, Any]) -> RobotDescription:
+    """``description`` with what a compiled MJCF's model says besides the URDF (its <key>
+    keyframes, each in the description's qpos order; its actuators; a floating root)."""
+    order = {name: i for i, name in enumerate(description.active_joint_names)}
+    keyframes = tuple(
+        dataclasses.replace(
+            key, qpos=tuple(sorted(key.qpos, key=lambda p: order.get(p[0], len(order))))
+        )
+        for key in facts.get("keyframes", ())
+    )
+    return dataclasses.replace(description, **{**facts, "keyframes": keyframes})
 
 
 # Warnings about a compiled MJCF's URDF that say what the MJCF cannot say (rate limits)
