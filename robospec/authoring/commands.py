@@ -104,7 +104,7 @@ def run_new(
     refused = _refused(description, out, uid, force, uid_location)
     if refused:
         return CommandResult(diagnostics=tuple(refused))
-    source, diagnostics = read_description_file(description)
+    source, diagnostics = read_description_file(description, compile_mjcf=True)
     if source is None:
         return CommandResult(diagnostics=tuple(diagnostics))
     if not source.description.active_joints:

@@ -237,7 +237,7 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Refined:
 
     assert request.refinement is not None
     description, out, schema = request.refinement
-    source, _ = read_description_file(Path(description))
+    source, _ = read_description_file(Path(description), compile_mjcf=True)  # as new read it
     if source is None:
         raise ValueError(f"cannot read {description} again")
     analysis = analyse(source)
