@@ -155,3 +155,28 @@ def test_a_file_mujoco_refuses_is_an_error_at_the_line_mujoco_names(tmp_path: Pa
     line = broken.splitlines().index(next(t for t in broken.splitlines() if 'axes="1"' in t)) + 1
     assert errors[0].location.line == line and errors[0].location.file.endswith("ball_ghost.xml")
     assert "axes" in errors[0].message
+
+
+@pytest.mark.slow  # new reads the file twice (MuJoCo's route and ManiSkill's): over a second
+def test_new_writes_loader_mujoco_saying_what_maniskills_loader_would_get_wrong(
+    tmp_path: Path,
+) -> None:
+    from ruamel.yaml import YAML
+
+    from robospec.authoring.commands import run_new
+
+    folder = _robot_folder(tmp_path)
+    out = tmp_path / "new.yaml"
+    result = run_new(folder / "ball_ghost.xml", out, None, force=False, simulate=False).write()
+    assert not result.failed, [d.format_text() for d in result.diagnostics]
+    text = out.read_text(encoding="utf-8")
+    (line,) = [t for t in text.splitlines() if t.strip().startswith("loader: mujoco")]
+    assert "not load its ball joints (socket)" in line
+    assert "give its 1 body of visual geoms only no mass" in line
+    data = YAML(typ="safe").load(text)
+    assert data["description"] == {"mjcf": "robot/ball_ghost.xml", "loader": "mujoco"}
+    assert {"socket_x", "socket_y", "socket_z"} <= {
+        j for joints in data["groups"].values() for j in joints
+    }
+    validated = compile_spec(out)
+    assert not has_errors(validated.diagnostics)

@@ -64,7 +64,8 @@ def why_mujoco(mjcf: bytes, path: Path, maniskill: frozenset[str]) -> str:
         )
     )
     if ghosts:
-        wrong.append(f"give its {ghosts} bodies of visual geoms no mass")
+        bodies_of = "body" if ghosts == 1 else "bodies"
+        wrong.append(f"give its {ghosts} {bodies_of} of visual geoms only no mass")
     if not wrong:
         return "MuJoCo compiles the file: the robot has MuJoCo's masses, inertias and frames"
     return "MuJoCo's compiled model: ManiSkill's MJCF loader would " + "; ".join(wrong)

@@ -399,11 +399,6 @@ class _Writer:
         address = int(model.jnt_qposadr[joint])
         dof = int(model.jnt_dofadr[joint])
         ball = int(model.jnt_type[joint]) == int(self.mujoco.mjtJoint.mjJNT_BALL)
-        effort = (
-            max(abs(float(v)) for v in model.jnt_actfrcrange[joint])
-            if bool(model.jnt_actfrclimited[joint])
-            else 0.0
-        )
         if kind != "continuous":
             if ball:
                 lower, upper = -float(model.jnt_range[joint][1]), float(model.jnt_range[joint][1])
@@ -417,11 +412,11 @@ class _Writer:
                 "limit",
                 lower=_number(lower),
                 upper=_number(upper),
-                effort=_number(effort),
+                # not rated here: robospec new reads the joint's actuatorfrcrange and the
+                # actuators' forceranges from the file itself
+                effort="0",
                 velocity="0",
             )
-        elif effort:
-            etree.SubElement(element, "limit", effort=_number(effort), velocity="0")
         damping, friction = float(model.dof_damping[dof]), float(model.dof_frictionloss[dof])
         if damping or friction:
             etree.SubElement(

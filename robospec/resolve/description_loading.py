@@ -431,7 +431,8 @@ def parse(
     if prepared.compiled:  # an MJCF has no rate limits to write: no warning says so
         diags = without_codes(diags, _NOT_FOR_COMPILED)
         if description is not None:
-            description = _with_facts(description, prepared.facts)
+            lines = derived.line_map if derived is not None else ()
+            description = _with_facts(description, prepared.facts, lines, prepared.shown)
     if derived is not None and composed is None:
         diags = derived.located(diags, absolute)
     diags = _unless_shipped(diags, ref)
@@ -476,9 +477,24 @@ def _carried_mesh_paths(
 _WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
 
 
-def _with_facts(description: RobotDescription, facts: Mapping[str, Any]) -> RobotDescription:
+def _with_facts(
+    description: RobotDescription,
+    facts: Mapping[str, Any],
+    line_map: tuple[tuple[int, tuple[str, int]], ...],
+    shown: str,
+) -> RobotDescription:
     """``description`` with what a compiled MJCF's model says besides the URDF (its <key>
-    keyframes, each in the description's qpos order; its actuators; a floating root)."""
+    keyframes, each in the description's qpos order; its actuators; a floating root), each
+    link and joint at the line of the MJCF body or joint it was written from (``line_map``;
+    line 1 for one written in a file the MJCF includes)."""
+    lines = dict(line_map)
+
+    def line(urdf_line: int) -> int:
+        file, there = lines.get(urdf_line, (shown, 1))
+        return there if file == shown else 1
+
+    links = tuple(dataclasses.replace(link, line=line(link.line)) for link in description.links)
+    joints = tuple(dataclasses.replace(j, line=line(j.line)) for j in description.joints)
     order = {name: i for i, name in enumerate(description.active_joint_names)}
     keyframes = tuple(
         dataclasses.replace(
@@ -486,7 +502,14 @@ def _with_facts(description: RobotDescription, facts: Mapping[str, Any]) -> Robo
         )
         for key in facts.get("keyframes", ())
     )
-    return dataclasses.replace(description, **{**facts, "keyframes": keyframes})
+    return dataclasses.replace(
+        description,
+        **{**facts, "keyframes": keyframes},
+        links=links,
+        joints=joints,
+        _links_by_name={},
+        _joints_by_name={},
+    )
 
 
 # Warnings about a compiled MJCF's URDF that say what the MJCF cannot say (rate limits)
