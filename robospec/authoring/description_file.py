@@ -113,7 +113,7 @@ def _compiled(path: Path, text: str) -> tuple[DescriptionFile, list[Diagnostic]]
     ref = loaded.ref
     mjcf = ref.absolute.read_bytes()
     given = path if ref.kind == "file" else ref.absolute
-    description, maniskill = with_file_facts(loaded.description, ref.absolute)
+    description, maniskill = with_file_facts(loaded.description, text)
     found = DescriptionFile(
         given,
         "mjcf",

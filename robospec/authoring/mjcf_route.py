@@ -72,18 +72,22 @@ def why_mujoco(mjcf: bytes, path: Path, maniskill: frozenset[str]) -> str:
 
 
 def with_file_facts(
-    description: RobotDescription, mjcf_path: Path
+    description: RobotDescription, mjcf_path: str
 ) -> tuple[RobotDescription, frozenset[str]]:
     """``description`` (the compiled URDF's) with the joint couplings, closed loops and
     collision filters robospec reads from the MJCF file as written (what ``new`` turns into
-    mimic controllers, ``loops`` and ``never_collide``), where it reads them: a file ManiSkill's
-    loader cannot load gives none; and the codes of what robospec says of that reading."""
-    from robospec.description import load_description
+    mimic controllers, ``loops`` and ``never_collide``), where it reads them — the file read as
+    ManiSkill's loader would, with the mends it needs (a file it cannot read gives none) — and
+    the codes of what robospec says of that reading."""
+    from robospec.diagnostics import Location
+    from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
 
-    written, diagnostics = load_description(str(mjcf_path), "mjcf")
-    codes = frozenset(d.code for d in diagnostics)
-    if written is None:
+    reader = Reader(Path(""), Path(""), lambda _: Location(mjcf_path), entry_is_file=True)
+    loaded = load(reader, DescriptionEntry(mjcf_path, "mjcf", mends=None))
+    codes = frozenset(d.code for d in reader.diagnostics)
+    if not isinstance(loaded, Loaded):
         return description, codes
+    written = loaded.description
     links = set(description.link_names)
     joints = {j.name for j in description.joints}
     facts: dict[str, Any] = {
