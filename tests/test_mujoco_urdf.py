@@ -180,3 +180,26 @@ def test_new_writes_loader_mujoco_saying_what_maniskills_loader_would_get_wrong(
     }
     validated = compile_spec(out)
     assert not has_errors(validated.diagnostics)
+
+
+def test_a_keyframe_without_a_pose_leaves_the_root_body_where_the_file_puts_it(
+    tmp_path: Path,
+) -> None:
+    folder = _robot_folder(tmp_path)
+    model = folder / "ball_ghost.xml"
+    text = model.read_text(encoding="utf-8").replace(
+        '<body name="base">', '<body name="base" pos="0 0 0.5" euler="0 0 90">'
+    )
+    model.write_text(text, encoding="utf-8")
+    spec = _spec_at(tmp_path, "robot/ball_ghost.xml", "keyframes: {rest: {qpos: {all: 0}}}\n")
+    result = compile_spec(spec)
+    assert result.robot is not None, [d.format_text() for d in result.diagnostics]
+    (rest,) = result.robot.keyframes
+    assert rest.p == pytest.approx((0.0, 0.0, 0.5))
+    assert rest.q == pytest.approx((0.7071068, 0.0, 0.0, 0.7071068), abs=1e-6)
+
+
+def _spec_at(tmp_path: Path, path: str, more: str = "") -> Path:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(SPEC.format(path=path) + more, encoding="utf-8")
+    return spec

@@ -96,6 +96,8 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
         "actuators": writer.actuators(),
         "floating_root": writer.floating,
     }
+    if writer.root_pose is not None:  # the root link is the root body: no offset between
+        facts.update(root_body_pose=writer.root_pose, root_body_offset=(ZERO, IDENTITY))
     files = tuple(sorted(_read_files(source)))
     return Compiled(text, writer.diagnostics, writer.line_map(text), files, facts)
 
@@ -222,6 +224,10 @@ class _Writer:
         self.dropped: dict[str, tuple[tuple[str, int], str, list[str]]] = {}
         self.limit_cones: list[str] = []
         self.floating = False  # the root body's free joint: the root link floats
+        # the root body's world pose in the file (MuJoCo's qpos0), when the root link is that
+        # body: a keyframe without a pose leaves it there, as MuJoCo does (robospec.resolve.
+        # root_pose); None when the root link is MuJoCo's world
+        self.root_pose: Pose | None = None
         self.free_joint: int | None = None
         self.ball_joints: dict[int, list[str]] = {}  # ball joint -> its three hinges' names
         self.hinges: dict[int, str] = {}  # hinge or slide -> its URDF joint
@@ -275,6 +281,7 @@ class _Writer:
         if not jointed or (free and len(jointed) == 1):
             self.floating = bool(free)
             self.free_joint = free[0] if free else None
+            self.root_pose = (_vector(model.body_pos[top]), _quaternion(model.body_quat[top]))
             root = self._link(self.body_name(top), "body", self.body_name(top))
             self.links[top] = root
             self._inertial(root, top)
