@@ -171,8 +171,6 @@ def test_a_robot_that_passes_check_registers_runs_and_builds(
 # ManiSkill loads them, each with why: their picture test must fail (strict) until robospec
 # mends or reports the difference, and then says to take the robot off this list
 PICTURED_OTHERWISE = {
-    "dmc_jaco_arm": "its joints give no axis: ManiSkill 3.0.1's MJCF loader turns them about "
-    "x, MuJoCo (and so the picture) about z, its default",
     # links placed alike (placement_errors is empty) yet the drawing covers less of SAPIEN's
     # robot than the bound asks: found on CI on 2026-12-02, the cause not yet found
     "pb_panda": "94% of the robot drawn where SAPIEN puts it, its links placed alike: unexplained",

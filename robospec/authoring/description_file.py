@@ -40,6 +40,12 @@ class DescriptionFile:
     # robospec.authoring.new.mobile_base), and why the robot has one; None: none
     mobile_base: dict[str, Any] | None = None
     mobile_base_why: str | None = None
+    # an MJCF compiled by MuJoCo (``loader: mujoco``): the description and ``text`` are the
+    # URDF written from MuJoCo's model, ``mjcf`` the file's own bytes, ``why`` what ManiSkill's
+    # MJCF loader would get wrong for it (robospec.authoring.mjcf_route)
+    loader: str | None = None
+    mjcf: bytes = b""
+    why: str = ""
 
 
 def file_kind(path: Path) -> FileKind | None:
@@ -47,7 +53,11 @@ def file_kind(path: Path) -> FileKind | None:
 
 
 def read_description_file(
-    path: Path, *, keep_errors: bool = False, sections: Mapping[str, Any] | None = None
+    path: Path,
+    *,
+    keep_errors: bool = False,
+    sections: Mapping[str, Any] | None = None,
+    compile_mjcf: bool = False,
 ) -> tuple[DescriptionFile | None, list[Diagnostic]]:
     """The parsed description, or None and located diagnostics (never raises on bad input).
 
@@ -58,7 +68,9 @@ def read_description_file(
     would make of an MJCF: a mesh 1000 times too large, a frame turned): ``inspect`` shows such
     a robot and its errors both. ``sections``: what a spec's sections change in the derived
     copy (section -> settings, robospec.derive.SECTIONS: ``new``'s planar base), read as the
-    spec that has them will read it."""
+    spec that has them will read it. ``compile_mjcf`` (``new``): an MJCF MuJoCo compiles is
+    read as the URDF written from MuJoCo's model (``loader: mujoco``); one it refuses as
+    ManiSkill's MJCF loader reads it."""
     from robospec.resolve.description_loading import (
         DescriptionEntry,
         Loaded,
@@ -77,6 +89,10 @@ def read_description_file(
                 "give a .urdf, .urdf.xacro/.xacro or MJCF .xml file",
             )
         ]
+    if kind == "mjcf" and compile_mjcf:
+        compiled = _compiled(path, text)
+        if compiled is not None:
+            return compiled
     # the command line names the file itself: its problems are shown at the path as given
     reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
     loaded = load(reader, DescriptionEntry(text, kind, mends=None, sections=sections or {}))
@@ -93,6 +109,33 @@ def read_description_file(
         DescriptionFile(given, kind, loaded.description, robot_name, data, loaded.prepared.mends),
         diagnostics,
     )
+
+
+def _compiled(path: Path, text: str) -> tuple[DescriptionFile, list[Diagnostic]] | None:
+    """The MJCF at ``path`` as MuJoCo compiles it; None where MuJoCo refuses it (or the URDF
+    written from it has errors)."""
+    from robospec.authoring.mjcf_route import why_mujoco, with_file_facts
+    from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
+
+    reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
+    loaded = load(reader, DescriptionEntry(text, "mjcf", mends={}, loader="mujoco"))
+    if not isinstance(loaded, Loaded) or has_errors(reader.diagnostics):
+        return None
+    ref = loaded.ref
+    mjcf = ref.absolute.read_bytes()
+    given = path if ref.kind == "file" else ref.absolute
+    description, maniskill = with_file_facts(loaded.description, text)
+    found = DescriptionFile(
+        given,
+        "mjcf",
+        description,
+        _robot_name(mjcf),
+        ref.read_bytes(),
+        loader="mujoco",
+        mjcf=mjcf,
+        why=why_mujoco(mjcf, ref.absolute, maniskill),
+    )
+    return found, reader.diagnostics
 
 
 def _robot_name(text: str | bytes) -> str | None:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
+from typing import Any
 
 from lxml import etree
 
@@ -63,3 +64,16 @@ def carried_text(text: str, model: str, name_of: Callable[[str], str]) -> str:
         for attribute in _DIRECTORIES:
             compiler.attrib.pop(attribute, None)
     return etree.tostring(root, encoding="unicode") + "\n"
+
+
+def compiled_model(text: bytes, path: str) -> Any:
+    """MuJoCo's model of the MJCF ``text`` read from ``path`` (its ``<include>``s written in
+    place and its files named absolutely, so that a derived copy compiles as the file would).
+    Raises ValueError, with MuJoCo's message, where MuJoCo refuses it."""
+    import mujoco
+
+    try:
+        xml = carried_text(text.decode("utf-8"), path, lambda file: file)
+    except UnicodeDecodeError as exc:
+        raise ValueError(str(exc)) from exc
+    return mujoco.MjModel.from_xml_string(xml)  # its compiler's errors are ValueErrors

@@ -23,7 +23,7 @@ def assumed_description(spec: Spec, path: str) -> RobotDescription:
     joints = _unique(n for n in _joint_names(spec) if n not in spec.groups)
     links = _unique(_link_names(spec))
     return RobotDescription(
-        kind="mjcf" if spec.description is not None and spec.description.kind == "mjcf" else "urdf",
+        kind=spec.description.loaded_kind if spec.description is not None else "urdf",
         path=path,
         links=tuple(Link(name, 0) for name in links),
         joints=tuple(Joint(name, "revolute", "", "", 0) for name in joints),

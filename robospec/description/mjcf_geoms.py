@@ -55,6 +55,11 @@ from robospec.diagnostics import Diagnostic, error, warning
 COLLISION_FILTER = "RS073"
 MESH_SCALE = "RS074"
 MASSES = "RS075"
+# the route that loads an MJCF as MuJoCo compiles it (robospec.derive.mujoco_urdf)
+MUJOCO_ROUTE = (
+    "`description: {mjcf: ..., loader: mujoco}` loads the robot as MuJoCo compiles it, "
+    "with the file's masses"
+)
 NO_MASS = "RS076"
 VISUAL_GROUP = "RS078"
 GEOM_TYPE = "RS079"
@@ -487,6 +492,7 @@ def masses(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         f"what its collision geoms do at their density ({DENSITY:g} kg/m³ unless density= "
         f"says otherwise), so the file's masses of {count} bodies are not used"
         + (f" ({shown})" if rows else ""),
+        MUJOCO_ROUTE,
     )
 
 
@@ -531,7 +537,7 @@ def massless_links(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         + f": a weightless ghost of SAPIEN's minimum mass, {EMPTY_LINK_MASS:g} kg, moves on "
         f"joint(s) {names(joints)} and touches nothing",
         "give each such body a geom the loader makes a collision shape of (sphere, capsule, "
-        "cylinder, box or mesh with contype not 0) in a copy of the model",
+        "cylinder, box or mesh with contype not 0) in a copy of the model, or " + MUJOCO_ROUTE,
     )
 
 

@@ -102,7 +102,11 @@ def collision_bits(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
                 "bodies fit; `description: {mend: {bodies: merge}}` does it"
             )
         else:
-            hint = f"ManiSkill 3.0.1 loads MJCF robots of at most {GROUP_BITS} bodies"
+            hint = (
+                f"ManiSkill 3.0.1's MJCF loader loads robots of at most {GROUP_BITS} bodies; "
+                "`description: {mjcf: ..., loader: mujoco}` loads every body, as MuJoCo "
+                "compiles the file"
+            )
         first = too_many[0]
         yield error(
             loaded.where(first.element),

@@ -240,6 +240,9 @@ _CODES = [
     # -- what the spec's own sections change in the derived copy (RS780-RS789)
     Code("RS780", "derived: a planar base added above the base link"),
     Code("RS781", "a planar base cannot be added where it is asked"),
+    # -- an MJCF compiled by MuJoCo, written as a URDF (description.loader: mujoco; RS790-RS799)
+    Code("RS790", "MuJoCo cannot compile the MJCF"),
+    Code("RS791", "what the URDF written from MuJoCo's model does not carry"),
     # -- parts: robots mounted on the spec's robot, composed into one description (RS730-RS759)
     Code("RS730", "part mounted on a link no one has"),
     Code("RS731", "part that is not one tree fixed at its root"),

@@ -22,6 +22,7 @@ import re
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
+from robospec.derive.mjcf_files import compiled_model
 from robospec.description import RobotDescription
 from robospec.kinematics.placement import Axis, Placement, motion
 
@@ -29,21 +30,6 @@ if TYPE_CHECKING:
     import numpy as np
 
 _DUMMY = re.compile(r"(.+)_dummy_(\d+)")
-
-
-def compiled_model(text: bytes, path: str) -> Any:
-    """MuJoCo's model of the MJCF ``text`` read from ``path`` (its ``<include>``s written in
-    place and its files named absolutely, so that a derived copy compiles as the file would).
-    Raises ValueError, with MuJoCo's message, where MuJoCo refuses it."""
-    import mujoco
-
-    from robospec.derive.mjcf_files import carried_text
-
-    try:
-        xml = carried_text(text.decode("utf-8"), path, lambda file: file)
-    except UnicodeDecodeError as exc:
-        raise ValueError(str(exc)) from exc
-    return mujoco.MjModel.from_xml_string(xml)  # its compiler's errors are ValueErrors
 
 
 def mjcf_poser(description: RobotDescription, text: bytes, path: str) -> MjcfPoser | None:

@@ -119,6 +119,8 @@ def one_description(description: Any) -> Any:
         raise ValueError("give exactly one of urdf, mjcf or xacro")
     if description.args and description.xacro is None:
         raise ValueError("args are only for xacro descriptions")
+    if getattr(description, "loader", None) is not None and description.mjcf is None:
+        raise ValueError("loader is only for mjcf descriptions")
     return description
 
 
@@ -156,6 +158,18 @@ class DescriptionBehaviour:
     @property
     def path(self: Any) -> str:
         return str(self.urdf or self.mjcf or self.xacro or "")
+
+    @property
+    def compiled(self: Any) -> bool:
+        """Whether MuJoCo compiles the MJCF into the URDF ManiSkill loads (``loader:
+        mujoco``): the robot is then a URDF robot."""
+        return self.mjcf is not None and getattr(self, "loader", None) == "mujoco"
+
+    @property
+    def loaded_kind(self: Any) -> Literal["urdf", "mjcf"]:
+        """The kind of description ManiSkill loads: a xacro's expansion and a compiled MJCF
+        are URDFs."""
+        return "mjcf" if self.mjcf is not None and not self.compiled else "urdf"
 
 
 class PartBehaviour:

@@ -120,6 +120,14 @@ class Description(StrictModel, rules.DescriptionBehaviour):
         "each change reported where it was made. `robospec new` writes the ones a robot needs.",
         examples=[{"inertia": "diagonal", "transmissions": "drop"}],
     )
+    loader: Literal["maniskill", "mujoco"] | None = Field(
+        default=None,
+        description="How an MJCF becomes the robot: `maniskill` (the default), ManiSkill's "
+        "own MJCF loader; `mujoco`, compiled by MuJoCo and written as a derived URDF that "
+        "ManiSkill's URDF loader reads, with MuJoCo's masses and inertias, every body and "
+        "ball joints (what a URDF cannot carry is a warning, RS791).",
+        examples=["mujoco"],
+    )
 
     _exactly_one = model_validator(mode="after")(rules.one_description)
 

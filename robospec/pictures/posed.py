@@ -27,13 +27,14 @@ from typing import Literal
 
 import numpy as np
 
+from robospec.derive.mjcf_files import compiled_model
 from robospec.description.facts import RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 from robospec.diagnostics import Diagnostic, Location, warning
 from robospec.geometry import quaternion_from_rpy
 from robospec.kinematics.forward import kinematics_of
-from robospec.kinematics.mjcf_poses import MjcfPoser, compiled_model
+from robospec.kinematics.mjcf_poses import MjcfPoser
 from robospec.kinematics.placement import pose_matrix
 from robospec.pictures.gl import import_mujoco
 from robospec.pictures.meshes import MeshError, MeshPart, load_mesh

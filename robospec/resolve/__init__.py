@@ -65,7 +65,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         description_ref = load_spec_description(
             context, parts.compose_parts if spec.parts else None
         )
-        description_kind = "mjcf" if spec.description.kind == "mjcf" else "urdf"
+        description_kind = spec.description.loaded_kind
     else:
         description_ref, description_kind = load_inherited_description(context, base_class)
     if description_ref is None or context.loaded_description is None:

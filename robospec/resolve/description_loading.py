@@ -56,6 +56,9 @@ class DescriptionEntry:
     # what the spec's other sections change in the derived copy (robospec.derive.SECTIONS):
     # section -> its settings
     sections: Mapping[str, Any] = field(default_factory=dict)
+    # an MJCF's loader: "mujoco" compiles it into the URDF ManiSkill loads (robospec.derive.
+    # mujoco_urdf); None or "maniskill": ManiSkill's own MJCF loader reads it
+    loader: str | None = None
 
     @classmethod
     def of(cls, desc: Any, spec: Any = None) -> DescriptionEntry:
@@ -64,12 +67,24 @@ class DescriptionEntry:
         mends = desc.mend.model_dump(exclude_none=True) if desc.mend is not None else {}
         sections = derived_sections(spec) if spec is not None else {}
         return cls(
-            desc.path, desc.kind, desc.args, desc.packages, mends, tuple(desc.download), sections
+            desc.path,
+            desc.kind,
+            desc.args,
+            desc.packages,
+            mends,
+            tuple(desc.download),
+            sections,
+            getattr(desc, "loader", None),
         )
 
     @property
+    def compiled(self) -> bool:
+        """Whether MuJoCo compiles the MJCF into the URDF ManiSkill loads."""
+        return self.kind == "mjcf" and self.loader == "mujoco"
+
+    @property
     def parsed_kind(self) -> ParsedKind:
-        return "mjcf" if self.kind == "mjcf" else "urdf"
+        return "mjcf" if self.kind == "mjcf" and not self.compiled else "urdf"
 
 
 def derived_sections(spec: Any) -> dict[str, Any]:
@@ -128,6 +143,10 @@ class Prepared:
     derived: Derived | None = None
     mends: dict[str, Any] = field(default_factory=dict)  # the mends applied to it
     expanded: bool = False  # read as xacro: named so, or a URDF whose content is xacro
+    compiled: bool = False  # an MJCF MuJoCo compiled, written as a URDF (loader: mujoco)
+    # what the description carries that its text does not say (a compiled MJCF's keyframes,
+    # actuators and floating root): RobotDescription's fields
+    facts: Mapping[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -257,10 +276,52 @@ def prepare(reader: Reader, entry: DescriptionEntry) -> Prepared | FileRef | Non
         # (a URDF file's SRDF is its robot's still, expanded or not)
         beside = entry.kind != "xacro" and ref.has_srdf_beside
         ref = dataclasses.replace(ref, generated_text=text, has_srdf_beside=beside)
-    prepared = Prepared(ref, entry.parsed_kind, shown, packages, expanded=expand)
+    kind: ParsedKind = "mjcf" if entry.kind == "mjcf" else "urdf"
+    prepared = Prepared(ref, kind, shown, packages, expanded=expand)
     if entry.mends is None or entry.mends or entry.sections:
-        return _mended(reader, prepared, entry.mends, (entry.kind,), entry.sections)
-    return prepared
+        mended = _mended(reader, prepared, entry.mends, (entry.kind,), entry.sections)
+        if mended is None or not entry.compiled:
+            return mended
+        prepared = mended
+    return _compiled(reader, prepared, (entry.kind,)) if entry.compiled else prepared
+
+
+def _compiled(reader: Reader, prepared: Prepared, where: KeyPath) -> Prepared | None:
+    """``prepared`` (an MJCF, mended or not) compiled by MuJoCo and written as the URDF
+    ManiSkill's URDF loader reads (robospec.derive.mujoco_urdf): a derived copy, whose
+    diagnostics point at the MJCF's bodies and joints."""
+    from robospec.derive import Derived, Source
+    from robospec.derive.mujoco_urdf import compile_urdf
+
+    ref, shown = prepared.ref, prepared.shown
+    try:
+        data = ref.read_bytes()
+    except OSError as exc:
+        reader.err(
+            where, "RS050", f"cannot read robot description '{shown}': {exc.strerror or exc}"
+        )
+        return None
+    source = Source(str(ref.absolute), shown, "mjcf", data, prepared.packages)
+    compiled = compile_urdf(source, reader.locate(where))
+    reader.diagnostics.extend(compiled.diagnostics)
+    if compiled.text is None or any(d.is_error for d in compiled.diagnostics):
+        return None
+    derived = Derived(
+        compiled.text,
+        "urdf",
+        line_map=compiled.line_map,
+        explained=frozenset(),
+    )
+    ref = dataclasses.replace(
+        ref,
+        generated_text=compiled.text,
+        derived=True,
+        has_srdf_beside=False,
+        sources=tuple(dict.fromkeys((*ref.sources, *compiled.files))),
+    )
+    return dataclasses.replace(
+        prepared, ref=ref, kind="urdf", derived=derived, compiled=True, facts=compiled.facts
+    )
 
 
 def _xacro_content(reader: Reader, ref: FileRef, shown: str) -> bool:
@@ -374,6 +435,11 @@ def parse(
         packages=prepared.packages,
         beside_file=ref.has_srdf_beside,
     )
+    if prepared.compiled:  # an MJCF has no rate limits to write: no warning says so
+        diags = without_codes(diags, _NOT_FOR_COMPILED)
+        if description is not None:
+            lines = derived.line_map if derived is not None else ()
+            description = _with_facts(description, prepared.facts, lines, prepared.shown)
     if derived is not None and composed is None:
         diags = derived.located(diags, absolute)
     diags = _unless_shipped(diags, ref)
@@ -416,6 +482,45 @@ def _carried_mesh_paths(
 # spec cannot change and ManiSkill's own agents load as they are (Fetch's fingers, the Allegro
 # hand). Errors are said of every description.
 _WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
+
+
+def _with_facts(
+    description: RobotDescription,
+    facts: Mapping[str, Any],
+    line_map: tuple[tuple[int, tuple[str, int]], ...],
+    shown: str,
+) -> RobotDescription:
+    """``description`` with what a compiled MJCF's model says besides the URDF (its <key>
+    keyframes, each in the description's qpos order; its actuators; a floating root), each
+    link and joint at the line of the MJCF body or joint it was written from (``line_map``;
+    line 1 for one written in a file the MJCF includes)."""
+    lines = dict(line_map)
+
+    def line(urdf_line: int) -> int:
+        file, there = lines.get(urdf_line, (shown, 1))
+        return there if file == shown else 1
+
+    links = tuple(dataclasses.replace(link, line=line(link.line)) for link in description.links)
+    joints = tuple(dataclasses.replace(j, line=line(j.line)) for j in description.joints)
+    order = {name: i for i, name in enumerate(description.active_joint_names)}
+    keyframes = tuple(
+        dataclasses.replace(
+            key, qpos=tuple(sorted(key.qpos, key=lambda p: order.get(p[0], len(order))))
+        )
+        for key in facts.get("keyframes", ())
+    )
+    return dataclasses.replace(
+        description,
+        **{**facts, "keyframes": keyframes},
+        links=links,
+        joints=joints,
+        _links_by_name={},
+        _joints_by_name={},
+    )
+
+
+# Warnings about a compiled MJCF's URDF that say what the MJCF cannot say (rate limits)
+_NOT_FOR_COMPILED = frozenset({"RS091"})
 
 
 def _unless_shipped(diagnostics: list[Diagnostic], ref: FileRef) -> list[Diagnostic]:

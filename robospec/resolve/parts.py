@@ -183,7 +183,7 @@ def _description_part(
     from robospec.resolve.description_files import load_part_description
 
     where: KeyPath = ("parts", name, "description")
-    kind = "mjcf" if part.description.kind == "mjcf" else "urdf"
+    kind = part.description.loaded_kind  # an MJCF MuJoCo compiles is a URDF
     if kind != base_kind:  # said before the part is read: its problems would not matter
         _report(context, mixed_formats(base_kind, name, kind, "description"))  # type: ignore[arg-type]
         return None

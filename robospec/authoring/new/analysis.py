@@ -156,11 +156,12 @@ def analyse(source: DescriptionFile) -> RobotAnalysis:
     armature: dict[str, float] = {}
     indirect = False
     if source.kind == "mjcf":
-        model = read_mjcf_model(source.text, str(source.path))
+        # (compiled by MuJoCo: the joints' attributes are the file's, the masses the URDF's)
+        model = read_mjcf_model(source.mjcf or source.text, str(source.path))
         if model is not None:
             attributes = {joint.name: joint.attributes for joint, _ in model.joints()}
             drives, indirect = actuator_drives(source.description, attributes)
-            inertials = mjcf_inertials(model)
+            inertials = urdf_inertials(source.text) if source.loader else mjcf_inertials(model)
             armature = {
                 name: value[0]
                 for name, values in attributes.items()

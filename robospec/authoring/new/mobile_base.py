@@ -44,7 +44,7 @@ def read_for_new(path: Path) -> tuple[DescriptionFile | None, list[Diagnostic]]:
     """The description ``new`` scaffolds: the file as it loads, or the derived copy with a
     planar base where one is wanted (:attr:`DescriptionFile.mobile_base` then says why and
     holds the section)."""
-    source, diagnostics = read_description_file(path)
+    source, diagnostics = read_description_file(path, compile_mjcf=True)
     if source is not None and source.description.active_joints:
         rolling = _wheeled(source)
         if rolling is None:

@@ -162,6 +162,9 @@ def scaffold(
     where = str(source.path.resolve()) if absolute_paths else None
     data["description"] = {key: where or description_reference(source, spec_path.parent)}
     notes[("description",)] = "relative paths are relative to this file"
+    if source.loader is not None:
+        data["description"]["loader"] = source.loader
+        notes[("description", "loader")] = source.why
     if source.mends:
         from robospec.derive import mend_class
 

@@ -1,0 +1,98 @@
+"""Which loader ``robospec new`` writes for an MJCF, and why: MuJoCo's compiled model
+(``description: {mjcf: FILE, loader: mujoco}``, robospec.derive.mujoco_urdf) wherever MuJoCo
+compiles the file, with a comment that says what ManiSkill's own MJCF loader would get wrong
+for this file — the total mass it would simulate against MuJoCo's, the bodies past its 32, the
+ball joints it cannot load, the bodies of visual geoms it would give no mass.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Any
+
+from robospec.description import RobotDescription
+
+MAX_BODIES = 32  # ManiSkill's MJCF loader gives body k bit k of collision group 2
+_MASS_TOLERANCE = 0.01  # a total within 1% of MuJoCo's is not worth a word
+
+
+def why_mujoco(mjcf: bytes, path: Path, maniskill: frozenset[str]) -> str:
+    """What ManiSkill's MJCF loader would get wrong for the MJCF ``mjcf`` (read from ``path``),
+    in a line for the comment beside ``loader: mujoco``; ``maniskill``: the codes robospec
+    reports of the file read as that loader reads it."""
+    import mujoco
+
+    from robospec.authoring.new.joint_loads import mjcf_inertials
+    from robospec.derive.mjcf_files import compiled_model
+    from robospec.kinematics.mjcf_model import read_mjcf_model
+
+    model = compiled_model(mjcf, str(path))
+    bodies = range(1, int(model.nbody))
+    wrong = []
+    parsed = read_mjcf_model(mjcf, str(path))
+    meshes = any(int(t) == int(mujoco.mjtGeom.mjGEOM_MESH) for t in model.geom_type)
+    ours = float(sum(model.body_mass[b] for b in bodies))
+    if parsed is not None and not meshes:  # (robospec weighs no mesh as the loader does)
+        theirs = sum(inertial.mass for inertial in mjcf_inertials(parsed).values())
+        if ours > 0 and abs(theirs - ours) > _MASS_TOLERANCE * ours:
+            wrong.append(f"weigh it {theirs:.3g} kg from its geoms (MuJoCo: {ours:.3g} kg)")
+    elif "RS075" in maniskill:
+        wrong.append(
+            f"weigh its links by their geoms, not the file's masses (MuJoCo: {ours:.3g} kg)"
+        )
+    if len(bodies) > MAX_BODIES:
+        wrong.append(f"stop at {MAX_BODIES} of its {len(bodies)} bodies")
+    balls = [
+        mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint{j}"
+        for j in range(int(model.njnt))
+        if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_BALL)
+    ]
+    if balls:
+        wrong.append(
+            f"not load its ball joints ({', '.join(balls[:3])}{'...' if balls[3:] else ''})"
+        )
+    ghosts = sum(
+        1
+        for b in bodies
+        if int(model.body_geomnum[b]) > 0
+        and not any(
+            int(model.geom_contype[g]) or int(model.geom_conaffinity[g])
+            for g in range(
+                int(model.body_geomadr[b]), int(model.body_geomadr[b] + model.body_geomnum[b])
+            )
+        )
+    )
+    if ghosts:
+        bodies_of = "body" if ghosts == 1 else "bodies"
+        wrong.append(f"give its {ghosts} {bodies_of} of visual geoms only no mass")
+    if not wrong:
+        return "MuJoCo compiles the file: the robot has MuJoCo's masses, inertias and frames"
+    return "MuJoCo's compiled model: ManiSkill's MJCF loader would " + "; ".join(wrong)
+
+
+def with_file_facts(
+    description: RobotDescription, mjcf_path: str
+) -> tuple[RobotDescription, frozenset[str]]:
+    """``description`` (the compiled URDF's) with the joint couplings, closed loops and
+    collision filters robospec reads from the MJCF file as written (what ``new`` turns into
+    mimic controllers, ``loops`` and ``never_collide``), where it reads them — the file read as
+    ManiSkill's loader would, with the mends it needs (a file it cannot read gives none) — and
+    the codes of what robospec says of that reading."""
+    from robospec.diagnostics import Location
+    from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
+
+    reader = Reader(Path(""), Path(""), lambda _: Location(mjcf_path), entry_is_file=True)
+    loaded = load(reader, DescriptionEntry(mjcf_path, "mjcf", mends=None))
+    codes = frozenset(d.code for d in reader.diagnostics)
+    if not isinstance(loaded, Loaded):
+        return description, codes
+    written = loaded.description
+    links = set(description.link_names)
+    joints = {j.name for j in description.joints}
+    facts: dict[str, Any] = {
+        "couplings": tuple(c for c in written.couplings if {c.follower, c.mimic.joint} <= joints),
+        "closures": tuple(c for c in written.closures if {c.first, c.second} <= links),
+        "filtered_pairs": tuple(p for p in written.filtered_pairs if set(p) <= links),
+    }
+    return dataclasses.replace(description, **facts), codes

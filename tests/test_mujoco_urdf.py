@@ -1,0 +1,205 @@
+"""``description: {mjcf: FILE, loader: mujoco}``: the MJCF compiled by MuJoCo and written as a
+derived URDF (robospec.derive.mujoco_urdf), which resolve treats as the robot's URDF — its
+joints and links as MuJoCo has them, written never beside the user's file, carried into a built
+package with its meshes — while a spec without ``loader`` keeps ManiSkill's MJCF loader. (That
+ManiSkill then simulates MuJoCo's masses and poses: tests/test_mujoco_urdf_sim.py.)"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import MANISKILL_SPECS, ROOT
+
+from robospec.description import load_description
+from robospec.diagnostics import has_errors
+from robospec.pipeline import compile_spec
+
+COMPILED = Path(__file__).parent / "data" / "mjcf" / "compiled"
+
+SPEC = """\
+robospec: 1
+uid: ball_ghost
+description: {{mjcf: {path}, loader: mujoco}}
+groups: {{all: "*"}}
+controllers:
+  all: {{type: pd_joint_pos, joints: all, lower: null, upper: null, stiffness: 100,
+         damping: 10, normalize_action: false}}
+control_modes:
+  pd_joint_pos: {{all: all}}
+"""
+
+
+def _robot_folder(tmp_path: Path) -> Path:
+    """A copy of ball_ghost.xml and the mesh it names, in a folder of its own."""
+    folder = tmp_path / "robot"
+    (folder / "meshes").mkdir(parents=True)
+    text = (COMPILED / "ball_ghost.xml").read_text(encoding="utf-8")
+    text = text.replace("../gaps/meshes/cube_m.stl", "meshes/cube_m.stl")
+    (folder / "ball_ghost.xml").write_text(text, encoding="utf-8")
+    shutil.copy(COMPILED.parent / "gaps" / "meshes" / "cube_m.stl", folder / "meshes")
+    return folder
+
+
+def _spec(tmp_path: Path) -> Path:
+    folder = _robot_folder(tmp_path)
+    spec = tmp_path / "ball_ghost.yaml"
+    spec.write_text(SPEC.format(path="robot/ball_ghost.xml"), encoding="utf-8")
+    assert folder.is_dir()
+    return spec
+
+
+def test_the_robot_has_mujocos_bodies_as_links_and_a_ball_joint_as_three_hinges(
+    tmp_path: Path,
+) -> None:
+    result = compile_spec(_spec(tmp_path))
+    assert not has_errors(result.diagnostics), [d.format_text() for d in result.diagnostics]
+    robot, description = result.robot, result.description
+    assert robot is not None and description is not None
+    assert robot.description_kind == "urdf"  # ManiSkill's URDF loader loads it
+    assert description.root_link == "base"
+    bodies = {"base", "shoulder", "forearm", "hand", "ghost", "body6"}  # body6: unnamed
+    assert bodies <= set(description.link_names)
+    kinds = {j.name: j.type for j in description.joints}
+    assert [kinds[f"socket_{axis}"] for axis in "xyz"] == ["continuous"] * 3
+    assert kinds["elbow"] == "revolute" and kinds["twist"] == "continuous"
+    assert kinds["slide"] == "prismatic" and kinds["wrist"] == "revolute"
+    assert robot.active_joints == (
+        "socket_x",
+        "socket_y",
+        "socket_z",
+        "elbow",
+        "twist",
+        "slide",
+        "wrist",
+    )
+    elbow = next(j for j in description.joints if j.name == "elbow")
+    # the range counts from ref (10 degrees): 0 is the pose the file writes
+    assert elbow.lower == pytest.approx(-1.5707963, abs=1e-6)
+    assert elbow.upper == pytest.approx(1.2217305, abs=1e-6)
+
+
+def test_the_derived_urdf_is_written_in_the_cache_never_beside_the_users_file(
+    tmp_path: Path,
+) -> None:
+    spec = _spec(tmp_path)
+    before = sorted(p.name for p in (tmp_path / "robot").rglob("*"))
+    result = compile_spec(spec)
+    assert result.robot is not None
+    ref = result.robot.description
+    assert ref.derived and ref.generated_text is not None and not ref.has_srdf_beside
+    assert sorted(p.name for p in (tmp_path / "robot").rglob("*")) == before
+    # the mesh and the ellipsoid: OBJ files named by their content, in robospec's cache
+    meshes = sorted({path for _uri, path in ref.mesh_paths})
+    assert len(meshes) == 2 and all(Path(m).suffix == ".obj" for m in meshes)
+    assert all((tmp_path / "robot") not in Path(m).parents for m in meshes)
+    # the MJCF's mesh file is one its register cache entry depends on
+    assert str(tmp_path / "robot" / "meshes" / "cube_m.stl") in ref.sources
+
+
+@pytest.mark.slow  # a child process: over a second
+def test_a_built_package_carries_the_urdf_and_copies_of_its_meshes(tmp_path: Path) -> None:
+    spec = _spec(tmp_path)
+    out = tmp_path / "pkg"
+    done = subprocess.run(
+        [sys.executable, "-m", "robospec.cli", "build", str(spec), "-o", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    urdf = out / "ball_ghost.urdf"
+    objs = sorted(p.name for p in out.glob("ball_ghost.*.obj"))
+    assert urdf.is_file() and len(objs) == 2
+    text = urdf.read_text(encoding="utf-8")
+    assert all(f'filename="{name}"' in text for name in objs)
+    assert str(tmp_path) not in text  # nothing names the machine's paths
+    description, diagnostics = load_description(str(urdf), "urdf")
+    assert description is not None and not has_errors(diagnostics)
+    assert "socket_x" in description.active_joint_names
+
+
+def test_without_loader_an_mjcf_stays_maniskills_own_mjcf_loaders() -> None:
+    result = compile_spec(MANISKILL_SPECS / "humanoid.yaml")
+    assert result.robot is not None
+    assert result.robot.description_kind == "mjcf"
+    assert not result.robot.description.derived
+
+
+def test_loader_is_refused_for_a_urdf(tmp_path: Path) -> None:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(
+        SPEC.format(path="robot.urdf").replace("mjcf: robot.urdf", "urdf: robot.urdf"),
+        encoding="utf-8",
+    )
+    (tmp_path / "robot.urdf").write_text('<robot name="r"><link name="a"/></robot>\n')
+    errors = [d for d in compile_spec(spec).diagnostics if d.is_error]
+    assert [(d.code, d.location.line) for d in errors] == [("RS102", 3)]
+    assert "loader is only for mjcf descriptions" in errors[0].message
+
+
+def test_a_file_mujoco_refuses_is_an_error_at_the_line_mujoco_names(tmp_path: Path) -> None:
+    folder = _robot_folder(tmp_path)
+    broken = (folder / "ball_ghost.xml").read_text(encoding="utf-8")
+    broken = broken.replace('<joint name="twist" axis="0 0 1"/>', '<joint name="twist" axes="1"/>')
+    (folder / "ball_ghost.xml").write_text(broken, encoding="utf-8")
+    spec = tmp_path / "ball_ghost.yaml"
+    spec.write_text(SPEC.format(path="robot/ball_ghost.xml"), encoding="utf-8")
+    result = compile_spec(spec)
+    errors = [d for d in result.diagnostics if d.is_error]
+    assert [d.code for d in errors] == ["RS790"]
+    line = broken.splitlines().index(next(t for t in broken.splitlines() if 'axes="1"' in t)) + 1
+    assert errors[0].location.line == line and errors[0].location.file.endswith("ball_ghost.xml")
+    assert "axes" in errors[0].message
+
+
+@pytest.mark.slow  # new reads the file twice (MuJoCo's route and ManiSkill's): over a second
+def test_new_writes_loader_mujoco_saying_what_maniskills_loader_would_get_wrong(
+    tmp_path: Path,
+) -> None:
+    from ruamel.yaml import YAML
+
+    from robospec.authoring.commands import run_new
+
+    folder = _robot_folder(tmp_path)
+    out = tmp_path / "new.yaml"
+    result = run_new(folder / "ball_ghost.xml", out, None, force=False, simulate=False).write()
+    assert not result.failed, [d.format_text() for d in result.diagnostics]
+    text = out.read_text(encoding="utf-8")
+    (line,) = [t for t in text.splitlines() if t.strip().startswith("loader: mujoco")]
+    assert "not load its ball joints (socket)" in line
+    assert "give its 1 body of visual geoms only no mass" in line
+    data = YAML(typ="safe").load(text)
+    assert data["description"] == {"mjcf": "robot/ball_ghost.xml", "loader": "mujoco"}
+    assert {"socket_x", "socket_y", "socket_z"} <= {
+        j for joints in data["groups"].values() for j in joints
+    }
+    validated = compile_spec(out)
+    assert not has_errors(validated.diagnostics)
+
+
+def test_a_keyframe_without_a_pose_leaves_the_root_body_where_the_file_puts_it(
+    tmp_path: Path,
+) -> None:
+    folder = _robot_folder(tmp_path)
+    model = folder / "ball_ghost.xml"
+    text = model.read_text(encoding="utf-8").replace(
+        '<body name="base">', '<body name="base" pos="0 0 0.5" euler="0 0 90">'
+    )
+    model.write_text(text, encoding="utf-8")
+    spec = _spec_at(tmp_path, "robot/ball_ghost.xml", "keyframes: {rest: {qpos: {all: 0}}}\n")
+    result = compile_spec(spec)
+    assert result.robot is not None, [d.format_text() for d in result.diagnostics]
+    (rest,) = result.robot.keyframes
+    assert rest.p == pytest.approx((0.0, 0.0, 0.5))
+    assert rest.q == pytest.approx((0.7071068, 0.0, 0.0, 0.7071068), abs=1e-6)
+
+
+def _spec_at(tmp_path: Path, path: str, more: str = "") -> Path:
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(SPEC.format(path=path) + more, encoding="utf-8")
+    return spec
