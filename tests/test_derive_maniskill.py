@@ -46,6 +46,12 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
         {},
     ),
     "limits": (CODE_EXAMPLES / "RS709/unlimited.urdf", "continuous", ARM, {}),
+    "separators": (
+        CODE_EXAMPLES / "RS722/commas.urdf",
+        "spaces",
+        CODE_EXAMPLES / "RS722/arm.urdf",
+        {},
+    ),
     "mimic": (GRIPPER, "controller", GRIPPER, {}),
     "spherical": (CODE_EXAMPLES / "RS711/ball.urdf", "hinges", ARM, {}),
     # the inertial is the file's: only the collision shape is mirrored

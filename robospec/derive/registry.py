@@ -1,6 +1,7 @@
 """Every mend class, in the order they run: text first (the file must become XML), then the
 tree, each before the ones that read what it mends (substitutions before the package URIs they
-write, masses before the inertias scaled with them)."""
+write and the numbers whose separators are mended, those before the mirrored scales and the
+shapes' inertias that read them, masses before the inertias scaled with them)."""
 
 from __future__ import annotations
 
@@ -24,6 +25,7 @@ import robospec.derive.namespaces as namespaces
 import robospec.derive.orientations as orientations
 import robospec.derive.packages as packages
 import robospec.derive.planar_base as planar_base
+import robospec.derive.separators as separators
 import robospec.derive.spherical as spherical
 import robospec.derive.substitutions as substitutions
 import robospec.derive.textures as textures
@@ -46,6 +48,7 @@ MENDS: tuple[MendClass, ...] = cast(
         orientations,
         bodies,
         substitutions,
+        separators,
         packages,
         mirrors,
         textures,

@@ -234,6 +234,7 @@ _CODES = [
     Code("RS719", "mended: repeated MJCF asset definitions removed"),
     Code("RS720", "mended: MJCF bodies without joints merged into their parents"),
     Code("RS721", "mended: MJCF frames written as MuJoCo's quat"),
+    Code("RS722", "mended: number lists separated by commas"),
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),

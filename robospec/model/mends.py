@@ -87,6 +87,13 @@ class Mends(StrictModel):
         "(negative, zero beside an inertia, tiny) to 1 g (MuJoCo's boundmass).",
         examples=["bound"],
     )
+    separators: Literal["spaces"] | None = Field(
+        default=None,
+        description='`spaces`: write lists of numbers separated by commas (`rpy="1.57, 0 '
+        "0\"`), at which SAPIEN's URDF parser stops, separated by spaces, the numbers as "
+        "written (origins, axes, box sizes, mesh scales, colours).",
+        examples=["spaces"],
+    )
     integers: Literal["round"] | None = Field(
         default=None,
         description='`round`: write whole numbers written as decimals (`width="640.0"`) where '
