@@ -76,6 +76,12 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
         CODE_EXAMPLES / "RS719/arm.xml",
         {},
     ),
+    "geom_meshes": (
+        CODE_EXAMPLES / "RS723/defaulted.xml",
+        "defaults",
+        CODE_EXAMPLES / "RS723/arm.xml",
+        {},
+    ),
     "mesh_scale": (
         CODE_EXAMPLES / "RS716/scaled.xml",
         "defaults",

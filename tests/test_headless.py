@@ -191,7 +191,7 @@ def test_patches_come_and_go_with_blocks_and_the_process_wide_fallback_stays() -
 
 def test_strip_urdf_visuals_keeps_every_other_element_on_its_line() -> None:
     # SAPIEN parses the stripped text: an element it chokes on is then reported at its line in
-    # the user's file (robospec.physics.crash reads the line from the parser's element)
+    # the user's file (robospec.maniskill.crash reads the line from the parser's element)
     from lxml import etree
 
     original = TREE_URDF.read_text()

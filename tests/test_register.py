@@ -6,6 +6,7 @@ tests/test_cache_safety.py's."""
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -102,3 +103,39 @@ def test_a_spec_edited_and_registered_again_replaces_its_own_agent(
     assert second is not first
     assert REGISTERED_AGENTS[uid].agent_cls is second
     assert (first.arm_stiffness, second.arm_stiffness) == (1e3, 2e3)
+
+
+def test_a_robot_maniskill_cannot_load_raises_a_located_spec_error_when_an_env_loads_it(
+    tmp_path: Path,
+) -> None:
+    import gymnasium as gym
+    import mani_skill.envs  # noqa: F401  (registers Empty-v1)
+
+    data = Path(__file__).parent / "data" / "check"
+    shutil.copy(data / "tendon.urdf", tmp_path / "tendon.urdf")
+    spec = tmp_path / "specs" / "tendon.yaml"
+    spec.parent.mkdir()
+    uid = f"rs_tendon_{tmp_path.name[-12:]}"
+    text = (data / "isolation" / "b_tendon.yaml").read_text()
+    spec.write_text(text.replace("uid: rs_test_tendon", f"uid: {uid}"))
+    robospec.register(spec, cache_dir=tmp_path / "cache")
+    with pytest.raises(SpecError) as raised:
+        gym.make(
+            "Empty-v1",
+            robot_uids=uid,
+            obs_mode="state",
+            sim_backend="physx_cpu",
+            render_backend="none",
+        )
+    # what check says of it (RS514), at the joint whose <mimic> PhysX refused as a tendon
+    (diagnostic,) = raised.value.diagnostics
+    assert diagnostic.code == "RS514" and diagnostic.location.file.endswith("tendon.urdf")
+    line = next(
+        n
+        for n, text in enumerate((tmp_path / "tendon.urdf").read_text().splitlines(), 1)
+        if '<joint name="j2"' in text
+    )
+    assert diagnostic.location.line == line
+    assert "failed to create tendon" in diagnostic.message
+    assert "upstream's code, not robospec's" in diagnostic.message
+    assert isinstance(raised.value.__cause__, RuntimeError)

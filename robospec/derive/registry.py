@@ -11,6 +11,7 @@ import robospec.derive.asset_names as asset_names
 import robospec.derive.bodies as bodies
 import robospec.derive.contype as contype
 import robospec.derive.freejoint as freejoint
+import robospec.derive.geom_meshes as geom_meshes
 import robospec.derive.geoms as geoms
 import robospec.derive.includes as includes
 import robospec.derive.inertia as inertia
@@ -42,6 +43,7 @@ MENDS: tuple[MendClass, ...] = cast(
         geoms,
         mesh_names,
         asset_names,
+        geom_meshes,
         mesh_scale,
         contype,
         freejoint,

@@ -235,6 +235,7 @@ _CODES = [
     Code("RS720", "mended: MJCF bodies without joints merged into their parents"),
     Code("RS721", "mended: MJCF frames written as MuJoCo's quat"),
     Code("RS722", "mended: number lists separated by commas"),
+    Code("RS723", "mended: MJCF meshes from default classes written on the geoms"),
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),

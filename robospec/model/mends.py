@@ -147,6 +147,13 @@ class Mends(StrictModel):
         "(what ManiSkill's loader does without a word).",
         examples=["first"],
     )
+    geom_meshes: Literal["defaults"] | None = Field(
+        default=None,
+        description="MJCF. `defaults`: write on each geom the `mesh` its `<default>` class "
+        "gives it in MuJoCo where ManiSkill's loader reads no such mesh (a root class spelled "
+        '`<default class="main">`: the loader raises KeyError, or loads a sphere).',
+        examples=["defaults"],
+    )
     mesh_scale: Literal["defaults"] | None = Field(
         default=None,
         description="MJCF. `defaults`: write on each `<mesh>` the `scale` its `<default>` "

@@ -18,6 +18,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error, without_codes
+from robospec.maniskill.crash import Crash, from_exception
 from robospec.model.frozen import Checks
 from robospec.physics import (
     action_layout,
@@ -34,7 +35,6 @@ from robospec.physics import (
     task_run,
 )
 from robospec.physics.check_run import CheckRun
-from robospec.physics.crash import Crash, from_exception
 from robospec.physics.findings import Finding, Status
 from robospec.physics.isolation import WorkerPool
 from robospec.physics.results import (
