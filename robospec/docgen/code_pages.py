@@ -16,6 +16,7 @@ from robospec.docgen.code_examples import (
     load_code_examples,
 )
 from robospec.physics import (
+    described,
     gravity,
     ground,
     keyframe_hold,
@@ -29,8 +30,9 @@ from robospec.physics import (
 )
 
 # the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519,
-# RS521-RS527, RS530, RS531, RS545
+# RS521-RS527, RS530-RS533, RS545
 PHYSICS_CHECKS = (
+    described,
     keyframe_hold,
     loops,
     mimic_limits,
