@@ -13,6 +13,7 @@ that diagnostic, the loader's exception as its cause.
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -30,6 +31,16 @@ _GUARDED = "_robospec_load_guard"
 def guard(agent_cls: type, spec_file: Path) -> None:
     """Make loading ``agent_cls`` (compiled from ``spec_file``) raise ``SpecError`` with a
     located RS514 where ManiSkill's loaders raise."""
+    _guard(agent_cls, lambda uid, exc: located(spec_file, uid, exc))
+
+
+def guard_described(agent_cls: type) -> None:
+    """:func:`guard` for an agent of a built package, whose spec it does not carry: RS514 at
+    the element of the description file the agent loads (the package's copy, lines kept)."""
+    _guard(agent_cls, lambda uid, exc: [_in_description(agent_cls, uid, exc)])
+
+
+def _guard(agent_cls: type, diagnose: Callable[[str, BaseException], list[Diagnostic]]) -> None:
     original = agent_cls._load_articulation  # type: ignore[attr-defined]
     if getattr(original, _GUARDED, False):
         return
@@ -41,10 +52,33 @@ def guard(agent_cls: type, spec_file: Path) -> None:
         except SpecError:
             raise
         except Exception as exc:
-            raise SpecError(located(spec_file, str(self.uid), exc)) from exc
+            raise SpecError(diagnose(str(self.uid), exc)) from exc
 
     setattr(_load_articulation, _GUARDED, True)
     agent_cls._load_articulation = _load_articulation  # type: ignore[attr-defined]
+
+
+def _in_description(agent_cls: type, uid: str, exc: BaseException) -> Diagnostic:
+    """RS514 at the element the loader was reading, found by its tag and name in the file."""
+    crash = from_exception(exc)
+    path = getattr(agent_cls, "urdf_path", None) or getattr(agent_cls, "mjcf_path", None) or ""
+    element = crash.element
+    line = None
+    if element is not None and path:
+        try:
+            line = element.line or _line_in(Path(path).read_text(), element)
+        except OSError:
+            line = None
+    # the name as the description writes it, not PhysX's scene-0-<uid>_<name>
+    shown = element.name.split(f"{uid}_", 1)[-1] if element is not None else ""
+    words = f' at <{element.tag} name="{shown}">' if element is not None else ""
+    return error(
+        Location(str(path), line or 1),
+        LOAD_FAILURE,
+        f"ManiSkill cannot load '{uid}': {crash.what}{words} ({crash.where()})",
+        "the loader rejects the description here: mend the element (robospec validate of the "
+        "spec tells what it knows about the description before anything loads)",
+    )
 
 
 def located(spec_file: Path, uid: str, exc: BaseException) -> list[Diagnostic]:
@@ -104,17 +138,31 @@ def _element_line(context: CheckContext, element: Element) -> int | None:
 
 def _search(context: CheckContext, element: Element) -> int | None:
     """The line of the first ``<tag name="name">`` in the description's text."""
+    try:
+        text = context.robot.description.read_text()
+    except OSError:
+        return None
+    return _line_in(text, element)
+
+
+def _line_in(text: str, element: Element) -> int | None:
+    """The line of the first ``<tag name="name">`` in ``text``."""
     from lxml import etree
 
     try:
-        text = context.robot.description.read_text()
         root = etree.fromstring(text.encode("utf-8"))
-    except (OSError, ValueError, etree.XMLSyntaxError):
+    except (ValueError, etree.XMLSyntaxError):
         return None
     for found in root.iter(element.tag):
         if found.get("name") == element.name:
             return found.sourceline
-    return None
+    # ManiSkill names PhysX links and joints scene-0-<uid>_<name>: the longest name it ends with
+    endings = [
+        (len(str(found.get("name"))), found.sourceline)
+        for found in root.iter(element.tag)
+        if found.get("name") and element.name.endswith("_" + str(found.get("name")))
+    ]
+    return max(endings)[1] if endings else None
 
 
 def _element_words(context: CheckContext, crash: Crash) -> str:
