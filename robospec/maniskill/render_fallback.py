@@ -151,9 +151,9 @@ def guard_loading(agents: Any) -> None:
     classes) raise ``robospec.SpecError`` with a located diagnostic (RS514, at the element of
     the description the loader was reading) where ManiSkill's loaders raise; where it is not,
     ManiSkill's exception is left as it is. Here only because this is the one file a built
-    package carries (robospec.output.load_errors does the work)."""
+    package carries (robospec.maniskill.load_guard does the work)."""
     try:
-        from robospec.output.load_errors import guard_described
+        from robospec.maniskill.load_guard import guard_described
     except ImportError:
         return
     for agent in agents:

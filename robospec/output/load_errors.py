@@ -7,78 +7,27 @@ raises there (a ``KeyError`` in ``_build_geom``, SAPIEN's ``invalid moment of in
 :class:`~robospec.maniskill.crash.Crash`, told at the description element the loader was reading
 (from its local variables), and :func:`load_failure` says it as ``robospec check`` does. The
 agents ``register`` loads are guarded (:func:`guard`): their loading raises ``SpecError`` with
-that diagnostic, the loader's exception as its cause.
+that diagnostic, the loader's exception as its cause (robospec.maniskill.load_guard, which a
+built package's agents use too).
 """
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from robospec.diagnostics import Diagnostic, Location, SpecError, error
+from robospec.diagnostics import Diagnostic, Location, error
 from robospec.maniskill.crash import Crash, Element, from_exception
+from robospec.maniskill.load_guard import LOAD_FAILURE, guard_loading, line_in
 
 if TYPE_CHECKING:  # register() imports this module on its warm path: no spec model there
     from robospec.checks.context import CheckContext
-
-LOAD_FAILURE = "RS514"
-# set on a guarded _load_articulation: a class guarded twice (register() again) is guarded once
-_GUARDED = "_robospec_load_guard"
 
 
 def guard(agent_cls: type, spec_file: Path) -> None:
     """Make loading ``agent_cls`` (compiled from ``spec_file``) raise ``SpecError`` with a
     located RS514 where ManiSkill's loaders raise."""
-    _guard(agent_cls, lambda uid, exc: located(spec_file, uid, exc))
-
-
-def guard_described(agent_cls: type) -> None:
-    """:func:`guard` for an agent of a built package, whose spec it does not carry: RS514 at
-    the element of the description file the agent loads (the package's copy, lines kept)."""
-    _guard(agent_cls, lambda uid, exc: [_in_description(agent_cls, uid, exc)])
-
-
-def _guard(agent_cls: type, diagnose: Callable[[str, BaseException], list[Diagnostic]]) -> None:
-    original = agent_cls._load_articulation  # type: ignore[attr-defined]
-    if getattr(original, _GUARDED, False):
-        return
-
-    @functools.wraps(original)
-    def _load_articulation(self: Any, *args: Any, **kwargs: Any) -> Any:
-        try:
-            return original(self, *args, **kwargs)
-        except SpecError:
-            raise
-        except Exception as exc:
-            raise SpecError(diagnose(str(self.uid), exc)) from exc
-
-    setattr(_load_articulation, _GUARDED, True)
-    agent_cls._load_articulation = _load_articulation  # type: ignore[attr-defined]
-
-
-def _in_description(agent_cls: type, uid: str, exc: BaseException) -> Diagnostic:
-    """RS514 at the element the loader was reading, found by its tag and name in the file."""
-    crash = from_exception(exc)
-    path = getattr(agent_cls, "urdf_path", None) or getattr(agent_cls, "mjcf_path", None) or ""
-    element = crash.element
-    line = None
-    if element is not None and path:
-        try:
-            line = element.line or _line_in(Path(path).read_text(), element)
-        except OSError:
-            line = None
-    # the name as the description writes it, not PhysX's scene-0-<uid>_<name>
-    shown = element.name.split(f"{uid}_", 1)[-1] if element is not None else ""
-    words = f' at <{element.tag} name="{shown}">' if element is not None else ""
-    return error(
-        Location(str(path), line or 1),
-        LOAD_FAILURE,
-        f"ManiSkill cannot load '{uid}': {crash.what}{words} ({crash.where()})",
-        "the loader rejects the description here: mend the element (robospec validate of the "
-        "spec tells what it knows about the description before anything loads)",
-    )
+    guard_loading(agent_cls, lambda uid, exc: located(spec_file, uid, exc))
 
 
 def located(spec_file: Path, uid: str, exc: BaseException) -> list[Diagnostic]:
@@ -142,27 +91,7 @@ def _search(context: CheckContext, element: Element) -> int | None:
         text = context.robot.description.read_text()
     except OSError:
         return None
-    return _line_in(text, element)
-
-
-def _line_in(text: str, element: Element) -> int | None:
-    """The line of the first ``<tag name="name">`` in ``text``."""
-    from lxml import etree
-
-    try:
-        root = etree.fromstring(text.encode("utf-8"))
-    except (ValueError, etree.XMLSyntaxError):
-        return None
-    for found in root.iter(element.tag):
-        if found.get("name") == element.name:
-            return found.sourceline
-    # ManiSkill names PhysX links and joints scene-0-<uid>_<name>: the longest name it ends with
-    endings = [
-        (len(str(found.get("name"))), found.sourceline)
-        for found in root.iter(element.tag)
-        if found.get("name") and element.name.endswith("_" + str(found.get("name")))
-    ]
-    return max(endings)[1] if endings else None
+    return line_in(text, element)
 
 
 def _element_words(context: CheckContext, crash: Crash) -> str:
