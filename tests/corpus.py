@@ -217,6 +217,30 @@ EXPECTED_STOPS: dict[str, Stop] = {
         "drifts and a finger is flung past its limit (RS503): not yet understood (the same "
         "with the agent's reset taken out)",
     ),
+    # check's comparison of the robot ManiSkill loads with its description (issue 36 class 8)
+    "dmc_jaco_arm": Stop(
+        "check",
+        frozenset({"RS533"}),
+        "its joints write no axis=: MuJoCo turns them about z, its default, ManiSkill's MJCF "
+        "loader about x, its own (_parse_body: an axis of norm 0 becomes [1, 0, 0]). Loaded "
+        "with joint_2 and joint_3 at their lower limits (0.82 and 0.33 rad), the links from b_3 "
+        "on stand up to 424 mm from where MuJoCo puts them (RS533): not the robot described",
+    ),
+    "dmc_quadruped": Stop(
+        "check",
+        frozenset({"RS532"}),
+        "the torso's mass is its ellipsoid geom, which ManiSkill's MJCF loader skips (RS079): "
+        "67.86 kg in MuJoCo, 1.668 kg loaded, so the robot weighs 40.93 kg where MuJoCo "
+        "compiles 107.1 kg (RS532): not the robot described",
+    ),
+    "gymr_shadow_hand": Stop(
+        "check",
+        frozenset({"RS532"}),
+        "its links' masses are <inertial>s, which ManiSkill's MJCF loader does not read, and "
+        "the geoms of several links are visual only (class robot0:D_Vizual): the wrist's "
+        "0.3 kg loads as 0.028 kg, each knuckle's 8 g as SAPIEN's 1e-6 kg (RS532): not the "
+        "robot described",
+    ),
 }
 
 
