@@ -1,5 +1,5 @@
 """A crash is told by where it happened and whose code that is, never by a path of the machine
-(robospec.physics.crash). The ManiSkill and SAPIEN crashes themselves are
+(robospec.maniskill.crash). The ManiSkill and SAPIEN crashes themselves are
 tests/test_check_isolation.py's; here, a real process dying of a signal, and a real exception."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from robospec.physics.crash import USER, from_exception, from_fault_log, signal_name
+from robospec.maniskill.crash import USER, from_exception, from_fault_log, signal_name
 
 CRASHER = """import faulthandler
 import os

@@ -33,6 +33,7 @@ BROKEN: dict[str, tuple[str, typing.Any]] = {
     "inertia": ("RS706/skewed.urdf", "diagonal"),
     "mass": ("RS707/negative.urdf", "bound"),
     "integers": ("RS708/camera.urdf", "round"),
+    "separators": ("RS722/commas.urdf", "spaces"),
     "limits": ("RS709/unlimited.urdf", "continuous"),
     "mimic": ("RS710/gripper.urdf", "controller"),
     "spherical": ("RS711/ball.urdf", "hinges"),
@@ -43,6 +44,7 @@ MJCF_BROKEN: dict[str, tuple[str, typing.Any]] = {
     "geoms": ("RS713/terrain.xml", "drop"),
     "mesh_names": ("RS715/unnamed.xml", "mujoco"),
     "asset_names": ("RS719/repeated.xml", "first"),
+    "geom_meshes": ("RS723/defaulted.xml", "defaults"),
     "mesh_scale": ("RS716/scaled.xml", "defaults"),
     "contype": ("RS717/touching.xml", "conaffinity"),
     "freejoint": ("RS718/floating.xml", "root"),
@@ -250,6 +252,64 @@ def test_new_writes_the_mends_a_robot_needs_with_why_and_its_spec_validates(
     validated = compile_spec(out)
     assert not [d for d in validated.diagnostics if d.is_error]
     assert "RS705" in {d.code for d in validated.diagnostics}
+
+
+def test_a_number_list_with_a_stray_comma_is_refused_with_a_hint_naming_the_separators_mend(
+    tmp_path: Path,
+) -> None:
+    folder = tmp_path / "robot"
+    shutil.copytree(CODE_EXAMPLES / "RS722", folder)
+    spec = folder / "fail.yaml"
+    spec.write_text(spec.read_text().replace(", mend: {separators: spaces}", ""))
+    result = compile_spec(spec)
+    (refused,) = [d for d in result.diagnostics if d.is_error]
+    assert refused.code == "RS052" and refused.location.line == 18
+    assert 'rpy="1.5707963, 1.3089969 1.5707963" is not 3 numbers' in refused.message
+    assert refused.hint is not None and "{separators: spaces}" in refused.hint
+
+
+def test_the_separators_mend_writes_the_numbers_as_written_and_names_element_and_attribute(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "commas.urdf"
+    text = SOUND.read_text()
+    text = text.replace('<origin xyz="0 0 0.1"/>', '<origin xyz="0,0,0.1" rpy="1.5707963, 0 0"/>')
+    text = text.replace('<axis xyz="0 0 1"/>', '<axis xyz="0, 0, 1,"/>')
+    path.write_text(text)
+    derived = derive(_source(path), {"separators": "spaces"})
+    mended = etree.fromstring(derived.text.encode())
+    origin, axis = mended.find("joint/origin"), mended.find("joint/axis")
+    assert (origin.get("xyz"), origin.get("rpy"), axis.get("xyz")) == (
+        "0 0 0.1",
+        "1.5707963 0 0",
+        "0 0 1",
+    )
+    (note,) = derived.notes
+    assert note.code == "RS722" and note.location.line == 18
+    assert 'joint \'shoulder\' <origin> xyz=: "0,0,0.1" -> "0 0 0.1"' in note.message
+
+
+def test_a_number_list_that_reads_as_decimal_commas_too_is_not_mended(tmp_path: Path) -> None:
+    path = tmp_path / "decimal.urdf"
+    # "0,5 0,5 1" is three numbers either way: which the author meant cannot be told
+    path.write_text(SOUND.read_text().replace('xyz="0 0 0.1"', 'xyz="0,5 0,5 1"'))
+    derived = derive(_source(path), {"separators": "spaces"})
+    assert [o.status for o in derived.outcomes] == ["stale"]
+    assert suggest_mends(_source(path))[0] == {}
+
+
+def test_new_on_a_description_with_a_stray_comma_writes_the_mend_and_a_spec_that_validates(
+    tmp_path: Path,
+) -> None:
+    folder = tmp_path / "robot"
+    shutil.copytree(CODE_EXAMPLES / "RS722", folder)
+    out = folder / "new.yaml"
+    result = invoke_robospec("new", str(folder / "commas.urdf"), "-o", str(out), "--no-sim")
+    assert result.exit_code == 0, result.output
+    assert "    separators: spaces  # number lists are written with commas" in out.read_text()
+    validated = compile_spec(out)
+    assert not [d for d in validated.diagnostics if d.is_error]
+    assert "RS722" in {d.code for d in validated.diagnostics}
 
 
 def test_inspect_shows_the_robot_the_mends_leave_with_their_notes(tmp_path: Path) -> None:

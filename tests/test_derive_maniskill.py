@@ -46,6 +46,12 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
         {},
     ),
     "limits": (CODE_EXAMPLES / "RS709/unlimited.urdf", "continuous", ARM, {}),
+    "separators": (
+        CODE_EXAMPLES / "RS722/commas.urdf",
+        "spaces",
+        CODE_EXAMPLES / "RS722/arm.urdf",
+        {},
+    ),
     "mimic": (GRIPPER, "controller", GRIPPER, {}),
     "spherical": (CODE_EXAMPLES / "RS711/ball.urdf", "hinges", ARM, {}),
     # the inertial is the file's: only the collision shape is mirrored
@@ -68,6 +74,12 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
         CODE_EXAMPLES / "RS719/repeated.xml",
         "first",
         CODE_EXAMPLES / "RS719/arm.xml",
+        {},
+    ),
+    "geom_meshes": (
+        CODE_EXAMPLES / "RS723/defaulted.xml",
+        "defaults",
+        CODE_EXAMPLES / "RS723/arm.xml",
         {},
     ),
     "mesh_scale": (

@@ -75,6 +75,7 @@ def chain(path: Path, bodies: int) -> Path:
             id="mesh_scale",
         ),
         pytest.param("mesh_name.xml", [("RS085", "error", 11)], id="mesh_name"),
+        pytest.param("main_class_mesh.xml", [("RS085", "error", 13)], id="main_class_mesh"),
         pytest.param("masses.xml", [("RS075", "warning", 8), ("RS076", "error", 10)], id="masses"),
         pytest.param(
             "orientation.xml",
@@ -97,6 +98,13 @@ def test_each_thing_the_loader_drops_is_reported_once_at_its_element(
     fixture: str, expected: list[tuple[str, str, int]]
 ) -> None:
     assert found(GAPS / fixture) == expected
+
+
+def test_a_mesh_the_root_class_main_names_is_predicted_at_the_geom_with_the_mend() -> None:
+    diagnostic = only(GAPS / "main_class_mesh.xml", "RS085")
+    assert "takes mesh 'cube_m' from default class 'main'" in diagnostic.message
+    assert "KeyError: None" in diagnostic.message
+    assert diagnostic.hint is not None and "{geom_meshes: defaults}" in diagnostic.hint
 
 
 def test_a_joint_coupling_hint_writes_the_mimic_map_it_implies() -> None:

@@ -102,6 +102,12 @@ def test_an_unnamed_mesh_in_a_folder_is_a_key_error(scene: Any) -> None:
         parse(scene, GAPS / "mesh_name.xml")
 
 
+def test_a_mesh_the_root_class_main_names_is_a_key_error_of_no_name(scene: Any) -> None:
+    with pytest.raises(KeyError) as raised:
+        parse(scene, GAPS / "main_class_mesh.xml")
+    assert raised.value.args == (None,)
+
+
 def test_inertials_are_not_read_and_an_ellipsoid_only_link_weighs_1e_6_kg(scene: Any) -> None:
     links = by_name(load(scene, GAPS / "masses.xml", x=12.0))
     capsule = math.pi * 0.05**2 * 0.4 + 4 / 3 * math.pi * 0.05**3  # r 0.05, half-length 0.2

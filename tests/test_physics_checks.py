@@ -674,6 +674,7 @@ def test_json_report_has_the_documented_keys(
         }
     assert {f["check"] for f in robot["findings"]} == {
         "action_layout",
+        "described",
         "ground",
         "keyframe_hold",
         "self_contact",

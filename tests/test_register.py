@@ -6,6 +6,7 @@ tests/test_cache_safety.py's."""
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -102,3 +103,73 @@ def test_a_spec_edited_and_registered_again_replaces_its_own_agent(
     assert second is not first
     assert REGISTERED_AGENTS[uid].agent_cls is second
     assert (first.arm_stiffness, second.arm_stiffness) == (1e3, 2e3)
+
+
+def test_a_robot_maniskill_cannot_load_raises_a_located_spec_error_when_an_env_loads_it(
+    tmp_path: Path,
+) -> None:
+    import gymnasium as gym
+    import mani_skill.envs  # noqa: F401  (registers Empty-v1)
+
+    data = Path(__file__).parent / "data" / "check"
+    shutil.copy(data / "tendon.urdf", tmp_path / "tendon.urdf")
+    spec = tmp_path / "specs" / "tendon.yaml"
+    spec.parent.mkdir()
+    uid = f"rs_tendon_{tmp_path.name[-12:]}"
+    text = (data / "isolation" / "b_tendon.yaml").read_text()
+    spec.write_text(text.replace("uid: rs_test_tendon", f"uid: {uid}"))
+    robospec.register(spec, cache_dir=tmp_path / "cache")
+    with pytest.raises(SpecError) as raised:
+        gym.make(
+            "Empty-v1",
+            robot_uids=uid,
+            obs_mode="state",
+            sim_backend="physx_cpu",
+            render_backend="none",
+        )
+    # what check says of it (RS514), at the joint whose <mimic> PhysX refused as a tendon
+    (diagnostic,) = raised.value.diagnostics
+    assert diagnostic.code == "RS514" and diagnostic.location.file.endswith("tendon.urdf")
+    line = next(
+        n
+        for n, text in enumerate((tmp_path / "tendon.urdf").read_text().splitlines(), 1)
+        if '<joint name="j2"' in text
+    )
+    assert diagnostic.location.line == line
+    assert "failed to create tendon" in diagnostic.message
+    assert "upstream's code, not robospec's" in diagnostic.message
+    assert isinstance(raised.value.__cause__, RuntimeError)
+
+
+def test_a_built_package_of_a_robot_maniskill_cannot_load_raises_the_same_located_error(
+    tmp_path: Path,
+) -> None:
+    from conftest import invoke_robospec
+
+    data = Path(__file__).parent / "data" / "check"
+    shutil.copy(data / "tendon.urdf", tmp_path / "tendon.urdf")
+    spec = tmp_path / "specs" / "tendon.yaml"
+    spec.parent.mkdir()
+    text = (data / "isolation" / "b_tendon.yaml").read_text()
+    spec.write_text(text.replace("uid: rs_test_tendon", "uid: rs_built_tendon"))
+    built = invoke_robospec("build", str(spec), "-o", str(tmp_path / "tendon_agents"))
+    assert built.exit_code == 0, built.output
+    script = (
+        "import tendon_agents, robospec\n"
+        "from robospec.maniskill.headless import make_empty_env\n"
+        "try:\n"
+        "    make_empty_env('rs_built_tendon')\n"
+        "except robospec.SpecError as exc:\n"
+        "    (d,) = exc.diagnostics\n"
+        "    print('LOCATED', d.code, d.location.file.split('/')[-1], d.location.line)\n"
+        "    print('CAUSE', type(exc.__cause__).__name__)\n"
+    )
+    ran = subprocess.run(
+        [sys.executable, "-c", script], cwd=tmp_path, capture_output=True, text=True, timeout=300
+    )
+    assert ran.returncode == 0, ran.stderr[-2000:]
+    urdf = tmp_path / "tendon.urdf"
+    lines = urdf.read_text().splitlines()
+    line = next(n for n, t in enumerate(lines, 1) if '<joint name="j2"' in t)
+    assert f"LOCATED RS514 tendon.urdf {line}" in ran.stdout, ran.stdout + ran.stderr[-2000:]
+    assert "CAUSE RuntimeError" in ran.stdout

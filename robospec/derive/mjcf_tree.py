@@ -13,7 +13,13 @@ import os
 from lxml import etree
 
 from robospec.derive.document import Document
-from robospec.description.mjcf_mujoco import MAIN_CLASS, Includes, Table, read_classes
+from robospec.description.mjcf_mujoco import (  # noqa: F401 (childclass, effective: here too)
+    Includes,
+    Table,
+    childclass,
+    effective,
+    read_classes,
+)
 
 
 def whole(document: Document) -> etree._Element:
@@ -33,27 +39,6 @@ def classes(root: etree._Element, path: str) -> dict[str, Table]:
 
 def _no_file(path: str) -> bytes:
     raise OSError(path)  # a whole model includes nothing more
-
-
-def childclass(element: etree._Element) -> str:
-    """The class ``element`` takes its defaults from: its own ``class``, else the nearest
-    ``childclass`` of a body above it (the body's own for a body), else ``main``."""
-    own = element.get("class")
-    if own is not None:
-        return own
-    holders = [element] if element.tag == "body" else []
-    for holder in (*holders, *element.iterancestors("body")):
-        if holder.get("childclass") is not None:
-            return str(holder.get("childclass"))
-    return MAIN_CLASS
-
-
-def effective(table: dict[str, Table], element: etree._Element) -> dict[str, str]:
-    """``element``'s attributes over the defaults of its class for its tag."""
-    defaults = table.get(childclass(element)) or table.get(MAIN_CLASS, {})
-    merged = dict(defaults.get(str(element.tag), {}))
-    merged.update(element.attrib)
-    return merged
 
 
 def in_model(element: etree._Element) -> bool:

@@ -1,6 +1,7 @@
 """Every mend class, in the order they run: text first (the file must become XML), then the
 tree, each before the ones that read what it mends (substitutions before the package URIs they
-write, masses before the inertias scaled with them)."""
+write and the numbers whose separators are mended, those before the mirrored scales and the
+shapes' inertias that read them, masses before the inertias scaled with them)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import robospec.derive.asset_names as asset_names
 import robospec.derive.bodies as bodies
 import robospec.derive.contype as contype
 import robospec.derive.freejoint as freejoint
+import robospec.derive.geom_meshes as geom_meshes
 import robospec.derive.geoms as geoms
 import robospec.derive.includes as includes
 import robospec.derive.inertia as inertia
@@ -24,6 +26,7 @@ import robospec.derive.namespaces as namespaces
 import robospec.derive.orientations as orientations
 import robospec.derive.packages as packages
 import robospec.derive.planar_base as planar_base
+import robospec.derive.separators as separators
 import robospec.derive.spherical as spherical
 import robospec.derive.substitutions as substitutions
 import robospec.derive.textures as textures
@@ -40,12 +43,14 @@ MENDS: tuple[MendClass, ...] = cast(
         geoms,
         mesh_names,
         asset_names,
+        geom_meshes,
         mesh_scale,
         contype,
         freejoint,
         orientations,
         bodies,
         substitutions,
+        separators,
         packages,
         mirrors,
         textures,

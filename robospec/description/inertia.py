@@ -50,6 +50,21 @@ _SINGULAR = 1e-14
 _TRIANGLE_SLACK = 1e-3
 
 
+def stated_masses(root: etree._Element) -> dict[str, float]:
+    """Link -> the mass its ``<inertial>`` states (kg), for the links of a URDF that state a
+    finite one: what the description says, whether or not SAPIEN takes it (RS061)."""
+    found = {}
+    for link in root.iterfind("link"):
+        element = link.find("inertial/mass")
+        try:
+            mass = float(element.get("value", "")) if element is not None else math.nan
+        except ValueError:
+            continue
+        if math.isfinite(mass) and link.get("name"):
+            found[str(link.get("name"))] = mass
+    return found
+
+
 def check_inertials(root: etree._Element, path: str) -> list[Diagnostic]:
     """Every link's ``<inertial>``: readable as urchin reads it, and physically valid."""
     found = Findings()

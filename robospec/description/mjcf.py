@@ -30,7 +30,6 @@ ManiSkill's link and joint names are the builder names above (``Articulation`` s
 
 from __future__ import annotations
 
-import copy
 import math
 import os
 from collections.abc import Callable, Mapping
@@ -56,6 +55,7 @@ from robospec.description.mjcf_loaded import (
     LoadedBody,
     LoadedMjcf,
     is_ignored_class,
+    loader_classes,
     merge,
 )
 from robospec.description.mjcf_mujoco import Includes, read_classes
@@ -151,8 +151,9 @@ def parse_mjcf(
     state = _State(path, use_degrees, {}, {}, diagnostics, file_of)
     if compiler is None or compiler.get("angle") is None:
         diagnostics.extend(_degrees_note(top, compiler, root, state))
-    for default in (el for el in top if el.tag == "default"):
-        _parse_default(default, None, state)
+    classes, class_lines = loader_classes(el for el in top if el.tag == "default")
+    state.classes.update(classes)
+    state.class_lines.update(class_lines)
 
     worldbody = next((el for el in top if el.tag == "worldbody"), None)
     if worldbody is None:
@@ -356,31 +357,6 @@ def _joint_count(body: etree._Element) -> int:
 def _is_articulation(body: etree._Element) -> bool:
     """ManiSkill's test: a <freejoint> on the body, or a <joint> anywhere in its tree."""
     return body.find("freejoint") is not None or next(body.iter("joint"), None) is not None
-
-
-def _parse_default(node: etree._Element, parent: etree._Element | None, state: _State) -> None:
-    """ManiSkill's ``_parse_default``, quirks included.
-
-    A class starts from a copy of its parent's table only when the parent <default> has a
-    class name; classes nested directly in the unnamed top-level <default> start empty (they
-    get the root defaults later, merged at each body).
-    """
-    class_name = node.get("class", "__root__")
-    if parent is not None and parent.get("class") is not None:
-        state.classes[class_name] = copy.deepcopy(state.classes.get(parent.get("class", ""), {}))
-    else:
-        state.classes[class_name] = {}
-    state.class_lines[class_name] = line_of(node)
-    table = state.classes[class_name]
-    for child in node:
-        if not isinstance(child.tag, str):
-            continue
-        if child.tag == "default":
-            _parse_default(child, node, state)
-        elif child.tag in table:
-            table[child.tag] = merge(table[child.tag], dict(child.attrib))
-        else:
-            table[child.tag] = dict(child.attrib)
 
 
 def _class_table(name: str, element: etree._Element, state: _State) -> Defaults | None:

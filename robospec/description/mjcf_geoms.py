@@ -16,7 +16,9 @@
   frame that differs is an error, a ``zaxis`` along ±z fails the whole load.
 * RS085 — meshes the loader cannot resolve: a geom's ``mesh=`` missing from its table (an
   unnamed mesh is named after its file path there, with folders; MuJoCo uses the file's name),
-  a ``<mesh>`` without ``file=`` (an assertion).
+  a ``<mesh>`` without ``file=`` (an assertion), a geom whose mesh a default class names that
+  the loader's default tables do not give it (``<default class="main">``: ``KeyError: None``,
+  or a unit sphere; robospec.description.mjcf_class_meshes).
 * RS056 (as for URDF) — a mesh file missing where the loader looks (the model's folder joined
   with ``<compiler meshdir>``; ``assetdir`` is not read): SAPIEN loads nothing for it,
   silently. An error for a collision, a warning for a visual.
@@ -32,6 +34,7 @@ from itertools import combinations
 from lxml import etree
 
 from robospec.description.inertia import DENSITY, EMPTY_LINK_MASS
+from robospec.description.mjcf_class_meshes import lost_meshes
 from robospec.description.mjcf_frames import (
     Unparsable,
     maniskill_rotation,
@@ -102,6 +105,40 @@ def _mesh_dir(loaded: LoadedMjcf) -> str:
     return os.path.join(os.path.dirname(loaded.path), meshdir)
 
 
+def _class_meshes(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
+    """RS085: geoms whose mesh a default class names and the loader reads without it (one
+    diagnostic for them all, at the first: a model that spells its root class ``main`` loses
+    every such mesh)."""
+    lost = list(lost_meshes(loaded.worldbody, loaded.classes, loaded.mujoco_classes))
+    if not lost:
+        return
+    first = next((m for m in lost if m.fails), lost[0])
+    others = [m for m in lost if m is not first]
+    read = (
+        "a mesh without a name: loading fails (KeyError: None in _build_geom)"
+        if first.fails
+        else f"a {first.loaded_type}"
+        + (f" of mesh '{first.loaded_mesh}'" if first.loaded_mesh else "")
+    )
+    why = (
+        ' (it reads a top-level <default class="main"> as a class of its own, applied '
+        "only where a geom names it)"
+        if first.holder == MAIN_CLASS
+        else ""
+    )
+    lines = ", ".join(str(loaded.where(m.geom).line) for m in others[:6])
+    plural = "s" if len(others) > 1 else ""
+    more = f" (and {len(others)} more geom{plural}: line{plural} {lines})" if others else ""
+    yield error(
+        loaded.where(first.geom),
+        MESH_UNRESOLVED,
+        f"geom takes mesh '{first.mesh}' from default class '{first.holder}' in MuJoCo, and "
+        f"ManiSkill's MJCF loader reads it as {read}{why}{more}",
+        f'write mesh="{first.mesh}" on the geom: `description: {{mend: {{geom_meshes: '
+        "defaults}}` does it in a copy of the model",
+    )
+
+
 def mesh_files(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     """RS085: meshes the loader fails on; RS056: mesh files it loads as nothing."""
     table = _meshes(loaded)
@@ -146,6 +183,7 @@ def mesh_files(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             "loading fails (KeyError)",
             hint,
         )
+    yield from _class_meshes(loaded)
     missing_collision: list[tuple[LoadedGeom, str]] = []
     missing_visual: list[tuple[LoadedGeom, str]] = []
     folder = _mesh_dir(loaded)

@@ -8,7 +8,7 @@ reports see exactly the bodies, defaults and geoms the loader does.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -166,14 +166,22 @@ def parsed_elements(loaded: LoadedMjcf) -> list[tuple[etree._Element, dict[str, 
 
 
 def _parsed_elements(loaded: LoadedMjcf) -> Iterator[tuple[etree._Element, dict[str, str]]]:
-    root_defaults: Defaults = loaded.classes.get("__root__", {})
+    return loader_elements(loaded.worldbody, loaded.classes)
+
+
+def loader_elements(
+    worldbody: etree._Element, classes: Mapping[str, Defaults]
+) -> Iterator[tuple[etree._Element, dict[str, str]]]:
+    """The ``<body>`` and ``<geom>`` elements ManiSkill's parse reads below ``worldbody``, with
+    the attributes it reads them with, given its default ``classes`` (:func:`loader_classes`)."""
+    root_defaults: Defaults = classes.get("__root__", {})
 
     def articulation(body: etree._Element, defaults: Defaults) -> Iterator[Any]:
         childclass = body.get("childclass")
         if childclass is not None:
-            if is_ignored_class(childclass) or childclass not in loaded.classes:
+            if is_ignored_class(childclass) or childclass not in classes:
                 return
-            defaults = merge(defaults, loaded.classes[childclass])
+            defaults = merge(defaults, classes[childclass])
         yield body, merge(defaults.get("body", {}), dict(body.attrib))
         yield from geoms(body, defaults)
         for child in body.findall("body"):
@@ -181,11 +189,11 @@ def _parsed_elements(loaded: LoadedMjcf) -> Iterator[tuple[etree._Element, dict[
 
     def geoms(body: etree._Element, defaults: Defaults) -> Iterator[Any]:
         for geom in body.findall("geom"):
-            attributes = geom_attributes(geom, defaults, loaded.classes)
+            attributes = geom_attributes(geom, defaults, classes)
             if attributes is not None:
                 yield geom, attributes
 
-    for body in loaded.worldbody.findall("body"):
+    for body in worldbody.findall("body"):
         if body.find("freejoint") is not None or next(body.iter("joint"), None) is not None:
             tags = [child.tag for child in body if isinstance(child.tag, str)]
             if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
@@ -197,4 +205,42 @@ def _parsed_elements(loaded: LoadedMjcf) -> Iterator[tuple[etree._Element, dict[
             while current is not None:
                 yield from geoms(current, root_defaults)
                 current = current.find("body")
-    yield from geoms(loaded.worldbody, root_defaults)
+    yield from geoms(worldbody, root_defaults)
+
+
+def loader_classes(
+    defaults: Iterable[etree._Element],
+) -> tuple[dict[str, Defaults], dict[str, int]]:
+    """ManiSkill's ``_parse_default`` of the top-level ``<default>`` elements, quirks included:
+    the default tables by class (the unnamed top-level one as ``__root__``; a top-level
+    ``class="main"``, MuJoCo's name for that same root, as a class of its own) and the line of
+    each class.
+
+    A class starts from a copy of its parent's table only when the parent <default> has a
+    class name; classes nested directly in the unnamed top-level <default> start empty (they
+    get the root defaults later, merged at each body).
+    """
+    classes: dict[str, Defaults] = {}
+    lines: dict[str, int] = {}
+
+    def read(node: etree._Element, parent: etree._Element | None) -> None:
+        class_name = node.get("class", "__root__")
+        if parent is not None and parent.get("class") is not None:
+            classes[class_name] = _copy(classes.get(str(parent.get("class")), {}))
+        else:
+            classes[class_name] = {}
+        lines[class_name] = node.sourceline if isinstance(node.sourceline, int) else 1
+        table = classes[class_name]
+        for child in node:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag == "default":
+                read(child, node)
+            elif child.tag in table:
+                table[child.tag] = merge(table[child.tag], dict(child.attrib))
+            else:
+                table[child.tag] = dict(child.attrib)
+
+    for default in defaults:
+        read(default, None)
+    return classes, lines

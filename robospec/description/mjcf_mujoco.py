@@ -99,3 +99,24 @@ def attributes(
     merged = dict(table.get(str(element.tag), {}))
     merged.update(element.attrib)
     return merged
+
+
+def childclass(element: etree._Element) -> str:
+    """The class ``element`` takes its defaults from: its own ``class``, else the nearest
+    ``childclass`` of a body above it (the body's own for a body), else ``main``."""
+    own = element.get("class")
+    if own is not None:
+        return own
+    holders = [element] if element.tag == "body" else []
+    for holder in (*holders, *element.iterancestors("body")):
+        if holder.get("childclass") is not None:
+            return str(holder.get("childclass"))
+    return MAIN_CLASS
+
+
+def effective(table: dict[str, Table], element: etree._Element) -> dict[str, str]:
+    """``element``'s attributes over the defaults of its class for its tag."""
+    defaults = table.get(childclass(element)) or table.get(MAIN_CLASS, {})
+    merged = dict(defaults.get(str(element.tag), {}))
+    merged.update(element.attrib)
+    return merged

@@ -21,6 +21,18 @@ from robospec.diagnostics import Diagnostic, Location, error
 INVALID_STRUCTURE = "RS052"
 LEFTOVER_SUBSTITUTION = "RS063"
 
+# The URDF attributes urchin reads as a list of numbers (element tag -> attribute -> how many):
+# where a stray comma stops the load, and the `separators` mend writes spaces.
+NUMBER_LISTS: dict[str, dict[str, int]] = {
+    "origin": {"xyz": 3, "rpy": 3},
+    "axis": {"xyz": 3},
+    "box": {"size": 3},
+    "mesh": {"scale": 3},
+    "color": {"rgba": 4},
+}
+# what the hint of a number list the mend reads names
+SEPARATORS_MEND = "`description: {mend: {separators: spaces}}`"
+
 # $(find ...), $(arg ...), $(optenv ...), ${expression}: xacro's and roslaunch's syntax
 _SUBSTITUTION = re.compile(r"\$[({]")
 _OPTENV = re.compile(r"^\s*\$\(optenv\s+\S+\s+([^)]*)\)\s*$")
@@ -100,10 +112,44 @@ def _numbers(
     if len(values) == count and all(math.isfinite(v) for v in values):
         return values
     expected = "a number" if count == 1 else f"{count} numbers"
+    # a number list the separators mend reads: the hint names it
+    listed = NUMBER_LISTS.get(str(element.tag), {})
+    mendable = comma_separated(raw, count) is not None and any(
+        element.get(a) == raw for a in listed
+    )
+    hint = (
+        f"separate the numbers by spaces only (urchin reads no commas); {SEPARATORS_MEND} "
+        "does it in a copy of the description"
+        if mendable
+        else None
+    )
     diagnostics.append(
-        error(at(path, element), INVALID_STRUCTURE, f"{what}: {shown} is not {expected}")
+        error(at(path, element), INVALID_STRUCTURE, f"{what}: {shown} is not {expected}", hint)
     )
     return None
+
+
+def comma_separated(raw: str, count: int) -> list[float] | None:
+    """The ``count`` finite numbers ``raw`` writes with commas among its separators
+    (``"1.57, 1.31 1.57"``), which urchin's space-separated reading refuses; None when it has
+    no comma, is not that list, or also reads as ``count`` numbers with decimal commas
+    (``"0,5 1,5 2"`` could be either: nobody can tell which the author meant)."""
+    if "," not in raw or has_substitution(raw):
+        return None
+    values = _finite(re.split(r"[\s,]+", raw.strip().strip(",")))
+    # a comma between two digits might be a decimal comma; one beside a space cannot be
+    decimal = _finite(re.sub(r"(?<=\d),(?=\d)", ".", raw).split())
+    if values is None or len(values) != count:
+        return None
+    return None if decimal is not None and len(decimal) == count else values
+
+
+def _finite(parts: list[str]) -> list[float] | None:
+    try:
+        values = [float(part) for part in parts if part]
+    except ValueError:
+        return None
+    return values if all(math.isfinite(v) for v in values) else None
 
 
 class Findings:

@@ -176,6 +176,9 @@ _CODES = [
     Code("RS528", "a task calls an agent member the robot does not have"),
     Code("RS530", "a closed loop's two points are apart at rest"),
     Code("RS531", "a closed loop pulls apart while the robot moves"),
+    Code("RS532", "the robot loaded does not weigh what the description says"),
+    Code("RS533", "a link loaded away from where the description puts it"),
+    Code("RS534", "a joint's rated force cannot carry gravity where check steps it"),
     Code("RS545", "a mimic joint's relation holds it outside its own limits"),
     # -- what the cameras see in the pictures of robospec doc --images (RS560-RS579)
     Code("RS560", "camera covered by its own mount"),
@@ -234,6 +237,8 @@ _CODES = [
     Code("RS719", "mended: repeated MJCF asset definitions removed"),
     Code("RS720", "mended: MJCF bodies without joints merged into their parents"),
     Code("RS721", "mended: MJCF frames written as MuJoCo's quat"),
+    Code("RS722", "mended: number lists separated by commas"),
+    Code("RS723", "mended: MJCF meshes from default classes written on the geoms"),
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),

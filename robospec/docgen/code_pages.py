@@ -16,12 +16,14 @@ from robospec.docgen.code_examples import (
     load_code_examples,
 )
 from robospec.physics import (
+    described,
     gravity,
     ground,
     keyframe_hold,
     loops,
     mimic_limits,
     random_actions,
+    rating,
     self_contact,
     step_response,
     task_run,
@@ -29,8 +31,10 @@ from robospec.physics import (
 )
 
 # the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519,
-# RS521-RS527, RS530, RS531, RS545
+# RS521-RS527, RS530-RS534, RS545
 PHYSICS_CHECKS = (
+    described,
+    rating,
     keyframe_hold,
     loops,
     mimic_limits,

@@ -71,11 +71,19 @@ def emit_package_init(modules: list[tuple[str, str, str]]) -> str:
         ast.Attribute(ast.Name(HEADLESS_MODULE, ast.Load()), "install", ast.Load()), [], []
     )
     imports.append(ast.ImportFrom("copy", [ast.alias("deepcopy")], 0))
+    # where robospec is installed, what ManiSkill's loaders raise while an environment loads
+    # one of these agents is a robospec.SpecError with a located diagnostic
+    guard = ast.Call(
+        ast.Attribute(ast.Name(HEADLESS_MODULE, ast.Load()), "guard_loading", ast.Load()),
+        [ast.Call(ast.Attribute(ast.Name("AGENTS", ast.Load()), "values", ast.Load()), [], [])],
+        [],
+    )
     body: list[ast.stmt] = [
         ast.Expr(ast.Constant(doc)),
         *sorted_imports(imports),
         ast.Expr(install),
         assign("AGENTS", table),
+        ast.Expr(guard),
         *ast.parse(textwrap.dedent(SIM_CONFIG_FOR)).body,
     ]
     module_node = ast.Module(body, type_ignores=[])

@@ -146,6 +146,20 @@ def install() -> bool:
         return True
 
 
+def guard_loading(agents: Any) -> None:
+    """Where robospec is installed, make loading each of ``agents`` (a built package's agent
+    classes) raise ``robospec.SpecError`` with a located diagnostic (RS514, at the element of
+    the description the loader was reading) where ManiSkill's loaders raise; where it is not,
+    ManiSkill's exception is left as it is. Here only because this is the one file a built
+    package carries (robospec.maniskill.load_guard does the work)."""
+    try:
+        from robospec.maniskill.load_guard import guard_described
+    except ImportError:
+        return
+    for agent in agents:
+        guard_described(agent)
+
+
 def acquire() -> None:
     """Load without visuals until the matching :func:`release` (calls nest)."""
     global _holders, _owned

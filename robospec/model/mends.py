@@ -87,6 +87,13 @@ class Mends(StrictModel):
         "(negative, zero beside an inertia, tiny) to 1 g (MuJoCo's boundmass).",
         examples=["bound"],
     )
+    separators: Literal["spaces"] | None = Field(
+        default=None,
+        description='`spaces`: write lists of numbers separated by commas (`rpy="1.57, 0 '
+        "0\"`), at which SAPIEN's URDF parser stops, separated by spaces, the numbers as "
+        "written (origins, axes, box sizes, mesh scales, colours).",
+        examples=["spaces"],
+    )
     integers: Literal["round"] | None = Field(
         default=None,
         description='`round`: write whole numbers written as decimals (`width="640.0"`) where '
@@ -139,6 +146,13 @@ class Mends(StrictModel):
         "which MuJoCo refuses: `first` keeps each name's first definition, `last` its last "
         "(what ManiSkill's loader does without a word).",
         examples=["first"],
+    )
+    geom_meshes: Literal["defaults"] | None = Field(
+        default=None,
+        description="MJCF. `defaults`: write on each geom the `mesh` its `<default>` class "
+        "gives it in MuJoCo where ManiSkill's loader reads no such mesh (a root class spelled "
+        '`<default class="main">`: the loader raises KeyError, or loads a sphere).',
+        examples=["defaults"],
     )
     mesh_scale: Literal["defaults"] | None = Field(
         default=None,

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
 from robospec.files import cache_root
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
+from robospec.output.load_errors import guard
 
 if TYPE_CHECKING:
     from robospec.pipeline import CompiledSpec
@@ -333,6 +334,8 @@ def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dic
             )
         module = _exec_module(module_name, module_file)
         loaded[uid] = getattr(module, manifest["class_name"])
+        # what ManiSkill's loaders raise when an environment loads it: a located SpecError
+        guard(loaded[uid], file)
         _REGISTERED_FROM[uid] = file.resolve()
     return loaded
 

@@ -18,10 +18,12 @@ from dataclasses import replace
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error, without_codes
+from robospec.maniskill.crash import Crash, from_exception
 from robospec.model.frozen import Checks
 from robospec.physics import (
     action_layout,
     crash_diagnostics,
+    described,
     gravity,
     ground,
     keyframe_hold,
@@ -34,7 +36,6 @@ from robospec.physics import (
     task_run,
 )
 from robospec.physics.check_run import CheckRun
-from robospec.physics.crash import Crash, from_exception
 from robospec.physics.findings import Finding, Status
 from robospec.physics.isolation import WorkerPool
 from robospec.physics.results import (
@@ -49,7 +50,9 @@ from robospec.pipeline import CompiledSpec, compile_all, silenced_codes
 
 # (name, check) in the order they run and are reported
 CHECKS: tuple[tuple[str, Callable[[CheckRun], list[Finding]]], ...] = (
-    (action_layout.NAME, action_layout.check),
+    (action_layout.NAME, action_layout.check),  # what the actions are, not how the robot behaves
+    # before any behaviour: the robot loaded is the one described, or nothing more is judged
+    (described.NAME, described.check),
     (ground.NAME, ground.check),
     (mimic_limits.NAME, mimic_limits.check),
     (keyframe_hold.NAME, keyframe_hold.check),
@@ -205,6 +208,9 @@ def run_checks(run: CheckRun, progress: RobotProgress | None = None) -> list[Fin
             crash = from_exception(exc)
             diagnostic = crash_diagnostics.check_failure(run.context, name, run.mode, crash)
             findings.append(_crashed(name, run.mode, crash, diagnostic))
+        if described.failed(findings):
+            # behaviour of another robot than the one described proves nothing about it
+            return findings + [_not_judged(name) for name, _ in CHECKS[index + 1 :]]
     if run.tasks and not run.backend.gpu:
         if progress is not None:
             progress(len(CHECKS), f"{run.uid}: tasks")
@@ -224,6 +230,12 @@ def _unloadable(run: CheckRun, broken: dict[str, Crash]) -> list[Finding]:
         _crashed(LOAD, mode, crash, crash_diagnostics.mode_failure(run.context, mode, crash))
         for mode, crash in broken.items()
     ]
+
+
+def _not_judged(check: str) -> Finding:
+    return Finding(
+        check, None, "-", Status.SKIP, f"not judged: not the robot described ({described.NAME})"
+    )
 
 
 def _crashed(check: str, mode: str | None, crash: Crash, diagnostic: Diagnostic) -> Finding:

@@ -10,8 +10,8 @@ from typing import Any
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.load.source_map import KeyPath
+from robospec.maniskill.crash import Crash, from_exception
 from robospec.model.frozen import Checks
-from robospec.physics.crash import Crash, from_exception
 from robospec.physics.sim import CPU, Backend, Sim
 from robospec.resolve.resolved import ResolvedKeyframe, ResolvedRobot
 
@@ -32,7 +32,7 @@ class CheckRun:
     plot_dir: Path | None = None  # check --plot: one PNG of each controller's step there
     check: str | None = None  # the check running now
     mode: str | None = None  # the mode it used last
-    # modes whose environment could not be made, with what crashed (robospec.physics.crash)
+    # modes whose environment could not be made, with what crashed (robospec.maniskill.crash)
     broken: dict[str, Crash] = field(default_factory=dict)
     # which links start inside the ground, by start (robospec.physics.ground)
     clearances: dict[str, Any] = field(default_factory=dict)

@@ -23,80 +23,17 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from robospec.checks.context import CheckContext
-from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics import Diagnostic, error
+from robospec.maniskill.crash import USER, Crash
 from robospec.maniskill.upstream_output import UpstreamMessage
-from robospec.physics.crash import USER, Crash, Element
+from robospec.output.load_errors import load_failure as _load_failure
 
 OTHERS_CHECKED = "every other robot was still checked"
 
 
-def description_location(context: CheckContext, element: Element | None) -> Location:
-    """Where ``element`` is written in the robot description, else the spec's ``description``
-    key."""
-    if element is not None:
-        line = _element_line(context, element)
-        if line is not None:
-            return context.at_description(line)
-    return context.key(("description",))
-
-
-def described_name(context: CheckContext, element: Element) -> str:
-    """The element's name as the description writes it: ManiSkill names PhysX joints and links
-    ``scene-0-<uid>_<name>``, so a name the description does not know is matched by the
-    longest known name it ends with."""
-    facts = context.description
-    known = [link.name for link in facts.links] + [joint.name for joint in facts.joints]
-    if element.name in known:
-        return element.name
-    endings = [name for name in known if element.name.endswith("_" + name)]
-    return max(endings, key=len) if endings else element.name
-
-
-def _element_line(context: CheckContext, element: Element) -> int | None:
-    facts = context.description
-    name = described_name(context, element)
-    if element.tag == "link":
-        found = next((link for link in facts.links if link.name == name), None)
-        if found is not None:
-            return found.line
-    if element.tag == "joint":
-        joint = next((j for j in facts.joints if j.name == name), None)
-        if joint is not None:
-            return joint.line
-    return _search(context, Element(element.tag, name))
-
-
-def _search(context: CheckContext, element: Element) -> int | None:
-    """The line of the first ``<tag name="name">`` in the description's text."""
-    from lxml import etree
-
-    try:
-        text = context.robot.description.read_text()
-        root = etree.fromstring(text.encode("utf-8"))
-    except (OSError, ValueError, etree.XMLSyntaxError):
-        return None
-    for found in root.iter(element.tag):
-        if found.get("name") == element.name:
-            return found.sourceline
-    return None
-
-
-def _element_words(context: CheckContext, crash: Crash) -> str:
-    element = crash.element
-    if element is None:
-        return ""
-    return f' at <{element.tag} name="{described_name(context, element)}">'
-
-
 def load_failure(context: CheckContext, uid: str, crash: Crash) -> Diagnostic:
-    return error(
-        description_location(context, crash.element),
-        "RS514",
-        f"ManiSkill cannot load '{uid}': {crash.what}{_element_words(context, crash)} "
-        f"({crash.where()})",
-        "the loader rejects the description here: mend the element (robospec validate tells "
-        f"what it knows about the description before anything loads); {OTHERS_CHECKED}",
-    )
+    """RS514, as check and tune report it (robospec.output.load_errors makes it)."""
+    return _load_failure(context, uid, crash, OTHERS_CHECKED)
 
 
 def process_died(

@@ -27,8 +27,8 @@ from pathlib import Path
 from types import TracebackType
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.maniskill.crash import from_fault_log
 from robospec.maniskill.upstream_output import UpstreamLog
-from robospec.physics.crash import from_fault_log
 from robospec.physics.crash_diagnostics import process_died
 from robospec.physics.findings import Finding, Status
 from robospec.physics.one_shot import child_environment, read_text

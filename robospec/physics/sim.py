@@ -245,6 +245,18 @@ class Sim:
         ``balance_passive_force`` (true unless a mode says otherwise) does."""
         return all(bool(np.all(np.asarray(link.disable_gravity))) for link in self.robot.links)
 
+    def gravity_loads(self) -> dict[str, float]:
+        """What gravity puts on each active joint where the robot is now (N m, or N): the force
+        its drive must give just to hold still (SAPIEN's passive force, first environment);
+        empty on the GPU, where SAPIEN does not compute it."""
+        if self.backend.gpu:
+            return {}
+        forces = self.robot._objs[0].compute_passive_force(
+            gravity=True, coriolis_and_centrifugal=False
+        )
+        values = np.asarray(forces, dtype=np.float64).reshape(-1)
+        return dict(zip(self.joint_names, (float(v) for v in values), strict=False))
+
     def root_speed(self) -> np.ndarray:
         """How fast the robot as a whole moves: :func:`centre_of_mass_speed`."""
         return centre_of_mass_speed(self.robot, self.backend.num_envs)

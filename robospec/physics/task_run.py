@@ -32,9 +32,9 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Location, error
+from robospec.maniskill.crash import USER, from_exception, root_cause
 from robospec.maniskill.reach import chain_reach
 from robospec.physics.check_run import CheckRun
-from robospec.physics.crash import USER, from_exception, root_cause
 from robospec.physics.findings import Finding, Status, metrics
 
 NAME = "task"

@@ -207,8 +207,8 @@ def _plots(folder: Path, report: TuneReport) -> list[str]:
 def run_worker(item: CompiledSpec, controllers: tuple[str, ...], traces: bool) -> TuneReport:
     """Tune in a worker process; a worker that dies is RS515 (what it was doing, the last
     ManiSkill/SAPIEN frame), a worker that cannot start is RS510."""
+    from robospec.maniskill.crash import from_fault_log
     from robospec.maniskill.upstream_output import UpstreamLog
-    from robospec.physics.crash import from_fault_log
     from robospec.physics.crash_diagnostics import process_died
     from robospec.physics.one_shot import Death, run_once
 

@@ -11,10 +11,10 @@ import numpy as np
 
 from robospec.description.ratings import joint_ratings
 from robospec.diagnostics import SpecError
+from robospec.maniskill.crash import from_exception
 from robospec.physics import crash_diagnostics
 from robospec.physics.batch import precheck
 from robospec.physics.check_run import CheckRun
-from robospec.physics.crash import from_exception
 from robospec.pipeline import CompiledSpec
 from robospec.tune.results import ControllerTuning, TuneReport
 from robospec.tune.search import Search

@@ -26,6 +26,7 @@ from robospec.description.ratings import Rating, joint_ratings
 from robospec.diagnostics import Diagnostic, Location, warning
 from robospec.geometry import matrix_from_quaternion
 from robospec.physics.findings import significant
+from robospec.physics.rating import GRAVITY_SHARE
 
 OVER_RATING = "RS609"
 
@@ -106,10 +107,17 @@ def rating_warnings(analysis: RobotAnalysis, gains: Mapping[str, JointGains]) ->
         unit = "N" if _prismatic(analysis, name) else "N m"
         rating = f"{drive.rating.what} of {drive.rating.value:g} {unit}"
         if drive.measured:
+            gravity = (
+                f"; gravity alone puts {drive.load:.3g} {unit} of it on the joint at rest: the "
+                "robot as rated cannot lift this link far (RS534 in robospec check)"
+                if drive.load >= GRAVITY_SHARE * drive.rating.value
+                else ""
+            )
             message = (
                 f"joint '{name}': measured in ManiSkill, its drive asked for {drive.needs:.3g} "
                 f"{unit} in robospec check's step, more than {rating}; held at its rating it "
                 f"is slower than the scaffold aims for (force_limit {drive.force_limit:g})"
+                f"{gravity}"
             )
         elif drive.load >= drive.rating.value:
             message = (

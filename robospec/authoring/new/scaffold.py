@@ -223,7 +223,7 @@ def scaffold(
     if members:
         data.update(members)
         notes[(next(iter(members)),)] = _members_note(members)
-    return SpecDoc(data, _header(analysis, rest, entries), notes)
+    return SpecDoc(data, _header(analysis, rest, entries, gains), notes)
 
 
 # why an MJCF's collision filters make a never_collide entry (the header says it for each)
@@ -331,8 +331,38 @@ def _tidy(value: float) -> float:
     return float(round(value, 6)) + 0.0  # +0.0: never write -0.0
 
 
+def _gravity_bound(analysis: RobotAnalysis, gains: Mapping[str, JointGains]) -> str | None:
+    """The joints whose rating gravity nearly takes at rest, said where the spec starts: held
+    at its rating such a joint cannot lift its own link far, whatever its gains (robospec
+    check's step says so at the rating: RS534)."""
+    from robospec.physics.rating import GRAVITY_SHARE
+
+    found = []
+    for name, drive in gains.items():
+        if drive.rating is None or drive.load < GRAVITY_SHARE * drive.rating.value:
+            continue
+        joint = analysis.description.joint(name)
+        unit = "N" if joint is not None and joint.type == "prismatic" else "N m"
+        found.append(
+            f"{name} (rated {drive.rating.value:g} {unit} by {drive.rating.what}, "
+            f"{drive.load:.3g} {unit} of gravity at rest)"
+        )
+    if not found:
+        return None
+    return (
+        "Ratings gravity nearly takes: "
+        + ", ".join(found)
+        + ". Held at its rating such a joint cannot lift its own link far, whatever its "
+        "gains: a property of the robot as rated (robospec check warns RS534 where its step "
+        "meets the rating). If the motor gives more, correct the rating."
+    )
+
+
 def _header(
-    analysis: RobotAnalysis, rest: RestPose, never_collide: list[tuple[tuple[str, ...], str]]
+    analysis: RobotAnalysis,
+    rest: RestPose,
+    never_collide: list[tuple[tuple[str, ...], str]],
+    gains: Mapping[str, JointGains] | None = None,
 ) -> tuple[str, ...]:
     source = analysis.source
     body = analysis.body
@@ -418,6 +448,9 @@ def _header(
             "gripper controller; their other joints are passive (group linkage): the linkage "
             "moves them."
         )
+    carried = _gravity_bound(analysis, gains or {})
+    if carried:
+        paragraphs.append(carried)
     paragraphs.append(_rest_paragraph(analysis, rest))
     for paragraph in paragraphs:
         lines.append("")

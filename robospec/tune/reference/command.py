@@ -319,8 +319,8 @@ def _per_joint(value: float | list[float] | tuple[float, ...] | None, n: int) ->
 def _run_worker(item: CompiledSpec, request: Request) -> Outcome:
     """The fit, in a worker process; one that dies is RS650 (what it was doing, the last
     ManiSkill/SAPIEN/MuJoCo frame)."""
+    from robospec.maniskill.crash import from_fault_log
     from robospec.maniskill.upstream_output import UpstreamLog
-    from robospec.physics.crash import from_fault_log
     from robospec.physics.one_shot import Death, run_once
 
     found = run_once("robospec.tune.reference.worker", request, "robospec-reference-")

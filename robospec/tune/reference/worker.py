@@ -56,7 +56,7 @@ def run(request: Request, phase: object) -> Outcome:
     try:
         _run(request, outcome, phase)
     except Exception as exc:
-        from robospec.physics.crash import from_exception
+        from robospec.maniskill.crash import from_exception
 
         crash = from_exception(exc)
         outcome.diagnostics.append(
