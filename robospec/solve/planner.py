@@ -30,6 +30,10 @@ QPOS_STEP = 0.1  # rad per screw step (mplib's qpos_step)
 # mplib's default joint limits, 1 rad/s and 1 rad/s², which ManiSkill's solvers scale by 0.9
 MPLIB_LIMIT = 1.0
 LIMIT_TOLERANCE = 1e-3  # rad past a joint limit that a screw step may go (mplib's)
+# screw steps at most (20 rad of joint motion): near a singularity (an arm at full stretch) the
+# pseudo-inverse's steps barely move the tcp, and an unbounded screw ran for minutes into
+# paths of thousands of control steps
+MAX_SCREW_STEPS = 200
 
 
 class PlanFailed(Exception):
@@ -40,6 +44,7 @@ class GripperArmSolver:
     """``TwoFingerGripperMotionPlanningSolver``'s interface, planned with SAPIEN's kinematics."""
 
     facts: GripperFacts  # set per robot by :func:`solver_class`
+    current: GripperArmSolver | None = None  # the solver the running solution built last
 
     def __init__(
         self,
@@ -66,6 +71,14 @@ class GripperArmSolver:
         self.tcp_index = self.facts.tcp_index
         self.arm = np.asarray(self.facts.arm_joints)
         self.limits = self.robot.get_qlimits()[0].cpu().numpy().astype(np.float64)
+        type(self).current = self  # the grasp the solution computes next reads closing()
+
+    def closing(self) -> np.ndarray:
+        """The way the fingers close now (world frame): the grasp frame's y."""
+        from mani_skill.utils.structs.pose import to_sapien_pose
+
+        grasp = to_sapien_pose(self.base_env.agent.tcp.pose) * self.facts.grasp_to_tcp.inv()
+        return grasp.to_transformation_matrix()[:3, 1]
 
     # -- what the solutions call ---------------------------------------------------------------
 
@@ -139,7 +152,7 @@ class GripperArmSolver:
             inside = np.all(qpos >= self.limits[:, 0] - LIMIT_TOLERANCE) and np.all(
                 qpos <= self.limits[:, 1] + LIMIT_TOLERANCE
             )
-            if np.linalg.norm(delta_twist) < 1e-4 or not inside:
+            if np.linalg.norm(delta_twist) < 1e-4 or not inside or len(path) > MAX_SCREW_STEPS:
                 raise PlanFailed("the screw leaves the joint limits or stalls")
             path.append(qpos[self.arm].copy())
             if last:

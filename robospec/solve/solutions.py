@@ -29,13 +29,34 @@ SOLUTIONS: dict[str, str] = {
 }
 PACKAGE = "mani_skill.examples.motionplanning.panda.solutions"
 SOLVER_NAME = "PandaArmMotionPlanningSolver"
+GRASP_NAME = "compute_grasp_info_by_obb"
+
+
+def closing_as_the_fingers(compute: Callable[..., Any], solver: type) -> Callable[..., Any]:
+    """``compute_grasp_info_by_obb`` choosing the grasp whose closing lies nearest the way the
+    fingers close now. The solutions pass the tcp's y axis as that way (the Panda's tcp frame
+    has y across its fingers); a robot's tcp link may be oriented any way (Unitree Z1's, as
+    ``new`` finds it, has its x there), and a grasp a quarter turn off is one the wrist may not
+    reach. The way the fingers close is the grasp frame's y (robospec.solve.gripper), read
+    from the solver the solution has just built."""
+
+    def compute_grasp(*args: Any, **kwargs: Any) -> Any:
+        planner = getattr(solver, "current", None)
+        if planner is not None and "target_closing" in kwargs:
+            kwargs["target_closing"] = planner.closing()
+        return compute(*args, **kwargs)
+
+    return compute_grasp
 
 
 def solution(task: str, solver: type) -> Callable[..., Any]:
-    """ManiSkill's solution of ``task``, planning with ``solver``."""
+    """ManiSkill's solution of ``task``, planning with ``solver``; its grasps close the way
+    the robot's fingers close now (:func:`closing_as_the_fingers`)."""
     module = importlib.import_module(f"{PACKAGE}.{SOLUTIONS[task]}")
     solve = module.solve
     rebound = dict(solve.__globals__, **{SOLVER_NAME: solver})
+    if GRASP_NAME in rebound:
+        rebound[GRASP_NAME] = closing_as_the_fingers(rebound[GRASP_NAME], solver)
     return types.FunctionType(
         solve.__code__, rebound, solve.__name__, solve.__defaults__, solve.__closure__
     )

@@ -209,6 +209,28 @@ def _finger_tips(
     return best[0][0], best[1][0], best[0][1]
 
 
+def gripper_fingers(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> Fingers | None:
+    """The two fingers of the gripper ``new`` recognises (the rules above), at ``qpos``."""
+    if analysis.kinematics is None:
+        return None
+    return _fingers(analysis, analysis.kinematics.at(qpos).links, qpos)
+
+
+def finger_joint(analysis: RobotAnalysis, link: str) -> str | None:
+    """The joint that moves a finger: the nearest moving joint above it (None: none does)."""
+    model = analysis.kinematics
+    assert model is not None
+    moving = {j.child: j.name for j in model.joints if j.type != "fixed"}
+    return _moving_joint_above(model, moving, link)
+
+
+def finger_centre(
+    analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], link: str
+) -> np.ndarray:
+    """A link's centre of mass at ``poses`` (its frame's origin when it has no inertial)."""
+    return _centre(analysis, poses, link)
+
+
 def _centre(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], link: str) -> np.ndarray:
     """A link's centre of mass at rest (its frame's origin when it has no inertial)."""
     pose = poses[link]
