@@ -13,13 +13,13 @@ the simulation:
 - OPEN and CLOSED: the ends of the gripper controller's action range, the one that puts the
   fingers farther apart open (by the kinematics SAPIEN builds of the loaded robot, the mimic
   map included);
-- the grasp frame: y from finger 2 to finger 1, z from the hand (the link both fingers hang
-  from) toward them, both measured at the reset pose, and the fixed turn from that frame to
-  the tcp link's (the identity for ManiSkill's Panda). Its origin is the middle of the
-  fingers' collision shapes, gripper open: where they close. The tcp link is planned at its
-  fixed offset from there, so a tcp that names the hand (a midpoint tcp binds ``agent.tcp``
-  to the fingers' parent) or a frame short of the fingertips still grasps between the
-  fingers.
+- the grasp frame, measured at the reset pose by the fingers' collision shapes: its origin
+  where the fingers close (the middle of the moving fingers' shapes, open and closed), y the
+  way the fingers part as they start to open (from finger 2 to finger 1), z from the hand (the
+  link the fingers hang from) toward that middle; and the fixed transform from that frame to
+  the tcp link's (a turn alone for ManiSkill's Panda, whose tcp sits there). The tcp link is
+  planned at that offset, so a tcp that names the hand (a midpoint tcp binds ``agent.tcp`` to
+  the fingers' parent) or a frame short of the fingertips still grasps between the fingers.
 
 Anything that keeps the solver from driving the robot is a :class:`NotSolvable` with the
 reason, before an episode runs.
@@ -116,15 +116,6 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
         )
     arm, gripper = parts[arms[0]], parts[grippers[0]]
     held = [n for n in parts if n not in (arms[0], grippers[0])]
-    for name in held:
-        if parts[name].config.use_delta or parts[name].config.normalize_action:
-            raise NotSolvable(
-                f"{MODE}'s controller '{name}' (neither the arm nor the gripper) takes "
-                + ("joint deltas" if parts[name].config.use_delta else "normalised actions")
-                + ": the solver holds its joints where they are, by their positions",
-                "use_delta: false and normalize_action: false for that controller",
-                "controllers",
-            )
     if arm.config.use_delta or arm.config.normalize_action:
         raise NotSolvable(
             f"{MODE}'s arm controller '{arms[0]}' takes "
@@ -157,15 +148,7 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
     )
     hold: list[float] = []
     for name in held:
-        joints = parts[name].active_joint_indices.cpu().numpy()
-        if len(joints) != parts[name].single_action_space.shape[0]:
-            raise NotSolvable(
-                f"{MODE}'s controller '{name}' (neither the arm nor the gripper) takes another "
-                "action than its joints' positions: the solver cannot hold it",
-                f"give {MODE} one arm controller and one gripper controller",
-                "control_modes",
-            )
-        hold += [float(v) for v in qpos[joints]]
+        hold += _holding(name, parts[name], qpos)
     return GripperFacts(
         tcp_index=robot.links.index(tcp),
         arm_joints=tuple(int(j.active_index[0]) for j in arm.joints),
@@ -175,6 +158,25 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
         grasp_to_tcp=sapien.Pose(turn),
         hold=tuple(hold),
     )
+
+
+def _holding(name: str, controller: Any, qpos: np.ndarray) -> list[float]:
+    """The action that keeps a controller that is neither the arm nor the gripper where the
+    reset put it: its joints' positions for absolute positions; nothing to add (zeros) for
+    deltas and velocities (a mobile base, a head by velocity)."""
+    config = controller.config
+    width = int(controller.single_action_space.shape[0])
+    if getattr(config, "use_delta", True):  # deltas, or a velocity controller (no use_delta)
+        return [0.0] * width
+    joints = controller.active_joint_indices.cpu().numpy()
+    if config.normalize_action or len(joints) != width:
+        raise NotSolvable(
+            f"{MODE}'s controller '{name}' (neither the arm nor the gripper) takes normalised "
+            "or coupled positions: the solver cannot hold it where it is",
+            "normalize_action: false for that controller, or leave it out of the mode",
+            "controllers",
+        )
+    return [float(v) for v in qpos[joints]]
 
 
 def _ancestor_joints(link: Any) -> set[str]:

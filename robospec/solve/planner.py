@@ -15,7 +15,7 @@ and stack solutions never set.
 
 The robot's facts come from :class:`~robospec.solve.gripper.GripperFacts`: which joints
 the arm moves, the action layout of ``pd_joint_pos``, the gripper's open and closed actions, and
-the fixed turn from the solutions' grasp frame to the tcp link's.
+the fixed transform from the solutions' grasp frame to the tcp link's.
 """
 
 from __future__ import annotations
