@@ -105,6 +105,9 @@ class Pick:
 
     episodes: int = 0
     successes: int = 0
+    # each episode the task did not judge a success: (seed, why: the solver's note, or "" when
+    # the solution ran to its end)
+    failures: list[tuple[int, str]] = field(default_factory=list)
     refused: list[Found] = field(default_factory=list)
     crash: str | None = None
     seconds: float = 0.0
@@ -325,6 +328,9 @@ def _pick(workdir: Path, spec_name: str, folders: list[Path], quoted: list[Path]
             episodes = document.get("episodes") or []
             pick.episodes = len(episodes)
             pick.successes = sum(bool(e.get("success")) for e in episodes)
+            pick.failures = [
+                (int(e.get("seed", 0)), _episode_note(e)) for e in episodes if not e.get("success")
+            ]
             found = _found(document.get("diagnostics"), workdir, folders, quoted)
             pick.refused = [f for f in found if f.is_error]
     return pick
@@ -385,6 +391,13 @@ def _run_in_maniskill(
             step.problem = scrub(str(part.get("error")), quoted)
 
 
+def _episode_note(episode: dict[str, Any]) -> str:
+    """Why an episode failed, as ``robospec solve``'s table says it."""
+    if episode.get("error"):
+        return str(episode["error"])
+    return "" if episode.get("planned", True) else "a motion had no plan"
+
+
 def run_corpus(
     robots: list[Robot], work: Path, workers: int | None = None, progress: IO[str] | None = None
 ) -> list[Journey]:
@@ -398,6 +411,10 @@ def run_corpus(
         if progress is not None:
             seconds = sum(step.seconds for step in journey.steps.values())
             outcomes = " ".join(f"{s.name}={s.outcome}" for s in journey.steps.values())
+            pick = journey.pick
+            if pick is not None:  # what the pick adds to the corpus's time, said apart
+                outcomes += f" pick={pick.successes}/{pick.episodes} ({pick.seconds:.0f} s)"
+                seconds += pick.seconds
             print(f"{robot.key}: {outcomes} ({seconds:.0f} s)", file=progress, flush=True)
         return journey
 

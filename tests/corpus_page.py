@@ -35,6 +35,7 @@ BEFORE_MENDS_AND_DERIVED_GAINS = (
     "`new`, and 6 validated and then failed `check` as scaffolded: Unitree Laikago, Rethink "
     "Baxter, the Allegro hand, ODRI Solo-12, the Unitree G1 and the dm_control humanoid."
 )
+RAN_TO_ITS_END = "the solution ran to its end; the task judged it no success"
 CELL = {PASSED: "ok", FAILED: "fails", CRASHED: "**CRASH**", NOT_RUN: "—"}
 
 HEADER = f"""\
@@ -157,7 +158,7 @@ def _picks(journeys: list[Journey]) -> str:
         if pick.crash:
             lines.append(f"{head}: {_code_span(pick.crash)}")
             continue
-        lines.append(head)
+        lines.append(head + _failures(pick))
         first_of_code: dict[str, Found] = {}
         for found in pick.refused:
             first_of_code.setdefault(found.code, found)
@@ -166,6 +167,18 @@ def _picks(journeys: list[Journey]) -> str:
             if found.hint:
                 lines.append(f"      mend: {_escape(found.hint)}")
     return "\n".join(lines) + "\n"
+
+
+def _failures(pick: Pick) -> str:
+    """The seeds that failed, grouped by why (``seeds 0, 2: a motion had no plan``)."""
+    why: dict[str, list[int]] = {}
+    for seed, note in pick.failures:
+        why.setdefault(note or RAN_TO_ITS_END, []).append(seed)
+    parts = [
+        f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))}: {_escape(note)}"
+        for note, seeds in why.items()
+    ]
+    return f" ({'; '.join(parts)})" if parts else ""
 
 
 def _codes(found: list[Found]) -> str:
