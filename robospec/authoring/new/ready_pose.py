@@ -15,7 +15,9 @@ within the joints' limits and from the middle of their ranges and a few poses dr
 fixed seed (a start may stall at a limit); of the poses found, the one whose joints keep
 farthest from their limits, which the solutions' first moves need room to leave. An arm
 that cannot point its fingers down there (too few joints, a wrist that cannot turn so) gets
-no ``ready`` keyframe, and its episodes start at ``rest``.
+no ``ready`` keyframe, and its episodes start at ``rest``. Where ManiSkill is installed, ``new``'s
+probe (:mod:`.probe`) keeps the first pose found in which no two links touch and none reaches
+below the ground, as ``robospec check`` tests a keyframe; none passing, there is no ``ready``.
 """
 
 from __future__ import annotations
@@ -39,7 +41,7 @@ if TYPE_CHECKING:
     import numpy as np
 
 FORWARD = 0.5  # of the arm's length: how far in front of its first joint the fingers wait
-LOWEST = 0.15  # of the arm's length: the least height of the fingers above the root
+LOWEST = 0.3  # of the arm's length: the least height of the fingers above the root
 ITERATIONS = 200
 DAMPING = 0.05  # damped least squares' lambda (m)
 STEP = 0.2  # rad (or m) a joint moves at most per iteration
@@ -66,29 +68,38 @@ def ready_pose(
     analysis: RobotAnalysis, rest: Mapping[str, float], fingers: Fingers
 ) -> dict[str, float] | None:
     """Joint values (every joint of ``rest``, the arm's changed) with the fingers pointing down
-    in front of the arm, or None where the arm cannot."""
+    in front of the arm, or None where the arm cannot: the first of :func:`ready_poses`."""
+    return next(iter(ready_poses(analysis, rest, fingers)), None)
+
+
+def ready_poses(
+    analysis: RobotAnalysis, rest: Mapping[str, float], fingers: Fingers
+) -> list[dict[str, float]]:
+    """Every ready pose the descents found, those farthest from their joints' limits first
+    (``new``'s probe takes the first in which no two links touch and none is below the
+    ground)."""
     import numpy as np
 
     model = analysis.kinematics
     if model is None:
-        return None
+        return []
     arm = _arm_joints(analysis, fingers.parent)
     if len(arm) < 2:
-        return None
+        return []
     start = dict(rest)
     placed = model.at(start)
     anchors = [placed.axes[name].anchor for name in arm if name in placed.axes]
     if len(anchors) != len(arm):
-        return None
+        return []
     found = _grip(analysis, start, fingers)
     if found is None:
-        return None
+        return []
     grip = Grip(fingers.parent, *found)
     hand = placed.links[fingers.parent]
     points = [*anchors, hand[:3, :3] @ grip.middle + hand[:3, 3]]
     length = sum(float(np.linalg.norm(b - a)) for a, b in itertools.pairwise(points))
     if length <= 0:
-        return None
+        return []
     first = anchors[0]
     target = np.array(
         [first[0] + FORWARD * length, first[1], max(first[2], LOWEST * length)], dtype=float
@@ -99,8 +110,8 @@ def ready_pose(
         for begin in _starts(start, arm, limits)
         if (pose := _descend(analysis, grip, target, arm, limits, begin)) is not None
     ]
-    # the pose farthest from its joints' limits: the solutions' first moves start from it
-    return max(found, key=lambda pose: _margin(pose, arm, limits), default=None)
+    # farthest from its joints' limits first: the solutions' first moves start from it
+    return sorted(found, key=lambda pose: -_margin(pose, arm, limits))
 
 
 def _margin(pose: Mapping[str, float], arm: list[str], limits: list[tuple[float, float]]) -> float:

@@ -183,11 +183,13 @@ def scaffold(
 
     data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest, notes)
     start = "rest"
-    fingers = gripper_fingers(analysis, rest.qpos)
-    ready = ready_pose(analysis, rest.qpos, fingers) if fingers is not None else None
+    ready = rest.ready
+    if not rest.ready_checked:  # no probe in ManiSkill: from the kinematics alone
+        fingers = gripper_fingers(analysis, rest.qpos)
+        ready = ready_pose(analysis, rest.qpos, fingers) if fingers is not None else None
     if ready is not None:
         data["keyframes"]["ready"] = _ready_keyframe(analysis, rest, ready)
-        notes[("keyframes", "ready")] = READY_NOTE
+        notes[("keyframes", "ready")] = READY_CHECKED if rest.ready_checked else READY_NOTE
         start = "ready"
     data["reset"] = {"keyframe": start}
     notes[("reset",)] = (
@@ -231,6 +233,10 @@ FILTERED_WHY = "kept apart by the MJCF's collision filters (contype, conaffinity
 READY_NOTE = (
     "ready: fingers pointing down in front of the arm, where ManiSkill's solutions start "
     "(robospec solve); found by inverse kinematics, not contact-checked"
+)
+READY_CHECKED = (
+    "ready: fingers pointing down in front of the arm, where ManiSkill's solutions start "
+    "(robospec solve); no two links touch, none below the ground (checked in ManiSkill)"
 )
 
 
