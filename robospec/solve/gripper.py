@@ -32,6 +32,9 @@ from typing import Any
 
 import numpy as np
 
+# m: how far short of the fingertips the grasp frame sits, along the fingers (ManiSkill's Panda:
+# its tcp, panda_hand_tcp, 1 cm short of its fingers' tips)
+TIP_MARGIN = 0.01
 NUDGE = 0.05  # of the gripper's stroke: how far it opens from closed to see which way it parts
 MODE = "pd_joint_pos"  # the mode ManiSkill's solutions act in (their StackCube asserts it)
 
@@ -228,20 +231,27 @@ def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: float) -> np.ndarray:
 
 
 def _finger_points(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.ndarray]:
-    """Each finger's collision shapes' centre, in the robot's base frame, at ``qpos``."""
+    """Each finger's collision shapes' centre (the middle of the box round them), in the
+    robot's base frame, at ``qpos``."""
+    return [(p.min(axis=0) + p.max(axis=0)) / 2 for p in _finger_shapes(model, qpos, fingers)]
+
+
+def _finger_shapes(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.ndarray]:
+    """Each finger's collision shapes as points (a mesh's vertices, a primitive's centre), in
+    the robot's base frame, at ``qpos``."""
     model.compute_forward_kinematics(qpos)
-    points = []
+    out = []
     for link in fingers:
         pose = model.get_link_pose(link.index).to_transformation_matrix()
-        centre = _shapes_centre(link._objs[0].collision_shapes)
-        points.append(pose[:3, :3] @ centre + pose[:3, 3])
-    return points
+        local = _shape_points(link._objs[0].collision_shapes)
+        out.append(local @ pose[:3, :3].T + pose[:3, 3])
+    return out
 
 
-def _shapes_centre(shapes: list[Any]) -> np.ndarray:
-    """The middle of the box round a link's collision shapes, in the link's frame: a mesh's by
-    its vertices (a mesh sits at its link's origin, often on the joint's axis: a jaw that turns
-    about it would seem not to move)."""
+def _shape_points(shapes: list[Any]) -> np.ndarray:
+    """A link's collision shapes as points in its frame: a mesh's vertices (a mesh sits at its
+    link's origin, often on the joint's axis: a jaw that turns about it would seem not to
+    move), a primitive's centre."""
     points = []
     for shape in shapes:
         local = shape.local_pose.to_transformation_matrix()
@@ -251,10 +261,7 @@ def _shapes_centre(shapes: list[Any]) -> np.ndarray:
             points.append(scaled @ local[:3, :3].T + local[:3, 3])
         else:
             points.append(local[None, :3, 3])
-    if not points:
-        return np.zeros(3)
-    stacked = np.vstack(points)
-    return (stacked.min(axis=0) + stacked.max(axis=0)) / 2
+    return np.vstack(points) if points else np.zeros((1, 3))
 
 
 def _finger_span(model: Any, qpos: np.ndarray, gripper: Any, action: float, fingers: list[Any]):
@@ -273,10 +280,11 @@ def _grasp_frame(
     open_action: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The solutions' grasp frame in the world (columns x, y, z) and its origin, where the
-    fingers close: the middle of the moving fingers' centres, open and closed (a fixed jaw
-    does not move; the jaw that closes on it meets it at its closed end). y: how the fingers
-    part as they start to open from closed (from finger 2 to finger 1: a jaw that turns opens
-    across the jaws, whatever its centres say); z: from the hand toward that middle."""
+    fingers close: between them, the middle of the moving fingers' centres, open and closed (a
+    fixed jaw does not move; the jaw that closes on it meets it at its closed end), and
+    :data:`TIP_MARGIN` short of their tips along z. y: how the fingers part as they start to
+    open from closed (from finger 2 to finger 1: a jaw that turns opens across the jaws,
+    whatever its centres say); z: from the hand toward that middle."""
     closed_action = ends[0] if open_action == ends[1] else ends[1]
     nudged = closed_action + NUDGE * (open_action - closed_action)
     shut = _finger_points(model, _gripper_qpos(qpos, gripper, closed_action), fingers)
@@ -295,4 +303,8 @@ def _grasp_frame(
         z = tcp.pose.sp.p - hand.pose.sp.p
         z -= (z @ y) * y
     z /= np.linalg.norm(z)
-    return np.stack([np.cross(y, z), y, z], axis=1), middle
+    # along the fingers, as deep as the Panda's tcp sits: TIP_MARGIN short of their tips
+    shapes = _finger_shapes(model, _gripper_qpos(qpos, gripper, open_action), fingers)
+    reach = max(float(np.max((base[:3, :3] @ (p - local).T).T @ z)) for p in shapes)
+    origin = middle + (reach - TIP_MARGIN) * z
+    return np.stack([np.cross(y, z), y, z], axis=1), origin
