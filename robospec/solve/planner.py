@@ -44,7 +44,6 @@ class GripperArmSolver:
     """``TwoFingerGripperMotionPlanningSolver``'s interface, planned with SAPIEN's kinematics."""
 
     facts: GripperFacts  # set per robot by :func:`solver_class`
-    current: GripperArmSolver | None = None  # the solver the running solution built last
 
     def __init__(
         self,
@@ -71,14 +70,6 @@ class GripperArmSolver:
         self.tcp_index = self.facts.tcp_index
         self.arm = np.asarray(self.facts.arm_joints)
         self.limits = self.robot.get_qlimits()[0].cpu().numpy().astype(np.float64)
-        type(self).current = self  # the grasp the solution computes next reads closing()
-
-    def closing(self) -> np.ndarray:
-        """The way the fingers close now (world frame): the grasp frame's y."""
-        from mani_skill.utils.structs.pose import to_sapien_pose
-
-        grasp = to_sapien_pose(self.base_env.agent.tcp.pose) * self.facts.grasp_to_tcp.inv()
-        return grasp.to_transformation_matrix()[:3, 1]
 
     # -- what the solutions call ---------------------------------------------------------------
 
