@@ -2,7 +2,10 @@
 
 ``inspect`` → ``new`` → ``validate`` → ``check`` → ``robospec.register`` + ``gym.make`` + 50
 random steps → ``build`` + import, each in a child process (a crash or a segfault in one step
-is a result, not the end of the run), with the spec exactly as ``new`` wrote it.
+is a result, not the end of the run), with the spec exactly as ``new`` wrote it. An arm whose
+scaffold declares a two-finger grasp check then runs ManiSkill's ``PickCube-v1`` solution
+(``robospec solve``, :data:`PICK_EPISODES` seeds): a measurement, not a step that passes or
+fails (:class:`Pick`).
 
 What each step printed is kept as data (outcome, diagnostics with their files named relative
 to the package or the spec, what crashed), so that tests/test_corpus.py can judge it and
@@ -24,7 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
-from corpus import Robot, install_folder, locate
+from corpus import ARM, Robot, install_folder, locate
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -37,9 +40,22 @@ PASSED, FAILED, CRASHED, NOT_RUN = "passed", "failed", "crashed", "not run"
 RANDOM_STEPS = 50
 BUILD_PACKAGE = "corpus_agents"
 
+# the pick of an arm with a gripper: ManiSkill's solution of this task, over this many seeds
+# (0, 1, ...): a few, to keep the corpus's CI time (about 2 s an episode after 12 s of start)
+PICK_TASK = "PickCube-v1"
+PICK_EPISODES = 3
+
 # seconds a step may take before it counts as hung: expanding xacro, loading a humanoid and
 # stepping it on a busy CPU take a while
-TIMEOUTS = {"inspect": 120, "new": 300, "validate": 120, "check": 600, "build": 120, "child": 600}
+TIMEOUTS = {
+    "inspect": 120,
+    "new": 300,
+    "validate": 120,
+    "check": 600,
+    "build": 120,
+    "child": 600,
+    "solve": 300,
+}
 
 TRACEBACK = "Traceback (most recent call last):"
 
@@ -83,10 +99,26 @@ class Step:
 
 
 @dataclass
+class Pick:
+    """What ``robospec solve --task PICK_TASK`` made of the scaffold: episodes and successes,
+    or the refusal's codes (no episode), or what crashed."""
+
+    episodes: int = 0
+    successes: int = 0
+    # each episode the task did not judge a success: (seed, why: the solver's note, or "" when
+    # the solution ran to its end)
+    failures: list[tuple[int, str]] = field(default_factory=list)
+    refused: list[Found] = field(default_factory=list)
+    crash: str | None = None
+    seconds: float = 0.0
+
+
+@dataclass
 class Journey:
     robot: Robot
     steps: dict[str, Step]
     uid: str | None = None
+    pick: Pick | None = None  # None: no arm with a grasp check, or its journey stopped before
 
     def step(self, name: str) -> Step:
         return self.steps[name]
@@ -259,7 +291,49 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
     _read_uid(journey, reports)
     build, _ = cli("build", "build", spec_name, "-o", BUILD_PACKAGE, "--format", "json")
     _run_in_maniskill(journey, workdir, spec_name, folders, quoted, built=build.outcome == PASSED)
+    if robot.category == ARM and journey.step("register").outcome == PASSED:
+        if "grasping" in _spec_sections(workdir / spec_name):
+            journey.pick = _pick(workdir, spec_name, folders, quoted)
     return journey
+
+
+def _spec_sections(spec: Path) -> set[str]:
+    from ruamel.yaml import YAML
+
+    data = YAML(typ="safe").load(spec.read_text(encoding="utf-8"))
+    return set(data) if isinstance(data, dict) else set()
+
+
+def _pick(workdir: Path, spec_name: str, folders: list[Path], quoted: list[Path]) -> Pick:
+    """``robospec solve`` of :data:`PICK_TASK` with the scaffold, as a user runs it."""
+    ran = _robospec(
+        workdir,
+        "solve",
+        "solve",
+        spec_name,
+        "--task",
+        PICK_TASK,
+        "-n",
+        str(PICK_EPISODES),
+        "--format",
+        "json",
+    )
+    pick = Pick(seconds=ran.seconds)
+    crash = crash_of(ran, TIMEOUTS["solve"])
+    if crash is not None:
+        pick.crash = scrub(crash, quoted)
+        return pick
+    for document in _json_documents(ran.stdout):
+        if "episodes" in document:
+            episodes = document.get("episodes") or []
+            pick.episodes = len(episodes)
+            pick.successes = sum(bool(e.get("success")) for e in episodes)
+            pick.failures = [
+                (int(e.get("seed", 0)), _episode_note(e)) for e in episodes if not e.get("success")
+            ]
+            found = _found(document.get("diagnostics"), workdir, folders, quoted)
+            pick.refused = [f for f in found if f.is_error]
+    return pick
 
 
 def _all_diagnostics(document: dict[str, Any]) -> list[dict[str, Any]]:
@@ -317,6 +391,13 @@ def _run_in_maniskill(
             step.problem = scrub(str(part.get("error")), quoted)
 
 
+def _episode_note(episode: dict[str, Any]) -> str:
+    """Why an episode failed, as ``robospec solve``'s table says it."""
+    if episode.get("error"):
+        return str(episode["error"])
+    return "" if episode.get("planned", True) else "a motion had no plan"
+
+
 def run_corpus(
     robots: list[Robot], work: Path, workers: int | None = None, progress: IO[str] | None = None
 ) -> list[Journey]:
@@ -330,6 +411,10 @@ def run_corpus(
         if progress is not None:
             seconds = sum(step.seconds for step in journey.steps.values())
             outcomes = " ".join(f"{s.name}={s.outcome}" for s in journey.steps.values())
+            pick = journey.pick
+            if pick is not None:  # what the pick adds to the corpus's time, said apart
+                outcomes += f" pick={pick.successes}/{pick.episodes} ({pick.seconds:.0f} s)"
+                seconds += pick.seconds
             print(f"{robot.key}: {outcomes} ({seconds:.0f} s)", file=progress, flush=True)
         return journey
 

@@ -13,10 +13,13 @@ from corpus_journey import (
     FAILED,
     NOT_RUN,
     PASSED,
+    PICK_EPISODES,
+    PICK_TASK,
     RANDOM_STEPS,
     STEPS,
     Found,
     Journey,
+    Pick,
     Step,
 )
 
@@ -32,6 +35,7 @@ BEFORE_MENDS_AND_DERIVED_GAINS = (
     "`new`, and 6 validated and then failed `check` as scaffolded: Unitree Laikago, Rethink "
     "Baxter, the Allegro hand, ODRI Solo-12, the Unitree G1 and the dm_control humanoid."
 )
+RAN_TO_ITS_END = "the solution ran to its end; the task judged it no success"
 CELL = {PASSED: "ok", FAILED: "fails", CRASHED: "**CRASH**", NOT_RUN: "—"}
 
 HEADER = f"""\
@@ -54,6 +58,12 @@ exactly as `robospec new` writes it:
 6. **build**: `robospec build SPEC -o {BUILD_PACKAGE}`, then `import {BUILD_PACKAGE}` and
    `gym.make` with the agent it registers
 
+Then an arm whose scaffold declares a two-finger grasp check (`grasping`) runs ManiSkill's own
+{PICK_TASK} solution: `robospec solve SPEC --task {PICK_TASK} -n {PICK_EPISODES}`
+([Demonstrations](solve.md)), with episodes starting at the keyframe `new` wrote for it. The
+"{PICK_TASK}" column says how many of those seeds the task judged a success, or why `solve`
+refused before any episode (its codes); **—**: no arm with a gripper, or not reached.
+
 A robot passes when every step does. Otherwise `validate` or `check` must stop it with a
 located reason — a `file:line:column` in the spec or in the description — and never with a
 traceback. In the table: **ok** the step passed; **fails** it stopped, for the reasons listed
@@ -66,14 +76,15 @@ This page is written from the journeys' results: `{WRITE_COMMAND}` runs them aga
 
 
 def render_page(journeys: list[Journey]) -> str:
-    parts = [HEADER, _summary(journeys), _table(journeys), _pictures(journeys), _files(journeys)]
+    parts = [HEADER, _summary(journeys), _table(journeys), _picks(journeys), _pictures(journeys)]
+    parts.append(_files(journeys))
     parts.append(_robot_by_robot(journeys))
     return "\n".join(part for part in parts if part)
 
 
 def render_rows(journeys: list[Journey]) -> str:
     """The table and the reasons alone (``tests/corpus.py --only``)."""
-    return "\n".join([_table(journeys), _robot_by_robot(journeys)])
+    return "\n".join([_table(journeys), _picks(journeys), _robot_by_robot(journeys)])
 
 
 def _summary(journeys: list[Journey]) -> str:
@@ -102,8 +113,8 @@ def _summary(journeys: list[Journey]) -> str:
 def _table(journeys: list[Journey]) -> str:
     lines = [
         "## The journeys\n",
-        "| robot | category | format | " + " | ".join(STEPS) + " | check found |",
-        "|---|---|---|" + "---|" * len(STEPS) + "---|",
+        "| robot | category | format | " + " | ".join(STEPS) + f" | check found | {PICK_TASK} |",
+        "|---|---|---|" + "---|" * len(STEPS) + "---|---|",
     ]
     for journey in journeys:
         robot = journey.robot
@@ -112,9 +123,62 @@ def _table(journeys: list[Journey]) -> str:
         lines.append(
             f"| {name} | {robot.category} | {robot.format} | "
             + " | ".join(cells)
-            + f" | {_codes(journey.step('check').found)} |"
+            + f" | {_codes(journey.step('check').found)} | {_pick_cell(journey.pick)} |"
         )
     return "\n".join(lines) + "\n"
+
+
+def _pick_cell(pick: Pick | None) -> str:
+    """The pick's successes (``2 of 3``), the refusal's codes, or a crash."""
+    if pick is None:
+        return "—"
+    if pick.crash:
+        return "**CRASH**"
+    if pick.episodes:
+        return f"{pick.successes} of {pick.episodes}"
+    codes = _unique(f.code for f in pick.refused)
+    return "refused: " + ", ".join(_code_link(c) for c in codes) if codes else "—"
+
+
+def _picks(journeys: list[Journey]) -> str:
+    """Each arm with a gripper: what ManiSkill's pick solution made of it, and why ``solve``
+    refused where it did (its first error of each code, with the mend)."""
+    picked = [j for j in journeys if j.pick is not None]
+    if not picked:
+        return ""
+    lines = [
+        "## Picking the cube\n",
+        f"`robospec solve SPEC --task {PICK_TASK} -n {PICK_EPISODES}` with each arm's scaffold "
+        "(seeds 0 on); the task mounts every robot where it mounts the Panda.\n",
+    ]
+    for journey in picked:
+        pick = journey.pick
+        assert pick is not None
+        head = f"- **{journey.robot.name}**: {_pick_cell(pick)}"
+        if pick.crash:
+            lines.append(f"{head}: {_code_span(pick.crash)}")
+            continue
+        lines.append(head + _failures(pick))
+        first_of_code: dict[str, Found] = {}
+        for found in pick.refused:
+            first_of_code.setdefault(found.code, found)
+        for found in first_of_code.values():
+            lines.append(f"    - {_code_span(found.text())}")
+            if found.hint:
+                lines.append(f"      mend: {_escape(found.hint)}")
+    return "\n".join(lines) + "\n"
+
+
+def _failures(pick: Pick) -> str:
+    """The seeds that failed, grouped by why (``seeds 0, 2: a motion had no plan``)."""
+    why: dict[str, list[int]] = {}
+    for seed, note in pick.failures:
+        why.setdefault(note or RAN_TO_ITS_END, []).append(seed)
+    parts = [
+        f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))}: {_escape(note)}"
+        for note, seeds in why.items()
+    ]
+    return f" ({'; '.join(parts)})" if parts else ""
 
 
 def _codes(found: list[Found]) -> str:

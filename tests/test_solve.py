@@ -28,6 +28,7 @@ PANDA = ROOT / "specs" / "maniskill" / "panda.yaml"
 def test_the_panda_picks_the_cube_and_the_replay_reproduces_each_success(
     tmp_path: Path,
 ) -> None:
+    from robospec.authoring.commands import run_doc
     from robospec.solve.command import render_report, run_solve
     from robospec.solve.replay import main as replay
 
@@ -40,6 +41,13 @@ def test_the_panda_picks_the_cube_and_the_replay_reproduces_each_success(
     with contextlib.redirect_stdout(printed):
         replay([str(PANDA), "--traj-path", str(report.trajectory)])
     assert re.search(r"Replayed 2 episodes, 2/2=100\.00% demos saved", printed.getvalue())
+    # the robot card shows the success rate from that record (doc --demos)
+    card = tmp_path / "card" / "panda.md"
+    done = run_doc(PANDA, card, demos=tmp_path)
+    assert not done.failed, done.diagnostics
+    text = {o.path: o.content for o in done.outputs}[card]
+    assert isinstance(text, str)
+    assert "| `PickCube-v1` | 2 | 2 | 100% | [PickCube-v1.json](<../PickCube-v1.json>) |" in text
 
 
 def test_a_task_without_a_solution_is_refused_at_the_task_option() -> None:

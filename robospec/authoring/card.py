@@ -3,7 +3,9 @@
 Sections: the robot (uid, class, description file), the parts mounted on it, the kinematic
 tree as a Mermaid ``graph TD`` (links as nodes, joints as labelled edges, active joints drawn
 thick), the active joints, the action layout of each control mode (:mod:`.layout`), the
-keyframes, the cameras and the spec's ``simulation`` settings (where it has any). With
+keyframes, the cameras and the spec's ``simulation`` settings (where it has any), and the
+success of each task whose demonstrations ``robospec solve`` recorded (``doc --demos DIR``:
+the episodes' own record, ManiSkill's trajectory ``.json``, never a number typed in). With
 pictures (``doc --images``, :mod:`robospec.pictures`) the card leads with the robot, shows it
 from each view at each keyframe, and each camera's view below the cameras' table.
 No path of the machine appears (files are shown as the spec names them) and numbers are
@@ -66,6 +68,17 @@ def description_text(ref: FileRef) -> str:
 
 
 @dataclass(frozen=True)
+class SolvedTask:
+    """A task's episodes as ``robospec solve`` recorded them for this robot: how many the task
+    judged a success, and the record's path from the card's folder."""
+
+    task: str
+    episodes: int
+    successes: int
+    link: str
+
+
+@dataclass(frozen=True)
 class CardPicture:
     """A picture of ``doc --images``: what it shows, and its path from the card's folder."""
 
@@ -81,11 +94,12 @@ def robot_card(
     spec_link: str,
     plots: Sequence[tuple[str, str]] = (),
     pictures: Sequence[CardPicture] = (),
+    solved: Sequence[SolvedTask] = (),
 ) -> str:
     """The card; ``spec_link`` is the spec's path relative to the card's folder, ``plots``
     each controller's step-response picture (``check --plot``, ``tune --plot``) as
     ``(controller, path relative to the card's folder)``, ``pictures`` those of
-    ``doc --images``."""
+    ``doc --images``, ``solved`` the tasks ``robospec solve`` recorded (``doc --demos``)."""
     lines = [f"# {robot.uid}", ""]
     lead = next((p for p in pictures if p.kind == "robot"), None)
     if lead is not None:  # as model cards do: first, what the robot looks like
@@ -99,6 +113,7 @@ def robot_card(
     lines += _keyframes(robot, description)
     lines += _cameras(robot, pictures)
     lines += _simulation(robot)
+    lines += _tasks(solved)
     lines += _plots(plots)
     while lines and lines[-1] == "":
         lines.pop()
@@ -133,6 +148,29 @@ def _simulation(robot: ResolvedRobot) -> list[str]:
             "",
             "Pass the recommended sim config to `gym.make(..., sim_config=sim_config_for(uid))`.",
         ]
+    return [*lines, ""]
+
+
+def _tasks(solved: Sequence[SolvedTask]) -> list[str]:
+    """How often ManiSkill's solution of each task succeeded with this robot, as recorded."""
+    if not solved:
+        return []
+    lines = [
+        "## Tasks",
+        "",
+        "ManiSkill's own motion-planning solution of each task, run with this robot by "
+        '`robospec solve`; success as the task judges it (`info["success"]`), read from the '
+        "episodes' record.",
+        "",
+        "| task | episodes | successes | success rate | record |",
+        "| --- | ---: | ---: | ---: | --- |",
+    ]
+    for task in solved:
+        rate = task.successes / task.episodes if task.episodes else 0.0
+        lines.append(
+            f"| {code(task.task)} | {task.episodes} | {task.successes} | {rate:.0%} | "
+            f"[{cell(task.link.rsplit('/', 1)[-1])}](<{task.link}>) |"
+        )
     return [*lines, ""]
 
 

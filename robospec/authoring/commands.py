@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
 
 if TYPE_CHECKING:
-    from robospec.authoring.card import CardPicture
+    from robospec.authoring.card import CardPicture, SolvedTask
     from robospec.pipeline import CompiledSpec
 
 CANNOT_WRITE = "RS603"
@@ -189,10 +189,12 @@ def run_doc(
     plots: Path | None = None,
     images: bool = False,
     collisions: bool = False,
+    demos: Path | None = None,
 ) -> CommandResult:
     """The card ``out``; with ``images`` also its pictures, in ``<out's stem>_images/`` beside
     it (with ``collisions``, the collision shapes too), written before it, and the cameras'
-    findings."""
+    findings; with ``demos``, the success of each task whose episodes ``robospec solve -o``
+    recorded there for this robot."""
     from robospec.authoring.card import robot_card
     from robospec.pipeline import compile_spec
 
@@ -216,8 +218,34 @@ def run_doc(
             if picture.is_file():
                 relative = os.path.relpath(picture.resolve(), out.resolve().parent)
                 links.append((controller.name, Path(relative).as_posix()))
-    text = robot_card(compiled.robot, compiled.description, spec_link, links, pictures)
+    solved = solved_tasks(demos, compiled.robot.uid, out) if demos is not None else []
+    text = robot_card(compiled.robot, compiled.description, spec_link, links, pictures, solved)
     return CommandResult(outputs=(*drawn, Output(out, text)), diagnostics=tuple(diagnostics))
+
+
+def solved_tasks(folder: Path, uid: str, out: Path) -> list[SolvedTask]:
+    """The tasks ``robospec solve -o folder`` recorded for ``uid``: each ManiSkill trajectory
+    record (``TASK.json``: ``env_info`` names the task and the robot, each episode says whether
+    it succeeded), by task name; the record linked from the card ``out``."""
+    import json
+
+    from robospec.authoring.card import SolvedTask
+
+    found = []
+    for record in sorted(folder.glob("*.json")):
+        try:
+            data = json.loads(record.read_text(encoding="utf-8"))
+            info = data["env_info"]
+            episodes = data["episodes"]
+            robots = info["env_kwargs"].get("robot_uids")
+        except (OSError, ValueError, KeyError, TypeError, AttributeError):
+            continue  # not a trajectory record
+        if robots != uid or not isinstance(episodes, list):
+            continue
+        link = Path(os.path.relpath(record.resolve(), out.resolve().parent)).as_posix()
+        successes = sum(bool(e.get("success")) for e in episodes if isinstance(e, dict))
+        found.append(SolvedTask(str(info.get("env_id")), len(episodes), successes, link))
+    return sorted(found, key=lambda task: task.task)
 
 
 def images_folder(out: Path) -> Path:

@@ -315,6 +315,15 @@ def doc(
         bool,
         typer.Option("--collisions", help="with --images, also draw the collision shapes"),
     ] = False,
+    demos: Annotated[
+        Path | None,
+        typer.Option(
+            "--demos",
+            metavar="DIR",
+            help="show each task's success rate from the episodes robospec solve -o DIR "
+            "recorded for the robot",
+        ),
+    ] = None,
     format: DiagnosticFormatOpt = DiagnosticFormat.text,
     color: ColorOpt = Color.auto,
 ) -> None:
@@ -326,12 +335,13 @@ def doc(
     its tcp. Nothing is written for a spec with errors.
 
     Example: robospec doc specs/maniskill/panda.yaml --images   (writes panda.md and panda_images/)
+    Example: robospec doc my_arm.yaml --demos demos   (after robospec solve my_arm.yaml -o demos)
     """
     from robospec.authoring.commands import run_doc
 
     # a card named after its spec, where the user stands: `robospec doc SPEC --images` alone works
     out = out if out is not None else Path(f"{spec.stem}.md")
-    result = run_doc(spec, out, plots, images, collisions).write()
+    result = run_doc(spec, out, plots, images, collisions, demos).write()
     # the card, then each picture (written before it, so that a card never lacks its pictures)
     listed = [out, *(path for path in result.written if path != out)]
     _finish(result, format, color, "\n".join(f"wrote {path}" for path in listed))

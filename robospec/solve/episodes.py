@@ -64,7 +64,7 @@ def record(
 
     from robospec.solve.gripper import read_facts
     from robospec.solve.planner import solver_class
-    from robospec.solve.solutions import lend_grasp_pose, solution
+    from robospec.solve.solutions import in_grasp_frame, lend_grasp_pose, solution
 
     env = make_env(uid, task)
     env = RecordEpisode(
@@ -81,9 +81,11 @@ def record(
         env.reset(seed=seeds[0] if seeds else 0)
         agent = env.unwrapped.agent
         lend_grasp_pose(agent)
-        solve = solution(task, solver_class(read_facts(agent, finger_links)))
+        facts = read_facts(agent, finger_links)
+        solve = solution(task, solver_class(facts))
+        seen = in_grasp_frame(env, facts.grasp_to_tcp)
         for seed in seeds:
-            on_episode(_episode(env, solve, seed))
+            on_episode(_episode(seen, solve, seed))
             env.flush_trajectory()
         return Path(env._h5_file.filename)
     finally:

@@ -6,14 +6,20 @@ tcp's z along the fingers, its y across them). Here each comes from the spec's c
 the simulation:
 
 - the arm: the ``pd_joint_pos`` controller whose joints carry the tcp (absolute positions, not
-  normalised: the planned joint positions are its action); the gripper: the mode's other
-  controller, whose joints move the fingers of the spec's grasp check;
+  normalised: the planned joint positions are its action); the gripper: the mode's controller
+  whose joints move the fingers of the spec's grasp check; any other controller of the mode
+  (a gripper's motor horn that a mimic controller of the fingers leaves aside, a head) is held
+  where the reset put its joints;
 - OPEN and CLOSED: the ends of the gripper controller's action range, the one that puts the
   fingers farther apart open (by the kinematics SAPIEN builds of the loaded robot, the mimic
   map included);
-- the grasp frame: y from finger 2 to finger 1, z from the hand (the link both fingers hang
-  from) toward them, both measured at the reset pose, and the fixed turn from that frame to
-  the tcp link's (the identity for ManiSkill's Panda).
+- the grasp frame, measured at the reset pose by the fingers' collision shapes: its origin
+  where the fingers close (the middle of the moving fingers' shapes, open and closed), y the
+  way the fingers part as they start to open (from finger 2 to finger 1), z from the hand (the
+  link the fingers hang from) toward that middle; and the fixed transform from that frame to
+  the tcp link's (a turn alone for ManiSkill's Panda, whose tcp sits there). The tcp link is
+  planned at that offset, so a tcp that names the hand (a midpoint tcp binds ``agent.tcp`` to
+  the fingers' parent) or a frame short of the fingertips still grasps between the fingers.
 
 Anything that keeps the solver from driving the robot is a :class:`NotSolvable` with the
 reason, before an episode runs.
@@ -26,8 +32,11 @@ from typing import Any
 
 import numpy as np
 
+# m: how far short of the fingertips the grasp frame sits, along the fingers (ManiSkill's Panda:
+# its tcp, panda_hand_tcp, 1 cm short of its fingers' tips)
+TIP_MARGIN = 0.01
+NUDGE = 0.05  # of the gripper's stroke: how far it opens from closed to see which way it parts
 MODE = "pd_joint_pos"  # the mode ManiSkill's solutions act in (their StackCube asserts it)
-BETWEEN_MARGIN = 0.01  # m around the fingers' boxes where the tcp still counts as between them
 
 
 class NotSolvable(Exception):
@@ -43,19 +52,26 @@ class NotSolvable(Exception):
 class GripperFacts:
     tcp_index: int  # the tcp link's index among the articulation's links
     arm_joints: tuple[int, ...]  # active-joint indices the arm controller drives, in its order
-    layout: tuple[tuple[str, int], ...]  # the action: ("arm" | "gripper", width) in order
+    # the action: ("arm" | "gripper" | "held", width) in order; "held": a controller the solver
+    # keeps where the reset put its joints (``hold``, their positions in the layout's order)
+    layout: tuple[tuple[str, int], ...]
     open_action: float
     closed_action: float
     grasp_to_tcp: Any  # sapien.Pose: the tcp link's pose in the solutions' grasp frame
     with_velocities: bool = False  # the arm takes positions and velocities (pd_joint_pos_vel)
+    hold: tuple[float, ...] = ()
 
     def action(self, arm: np.ndarray, gripper: float, velocity: np.ndarray | None) -> np.ndarray:
         parts: list[np.ndarray] = []
+        held = 0
         for role, width in self.layout:
             if role == "arm":
                 parts.append(np.asarray(arm, dtype=np.float64))
                 if self.with_velocities:
                     parts.append(np.zeros(len(arm)) if velocity is None else velocity)
+            elif role == "held":
+                parts.append(np.asarray(self.hold[held : held + width], dtype=np.float64))
+                held += width
             else:
                 parts.append(np.full(width, gripper, dtype=np.float64))
         return np.concatenate(parts)
@@ -82,15 +98,27 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
     carried = _ancestor_joints(tcp)
     parts = dict(controller.controllers)
     arms = [n for n, c in parts.items() if {j.name for j in c.joints} <= carried]
-    grippers = [n for n in parts if n not in arms]
+    links = robot.links_map
+    fingers = [links[name] for name in finger_links]
+    shapeless = [link.name for link in fingers if not link._objs[0].collision_shapes]
+    if shapeless:
+        raise NotSolvable(
+            f"the grasp check's finger {' and '.join(shapeless)} has no collision shape: "
+            "nothing of it touches what the gripper closes on",
+            "give the finger links <collision> geometry in the description",
+            "grasping",
+        )
+    moving = _ancestor_joints(fingers[0]) | _ancestor_joints(fingers[1])
+    grippers = [n for n in parts if n not in arms and {j.name for j in parts[n].joints} & moving]
     if len(arms) != 1 or len(grippers) != 1:
         raise NotSolvable(
             f"{MODE} has controllers {', '.join(parts)}: the solutions drive one arm, whose "
-            "joints carry the tcp, and one gripper",
-            f"give {MODE} exactly an arm controller and a gripper controller",
+            "joints carry the tcp, and one gripper, whose joints move the grasp check's fingers",
+            f"give {MODE} one arm controller and one gripper controller",
             "control_modes",
         )
     arm, gripper = parts[arms[0]], parts[grippers[0]]
+    held = [n for n in parts if n not in (arms[0], grippers[0])]
     if arm.config.use_delta or arm.config.normalize_action:
         raise NotSolvable(
             f"{MODE}'s arm controller '{arms[0]}' takes "
@@ -99,8 +127,6 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
             "use_delta: false and normalize_action: false for that controller",
             "controllers",
         )
-    links = robot.links_map
-    fingers = [links[name] for name in finger_links]
     model = robot._objs[0].create_pinocchio_model()
     qpos = robot.get_qpos()[0].cpu().numpy().astype(np.float64)
     ends = (-1.0, 1.0) if gripper.config.normalize_action else _raw_ends(gripper)
@@ -113,15 +139,19 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
             "grasping",
         )
     open_action, closed_action = (ends[1], ends[0]) if spans[1] > spans[0] else ends
-    _require_between(tcp, fingers)
-    grasp = _grasp_rotation(model, robot, tcp, fingers, qpos, gripper, open_action)
-    tcp_rotation = tcp.pose.sp.to_transformation_matrix()[:3, :3]
-    turn = np.eye(4)
-    turn[:3, :3] = grasp.T @ tcp_rotation
+    grasp, middle = _grasp_frame(model, robot, tcp, fingers, qpos, gripper, ends, open_action)
+    tcp_pose = tcp.pose.sp.to_transformation_matrix()
+    frame = np.eye(4)
+    frame[:3, :3] = grasp
+    frame[:3, 3] = middle
+    turn = np.linalg.inv(frame) @ tcp_pose
+    role = {arms[0]: "arm", grippers[0]: "gripper"}
     layout = tuple(
-        ("arm" if name == arms[0] else "gripper", int(c.single_action_space.shape[0]))
-        for name, c in parts.items()
+        (role.get(name, "held"), int(c.single_action_space.shape[0])) for name, c in parts.items()
     )
+    hold: list[float] = []
+    for name in held:
+        hold += _holding(name, parts[name], qpos)
     return GripperFacts(
         tcp_index=robot.links.index(tcp),
         arm_joints=tuple(int(j.active_index[0]) for j in arm.joints),
@@ -129,7 +159,27 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
         open_action=float(open_action),
         closed_action=float(closed_action),
         grasp_to_tcp=sapien.Pose(turn),
+        hold=tuple(hold),
     )
+
+
+def _holding(name: str, controller: Any, qpos: np.ndarray) -> list[float]:
+    """The action that keeps a controller that is neither the arm nor the gripper where the
+    reset put it: its joints' positions for absolute positions; nothing to add (zeros) for
+    deltas and velocities (a mobile base, a head by velocity)."""
+    config = controller.config
+    width = int(controller.single_action_space.shape[0])
+    if getattr(config, "use_delta", True):  # deltas, or a velocity controller (no use_delta)
+        return [0.0] * width
+    joints = controller.active_joint_indices.cpu().numpy()
+    if config.normalize_action or len(joints) != width:
+        raise NotSolvable(
+            f"{MODE}'s controller '{name}' (neither the arm nor the gripper) takes normalised "
+            "or coupled positions: the solver cannot hold it where it is",
+            "normalize_action: false for that controller, or leave it out of the mode",
+            "controllers",
+        )
+    return [float(v) for v in qpos[joints]]
 
 
 def _ancestor_joints(link: Any) -> set[str]:
@@ -181,15 +231,37 @@ def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: float) -> np.ndarray:
 
 
 def _finger_points(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.ndarray]:
-    """Each finger's collision shapes' centre, in the robot's base frame, at ``qpos``."""
+    """Each finger's collision shapes' centre (the middle of the box round them), in the
+    robot's base frame, at ``qpos``."""
+    return [(p.min(axis=0) + p.max(axis=0)) / 2 for p in _finger_shapes(model, qpos, fingers)]
+
+
+def _finger_shapes(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.ndarray]:
+    """Each finger's collision shapes as points (a mesh's vertices, a primitive's centre), in
+    the robot's base frame, at ``qpos``."""
     model.compute_forward_kinematics(qpos)
-    points = []
+    out = []
     for link in fingers:
-        local = [s.local_pose.p for s in link._objs[0].collision_shapes] or [np.zeros(3)]
         pose = model.get_link_pose(link.index).to_transformation_matrix()
-        centre = np.mean(np.asarray(local, dtype=np.float64), axis=0)
-        points.append(pose[:3, :3] @ centre + pose[:3, 3])
-    return points
+        local = _shape_points(link._objs[0].collision_shapes)
+        out.append(local @ pose[:3, :3].T + pose[:3, 3])
+    return out
+
+
+def _shape_points(shapes: list[Any]) -> np.ndarray:
+    """A link's collision shapes as points in its frame: a mesh's vertices (a mesh sits at its
+    link's origin, often on the joint's axis: a jaw that turns about it would seem not to
+    move), a primitive's centre."""
+    points = []
+    for shape in shapes:
+        local = shape.local_pose.to_transformation_matrix()
+        vertices = getattr(shape, "vertices", None)
+        if vertices is not None and len(vertices):
+            scaled = np.asarray(vertices, dtype=np.float64) * np.asarray(shape.scale)
+            points.append(scaled @ local[:3, :3].T + local[:3, 3])
+        else:
+            points.append(local[None, :3, 3])
+    return np.vstack(points) if points else np.zeros((1, 3))
 
 
 def _finger_span(model: Any, qpos: np.ndarray, gripper: Any, action: float, fingers: list[Any]):
@@ -197,41 +269,42 @@ def _finger_span(model: Any, qpos: np.ndarray, gripper: Any, action: float, fing
     return float(np.linalg.norm(first - second))
 
 
-def _grasp_rotation(
+def _grasp_frame(
     model: Any,
     robot: Any,
     tcp: Any,
     fingers: list[Any],
     qpos: np.ndarray,
     gripper: Any,
+    ends: tuple[float, float],
     open_action: float,
-) -> np.ndarray:
-    """The solutions' grasp frame in the world (columns x, y, z), the gripper open."""
-    first, second = _finger_points(model, _gripper_qpos(qpos, gripper, open_action), fingers)
+) -> tuple[np.ndarray, np.ndarray]:
+    """The solutions' grasp frame in the world (columns x, y, z) and its origin, where the
+    fingers close: between them, the middle of the moving fingers' centres, open and closed (a
+    fixed jaw does not move; the jaw that closes on it meets it at its closed end), and
+    :data:`TIP_MARGIN` short of their tips along z. y: how the fingers part as they start to
+    open from closed (from finger 2 to finger 1: a jaw that turns opens across the jaws,
+    whatever its centres say); z: from the hand toward that middle."""
+    closed_action = ends[0] if open_action == ends[1] else ends[1]
+    nudged = closed_action + NUDGE * (open_action - closed_action)
+    shut = _finger_points(model, _gripper_qpos(qpos, gripper, closed_action), fingers)
+    wide = _finger_points(model, _gripper_qpos(qpos, gripper, open_action), fingers)
+    parting = _finger_points(model, _gripper_qpos(qpos, gripper, nudged), fingers)
     base = robot.pose.sp.to_transformation_matrix()
-    y = base[:3, :3] @ (first - second)
+    y = base[:3, :3] @ ((parting[0] - shut[0]) - (parting[1] - shut[1]))
     y /= np.linalg.norm(y)
+    moving = [i for i in range(2) if np.linalg.norm(wide[i] - shut[i]) > 1e-6] or [0, 1]
+    local = np.mean([(wide[i] + shut[i]) / 2 for i in moving], axis=0)
+    middle = base[:3, :3] @ local + base[:3, 3]
     hand = fingers[0].joint.parent_link
-    middle = base[:3, :3] @ ((first + second) / 2) + base[:3, 3]
     z = middle - hand.pose.sp.p
     z -= (z @ y) * y
     if np.linalg.norm(z) < 1e-6:
         z = tcp.pose.sp.p - hand.pose.sp.p
         z -= (z @ y) * y
     z /= np.linalg.norm(z)
-    return np.stack([np.cross(y, z), y, z], axis=1)
-
-
-def _require_between(tcp: Any, fingers: list[Any]) -> None:
-    """The tcp lies in the box the fingers span (world frame, padded by BETWEEN_MARGIN)."""
-    boxes = [link._objs[0].compute_global_aabb_tight() for link in fingers]
-    low = np.min([box[0] for box in boxes], axis=0) - BETWEEN_MARGIN
-    high = np.max([box[1] for box in boxes], axis=0) + BETWEEN_MARGIN
-    p = tcp.pose.sp.p
-    outside = np.maximum(low - p, 0) + np.maximum(p - high, 0)
-    if np.any(outside > 0):
-        raise NotSolvable(
-            f"the tcp '{tcp.name}' lies {np.linalg.norm(outside) * 100:.1f} cm outside the box "
-            "its fingers span: the solutions close the fingers where the tcp is",
-            "put the tcp between the fingertips (`robospec new` writes a link there)",
-        )
+    # along the fingers, as deep as the Panda's tcp sits: TIP_MARGIN short of their tips
+    shapes = _finger_shapes(model, _gripper_qpos(qpos, gripper, open_action), fingers)
+    reach = max(float(np.max((base[:3, :3] @ (p - local).T).T @ z)) for p in shapes)
+    origin = middle + (reach - TIP_MARGIN) * z
+    return np.stack([np.cross(y, z), y, z], axis=1), origin

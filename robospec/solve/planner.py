@@ -15,7 +15,7 @@ and stack solutions never set.
 
 The robot's facts come from :class:`~robospec.solve.gripper.GripperFacts`: which joints
 the arm moves, the action layout of ``pd_joint_pos``, the gripper's open and closed actions, and
-the fixed turn from the solutions' grasp frame to the tcp link's.
+the fixed transform from the solutions' grasp frame to the tcp link's.
 """
 
 from __future__ import annotations
@@ -30,6 +30,10 @@ QPOS_STEP = 0.1  # rad per screw step (mplib's qpos_step)
 # mplib's default joint limits, 1 rad/s and 1 rad/s², which ManiSkill's solvers scale by 0.9
 MPLIB_LIMIT = 1.0
 LIMIT_TOLERANCE = 1e-3  # rad past a joint limit that a screw step may go (mplib's)
+# screw steps at most (20 rad of joint motion): near a singularity (an arm at full stretch) the
+# pseudo-inverse's steps barely move the tcp, and an unbounded screw ran for minutes into
+# paths of thousands of control steps
+MAX_SCREW_STEPS = 200
 
 
 class PlanFailed(Exception):
@@ -139,7 +143,7 @@ class GripperArmSolver:
             inside = np.all(qpos >= self.limits[:, 0] - LIMIT_TOLERANCE) and np.all(
                 qpos <= self.limits[:, 1] + LIMIT_TOLERANCE
             )
-            if np.linalg.norm(delta_twist) < 1e-4 or not inside:
+            if np.linalg.norm(delta_twist) < 1e-4 or not inside or len(path) > MAX_SCREW_STEPS:
                 raise PlanFailed("the screw leaves the joint limits or stalls")
             path.append(qpos[self.arm].copy())
             if last:

@@ -32,7 +32,8 @@ SOLVER_NAME = "PandaArmMotionPlanningSolver"
 
 
 def solution(task: str, solver: type) -> Callable[..., Any]:
-    """ManiSkill's solution of ``task``, planning with ``solver``."""
+    """ManiSkill's solution of ``task``, planning with ``solver`` (run it on
+    :func:`in_grasp_frame`'s view of the environment)."""
     module = importlib.import_module(f"{PACKAGE}.{SOLUTIONS[task]}")
     solve = module.solve
     rebound = dict(solve.__globals__, **{SOLVER_NAME: solver})
@@ -48,3 +49,44 @@ def lend_grasp_pose(agent: Any) -> None:
     from mani_skill.agents.robots.panda.panda import Panda
 
     agent.build_grasp_pose = Panda.build_grasp_pose
+
+
+def in_grasp_frame(env: Any, grasp_to_tcp: Any) -> Any:
+    """``env`` as the solutions read it, with ``agent.tcp.pose`` the grasp frame's pose
+    (robospec.solve.gripper): the solutions take the tcp's frame for the Panda's, z along its
+    fingers and y across them, to choose a grasp's closing (its y axis) and to hold the gripper
+    as it is while pushing (its orientation); a robot's tcp link may be framed any way (the
+    Z1's, as ``new`` finds it, has its x across the jaws). Everything else is ``env``'s."""
+    return _View(env, grasp_to_tcp)
+
+
+class _View:
+    """An environment, its base environment or its agent, with the tcp seen in the grasp
+    frame; every other attribute the object's own."""
+
+    def __init__(self, target: Any, grasp_to_tcp: Any) -> None:
+        self._target = target
+        self._grasp_to_tcp = grasp_to_tcp
+
+    def __getattr__(self, name: str) -> Any:
+        value = getattr(self._target, name)
+        if name in ("unwrapped", "agent"):
+            return _View(value, self._grasp_to_tcp)
+        if name == "tcp":
+            return _Tcp(value, self._grasp_to_tcp)
+        return value
+
+
+class _Tcp:
+    def __init__(self, link: Any, grasp_to_tcp: Any) -> None:
+        self._link = link
+        self._grasp_to_tcp = grasp_to_tcp
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._link, name)
+
+    @property
+    def pose(self) -> Any:
+        from mani_skill.utils.structs.pose import Pose
+
+        return self._link.pose * Pose.create(self._grasp_to_tcp.inv())

@@ -41,6 +41,15 @@ _GRIPPER_WORDS = re.compile(
     r"|tip)",
     re.IGNORECASE,
 )
+# a lower-case letter then a capital starts a word too ("jointGripper", Unitree Z1's)
+_CAMEL = re.compile(r"(?<=[a-z])(?=[A-Z])")
+
+
+def _words(name: str) -> str:
+    """``name`` with its camel-case words set apart, as the word patterns read names."""
+    return _CAMEL.sub("_", name)
+
+
 _MOBILE_ROOT = re.compile(r"(?<![a-z])(base|root|odom|world|mobile)", re.IGNORECASE)
 _ARM_WORDS = re.compile(r"(?<![a-z])(shoulder|elbow|wrist|arm)", re.IGNORECASE)
 _BARE_SIDES = {"l": "left", "left": "left", "r": "right", "right": "right"}
@@ -175,12 +184,12 @@ def _is_mobile_root(tree: KinematicTree, joint: Joint) -> bool:
         return False
     path = [j for j in tree.root_path(joint.child) if j.is_active]
     return path[0].type == "prismatic" and all(
-        _MOBILE_ROOT.search(j.name) and not _GRIPPER_WORDS.search(j.name) for j in path
+        _MOBILE_ROOT.search(j.name) and not _GRIPPER_WORDS.search(_words(j.name)) for j in path
     )
 
 
 def _is_gripper(description: RobotDescription, joint: Joint) -> bool:
-    if _GRIPPER_WORDS.search(joint.name):
+    if _GRIPPER_WORDS.search(_words(joint.name)):
         return True
     if joint.type != "prismatic":
         return False

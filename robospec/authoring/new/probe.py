@@ -161,6 +161,8 @@ def run(request: Request) -> dict[str, Any]:
     robot = load(request)
     try:
         answer = _search(request, robot)
+        if request.refinement is not None:  # the description is at hand: new's own run
+            answer["ready"] = _ready(request, robot, answer)
     finally:
         robot.sim.close()
     if request.refinement is not None:
@@ -213,6 +215,45 @@ def _search(request: Request, robot: LoadedRobot) -> dict[str, Any]:
         # why each adjacent pair is (exemptions.ADJACENT_WHY's keys), for the scaffold's header
         "adjacent_why": list(exempt.values()),
     }
+
+
+def _ready(request: Request, robot: LoadedRobot, answer: dict[str, Any]) -> list[float] | None:
+    """The ready keyframe of an arm with a gripper (:mod:`.ready_pose`): the first pose found
+    in which no two links touch deeper than robospec check counts (but the pairs that touch at
+    rest, which the scaffold declares never_collide) and none reaches below the ground farther
+    than at rest; None when there is none."""
+    from pathlib import Path
+
+    from robospec.authoring.description_file import read_description_file
+    from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.ready_pose import ready_poses
+    from robospec.authoring.new.rest_pose import rest_from_answer
+    from robospec.authoring.new.task_members import gripper_fingers
+
+    assert request.refinement is not None
+    source, _ = read_description_file(Path(request.refinement[0]))
+    if source is None:
+        return None
+    analysis = analyse(source)
+    rest = rest_from_answer(answer, analysis.description)
+    fingers = gripper_fingers(analysis, rest.qpos)
+    if fingers is None:
+        return None
+    exempt = {frozenset(pair) for pair in request.joined}
+    exempt |= {frozenset((a, b)) for a, b, _ in rest.touching}
+    exempt |= {frozenset(pair) for pair in rest.never_collide}
+    rest_qpos = [rest.qpos[name] for name in request.joints]
+    floor = robot.mount_height(rest_qpos) or 0.0
+    for pose in ready_poses(analysis, rest.qpos, fingers):
+        qpos = [pose[name] for name in request.joints]
+        touching = [
+            pair
+            for pair, depth in robot.posed(qpos).items()
+            if depth >= request.min_depth - DEPTH_NOISE and frozenset(pair) not in exempt
+        ]
+        if not touching and (robot.mount_height(qpos) or 0.0) <= floor:
+            return qpos
+    return None
 
 
 def refine_scaffold(request: Request, answer: dict[str, Any]) -> Refined:

@@ -59,6 +59,11 @@ class RestPose:
     # why each pair of ``overlapping`` and ``adjacent`` is declared never_collide (the texts
     # above); a pair not here reads as overlapping, or joined through shapeless links
     why: Mapping[tuple[str, str], str] = field(default_factory=dict)
+    # the ready keyframe (.ready_pose) the probe chose, every active joint: one in which no two
+    # links touch (but the pairs declared never_collide) and none reaches below the ground;
+    # None with ``ready_checked``: none of the poses found passed
+    ready: dict[str, float] | None = None
+    ready_checked: bool = False
 
     def reason(self, pair: tuple[str, str]) -> str:
         """Why ``pair``, one of :attr:`never_collide`, is declared so, in a few words."""
@@ -176,7 +181,10 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
     # (the probe's kind of reason for each, in order; an answer without them reads as shapeless)
     for pair, kind in zip(adjacent, answer.get("adjacent_why", []), strict=False):
         why.setdefault(pair, ADJACENT_WHY.get(kind, ADJACENT_WHY["shapeless"]))
+    ready = answer.get("ready")
     return RestPose(
+        ready=None if ready is None else dict(zip(joints, map(_tidy, ready), strict=True)),
+        ready_checked="ready" in answer,
         qpos=qpos,
         root_height=None if height is None else _tidy(height),
         checked=True,

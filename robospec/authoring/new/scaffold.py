@@ -39,9 +39,10 @@ from robospec.authoring.new.file_keyframes import fit_to_limits
 from robospec.authoring.new.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
 from robospec.authoring.new.grip import grip_gains
 from robospec.authoring.new.joint_gains import joint_gains
+from robospec.authoring.new.ready_pose import ready_pose
 from robospec.authoring.new.rest_pose import RestPose
 from robospec.authoring.new.scaffold_controllers import controllers_and_modes, unbalanced
-from robospec.authoring.new.task_members import task_members
+from robospec.authoring.new.task_members import gripper_fingers, task_members
 from robospec.geometry import IDENTITY, Pose
 from robospec.importer.groups import split_by_group
 from robospec.importer.specdata import KeyPath, SpecDoc
@@ -191,9 +192,18 @@ def scaffold(
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
     data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest, notes)
-    data["reset"] = {"keyframe": "rest"}
+    start = "rest"
+    ready = rest.ready
+    if not rest.ready_checked:  # no probe in ManiSkill: from the kinematics alone
+        fingers = gripper_fingers(analysis, rest.qpos)
+        ready = ready_pose(analysis, rest.qpos, fingers) if fingers is not None else None
+    if ready is not None:
+        data["keyframes"]["ready"] = _ready_keyframe(analysis, rest, ready)
+        notes[("keyframes", "ready")] = READY_CHECKED if rest.ready_checked else READY_NOTE
+        start = "ready"
+    data["reset"] = {"keyframe": start}
     notes[("reset",)] = (
-        "every episode starts at rest (ManiSkill's tasks reset only the robots they know)"
+        f"every episode starts at {start} (ManiSkill's tasks reset only the robots they know)"
     )
     entries = _never_collide(analysis, rest)
     if entries:
@@ -228,6 +238,29 @@ def scaffold(
 
 # why an MJCF's collision filters make a never_collide entry (the header says it for each)
 FILTERED_WHY = "kept apart by the MJCF's collision filters (contype, conaffinity)"
+
+
+# the comment on the ready keyframe (.ready_pose)
+READY_NOTE = (
+    "ready: fingers pointing down in front of the arm, where ManiSkill's solutions start "
+    "(robospec solve); found by inverse kinematics, not contact-checked"
+)
+READY_CHECKED = (
+    "ready: fingers pointing down in front of the arm, where ManiSkill's solutions start "
+    "(robospec solve); no two links touch, none below the ground (checked in ManiSkill)"
+)
+
+
+def _ready_keyframe(analysis: RobotAnalysis, rest: RestPose, qpos: dict[str, float]) -> Any:
+    """The ready keyframe as the rest one is written: by group, with the rest's root pose."""
+    names = tuple(analysis.description.active_joint_names)
+    partition = [(name, tuple(joints)) for name, joints in analysis.groups.groups.items()]
+    values = [_tidy(qpos.get(name, rest.qpos[name])) for name in names]
+    frame: dict[str, Any] = {"qpos": split_by_group(values, names, partition)}
+    standing = standing_pose(analysis, rest)
+    if standing is not None:
+        frame["pose"] = _pose(standing)
+    return frame
 
 
 def _never_collide(analysis: RobotAnalysis, rest: RestPose) -> list[tuple[tuple[str, ...], str]]:

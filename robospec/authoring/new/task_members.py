@@ -19,7 +19,8 @@ scaffolded arm with a gripper runs ``PickCube-v1`` as written.
   ``tool_frame``; ``tool0``), welded (fixed joints) to the fingers' parent; else the midpoint
   of the two fingers, oriented as their parent link, which ``self.tcp`` is bound to. A robot
   without a gripper gets its tcp-named link, where it has one (the deepest of the best-named).
-* **is_static** over the arm groups.
+* **is_static** over the arm groups; with none (two arms, each a group of its own), over the
+  groups that carry the fingers.
 """
 
 from __future__ import annotations
@@ -94,9 +95,28 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
         }
     }
     arms = [name for name, kind in analysis.groups.kinds.items() if kind in ARM_KINDS]
+    if not arms:  # two arms, each a group of its own (Baxter's): the one the fingers hang from
+        arms = _groups_above(analysis, fingers.parent)
     if arms:
         out["is_static"] = {"joints": arms[0] if len(arms) == 1 else arms}
     return out
+
+
+def _groups_above(analysis: RobotAnalysis, link: str) -> list[str]:
+    """The groups (a gripper's and a mimic group's left out) with a joint between the root and
+    ``link``, in the spec's order."""
+    model = analysis.kinematics
+    assert model is not None
+    above = {joint.child: joint for joint in model.joints}
+    carried = set()
+    while link in above:
+        carried.add(above[link].name)
+        link = above[link].parent
+    return [
+        name
+        for name, joints in analysis.groups.groups.items()
+        if analysis.groups.kinds[name] not in GRIPPING_KINDS and carried & set(joints)
+    ]
 
 
 def _loop_fingers(
@@ -207,6 +227,28 @@ def _finger_tips(
         key=lambda pair: _distance(analysis, poses, pair[0][0], pair[1][0]),
     )
     return best[0][0], best[1][0], best[0][1]
+
+
+def gripper_fingers(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> Fingers | None:
+    """The two fingers of the gripper ``new`` recognises (the rules above), at ``qpos``."""
+    if analysis.kinematics is None:
+        return None
+    return _fingers(analysis, analysis.kinematics.at(qpos).links, qpos)
+
+
+def finger_joint(analysis: RobotAnalysis, link: str) -> str | None:
+    """The joint that moves a finger: the nearest moving joint above it (None: none does)."""
+    model = analysis.kinematics
+    assert model is not None
+    moving = {j.child: j.name for j in model.joints if j.type != "fixed"}
+    return _moving_joint_above(model, moving, link)
+
+
+def finger_centre(
+    analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], link: str
+) -> np.ndarray:
+    """A link's centre of mass at ``poses`` (its frame's origin when it has no inertial)."""
+    return _centre(analysis, poses, link)
 
 
 def _centre(analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], link: str) -> np.ndarray:

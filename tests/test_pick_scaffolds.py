@@ -1,0 +1,160 @@
+"""Arms as ``robospec new`` scaffolds them pick the cube with ManiSkill's own solution
+(``robospec solve``), or ``solve`` says why not before any episode: new writes the start pose the
+solution needs (a ``ready`` keyframe, fingers pointing down, that every episode resets to) and
+recognises camel-case gripper joints; solve grasps where the fingers close whatever the tcp
+link, holds a mode's controllers beyond the arm and the gripper, and refuses fingers that have
+nothing to touch with.
+
+A few seeds each (an episode costs about two seconds): docs/robots.md's PickCube-v1 column is the
+corpus's measurement of every arm with a gripper.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from corpus import BY_KEY, CorpusMissing, locate
+
+from robospec.authoring.commands import run_new
+
+pytestmark = [
+    pytest.mark.filterwarnings("ignore::DeprecationWarning"),
+    pytest.mark.filterwarnings("ignore::UserWarning"),
+]
+
+
+def _description(key: str) -> Path:
+    try:
+        return locate(BY_KEY[key])
+    except CorpusMissing as missing:
+        pytest.fail(str(missing), pytrace=False)
+
+
+def _scaffold(key: str, folder: Path, uid: str) -> Path:
+    """The spec as ``robospec new`` writes it, without the probe's search in ManiSkill (the
+    members and keyframes are what these tests need, not the refined gains)."""
+    out = folder / f"{key}.yaml"
+    result = run_new(_description(key), out, uid, force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
+    return out
+
+
+@pytest.mark.slow
+def test_new_reads_a_camel_case_gripper_joint_as_a_gripper() -> None:
+    """Unitree Z1's ``jointGripper``: a lower-case letter then a capital starts a word, so it
+    is the gripper, not the arm's seventh joint (new wrote no grasp check for the Z1 before)."""
+    from robospec.authoring.description_file import read_description_file
+    from robospec.authoring.new.analysis import analyse
+
+    source, problems = read_description_file(_description("erd_z1"))
+    assert source is not None, problems
+    groups = analyse(source).groups
+    assert "jointGripper" not in groups.groups["arm"]
+    (gripper,) = [name for name, kind in groups.kinds.items() if kind == "gripper"]
+    assert groups.groups[gripper] == ["jointGripper"]
+
+
+@pytest.mark.slow
+@pytest.mark.maniskill
+def test_a_scaffolded_arm_resets_to_a_ready_pose_with_its_fingers_pointing_down(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """pybullet's Panda rests straight up, fingers to the sky: no screw reaches a grasp from
+    there. new's ready keyframe points them down, and PickCube-v1 resets the robot to it; the
+    way they point is measured in ManiSkill (the solver's grasp frame), not by new's kinematics."""
+    import numpy as np
+
+    from robospec.solve.command import compile_robot
+    from robospec.solve.episodes import make_env
+    from robospec.solve.gripper import read_facts
+
+    monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+    spec = _scaffold("pb_panda", tmp_path, "ready_pb_panda")
+    text = spec.read_text(encoding="utf-8")
+    assert "\n  ready:" in text and "\nreset: " in text and "  keyframe: ready\n" in text
+    robot, problems = compile_robot(spec)
+    assert robot is not None, problems
+    env = make_env(robot.uid, "PickCube-v1")
+    try:
+        env.reset(seed=0)
+        agent = env.unwrapped.agent
+        facts = read_facts(agent, robot.fingers)
+        tcp = agent.tcp.pose.sp
+        grasp = (tcp * facts.grasp_to_tcp.inv()).to_transformation_matrix()
+        assert grasp[:3, 2] @ np.array([0.0, 0.0, -1.0]) > 0.99  # the fingers point down
+        assert grasp[2, 3] > 0.05  # above the table
+    finally:
+        env.close()
+
+
+@pytest.mark.slow
+@pytest.mark.maniskill
+def test_pybullets_panda_as_new_writes_it_picks_the_cube(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """0 of 5 before the ready keyframe (the first motion had no plan); its tcp is the
+    description's panda_grasptarget, its gripper a mimic pair."""
+    from robospec.solve.command import render_report, run_solve
+
+    monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+    spec = _scaffold("pb_panda", tmp_path, "pick_pb_panda")
+    report = run_solve(spec, "PickCube-v1", 2, None, 1, 0, progress=False)
+    assert not report.diagnostics, render_report(report, "text")
+    assert [e.success for e in report.episodes] == [True, True], render_report(report, "text")
+
+
+@pytest.mark.slow
+@pytest.mark.maniskill
+def test_a_finger_without_collision_shapes_is_refused_at_the_grasp_check(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The QUT Panda's fingers (rtb-data) have visuals only: nothing of them touches the cube.
+    solve says so, located at `grasping` (it raised a bare RuntimeError from SAPIEN before)."""
+    from robospec.solve.command import run_solve
+
+    monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+    spec = _scaffold("rtb_panda", tmp_path, "pick_rtb_panda")
+    report = run_solve(spec, "PickCube-v1", 1, None, 1, 0, progress=False)
+    (diagnostic,) = report.diagnostics
+    assert diagnostic.code == "RS682"
+    assert "no collision shape" in diagnostic.message and "panda_leftfinger" in diagnostic.message
+    text = spec.read_text(encoding="utf-8")
+    assert diagnostic.location.line == text[: text.index("\ngrasping:")].count("\n") + 2
+    assert not report.episodes
+
+
+@pytest.mark.slow
+@pytest.mark.maniskill
+def test_the_solver_holds_a_controller_that_is_neither_arm_nor_gripper(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The WidowX 250's pd_joint_pos drives its arm, its fingers (a mimic pair) and the
+    gripper's motor horn (a joint of its own): the horn is held where the reset put it, where
+    solve refused the mode before (RS682)."""
+    import numpy as np
+
+    from robospec.solve.command import compile_robot
+    from robospec.solve.episodes import make_env
+    from robospec.solve.gripper import read_facts
+
+    monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+    spec = _scaffold("rtb_wx250s", tmp_path, "pick_wx250s")
+    robot, problems = compile_robot(spec)
+    assert robot is not None, problems
+    env = make_env(robot.uid, "PickCube-v1")
+    try:
+        env.reset(seed=0)
+        agent = env.unwrapped.agent
+        facts = read_facts(agent, robot.fingers)
+        roles = [role for role, _ in facts.layout]
+        assert sorted(roles) == ["arm", "gripper", "held"]
+        arm = agent.robot.get_qpos()[0].numpy()[list(facts.arm_joints)]
+        action = facts.action(arm, facts.open_action, None)
+        horn = agent.robot.active_joints_map["gripper"].active_index[0]
+        start = roles.index("held")
+        at = sum(width for _, width in facts.layout[:start])
+        qpos = agent.robot.get_qpos()[0].numpy()
+        assert np.isclose(action[at], qpos[int(horn)])
+    finally:
+        env.close()
