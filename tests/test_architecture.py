@@ -309,8 +309,6 @@ LONG_FUNCTIONS: dict[str, str] = {
     "robospec/physics/step_response.py::_finding": SPLIT_PENDING,
     "robospec/physics/step_response.py::step_trace": SPLIT_PENDING,
     "robospec/physics/random_actions.py::_problems": SPLIT_PENDING,
-    "robospec/authoring/new/scaffold.py::_header": SPLIT_PENDING,
-    "robospec/authoring/new/scaffold.py::scaffold": SPLIT_PENDING,
 }
 MOST_ALLOWED = 3
 

@@ -95,11 +95,62 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
             f"add a control mode {MODE} with absolute arm and gripper position controllers",
             "control_modes",
         )
-    carried = _ancestor_joints(tcp)
     parts = dict(controller.controllers)
-    arms = [n for n, c in parts.items() if {j.name for j in c.joints} <= carried]
     links = robot.links_map
     fingers = [links[name] for name in finger_links]
+    arm_name, gripper_name = _arm_and_gripper(parts, tcp, fingers)
+    arm, gripper = parts[arm_name], parts[gripper_name]
+    held = [n for n in parts if n not in (arm_name, gripper_name)]
+    if arm.config.use_delta or arm.config.normalize_action:
+        raise NotSolvable(
+            f"{MODE}'s arm controller '{arm_name}' takes "
+            + ("joint deltas" if arm.config.use_delta else "normalised actions")
+            + ": the planned joint positions cannot be its action",
+            "use_delta: false and normalize_action: false for that controller",
+            "controllers",
+        )
+    model = robot._objs[0].create_pinocchio_model()
+    qpos = robot.get_qpos()[0].cpu().numpy().astype(np.float64)
+    ends = (-1.0, 1.0) if gripper.config.normalize_action else _raw_ends(gripper)
+    spans = [_finger_span(model, qpos, gripper, end, fingers) for end in ends]
+    if abs(spans[1] - spans[0]) < 1e-4:
+        raise NotSolvable(
+            f"the gripper controller '{gripper_name}' does not move the fingers "
+            f"{finger_links[0]} and {finger_links[1]} apart or together",
+            "the grasp check's fingers must be the ones the gripper controller moves",
+            "grasping",
+        )
+    open_action, closed_action = (ends[1], ends[0]) if spans[1] > spans[0] else ends
+    grasp, middle = _grasp_frame(model, robot, tcp, fingers, qpos, gripper, ends, open_action)
+    tcp_pose = tcp.pose.sp.to_transformation_matrix()
+    frame = np.eye(4)
+    frame[:3, :3] = grasp
+    frame[:3, 3] = middle
+    turn = np.linalg.inv(frame) @ tcp_pose
+    role = {arm_name: "arm", gripper_name: "gripper"}
+    layout = tuple(
+        (role.get(name, "held"), int(c.single_action_space.shape[0])) for name, c in parts.items()
+    )
+    hold: list[float] = []
+    for name in held:
+        hold += _holding(name, parts[name], qpos)
+    return GripperFacts(
+        tcp_index=robot.links.index(tcp),
+        arm_joints=tuple(int(j.active_index[0]) for j in arm.joints),
+        layout=layout,
+        open_action=float(open_action),
+        closed_action=float(closed_action),
+        grasp_to_tcp=sapien.Pose(turn),
+        hold=tuple(hold),
+    )
+
+
+def _arm_and_gripper(parts: dict[str, Any], tcp: Any, fingers: list[Any]) -> tuple[str, str]:
+    """The names of the mode's one arm controller, whose joints carry the tcp, and its one
+    gripper controller, whose joints move the grasp check's fingers (which must have collision
+    shapes: they close on the cube)."""
+    carried = _ancestor_joints(tcp)
+    arms = [n for n, c in parts.items() if {j.name for j in c.joints} <= carried]
     shapeless = [link.name for link in fingers if not link._objs[0].collision_shapes]
     if shapeless:
         raise NotSolvable(
@@ -117,50 +168,7 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
             f"give {MODE} one arm controller and one gripper controller",
             "control_modes",
         )
-    arm, gripper = parts[arms[0]], parts[grippers[0]]
-    held = [n for n in parts if n not in (arms[0], grippers[0])]
-    if arm.config.use_delta or arm.config.normalize_action:
-        raise NotSolvable(
-            f"{MODE}'s arm controller '{arms[0]}' takes "
-            + ("joint deltas" if arm.config.use_delta else "normalised actions")
-            + ": the planned joint positions cannot be its action",
-            "use_delta: false and normalize_action: false for that controller",
-            "controllers",
-        )
-    model = robot._objs[0].create_pinocchio_model()
-    qpos = robot.get_qpos()[0].cpu().numpy().astype(np.float64)
-    ends = (-1.0, 1.0) if gripper.config.normalize_action else _raw_ends(gripper)
-    spans = [_finger_span(model, qpos, gripper, end, fingers) for end in ends]
-    if abs(spans[1] - spans[0]) < 1e-4:
-        raise NotSolvable(
-            f"the gripper controller '{grippers[0]}' does not move the fingers "
-            f"{finger_links[0]} and {finger_links[1]} apart or together",
-            "the grasp check's fingers must be the ones the gripper controller moves",
-            "grasping",
-        )
-    open_action, closed_action = (ends[1], ends[0]) if spans[1] > spans[0] else ends
-    grasp, middle = _grasp_frame(model, robot, tcp, fingers, qpos, gripper, ends, open_action)
-    tcp_pose = tcp.pose.sp.to_transformation_matrix()
-    frame = np.eye(4)
-    frame[:3, :3] = grasp
-    frame[:3, 3] = middle
-    turn = np.linalg.inv(frame) @ tcp_pose
-    role = {arms[0]: "arm", grippers[0]: "gripper"}
-    layout = tuple(
-        (role.get(name, "held"), int(c.single_action_space.shape[0])) for name, c in parts.items()
-    )
-    hold: list[float] = []
-    for name in held:
-        hold += _holding(name, parts[name], qpos)
-    return GripperFacts(
-        tcp_index=robot.links.index(tcp),
-        arm_joints=tuple(int(j.active_index[0]) for j in arm.joints),
-        layout=layout,
-        open_action=float(open_action),
-        closed_action=float(closed_action),
-        grasp_to_tcp=sapien.Pose(turn),
-        hold=tuple(hold),
-    )
+    return arms[0], grippers[0]
 
 
 def _holding(name: str, controller: Any, qpos: np.ndarray) -> list[float]:

@@ -91,10 +91,10 @@ def ready_poses(
     anchors = [placed.axes[name].anchor for name in arm if name in placed.axes]
     if len(anchors) != len(arm):
         return []
-    found = _grip(analysis, start, fingers)
-    if found is None:
+    jaws = _grip(analysis, start, fingers)
+    if jaws is None:
         return []
-    grip = Grip(fingers.parent, *found)
+    grip = Grip(fingers.parent, *jaws)
     hand = placed.links[fingers.parent]
     points = [*anchors, hand[:3, :3] @ grip.middle + hand[:3, 3]]
     length = sum(float(np.linalg.norm(b - a)) for a, b in itertools.pairwise(points))

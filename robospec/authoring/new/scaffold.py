@@ -159,24 +159,7 @@ def scaffold(
     notes: dict[KeyPath, str] = {}
     data: dict[str, Any] = {"robospec": 1, "uid": uid}
 
-    key = "urdf" if source.kind == "urdf" else source.kind
-    where = str(source.path.resolve()) if absolute_paths else None
-    data["description"] = {key: where or description_reference(source, spec_path.parent)}
-    notes[("description",)] = "relative paths are relative to this file"
-    if source.loader is not None:
-        data["description"]["loader"] = source.loader
-        notes[("description", "loader")] = source.why
-    if source.mends:
-        from robospec.derive import mend_class
-
-        data["description"]["mend"] = dict(source.mends)
-        notes[("description", "mend")] = (
-            "robospec mends a copy of the description (never the file): see docs/mends.md"
-        )
-        for name in source.mends:
-            mend = mend_class(name)
-            if mend is not None:
-                notes[("description", "mend", name)] = mend.WHY
+    data["description"] = _description_section(source, spec_path, absolute_paths, notes)
     if floating:
         data["loader"] = {"fix_root_link": False}
         notes[("loader", "fix_root_link")] = analysis.body.why_floating
@@ -191,20 +174,7 @@ def scaffold(
     data["groups"] = {name: list(joints) for name, joints in groups.groups.items()}
     notes[("groups",)] = "guessed from joint names and the kinematic tree: check them"
 
-    data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest, notes)
-    start = "rest"
-    ready = rest.ready
-    if not rest.ready_checked:  # no probe in ManiSkill: from the kinematics alone
-        fingers = gripper_fingers(analysis, rest.qpos)
-        ready = ready_pose(analysis, rest.qpos, fingers) if fingers is not None else None
-    if ready is not None:
-        data["keyframes"]["ready"] = _ready_keyframe(analysis, rest, ready)
-        notes[("keyframes", "ready")] = READY_CHECKED if rest.ready_checked else READY_NOTE
-        start = "ready"
-    data["reset"] = {"keyframe": start}
-    notes[("reset",)] = (
-        f"every episode starts at {start} (ManiSkill's tasks reset only the robots they know)"
-    )
+    _start(analysis, rest, data, notes)
     entries = _never_collide(analysis, rest)
     if entries:
         # (the header says why, entry by entry)
@@ -234,6 +204,52 @@ def scaffold(
         data.update(members)
         notes[(next(iter(members)),)] = _members_note(members)
     return SpecDoc(data, _header(analysis, rest, entries, gains), notes)
+
+
+def _description_section(
+    source: DescriptionFile, spec_path: Path, absolute_paths: bool, notes: dict[KeyPath, str]
+) -> dict[str, Any]:
+    """The spec's ``description``: the file (relative to the spec), its loader and mends."""
+    key = "urdf" if source.kind == "urdf" else source.kind
+    where = str(source.path.resolve()) if absolute_paths else None
+    section: dict[str, Any] = {key: where or description_reference(source, spec_path.parent)}
+    notes[("description",)] = "relative paths are relative to this file"
+    if source.loader is not None:
+        section["loader"] = source.loader
+        notes[("description", "loader")] = source.why
+    if source.mends:
+        from robospec.derive import mend_class
+
+        section["mend"] = dict(source.mends)
+        notes[("description", "mend")] = (
+            "robospec mends a copy of the description (never the file): see docs/mends.md"
+        )
+        for name in source.mends:
+            mend = mend_class(name)
+            if mend is not None:
+                notes[("description", "mend", name)] = mend.WHY
+    return section
+
+
+def _start(
+    analysis: RobotAnalysis, rest: RestPose, data: dict[str, Any], notes: dict[KeyPath, str]
+) -> None:
+    """The keyframes, and the one every episode starts at (``ready`` where new found one: the
+    fingers pointing down in front of the arm; else ``rest``)."""
+    data["keyframes"], notes[("keyframes",)] = _keyframes(analysis, rest, notes)
+    start = "rest"
+    ready = rest.ready
+    if not rest.ready_checked:  # no probe in ManiSkill: from the kinematics alone
+        fingers = gripper_fingers(analysis, rest.qpos)
+        ready = ready_pose(analysis, rest.qpos, fingers) if fingers is not None else None
+    if ready is not None:
+        data["keyframes"]["ready"] = _ready_keyframe(analysis, rest, ready)
+        notes[("keyframes", "ready")] = READY_CHECKED if rest.ready_checked else READY_NOTE
+        start = "ready"
+    data["reset"] = {"keyframe": start}
+    notes[("reset",)] = (
+        f"every episode starts at {start} (ManiSkill's tasks reset only the robots they know)"
+    )
 
 
 # why an MJCF's collision filters make a never_collide entry (the header says it for each)
@@ -398,11 +414,36 @@ def _header(
     gains: Mapping[str, JointGains] | None = None,
 ) -> tuple[str, ...]:
     source = analysis.source
-    body = analysis.body
     lines = [
         f"robospec spec scaffolded by `robospec new` from {source.path.name}.",
         "Check the groups, gains and keyframes, then: robospec validate <this file>",
     ]
+    paragraphs = [*_body_paragraphs(analysis), *_base_paragraphs(analysis)]
+    paragraphs += _loop_paragraphs(analysis)
+    carried = _gravity_bound(analysis, gains or {})
+    if carried:
+        paragraphs.append(carried)
+    paragraphs.append(_rest_paragraph(analysis, rest))
+    for paragraph in paragraphs:
+        lines.append("")
+        lines.extend(textwrap.wrap(paragraph, HEADER_WIDTH, break_on_hyphens=False))
+    if never_collide:
+        lines += ["", "never_collide: links that do not collide with each other, and why:"]
+        for links, why in never_collide:
+            lines += textwrap.wrap(
+                f"{' + '.join(links)}: {why}",
+                HEADER_WIDTH,
+                initial_indent="  ",
+                subsequent_indent="    ",
+                break_on_hyphens=False,
+            )
+    return tuple(lines)
+
+
+def _body_paragraphs(analysis: RobotAnalysis) -> list[str]:
+    """The header's paragraphs on the robot's body: a floating or welded root, joints that
+    cannot move, passive joints."""
+    body = analysis.body
     paragraphs: list[str] = []
     if body.floating:
         paragraphs.append(
@@ -433,6 +474,13 @@ def _header(
             "Joints no MJCF actuator drives are passive; every mode has balance_passive_force: "
             "false, or ManiSkill would hold them up against gravity."
         )
+    return paragraphs
+
+
+def _base_paragraphs(analysis: RobotAnalysis) -> list[str]:
+    """The header's paragraphs on a mobile base: the one written, or how to write one."""
+    source, body = analysis.source, analysis.body
+    paragraphs: list[str] = []
     if source.mobile_base is not None:
         wheels = source.mobile_base.get("wheels")
         floor = (
@@ -469,6 +517,12 @@ def _header(
             + ", ".join(body.planar_base)
             + "), driven by a base controller."
         )
+    return paragraphs
+
+
+def _loop_paragraphs(analysis: RobotAnalysis) -> list[str]:
+    """The header's paragraph on closed loops, where the description has any."""
+    paragraphs: list[str] = []
     if analysis.loops:
         closed = "; ".join(
             f"{loop.name}: {loop.links[0]} meets {loop.links[1]} ({loop.source})"
@@ -481,24 +535,7 @@ def _header(
             "gripper controller; their other joints are passive (group linkage): the linkage "
             "moves them."
         )
-    carried = _gravity_bound(analysis, gains or {})
-    if carried:
-        paragraphs.append(carried)
-    paragraphs.append(_rest_paragraph(analysis, rest))
-    for paragraph in paragraphs:
-        lines.append("")
-        lines.extend(textwrap.wrap(paragraph, HEADER_WIDTH, break_on_hyphens=False))
-    if never_collide:
-        lines += ["", "never_collide: links that do not collide with each other, and why:"]
-        for links, why in never_collide:
-            lines += textwrap.wrap(
-                f"{' + '.join(links)}: {why}",
-                HEADER_WIDTH,
-                initial_indent="  ",
-                subsequent_indent="    ",
-                break_on_hyphens=False,
-            )
-    return tuple(lines)
+    return paragraphs
 
 
 def _rest_paragraph(analysis: RobotAnalysis, rest: RestPose) -> str:
