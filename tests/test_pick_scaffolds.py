@@ -158,3 +158,18 @@ def test_the_solver_holds_a_controller_that_is_neither_arm_nor_gripper(
         assert np.isclose(action[at], qpos[int(horn)])
     finally:
         env.close()
+
+
+@pytest.mark.slow
+def test_a_robot_on_a_free_root_keeps_its_rest_pose_as_its_start(tmp_path: Path) -> None:
+    """TALOS has grippers, but stands on a free root: an arm thrown forward to point its
+    fingers down tips a standing body (check's hold failed, RS501), and no tabletop task mounts
+    a humanoid where it mounts an arm. Its episodes start at rest; an arm's at ready."""
+    from ruamel.yaml import YAML
+
+    humanoid = YAML().load(_scaffold("erd_talos", tmp_path, "rs_talos").read_text())
+    assert humanoid["loader"]["fix_root_link"] is False
+    assert "ready" not in humanoid["keyframes"]
+    assert humanoid["reset"] == {"keyframe": "rest"}
+    arm = YAML().load(_scaffold("pb_panda", tmp_path, "rs_pb_panda").read_text())
+    assert "ready" in arm["keyframes"] and arm["reset"] == {"keyframe": "ready"}

@@ -81,7 +81,9 @@ def ready_poses(
     import numpy as np
 
     model = analysis.kinematics
-    if model is None:
+    # a robot on a free root (a humanoid, a legged manipulator) starts where it stands: the
+    # tasks that pick a cube mount a fixed arm, and an arm thrown forward tips a standing body
+    if model is None or analysis.body.floating:
         return []
     arm = _arm_joints(analysis, fingers.parent)
     if len(arm) < 2:
