@@ -26,14 +26,14 @@ percent of the step (RS505, with the numbers).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
 from robospec.diagnostics import Diagnostic
 from robospec.physics import mimic_limits, rating
 from robospec.physics.check_run import CheckRun
-from robospec.physics.findings import Finding, Status, metrics
+from robospec.physics.findings import Finding, Metric, Status, metrics
 from robospec.physics.sim import ControllerGroup, Sim
 from robospec.resolve.resolved import ResolvedKeyframe
 
@@ -308,6 +308,51 @@ def step_direction(start: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> n
     return np.where(upper - start >= start - lower, 1.0, -1.0)
 
 
+@dataclass(frozen=True)
+class _Verdict:
+    """What each verdict of one controller's step finding reads."""
+
+    run: CheckRun
+    sim: Sim
+    group: ControllerGroup
+    controller: str
+    kind: str  # "position" or "velocity"
+    settings: Any  # checks.step_response for this controller
+    trace: StepTrace | None
+
+    @property
+    def where(self) -> tuple[str, str]:
+        return ("controllers", self.controller)
+
+
+@dataclass(frozen=True)
+class _Extremes:
+    """The joints that decide the finding: each the worst of the group at one measure."""
+
+    slowest: Response
+    wildest: Response
+    furthest: Response
+
+
+class _Bound:
+    """Whether gravity holds a joint at its rating through the step (RS534, said once for the
+    finding instead of a verdict on its gains); each RS534 goes into ``problems`` as found."""
+
+    def __init__(self, verdict: _Verdict, problems: list[Diagnostic]) -> None:
+        self.verdict = verdict
+        self.problems = problems
+        self.rated: dict[str, Diagnostic | None] = {}
+
+    def __call__(self, joint: str) -> bool:
+        v = self.verdict
+        if joint not in self.rated:
+            rated = _rated(v.run, v.sim, v.group, v.controller, v.trace, joint, v.kind)
+            self.rated[joint] = rated
+            if rated is not None:
+                self.problems.append(rated)
+        return self.rated[joint] is not None
+
+
 def _finding(
     run: CheckRun,
     sim: Sim,
@@ -319,7 +364,7 @@ def _finding(
 ) -> Finding:
     settings = run.settings.step_response.for_controller(controller)
     kind = "velocity" if group.kind == "velocity" else "position"
-    where = ("controllers", controller)
+    verdict = _Verdict(run, sim, group, controller, kind, settings, trace)
     cramped = [r.joint for r in responses if r.no_room]
     responses = [r for r in responses if not r.no_room]
     unstepped = (
@@ -331,19 +376,42 @@ def _finding(
         return Finding(NAME, sim.mode, subject, Status.SKIP, f"no {kind} step{unstepped}")
     broken = [r.joint for r in responses if not np.isfinite(r.reached)]
     if broken:
-        diagnostic = run.fail(
-            where,
-            "RS506",
-            f"controller '{controller}' ({sim.mode}/{group.name}) is unstable: given a {kind} "
-            f"step, the state went NaN (joints: {', '.join(broken)})",
-            "see the random_actions findings of this robot for the cause",
-        )
-        return Finding(NAME, sim.mode, subject, Status.FAIL, f"{kind} step: NaN", {}, (diagnostic,))
+        return _nan_finding(verdict, subject, broken)
     slowest = max(responses, key=lambda r: (r.rise_time is None, r.rise_time or 0.0, -r.reached))
     wildest = max(
         responses, key=lambda r: (np.nan_to_num(r.overshoot, nan=np.inf), r.settling_time is None)
     )
     furthest = max(responses, key=lambda r: np.nan_to_num(r.steady_state_error, nan=np.inf))
+    extremes = _Extremes(slowest, wildest, furthest)
+    values, details, summary = _measures(kind, responses, extremes, unstepped)
+    problems: list[Diagnostic] = []
+    bound = _Bound(verdict, problems)
+    for judge in (_too_slow, _underdamped, _off_target):
+        problem = judge(verdict, extremes, bound)
+        if problem is not None:
+            problems.append(problem)
+    status = Status.FAIL if any(p.is_error for p in problems) else Status.PASS
+    return Finding(NAME, sim.mode, subject, status, summary, values, tuple(problems), details)
+
+
+def _nan_finding(verdict: _Verdict, subject: str, broken: list[str]) -> Finding:
+    """RS506 for a step that made the state NaN (joints ``broken``)."""
+    v = verdict
+    diagnostic = v.run.fail(
+        v.where,
+        "RS506",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is unstable: given a "
+        f"{v.kind} step, the state went NaN (joints: {', '.join(broken)})",
+        "see the random_actions findings of this robot for the cause",
+    )
+    return Finding(NAME, v.sim.mode, subject, Status.FAIL, f"{v.kind} step: NaN", {}, (diagnostic,))
+
+
+def _measures(
+    kind: str, responses: list[Response], extremes: _Extremes, unstepped: str
+) -> tuple[dict[str, Metric], tuple[dict[str, Metric], ...], str]:
+    """The finding's metrics (the group's worst), one set per joint, and its summary line."""
+    slowest, wildest, furthest = extremes.slowest, extremes.wildest, extremes.furthest
     settled = [r.settling_time for r in responses]
     values = metrics(
         kind=kind,
@@ -369,89 +437,93 @@ def _finding(
         f"{kind} step: rise {rise}, overshoot {wildest.overshoot:.0%}, settle {settle}, "
         f"error {furthest.steady_state_error:.1%}{unstepped}"
     )
-    problems: list[Diagnostic] = []
-    rated: dict[str, Diagnostic | None] = {}
+    return values, details, summary
 
-    def bound(joint: str) -> bool:
-        """Whether gravity holds ``joint`` at its rating through the step (RS534, said once
-        for the finding instead of a verdict on its gains)."""
-        if joint not in rated:
-            rated[joint] = _rated(run, sim, group, controller, trace, joint, kind)
-            if rated[joint] is not None:
-                problems.append(rated[joint])  # type: ignore[arg-type]
-        return rated[joint] is not None
 
-    if slowest.rise_time is None or slowest.rise_time > settings.max_rise_time:
-        took = (
-            f"took {slowest.rise_time:.3g} s to rise from 10% to 90%"
-            if slowest.rise_time is not None
-            else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
+def _too_slow(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagnostic | None:
+    """RS505: the slowest joint rose too slowly, or never (unless gravity bounds it)."""
+    v, settings, slowest = verdict, verdict.settings, extremes.slowest
+    if not (slowest.rise_time is None or slowest.rise_time > settings.max_rise_time):
+        return None
+    took = (
+        f"took {slowest.rise_time:.3g} s to rise from 10% to 90%"
+        if slowest.rise_time is not None
+        else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
+    )
+    # gravity takes the rating (RS534): the robot as rated, not its gains
+    if bound(slowest.joint):
+        return None
+    cause, hint = _slow_cause(v.sim, v.group, v.trace, slowest.joint, v.kind)
+    contradicted = mimic_limits.contradiction_words(v.run, slowest.joint)
+    if contradicted is not None:  # a mimic joint its relation holds past its limits
+        cause, hint = contradicted, mimic_limits.HINT
+    return v.run.fail(
+        v.where,
+        "RS505",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is too slow: given a "
+        f"{v.kind} step, joint '{slowest.joint}' {took} (max_rise_time "
+        f"{settings.max_rise_time:g} s){cause}",
+        hint,
+    )
+
+
+def _underdamped(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagnostic | None:
+    """RS506: the wildest joint overshot, or never settled (unless gravity bounds it)."""
+    v, settings, wildest = verdict, verdict.settings, extremes.wildest
+    kind = v.kind
+    if not (
+        (
+            not np.isfinite(wildest.overshoot)
+            or wildest.overshoot > settings.max_overshoot
+            or (wildest.settling_time is None and extremes.slowest.rise_time is not None)
         )
-        # gravity takes the rating (RS534): the robot as rated, not its gains
-        if not bound(slowest.joint):
-            cause, hint = _slow_cause(sim, group, trace, slowest.joint, kind)
-            contradicted = mimic_limits.contradiction_words(run, slowest.joint)
-            if contradicted is not None:  # a mimic joint its relation holds past its limits
-                cause, hint = contradicted, mimic_limits.HINT
-            problems.append(
-                run.fail(
-                    where,
-                    "RS505",
-                    f"controller '{controller}' ({sim.mode}/{group.name}) is too slow: given a "
-                    f"{kind} step, joint '{slowest.joint}' {took} (max_rise_time "
-                    f"{settings.max_rise_time:g} s){cause}",
-                    hint,
-                )
-            )
-    if (
-        not np.isfinite(wildest.overshoot)
-        or wildest.overshoot > settings.max_overshoot
-        or (wildest.settling_time is None and slowest.rise_time is not None)
-    ) and not (np.isfinite(wildest.overshoot) and bound(wildest.joint)):
-        if np.isfinite(wildest.overshoot) and wildest.overshoot <= settings.max_overshoot:
-            # it failed by never settling: say that, not an overshoot within the threshold
-            what = (
-                f"never settled within {settings.settling_band:.0%} of a {kind} step in "
-                f"{settings.duration:g} s (its overshoot, {wildest.overshoot:.0%}, is within "
-                f"max_overshoot {settings.max_overshoot:.0%})"
-            )
-        else:
-            what = (
-                f"overshot a {kind} step by {wildest.overshoot:.0%}"
-                + ("" if wildest.settling_time is not None else " and never settled")
-                + f" (max_overshoot {settings.max_overshoot:.0%})"
-            )
-        problems.append(
-            run.fail(
-                where,
-                "RS506",
-                f"controller '{controller}' ({sim.mode}/{group.name}) is unstable or "
-                f"underdamped: joint '{wildest.joint}' {what}",
-                "raise its damping relative to its stiffness"
-                + (
-                    " (a velocity drive: lower its damping's share of force_limit)"
-                    if kind == "velocity"
-                    else ""
-                ),
-            )
+        and not (np.isfinite(wildest.overshoot) and bound(wildest.joint))
+    ):
+        return None
+    if np.isfinite(wildest.overshoot) and wildest.overshoot <= settings.max_overshoot:
+        # it failed by never settling: say that, not an overshoot within the threshold
+        what = (
+            f"never settled within {settings.settling_band:.0%} of a {kind} step in "
+            f"{settings.duration:g} s (its overshoot, {wildest.overshoot:.0%}, is within "
+            f"max_overshoot {settings.max_overshoot:.0%})"
         )
-    if (
+    else:
+        what = (
+            f"overshot a {kind} step by {wildest.overshoot:.0%}"
+            + ("" if wildest.settling_time is not None else " and never settled")
+            + f" (max_overshoot {settings.max_overshoot:.0%})"
+        )
+    return v.run.fail(
+        v.where,
+        "RS506",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is unstable or "
+        f"underdamped: joint '{wildest.joint}' {what}",
+        "raise its damping relative to its stiffness"
+        + (
+            " (a velocity drive: lower its damping's share of force_limit)"
+            if kind == "velocity"
+            else ""
+        ),
+    )
+
+
+def _off_target(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagnostic | None:
+    """RS507: the furthest joint settled too far from its target (unless gravity bounds it)."""
+    v, settings, furthest = verdict, verdict.settings, extremes.furthest
+    if not (
         furthest.steady_state_error > settings.max_steady_state_error
-        and slowest.rise_time is not None
+        and extremes.slowest.rise_time is not None
         and not bound(furthest.joint)
     ):
-        problems.append(
-            run.fail(
-                where,
-                "RS507",
-                f"controller '{controller}' ({sim.mode}/{group.name}): joint '{furthest.joint}' "
-                f"settles {furthest.steady_state_error:.0%} of a {kind} step away from its "
-                f"target (max_steady_state_error {settings.max_steady_state_error:.0%})",
-                "raise its stiffness or force_limit, or lower its friction",
-            )
-        )
-    status = Status.FAIL if any(p.is_error for p in problems) else Status.PASS
-    return Finding(NAME, sim.mode, subject, status, summary, values, tuple(problems), details)
+        return None
+    return v.run.fail(
+        v.where,
+        "RS507",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}): joint '{furthest.joint}' "
+        f"settles {furthest.steady_state_error:.0%} of a {v.kind} step away from its "
+        f"target (max_steady_state_error {settings.max_steady_state_error:.0%})",
+        "raise its stiffness or force_limit, or lower its friction",
+    )
 
 
 def _saturation(
