@@ -157,6 +157,16 @@ class StepTrace:
     reversed: tuple[str, ...] = ()
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """The step one group's joints are given, one value per joint of the group."""
+
+    signed: np.ndarray  # the step, signed (0: not stepped)
+    no_room: np.ndarray  # bool: the range leaves no room for a measurable step
+    origin: np.ndarray  # where the joint settled (position, or velocity): the step's zero
+    target: np.ndarray  # the drive target the step sets
+
+
 def step_trace(
     sim: Sim,
     group_name: str,
@@ -194,9 +204,50 @@ def step_trace(
     # from there, so the sag itself (keyframe_hold's business) is not counted as step error
     for _ in range(round(SETTLE_TIME * sim.sim_freq)):
         sim.sim_step(pin)
+    plan = _plan_step(sim, group, start[joints], settings, stepped, reverse)
+    sim.set_joint_targets(group, plan.target)
+    position, velocity = _watch(sim, pin, joints, settings.duration)
+    measured = position if group.kind == "position" else velocity
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fraction = (measured - plan.origin) / np.where(plan.signed != 0, plan.signed, np.nan)
+    fraction = np.where(np.isfinite(fraction), fraction, np.nan)
+    trace = StepTrace(
+        kind="velocity" if group.kind == "velocity" else "position",
+        joints=tuple(sim.joint_names[j] for j in joints),
+        dt=sim.sim_dt,
+        fraction=fraction,
+        size=plan.signed,
+        target=np.asarray(plan.target, dtype=np.float64),
+        position=position,
+        velocity=velocity,
+        responses=_responses(sim, joints, fraction, plan.no_room, stepped, settings),
+        reversed=tuple(
+            sim.joint_names[j] for k, j in enumerate(joints) if reverse is not None and reverse[k]
+        ),
+    )
+    if reverse is not None or group.kind != "position" or sim.backend.gpu:
+        return trace
+    blocked = _blocked_joints(sim, trace, start[joints], plan.signed)
+    if not blocked.any():
+        return trace
+    again = step_trace(sim, group_name, keyframe, settings, drive, stepped, reverse=blocked)
+    return again if _reached(again) > _reached(trace) else trace
+
+
+def _plan_step(
+    sim: Sim,
+    group: ControllerGroup,
+    start: np.ndarray,
+    settings: StepSettings,
+    stepped: np.ndarray | None,
+    reverse: np.ndarray | None,
+) -> _Plan:
+    """The step of :func:`step_trace` for ``group``'s joints, which start at ``start`` (the
+    keyframe) and have settled where the sim now holds them."""
+    joints = list(group.joint_indices)
     size = np.where(sim.prismatic[joints], settings.prismatic_step, settings.step)
     lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
-    direction = step_direction(start[joints], lower, upper)
+    direction = step_direction(start, lower, upper)
     if reverse is not None:
         direction = np.where(reverse, -direction, direction)
     no_room = np.zeros(len(joints), dtype=bool)
@@ -204,7 +255,7 @@ def step_trace(
         # the target stays within the joint's limits (a ±0.06 rad ankle is not given a 0.1 rad
         # step, then called too slow for not reaching past its stop); a range with no room for
         # a measurable share of the step leaves the joint unstepped, and the trace says so
-        room = np.where(direction > 0, upper - start[joints], start[joints] - lower)
+        room = np.where(direction > 0, upper - start, start - lower)
         no_room = room < MIN_STEP_SHARE * size
         size = np.where(no_room, 0.0, np.minimum(size, room))
     signed = direction * size
@@ -214,22 +265,35 @@ def step_trace(
     if group.kind == "position":
         origin = sim.qpos()[0, joints]
         # the joints not stepped (or without room for a step) hold where they settled
-        target = np.where(signed != 0, start[joints] + signed, origin)
+        target = np.where(signed != 0, start + signed, origin)
     else:
         origin = sim.qvel()[0, joints]
         target = signed
-    sim.set_joint_targets(group, target)
-    n_steps = max(round(settings.duration * sim.sim_freq), 2)
+    return _Plan(signed, no_room, origin, target)
+
+
+def _watch(sim: Sim, pin: Any, joints: list[int], duration: float) -> tuple[np.ndarray, np.ndarray]:
+    """The positions and velocities of ``joints`` (samples, joints), one sample per physics
+    step for ``duration`` seconds (at least two), the root held at ``pin``."""
+    n_steps = max(round(duration * sim.sim_freq), 2)
     position = np.empty((n_steps, len(joints)))
     velocity = np.empty((n_steps, len(joints)))
     for i in range(n_steps):
         sim.sim_step(pin)
         position[i] = sim.qpos()[0, joints]
         velocity[i] = sim.qvel()[0, joints]
-    measured = position if group.kind == "position" else velocity
-    with np.errstate(divide="ignore", invalid="ignore"):
-        fraction = (measured - origin) / np.where(signed != 0, signed, np.nan)
-    fraction = np.where(np.isfinite(fraction), fraction, np.nan)
+    return position, velocity
+
+
+def _responses(
+    sim: Sim,
+    joints: list[int],
+    fraction: np.ndarray,
+    no_room: np.ndarray,
+    stepped: np.ndarray | None,
+    settings: StepSettings,
+) -> tuple[Response, ...]:
+    """Each stepped joint's timings, from ``fraction`` (samples, joints)."""
     responses = []
     for k, joint in enumerate(joints):
         name = sim.joint_names[joint]
@@ -245,27 +309,7 @@ def step_trace(
             fraction[:, k], sim.sim_dt, settings.settling_band
         )
         responses.append(Response(name, rise, overshoot, settling, steady, reached))
-    trace = StepTrace(
-        kind="velocity" if group.kind == "velocity" else "position",
-        joints=tuple(sim.joint_names[j] for j in joints),
-        dt=sim.sim_dt,
-        fraction=fraction,
-        size=signed,
-        target=np.asarray(target, dtype=np.float64),
-        position=position,
-        velocity=velocity,
-        responses=tuple(responses),
-        reversed=tuple(
-            sim.joint_names[j] for k, j in enumerate(joints) if reverse is not None and reverse[k]
-        ),
-    )
-    if reverse is not None or group.kind != "position" or sim.backend.gpu:
-        return trace
-    blocked = _blocked_joints(sim, trace, start[joints], signed)
-    if not blocked.any():
-        return trace
-    again = step_trace(sim, group_name, keyframe, settings, drive, stepped, reverse=blocked)
-    return again if _reached(again) > _reached(trace) else trace
+    return tuple(responses)
 
 
 def _blocked_joints(
