@@ -107,6 +107,35 @@ class _State:
         return at(self.file_of.get(element.getroottree().getroot(), self.path), element)
 
 
+@dataclass(frozen=True)
+class _Compiler:
+    """What the loader reads of the first ``<compiler>`` (its defaults where there is none)."""
+
+    use_degrees: bool
+    eulerseq: str
+
+
+@dataclass(frozen=True)
+class _Robot:
+    """The articulation the loader takes as the robot, as parsed into ``_State``."""
+
+    element: etree._Element  # its <body> under <worldbody>
+    body: etree._Element  # the body its root link stands for: element, or the one it wraps
+    root_name: str  # its dummy root link
+    floating: bool  # the body has a <freejoint>
+
+
+@dataclass(frozen=True)
+class _Ordered:
+    """The robot's links and joints in qpos order (PhysX's breadth-first one)."""
+
+    order: list[str]  # the link names
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]  # the named ones
+    unnamed: tuple[Joint, ...]  # the nameless fixed joints of bodies without joints
+    active: tuple[str, ...]
+
+
 def parse_mjcf(
     text: str | bytes, path: str, read_file: ReadFile | None = None
 ) -> tuple[RobotDescription | None, list[Diagnostic]]:
@@ -129,28 +158,16 @@ def parse_mjcf(
     root, diagnostics = parse_root(text, path, "mujoco")
     if root is None:
         return None, diagnostics
-
-    file_of: dict[etree._Element, str] = {root: path}
-    top: list[etree._Element] = [child for child in root if isinstance(child.tag, str)]
-    for include in root.findall("include"):
-        included = _read_include(include, path, read, diagnostics)
-        if included is not None:
-            file_of[included[0]] = included[1]
-            top.extend(child for child in included[0] if isinstance(child.tag, str))
-            _check_nested_includes(included[0], included[1], path, diagnostics)
+    # the loader's parse order: includes, <compiler>, defaults, <worldbody>, the articulation
+    top, file_of = _top_elements(root, path, read, diagnostics)
     if any(d.is_error for d in diagnostics):
         return None, diagnostics
 
-    compiler = next((el for el in top if el.tag == "compiler"), None)
-    use_degrees = True
-    eulerseq = "xyz"
-    if compiler is not None:
-        use_degrees = compiler.get("angle", "degree").lower() == "degree"
-        eulerseq = compiler.get("eulerseq", "xyz")
-
-    state = _State(path, use_degrees, {}, {}, diagnostics, file_of)
-    if compiler is None or compiler.get("angle") is None:
-        diagnostics.extend(_degrees_note(top, compiler, root, state))
+    compiler_element = next((el for el in top if el.tag == "compiler"), None)
+    compiler = _read_compiler(compiler_element)
+    state = _State(path, compiler.use_degrees, {}, {}, diagnostics, file_of)
+    if compiler_element is None or compiler_element.get("angle") is None:
+        diagnostics.extend(_degrees_note(top, compiler_element, root, state))
     classes, class_lines = loader_classes(el for el in top if el.tag == "default")
     state.classes.update(classes)
     state.class_lines.update(class_lines)
@@ -160,9 +177,66 @@ def parse_mjcf(
         diagnostics.append(error(at(path, root), INVALID_STRUCTURE, "the model has no <worldbody>"))
         return None, diagnostics
 
+    includes = Includes(path, read, file_of)
+    articulated = _articulations(root, worldbody, includes, state)
+    if not articulated:
+        return None, diagnostics
+    robot = _parse_robot(*articulated[0], state)
+    if any(d.is_error for d in diagnostics):
+        return None, diagnostics
+
+    loaded = LoadedMjcf(
+        path=path,
+        top=top,
+        classes=state.classes,
+        degrees=compiler.use_degrees,
+        eulerseq=compiler.eulerseq,
+        worldbody=worldbody,
+        robot_element=robot.element,
+        robot=state.robot,
+        root_link=robot.root_name,
+        where=state.where,
+        includes=includes,
+        mujoco_classes=read_classes(top, includes),
+    )
+    diagnostics.extend(loader_gaps(loaded))
+    return _description(loaded, state, robot, compiler), diagnostics
+
+
+def _top_elements(
+    root: etree._Element, path: str, read: ReadFile, diagnostics: list[Diagnostic]
+) -> tuple[list[etree._Element], dict[etree._Element, str]]:
+    """``<mujoco>``'s child elements, those of its ``<include>`` files appended after the main
+    file's (as the loader reads them), and the file each read root element came from."""
+    file_of: dict[etree._Element, str] = {root: path}
+    top: list[etree._Element] = [child for child in root if isinstance(child.tag, str)]
+    for include in root.findall("include"):
+        included = _read_include(include, path, read, diagnostics)
+        if included is not None:
+            file_of[included[0]] = included[1]
+            top.extend(child for child in included[0] if isinstance(child.tag, str))
+            _check_nested_includes(included[0], included[1], path, diagnostics)
+    return top, file_of
+
+
+def _read_compiler(compiler: etree._Element | None) -> _Compiler:
+    if compiler is None:
+        return _Compiler(use_degrees=True, eulerseq="xyz")
+    return _Compiler(
+        use_degrees=compiler.get("angle", "degree").lower() == "degree",
+        eulerseq=compiler.get("eulerseq", "xyz"),
+    )
+
+
+def _articulations(
+    root: etree._Element, worldbody: etree._Element, includes: Includes, state: _State
+) -> list[tuple[int, etree._Element]]:
+    """The bodies of ``<worldbody>`` that become articulations, with their index among its
+    bodies: the first is the robot. Empty (an error said) when there is none; a warning for
+    each other one."""
+    diagnostics = state.diagnostics
     bodies = worldbody.findall("body")
     articulated = [(i, body) for i, body in enumerate(bodies) if _is_articulation(body)]
-    includes = Includes(path, read, file_of)
     diagnostics.extend(
         unread_includes(root, includes, state.where, articulated[0][1] if articulated else None)
     )
@@ -175,7 +249,7 @@ def parse_mjcf(
                 "with a joint as the robot",
             )
         )
-        return None, diagnostics
+        return []
     chosen_joints = _joint_count(articulated[0][1])
     for _, other in articulated[1:]:
         message = (
@@ -191,13 +265,16 @@ def parse_mjcf(
             )
             hint = "if this is the robot, move it before the other bodies in <worldbody>"
         diagnostics.append(warning(state.where(other), INVALID_STRUCTURE, message, hint))
+    return articulated
 
-    index, robot_element = articulated[0]
-    has_freejoint = robot_element.find("freejoint") is not None
+
+def _parse_robot(index: int, robot_element: etree._Element, state: _State) -> _Robot:
+    """Parse the robot's body tree (the ``index``-th body of ``<worldbody>``) into ``state``,
+    below its dummy root link."""
     root_name = f"dummy_root_{index}"
     state.nodes.append(_Node(root_name, line_of(robot_element), None, None))
     state.children[root_name] = []
-    state.link_lines[root_name] = (path, line_of(robot_element))
+    state.link_lines[root_name] = (state.path, line_of(robot_element))
     body = robot_element
     # ManiSkill skips a wrapper body that holds exactly one body and no geom or joint (its
     # root link then stands where the wrapper would).
@@ -206,25 +283,12 @@ def parse_mjcf(
         body = next(body.iterchildren("body"))  # the one counted
     root_defaults = state.classes.get("__root__", {})
     _parse_body(body, root_name, None, root_defaults, state)
-    if any(d.is_error for d in diagnostics):
-        return None, diagnostics
+    floating = robot_element.find("freejoint") is not None
+    return _Robot(robot_element, body, root_name, floating)
 
-    loaded = LoadedMjcf(
-        path=path,
-        top=top,
-        classes=state.classes,
-        degrees=use_degrees,
-        eulerseq=eulerseq,
-        worldbody=worldbody,
-        robot_element=robot_element,
-        robot=state.robot,
-        root_link=root_name,
-        where=state.where,
-        includes=includes,
-        mujoco_classes=read_classes(top, includes),
-    )
-    diagnostics.extend(loader_gaps(loaded))
 
+def _qpos_order(root_name: str, state: _State) -> _Ordered:
+    """The parsed links and joints in the order PhysX gives them (breadth first)."""
     order = bfs_order(root_name, state.children)
     by_name = {node.name: node for node in state.nodes}
     joints: list[Joint] = []
@@ -241,37 +305,43 @@ def parse_mjcf(
         if joint.type in ACTIVE_JOINT_TYPES:
             active.append(joint.name)
     links = tuple(Link(name, by_name[name].line) for name in order)
+    return _Ordered(order, links, tuple(joints), tuple(unnamed), tuple(active))
+
+
+def _description(
+    loaded: LoadedMjcf, state: _State, robot: _Robot, compiler: _Compiler
+) -> RobotDescription:
+    """The description of the parsed robot, with what the file says of its control, keyframes,
+    couplings, closures and contacts."""
+    ordered = _qpos_order(robot.root_name, state)
     actuators = file_actuators(loaded)
     try:
-        root_pose = body_pose(robot_element.attrib, use_degrees, eulerseq)
+        root_pose = body_pose(robot.element.attrib, compiler.use_degrees, compiler.eulerseq)
     except Unparsable:
         root_pose = IDENTITY_POSE  # the orientation report says what is wrong with it
     names = robot_names(loaded)
-    return (
-        RobotDescription(
-            kind="mjcf",
-            path=path,
-            links=links,
-            joints=tuple(joints),
-            active_joint_names=tuple(active),
-            root_link=root_name,
-            floating_root=has_freejoint,
-            loader_collision_bits=_loader_collision_bits(top, state, order),
-            unnamed_joints=tuple(unnamed),
-            root_body_pose=root_pose,
-            root_body_offset=root_pose if body is robot_element else IDENTITY_POSE,
-            keyframes=file_keyframes(loaded, tuple(active), root_pose),
-            actuators=actuators,
-            couplings=joint_couplings(
-                loaded,
-                names,
-                {j.name: (j.lower, j.upper) for j in joints},
-                frozenset(a.joint for a in actuators if a.joint is not None),
-            ),
-            closures=closures(loaded, names),
-            filtered_pairs=filtered_pairs(loaded),
+    return RobotDescription(
+        kind="mjcf",
+        path=state.path,
+        links=ordered.links,
+        joints=ordered.joints,
+        active_joint_names=ordered.active,
+        root_link=robot.root_name,
+        floating_root=robot.floating,
+        loader_collision_bits=_loader_collision_bits(loaded.top, state, ordered.order),
+        unnamed_joints=ordered.unnamed,
+        root_body_pose=root_pose,
+        root_body_offset=root_pose if robot.body is robot.element else IDENTITY_POSE,
+        keyframes=file_keyframes(loaded, ordered.active, root_pose),
+        actuators=actuators,
+        couplings=joint_couplings(
+            loaded,
+            names,
+            {j.name: (j.lower, j.upper) for j in ordered.joints},
+            frozenset(a.joint for a in actuators if a.joint is not None),
         ),
-        diagnostics,
+        closures=closures(loaded, names),
+        filtered_pairs=filtered_pairs(loaded),
     )
 
 

@@ -280,6 +280,24 @@ def _floor_warning(run: CheckRun, sim: Sim, code: str, what: str, did: str) -> D
     return warning(run.at(("control_modes", sim.mode)), code, what + why + confirmed, hint)
 
 
+@dataclass(frozen=True)
+class _Judging:
+    """What each problem of one run of random actions reads."""
+
+    run: CheckRun
+    sim: Sim
+    origin: str  # "from load" or "from <keyframe>"
+    buried: str  # ground.note's words on a start buried in the floor ("" where it is not)
+    held: _Trace | None  # the same actions on a test stand, where the floor was in question
+    # the joints whose excess (speed) the floor excuses: the robot's own failures come first
+    floor_limit: np.ndarray
+    floor_speed: np.ndarray
+
+    @property
+    def where(self) -> tuple[str, str]:
+        return ("control_modes", self.sim.mode)
+
+
 def _problems(
     run: CheckRun,
     sim: Sim,
@@ -291,92 +309,104 @@ def _problems(
     """What ``trace`` (and ``held``, the same actions on a test stand, where the floor was
     in question) found."""
     settings = run.settings.random_actions
-    tolerance = settings.joint_limit_tolerance
     buried = ground.note(run, start)
-    where = ("control_modes", sim.mode)
-    found: list[Diagnostic] = []
     if trace.nan_step is not None:
-        known = nan_cause(run.context, sim.mode, [(g.name, g.controller) for g in sim.groups()])
-        if known is not None:
-            cause, hint = f"; the cause is {known.cause}", known.hint
-        else:
-            cause = ""
-            hint = (
-                "look for drives far stiffer than the links' inertia allows at the simulation "
-                "frequency, zero-mass links, or joints without limits driven by large actions"
-            )
-        joints = ", ".join(trace.nan_joints) if trace.nan_joints else "the root pose"
-        found.append(
-            run.fail(
-                where,
-                "RS502",
-                f"mode {sim.mode} ({origin}): random actions made the state NaN at step "
-                f"{trace.nan_step} (joints: {joints}){cause}{buried}",
-                hint,
-            )
-        )
-        return tuple(found)
+        return (_went_nan(run, sim, origin, trace, buried),)
     # the robot's own failures first: the floor's excuse covers only the joints it moved
     floor_limit = trace.grounded & (not buried)
     floor_speed = trace.flung & (not buried)
+    judging = _Judging(run, sim, origin, buried, held, floor_limit, floor_speed)
+    found: list[Diagnostic] = []
     for runaway in runaways(
         trace.past_limit, trace.top_speed, trace.top_root_speed, settings, floor_limit, floor_speed
     ):
-        joint = runaway.joint
-        if joint is None:
-            found.append(
-                run.fail(
-                    where,
-                    "RS504",
-                    f"mode {sim.mode} ({origin}): the robot ran away: its centre of mass reached "
-                    f"{runaway.value:.3g} m/s (max_root_speed {runaway.bound:g}){buried}",
-                    "check the root's mass and the forces the controllers can apply",
-                )
-            )
+        if runaway.joint is None:
+            found.append(_root_ran_away(judging, runaway))
         elif runaway.code == "RS503":
-            went = (
-                f"mode {sim.mode} ({origin}): joint '{sim.joint_names[joint]}' went "
-                f"{runaway.value:.3g} past its limit (tolerance {tolerance:g})"
-            )
-            if floor_limit[joint]:
-                found.append(
-                    _floor_warning(run, sim, "RS503", went, "pushed the joint through its limit")
-                )
-                continue
-            if held is not None and held.past_limit[joint] > 0:
-                went += (
-                    "; held clear of the floor on a test stand, the same actions still take it "
-                    f"{held.past_limit[joint] + tolerance:.3g} past"
-                )
-            found.append(
-                run.fail(
-                    where,
-                    "RS503",
-                    went + buried,
-                    "the joint is carried past its limit: add damping to its controller (a "
-                    "random target across its range flings it), lower its force_limit, or "
-                    "narrow the controller's lower/upper to the joint's range",
-                )
-            )
+            found.append(_past_limit(judging, runaway, runaway.joint))
         else:
-            ran_away = (
-                f"mode {sim.mode} ({origin}): joint '{sim.joint_names[joint]}' ran away at "
-                f"{runaway.value:.3g}/s (max_joint_speed {runaway.bound:g})"
-            )
-            if floor_speed[joint]:
-                found.append(_floor_warning(run, sim, "RS504", ran_away, "flung the joint"))
-                continue
-            if held is not None and held.top_speed[joint] > settings.max_joint_speed:
-                ran_away += (
-                    "; held clear of the floor on a test stand, the same actions still run it "
-                    f"at {held.top_speed[joint]:.3g}/s"
-                )
-            found.append(
-                run.fail(
-                    where,
-                    "RS504",
-                    ran_away + buried,
-                    "add damping to the joint's controller, or lower its force_limit",
-                )
-            )
+            found.append(_joint_ran_away(judging, runaway, runaway.joint))
     return tuple(found)
+
+
+def _went_nan(run: CheckRun, sim: Sim, origin: str, trace: _Trace, buried: str) -> Diagnostic:
+    """RS502: the state went NaN, with its cause where :func:`nan_cause` knows it."""
+    known = nan_cause(run.context, sim.mode, [(g.name, g.controller) for g in sim.groups()])
+    if known is not None:
+        cause, hint = f"; the cause is {known.cause}", known.hint
+    else:
+        cause = ""
+        hint = (
+            "look for drives far stiffer than the links' inertia allows at the simulation "
+            "frequency, zero-mass links, or joints without limits driven by large actions"
+        )
+    joints = ", ".join(trace.nan_joints) if trace.nan_joints else "the root pose"
+    return run.fail(
+        ("control_modes", sim.mode),
+        "RS502",
+        f"mode {sim.mode} ({origin}): random actions made the state NaN at step "
+        f"{trace.nan_step} (joints: {joints}){cause}{buried}",
+        hint,
+    )
+
+
+def _root_ran_away(judging: _Judging, runaway: Runaway) -> Diagnostic:
+    """RS504: the centre of mass of a floating robot ran away."""
+    j = judging
+    return j.run.fail(
+        j.where,
+        "RS504",
+        f"mode {j.sim.mode} ({j.origin}): the robot ran away: its centre of mass reached "
+        f"{runaway.value:.3g} m/s (max_root_speed {runaway.bound:g}){j.buried}",
+        "check the root's mass and the forces the controllers can apply",
+    )
+
+
+def _past_limit(judging: _Judging, runaway: Runaway, joint: int) -> Diagnostic:
+    """RS503: ``joint`` went past its limit (a warning where the floor pushed it there)."""
+    j = judging
+    tolerance = j.run.settings.random_actions.joint_limit_tolerance
+    went = (
+        f"mode {j.sim.mode} ({j.origin}): joint '{j.sim.joint_names[joint]}' went "
+        f"{runaway.value:.3g} past its limit (tolerance {tolerance:g})"
+    )
+    if j.floor_limit[joint]:
+        return _floor_warning(j.run, j.sim, "RS503", went, "pushed the joint through its limit")
+    if j.held is not None and j.held.past_limit[joint] > 0:
+        went += (
+            "; held clear of the floor on a test stand, the same actions still take it "
+            f"{j.held.past_limit[joint] + tolerance:.3g} past"
+        )
+    return j.run.fail(
+        j.where,
+        "RS503",
+        went + j.buried,
+        "the joint is carried past its limit: add damping to its controller (a "
+        "random target across its range flings it), lower its force_limit, or "
+        "narrow the controller's lower/upper to the joint's range",
+    )
+
+
+def _joint_ran_away(judging: _Judging, runaway: Runaway, joint: int) -> Diagnostic:
+    """RS504: ``joint`` ran faster than max_joint_speed (a warning where the floor flung it)."""
+    j = judging
+    ran_away = (
+        f"mode {j.sim.mode} ({j.origin}): joint '{j.sim.joint_names[joint]}' ran away at "
+        f"{runaway.value:.3g}/s (max_joint_speed {runaway.bound:g})"
+    )
+    if j.floor_speed[joint]:
+        return _floor_warning(j.run, j.sim, "RS504", ran_away, "flung the joint")
+    if (
+        j.held is not None
+        and j.held.top_speed[joint] > j.run.settings.random_actions.max_joint_speed
+    ):
+        ran_away += (
+            "; held clear of the floor on a test stand, the same actions still run it "
+            f"at {j.held.top_speed[joint]:.3g}/s"
+        )
+    return j.run.fail(
+        j.where,
+        "RS504",
+        ran_away + j.buried,
+        "add damping to the joint's controller, or lower its force_limit",
+    )

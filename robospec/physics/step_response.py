@@ -26,14 +26,14 @@ percent of the step (RS505, with the numbers).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
 from robospec.diagnostics import Diagnostic
 from robospec.physics import mimic_limits, rating
 from robospec.physics.check_run import CheckRun
-from robospec.physics.findings import Finding, Status, metrics
+from robospec.physics.findings import Finding, Metric, Status, metrics
 from robospec.physics.sim import ControllerGroup, Sim
 from robospec.resolve.resolved import ResolvedKeyframe
 
@@ -157,6 +157,16 @@ class StepTrace:
     reversed: tuple[str, ...] = ()
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """The step one group's joints are given, one value per joint of the group."""
+
+    signed: np.ndarray  # the step, signed (0: not stepped)
+    no_room: np.ndarray  # bool: the range leaves no room for a measurable step
+    origin: np.ndarray  # where the joint settled (position, or velocity): the step's zero
+    target: np.ndarray  # the drive target the step sets
+
+
 def step_trace(
     sim: Sim,
     group_name: str,
@@ -194,9 +204,50 @@ def step_trace(
     # from there, so the sag itself (keyframe_hold's business) is not counted as step error
     for _ in range(round(SETTLE_TIME * sim.sim_freq)):
         sim.sim_step(pin)
+    plan = _plan_step(sim, group, start[joints], settings, stepped, reverse)
+    sim.set_joint_targets(group, plan.target)
+    position, velocity = _watch(sim, pin, joints, settings.duration)
+    measured = position if group.kind == "position" else velocity
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fraction = (measured - plan.origin) / np.where(plan.signed != 0, plan.signed, np.nan)
+    fraction = np.where(np.isfinite(fraction), fraction, np.nan)
+    trace = StepTrace(
+        kind="velocity" if group.kind == "velocity" else "position",
+        joints=tuple(sim.joint_names[j] for j in joints),
+        dt=sim.sim_dt,
+        fraction=fraction,
+        size=plan.signed,
+        target=np.asarray(plan.target, dtype=np.float64),
+        position=position,
+        velocity=velocity,
+        responses=_responses(sim, joints, fraction, plan.no_room, stepped, settings),
+        reversed=tuple(
+            sim.joint_names[j] for k, j in enumerate(joints) if reverse is not None and reverse[k]
+        ),
+    )
+    if reverse is not None or group.kind != "position" or sim.backend.gpu:
+        return trace
+    blocked = _blocked_joints(sim, trace, start[joints], plan.signed)
+    if not blocked.any():
+        return trace
+    again = step_trace(sim, group_name, keyframe, settings, drive, stepped, reverse=blocked)
+    return again if _reached(again) > _reached(trace) else trace
+
+
+def _plan_step(
+    sim: Sim,
+    group: ControllerGroup,
+    start: np.ndarray,
+    settings: StepSettings,
+    stepped: np.ndarray | None,
+    reverse: np.ndarray | None,
+) -> _Plan:
+    """The step of :func:`step_trace` for ``group``'s joints, which start at ``start`` (the
+    keyframe) and have settled where the sim now holds them."""
+    joints = list(group.joint_indices)
     size = np.where(sim.prismatic[joints], settings.prismatic_step, settings.step)
     lower, upper = sim.limits[joints, 0], sim.limits[joints, 1]
-    direction = step_direction(start[joints], lower, upper)
+    direction = step_direction(start, lower, upper)
     if reverse is not None:
         direction = np.where(reverse, -direction, direction)
     no_room = np.zeros(len(joints), dtype=bool)
@@ -204,7 +255,7 @@ def step_trace(
         # the target stays within the joint's limits (a ±0.06 rad ankle is not given a 0.1 rad
         # step, then called too slow for not reaching past its stop); a range with no room for
         # a measurable share of the step leaves the joint unstepped, and the trace says so
-        room = np.where(direction > 0, upper - start[joints], start[joints] - lower)
+        room = np.where(direction > 0, upper - start, start - lower)
         no_room = room < MIN_STEP_SHARE * size
         size = np.where(no_room, 0.0, np.minimum(size, room))
     signed = direction * size
@@ -214,22 +265,35 @@ def step_trace(
     if group.kind == "position":
         origin = sim.qpos()[0, joints]
         # the joints not stepped (or without room for a step) hold where they settled
-        target = np.where(signed != 0, start[joints] + signed, origin)
+        target = np.where(signed != 0, start + signed, origin)
     else:
         origin = sim.qvel()[0, joints]
         target = signed
-    sim.set_joint_targets(group, target)
-    n_steps = max(round(settings.duration * sim.sim_freq), 2)
+    return _Plan(signed, no_room, origin, target)
+
+
+def _watch(sim: Sim, pin: Any, joints: list[int], duration: float) -> tuple[np.ndarray, np.ndarray]:
+    """The positions and velocities of ``joints`` (samples, joints), one sample per physics
+    step for ``duration`` seconds (at least two), the root held at ``pin``."""
+    n_steps = max(round(duration * sim.sim_freq), 2)
     position = np.empty((n_steps, len(joints)))
     velocity = np.empty((n_steps, len(joints)))
     for i in range(n_steps):
         sim.sim_step(pin)
         position[i] = sim.qpos()[0, joints]
         velocity[i] = sim.qvel()[0, joints]
-    measured = position if group.kind == "position" else velocity
-    with np.errstate(divide="ignore", invalid="ignore"):
-        fraction = (measured - origin) / np.where(signed != 0, signed, np.nan)
-    fraction = np.where(np.isfinite(fraction), fraction, np.nan)
+    return position, velocity
+
+
+def _responses(
+    sim: Sim,
+    joints: list[int],
+    fraction: np.ndarray,
+    no_room: np.ndarray,
+    stepped: np.ndarray | None,
+    settings: StepSettings,
+) -> tuple[Response, ...]:
+    """Each stepped joint's timings, from ``fraction`` (samples, joints)."""
     responses = []
     for k, joint in enumerate(joints):
         name = sim.joint_names[joint]
@@ -245,27 +309,7 @@ def step_trace(
             fraction[:, k], sim.sim_dt, settings.settling_band
         )
         responses.append(Response(name, rise, overshoot, settling, steady, reached))
-    trace = StepTrace(
-        kind="velocity" if group.kind == "velocity" else "position",
-        joints=tuple(sim.joint_names[j] for j in joints),
-        dt=sim.sim_dt,
-        fraction=fraction,
-        size=signed,
-        target=np.asarray(target, dtype=np.float64),
-        position=position,
-        velocity=velocity,
-        responses=tuple(responses),
-        reversed=tuple(
-            sim.joint_names[j] for k, j in enumerate(joints) if reverse is not None and reverse[k]
-        ),
-    )
-    if reverse is not None or group.kind != "position" or sim.backend.gpu:
-        return trace
-    blocked = _blocked_joints(sim, trace, start[joints], signed)
-    if not blocked.any():
-        return trace
-    again = step_trace(sim, group_name, keyframe, settings, drive, stepped, reverse=blocked)
-    return again if _reached(again) > _reached(trace) else trace
+    return tuple(responses)
 
 
 def _blocked_joints(
@@ -308,6 +352,51 @@ def step_direction(start: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> n
     return np.where(upper - start >= start - lower, 1.0, -1.0)
 
 
+@dataclass(frozen=True)
+class _Verdict:
+    """What each verdict of one controller's step finding reads."""
+
+    run: CheckRun
+    sim: Sim
+    group: ControllerGroup
+    controller: str
+    kind: str  # "position" or "velocity"
+    settings: Any  # checks.step_response for this controller
+    trace: StepTrace | None
+
+    @property
+    def where(self) -> tuple[str, str]:
+        return ("controllers", self.controller)
+
+
+@dataclass(frozen=True)
+class _Extremes:
+    """The joints that decide the finding: each the worst of the group at one measure."""
+
+    slowest: Response
+    wildest: Response
+    furthest: Response
+
+
+class _Bound:
+    """Whether gravity holds a joint at its rating through the step (RS534, said once for the
+    finding instead of a verdict on its gains); each RS534 goes into ``problems`` as found."""
+
+    def __init__(self, verdict: _Verdict, problems: list[Diagnostic]) -> None:
+        self.verdict = verdict
+        self.problems = problems
+        self.rated: dict[str, Diagnostic | None] = {}
+
+    def __call__(self, joint: str) -> bool:
+        v = self.verdict
+        if joint not in self.rated:
+            rated = _rated(v.run, v.sim, v.group, v.controller, v.trace, joint, v.kind)
+            self.rated[joint] = rated
+            if rated is not None:
+                self.problems.append(rated)
+        return self.rated[joint] is not None
+
+
 def _finding(
     run: CheckRun,
     sim: Sim,
@@ -319,7 +408,7 @@ def _finding(
 ) -> Finding:
     settings = run.settings.step_response.for_controller(controller)
     kind = "velocity" if group.kind == "velocity" else "position"
-    where = ("controllers", controller)
+    verdict = _Verdict(run, sim, group, controller, kind, settings, trace)
     cramped = [r.joint for r in responses if r.no_room]
     responses = [r for r in responses if not r.no_room]
     unstepped = (
@@ -331,19 +420,42 @@ def _finding(
         return Finding(NAME, sim.mode, subject, Status.SKIP, f"no {kind} step{unstepped}")
     broken = [r.joint for r in responses if not np.isfinite(r.reached)]
     if broken:
-        diagnostic = run.fail(
-            where,
-            "RS506",
-            f"controller '{controller}' ({sim.mode}/{group.name}) is unstable: given a {kind} "
-            f"step, the state went NaN (joints: {', '.join(broken)})",
-            "see the random_actions findings of this robot for the cause",
-        )
-        return Finding(NAME, sim.mode, subject, Status.FAIL, f"{kind} step: NaN", {}, (diagnostic,))
+        return _nan_finding(verdict, subject, broken)
     slowest = max(responses, key=lambda r: (r.rise_time is None, r.rise_time or 0.0, -r.reached))
     wildest = max(
         responses, key=lambda r: (np.nan_to_num(r.overshoot, nan=np.inf), r.settling_time is None)
     )
     furthest = max(responses, key=lambda r: np.nan_to_num(r.steady_state_error, nan=np.inf))
+    extremes = _Extremes(slowest, wildest, furthest)
+    values, details, summary = _measures(kind, responses, extremes, unstepped)
+    problems: list[Diagnostic] = []
+    bound = _Bound(verdict, problems)
+    for judge in (_too_slow, _underdamped, _off_target):
+        problem = judge(verdict, extremes, bound)
+        if problem is not None:
+            problems.append(problem)
+    status = Status.FAIL if any(p.is_error for p in problems) else Status.PASS
+    return Finding(NAME, sim.mode, subject, status, summary, values, tuple(problems), details)
+
+
+def _nan_finding(verdict: _Verdict, subject: str, broken: list[str]) -> Finding:
+    """RS506 for a step that made the state NaN (joints ``broken``)."""
+    v = verdict
+    diagnostic = v.run.fail(
+        v.where,
+        "RS506",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is unstable: given a "
+        f"{v.kind} step, the state went NaN (joints: {', '.join(broken)})",
+        "see the random_actions findings of this robot for the cause",
+    )
+    return Finding(NAME, v.sim.mode, subject, Status.FAIL, f"{v.kind} step: NaN", {}, (diagnostic,))
+
+
+def _measures(
+    kind: str, responses: list[Response], extremes: _Extremes, unstepped: str
+) -> tuple[dict[str, Metric], tuple[dict[str, Metric], ...], str]:
+    """The finding's metrics (the group's worst), one set per joint, and its summary line."""
+    slowest, wildest, furthest = extremes.slowest, extremes.wildest, extremes.furthest
     settled = [r.settling_time for r in responses]
     values = metrics(
         kind=kind,
@@ -369,89 +481,93 @@ def _finding(
         f"{kind} step: rise {rise}, overshoot {wildest.overshoot:.0%}, settle {settle}, "
         f"error {furthest.steady_state_error:.1%}{unstepped}"
     )
-    problems: list[Diagnostic] = []
-    rated: dict[str, Diagnostic | None] = {}
+    return values, details, summary
 
-    def bound(joint: str) -> bool:
-        """Whether gravity holds ``joint`` at its rating through the step (RS534, said once
-        for the finding instead of a verdict on its gains)."""
-        if joint not in rated:
-            rated[joint] = _rated(run, sim, group, controller, trace, joint, kind)
-            if rated[joint] is not None:
-                problems.append(rated[joint])  # type: ignore[arg-type]
-        return rated[joint] is not None
 
-    if slowest.rise_time is None or slowest.rise_time > settings.max_rise_time:
-        took = (
-            f"took {slowest.rise_time:.3g} s to rise from 10% to 90%"
-            if slowest.rise_time is not None
-            else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
+def _too_slow(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagnostic | None:
+    """RS505: the slowest joint rose too slowly, or never (unless gravity bounds it)."""
+    v, settings, slowest = verdict, verdict.settings, extremes.slowest
+    if not (slowest.rise_time is None or slowest.rise_time > settings.max_rise_time):
+        return None
+    took = (
+        f"took {slowest.rise_time:.3g} s to rise from 10% to 90%"
+        if slowest.rise_time is not None
+        else f"covered only {slowest.reached:.0%} of it in {settings.duration:g} s"
+    )
+    # gravity takes the rating (RS534): the robot as rated, not its gains
+    if bound(slowest.joint):
+        return None
+    cause, hint = _slow_cause(v.sim, v.group, v.trace, slowest.joint, v.kind)
+    contradicted = mimic_limits.contradiction_words(v.run, slowest.joint)
+    if contradicted is not None:  # a mimic joint its relation holds past its limits
+        cause, hint = contradicted, mimic_limits.HINT
+    return v.run.fail(
+        v.where,
+        "RS505",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is too slow: given a "
+        f"{v.kind} step, joint '{slowest.joint}' {took} (max_rise_time "
+        f"{settings.max_rise_time:g} s){cause}",
+        hint,
+    )
+
+
+def _underdamped(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagnostic | None:
+    """RS506: the wildest joint overshot, or never settled (unless gravity bounds it)."""
+    v, settings, wildest = verdict, verdict.settings, extremes.wildest
+    kind = v.kind
+    if not (
+        (
+            not np.isfinite(wildest.overshoot)
+            or wildest.overshoot > settings.max_overshoot
+            or (wildest.settling_time is None and extremes.slowest.rise_time is not None)
         )
-        # gravity takes the rating (RS534): the robot as rated, not its gains
-        if not bound(slowest.joint):
-            cause, hint = _slow_cause(sim, group, trace, slowest.joint, kind)
-            contradicted = mimic_limits.contradiction_words(run, slowest.joint)
-            if contradicted is not None:  # a mimic joint its relation holds past its limits
-                cause, hint = contradicted, mimic_limits.HINT
-            problems.append(
-                run.fail(
-                    where,
-                    "RS505",
-                    f"controller '{controller}' ({sim.mode}/{group.name}) is too slow: given a "
-                    f"{kind} step, joint '{slowest.joint}' {took} (max_rise_time "
-                    f"{settings.max_rise_time:g} s){cause}",
-                    hint,
-                )
-            )
-    if (
-        not np.isfinite(wildest.overshoot)
-        or wildest.overshoot > settings.max_overshoot
-        or (wildest.settling_time is None and slowest.rise_time is not None)
-    ) and not (np.isfinite(wildest.overshoot) and bound(wildest.joint)):
-        if np.isfinite(wildest.overshoot) and wildest.overshoot <= settings.max_overshoot:
-            # it failed by never settling: say that, not an overshoot within the threshold
-            what = (
-                f"never settled within {settings.settling_band:.0%} of a {kind} step in "
-                f"{settings.duration:g} s (its overshoot, {wildest.overshoot:.0%}, is within "
-                f"max_overshoot {settings.max_overshoot:.0%})"
-            )
-        else:
-            what = (
-                f"overshot a {kind} step by {wildest.overshoot:.0%}"
-                + ("" if wildest.settling_time is not None else " and never settled")
-                + f" (max_overshoot {settings.max_overshoot:.0%})"
-            )
-        problems.append(
-            run.fail(
-                where,
-                "RS506",
-                f"controller '{controller}' ({sim.mode}/{group.name}) is unstable or "
-                f"underdamped: joint '{wildest.joint}' {what}",
-                "raise its damping relative to its stiffness"
-                + (
-                    " (a velocity drive: lower its damping's share of force_limit)"
-                    if kind == "velocity"
-                    else ""
-                ),
-            )
+        and not (np.isfinite(wildest.overshoot) and bound(wildest.joint))
+    ):
+        return None
+    if np.isfinite(wildest.overshoot) and wildest.overshoot <= settings.max_overshoot:
+        # it failed by never settling: say that, not an overshoot within the threshold
+        what = (
+            f"never settled within {settings.settling_band:.0%} of a {kind} step in "
+            f"{settings.duration:g} s (its overshoot, {wildest.overshoot:.0%}, is within "
+            f"max_overshoot {settings.max_overshoot:.0%})"
         )
-    if (
+    else:
+        what = (
+            f"overshot a {kind} step by {wildest.overshoot:.0%}"
+            + ("" if wildest.settling_time is not None else " and never settled")
+            + f" (max_overshoot {settings.max_overshoot:.0%})"
+        )
+    return v.run.fail(
+        v.where,
+        "RS506",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is unstable or "
+        f"underdamped: joint '{wildest.joint}' {what}",
+        "raise its damping relative to its stiffness"
+        + (
+            " (a velocity drive: lower its damping's share of force_limit)"
+            if kind == "velocity"
+            else ""
+        ),
+    )
+
+
+def _off_target(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagnostic | None:
+    """RS507: the furthest joint settled too far from its target (unless gravity bounds it)."""
+    v, settings, furthest = verdict, verdict.settings, extremes.furthest
+    if not (
         furthest.steady_state_error > settings.max_steady_state_error
-        and slowest.rise_time is not None
+        and extremes.slowest.rise_time is not None
         and not bound(furthest.joint)
     ):
-        problems.append(
-            run.fail(
-                where,
-                "RS507",
-                f"controller '{controller}' ({sim.mode}/{group.name}): joint '{furthest.joint}' "
-                f"settles {furthest.steady_state_error:.0%} of a {kind} step away from its "
-                f"target (max_steady_state_error {settings.max_steady_state_error:.0%})",
-                "raise its stiffness or force_limit, or lower its friction",
-            )
-        )
-    status = Status.FAIL if any(p.is_error for p in problems) else Status.PASS
-    return Finding(NAME, sim.mode, subject, status, summary, values, tuple(problems), details)
+        return None
+    return v.run.fail(
+        v.where,
+        "RS507",
+        f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}): joint '{furthest.joint}' "
+        f"settles {furthest.steady_state_error:.0%} of a {v.kind} step away from its "
+        f"target (max_steady_state_error {settings.max_steady_state_error:.0%})",
+        "raise its stiffness or force_limit, or lower its friction",
+    )
 
 
 def _saturation(
