@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Literal
 
 from robospec.derive.document import Document
-from robospec.derive.mjcf_tree import classes, whole
+from robospec.derive.mjcf_tree import classes, robot_body, whole
 from robospec.description.mjcf_axes import unaxed_joints
 from robospec.description.mjcf_loaded import loader_classes
 
@@ -26,11 +26,11 @@ WHY = "joints write no axis: MuJoCo turns them about z, ManiSkill's loader about
 
 def apply(document: Document, policy: str) -> None:
     root = whole(document)
-    worldbody = root.find("worldbody")
-    if worldbody is None:
+    robot = robot_body(root)
+    if robot is None:
         return  # no robot: the description's parse says so
     loaded, _lines = loader_classes(child for child in root if child.tag == "default")
-    for item in list(unaxed_joints(worldbody, loaded, classes(root, document.source.path))):
+    for item in list(unaxed_joints(robot, loaded, classes(root, document.source.path))):
         joint = item.joint
         source = f"class '{item.holder}'" if item.holder else "MuJoCo's default"
         document.changed(

@@ -52,13 +52,14 @@ def _vector(text: str | None) -> tuple[float, ...] | None:
 
 
 def unaxed_joints(
-    worldbody: etree._Element,
+    robot: etree._Element,
     loader_classes: Mapping[str, Defaults],
     mujoco_classes: dict[str, Table],
 ) -> Iterator[UnaxedJoint]:
-    """Every hinge and slide joint the loader builds that it reads no axis for (it falls back
-    to x), whose axis in MuJoCo's reading is another."""
-    for joint, loaded in loader_joints(worldbody, loader_classes):
+    """Every hinge and slide joint the loader builds of the robot (its ``<worldbody>`` body
+    ``robot``) that it reads no axis for (it falls back to x), whose axis in MuJoCo's reading
+    is another."""
+    for joint, loaded in loader_joints(robot, loader_classes):
         mujoco = effective(mujoco_classes, joint)
         if mujoco.get("type", "hinge") not in _MOVING or loaded.get("type", "hinge") not in _MOVING:
             continue
@@ -81,11 +82,11 @@ def unaxed_joints(
 def unaxed(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     """RS095: one error at the first joint ManiSkill's loader turns about x where MuJoCo
     turns it about another axis, listing the others."""
-    found = list(unaxed_joints(loaded.worldbody, loaded.classes, loaded.mujoco_classes))
+    found = list(unaxed_joints(loaded.robot_element, loaded.classes, loaded.mujoco_classes))
     if not found:
         return
     first = found[0]
-    listed = names([item.joint.get("name", "") or "<joint>" for item in found])
+    listed = names([item.joint.get("name", "") or "<joint>" for item in found[1:]])
     source = f"from class '{first.holder}'" if first.holder else "MuJoCo's default"
     yield error(
         loaded.where(first.joint),

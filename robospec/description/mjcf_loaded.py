@@ -226,28 +226,25 @@ def articulation_bodies(
 
 
 def loader_joints(
-    worldbody: etree._Element, classes: Mapping[str, Defaults]
+    robot: etree._Element, classes: Mapping[str, Defaults]
 ) -> Iterator[tuple[etree._Element, dict[str, str]]]:
-    """Every ``<joint>`` of the articulations ManiSkill's loader builds below ``worldbody``,
-    with the attributes ``_parse_body`` merges for it: the body's active ``joint`` defaults,
-    then the joint's own class's, then its own (a class without a joint table, on which the
-    loader raises, is left out)."""
-    for top in worldbody.findall("body"):
-        if not _articulated(top):
-            continue
-        for body, defaults in articulation_bodies(top, classes):
-            for joint in body.findall("joint"):
-                incoming: list[Mapping[str, Any]] = []
-                if "joint" in defaults:
-                    incoming.append(defaults["joint"])
-                own_class = joint.get("class")
-                if own_class is not None:
-                    table = classes.get(own_class, {}).get("joint")
-                    if table is None:
-                        continue
-                    incoming.append(table)
-                incoming.append(dict(joint.attrib))
-                yield joint, merge({}, *incoming)
+    """Every ``<joint>`` ManiSkill's loader builds of the robot (its ``<worldbody>`` body
+    ``robot``), with the attributes ``_parse_body`` merges for it: the body's active ``joint``
+    defaults, then the joint's own class's, then its own (a class without a joint table, on
+    which the loader raises, is left out)."""
+    for body, defaults in articulation_bodies(robot, classes):
+        for joint in body.findall("joint"):
+            incoming: list[Mapping[str, Any]] = []
+            if "joint" in defaults:
+                incoming.append(defaults["joint"])
+            own_class = joint.get("class")
+            if own_class is not None:
+                table = classes.get(own_class, {}).get("joint")
+                if table is None:
+                    continue
+                incoming.append(table)
+            incoming.append(dict(joint.attrib))
+            yield joint, merge({}, *incoming)
 
 
 def loader_classes(
