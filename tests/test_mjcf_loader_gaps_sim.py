@@ -275,3 +275,31 @@ def test_a_joint_without_an_axis_turns_about_x_and_the_axes_mend_puts_the_link_w
     mended.write_text(derived.text)
     assert "RS095" not in diagnostics(mended)
     np.testing.assert_allclose(hand(mended, x=12.0), mujoco_hand, atol=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("extra", "written"),
+    [
+        pytest.param("", "loader: mujoco", id="mujoco-compiles-it"),
+        # an attribute MuJoCo refuses (ManiSkill's loader ignores it): new keeps that loader
+        pytest.param(' bogus="1"', "axes: mujoco", id="maniskill-loader"),
+    ],
+)
+def test_new_writes_a_spec_that_validates_for_a_joint_without_an_axis(
+    tmp_path: Path, extra: str, written: str
+) -> None:
+    from conftest import CODE_EXAMPLES, invoke_robospec
+
+    text = (CODE_EXAMPLES / "RS095" / "unaxed.xml").read_text()
+    (tmp_path / "unaxed.xml").write_text(
+        text.replace(
+            '<geom type="box" size=".1 .1 .02"/>', f'<geom type="box" size=".1 .1 .02"{extra}/>'
+        )
+    )
+    spec = tmp_path / "arm.yaml"
+    result = invoke_robospec("new", str(tmp_path / "unaxed.xml"), "-o", str(spec))
+    assert result.exit_code == 0, result.output
+    assert written in spec.read_text()
+    checked = invoke_robospec("validate", str(spec))
+    assert checked.exit_code == 0, checked.output
+    assert "RS095" not in checked.output
