@@ -45,6 +45,7 @@ MJCF_BROKEN: dict[str, tuple[str, typing.Any]] = {
     "mesh_names": ("RS715/unnamed.xml", "mujoco"),
     "asset_names": ("RS719/repeated.xml", "first"),
     "geom_meshes": ("RS723/defaulted.xml", "defaults"),
+    "axes": ("RS724/unaxed.xml", "mujoco"),
     "mesh_scale": ("RS716/scaled.xml", "defaults"),
     "contype": ("RS717/touching.xml", "conaffinity"),
     "freejoint": ("RS718/floating.xml", "root"),

@@ -82,6 +82,12 @@ CASES: dict[str, tuple[Path, Any, Path, dict[str, str]]] = {
         CODE_EXAMPLES / "RS723/arm.xml",
         {},
     ),
+    "axes": (
+        CODE_EXAMPLES / "RS724/unaxed.xml",
+        "mujoco",
+        CODE_EXAMPLES / "RS724/arm.xml",
+        {},
+    ),
     "mesh_scale": (
         CODE_EXAMPLES / "RS716/scaled.xml",
         "defaults",

@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from conftest import CODE_EXAMPLES
 
 from robospec.description import load_description
 from robospec.description.facts import Mimic, RobotDescription
@@ -38,11 +39,16 @@ def only(path: Path, code: str) -> Diagnostic:
     return matches[0]
 
 
-def chain(path: Path, bodies: int) -> Path:
-    """A snake of ``bodies`` bodies on a free root, each a sphere on a hinge."""
+def chain(path: Path, bodies: int, axis: str | None = "0 0 1") -> Path:
+    """A snake of ``bodies`` bodies on a free root, each a sphere on a hinge about ``axis``
+    (None: the hinges write none)."""
     text = '<mujoco>\n<worldbody>\n<body name="b0" pos="0 0 .5"><freejoint/><geom size=".02"/>\n'
+    axis_attribute = f' axis="{axis}"' if axis is not None else ""
     for i in range(1, bodies):
-        text += f'<body name="b{i}" pos=".05 0 0"><joint name="j{i}"/><geom size=".02"/>\n'
+        text += (
+            f'<body name="b{i}" pos=".05 0 0"><joint name="j{i}"{axis_attribute}/>'
+            '<geom size=".02"/>\n'
+        )
     text += "</body>" * bodies + "\n</worldbody>\n</mujoco>\n"
     path.write_text(text)
     return path
@@ -177,7 +183,8 @@ def test_a_robot_mujoco_never_self_collides_is_hinted_disable_self_collisions(
     # contype 1, conaffinity 0 everywhere (dm_control's walker): the robot touches the floor
     # only, in MuJoCo
     (tmp_path / "walker.xml").write_text(
-        '<mujoco>\n<default><geom contype="1" conaffinity="0"/></default>\n<worldbody>\n'
+        '<mujoco>\n<default><geom contype="1" conaffinity="0"/><joint axis="0 1 0"/></default>\n'
+        "<worldbody>\n"
         '<body name="torso"><geom size=".1"/>\n'
         '<body name="thigh"><joint name="hip"/><geom size=".1"/>\n'
         '<body name="shin"><joint name="knee"/><geom size=".1"/>\n'
@@ -384,7 +391,8 @@ def test_an_articulation_with_more_joints_behind_the_one_maniskill_takes_is_poin
 ) -> None:
     (tmp_path / "order.xml").write_text(
         "<mujoco>\n<worldbody>\n"
-        '<body name="target"><joint name="tx" type="slide"/><geom size=".02"/></body>\n'
+        '<body name="target"><joint name="tx" type="slide" axis="0 0 1"/>'
+        '<geom size=".02"/></body>\n'
         '<body name="base"><geom size=".1"/>\n'
         '<body name="l1"><joint name="j1"/><geom size=".05"/>\n'
         '<body name="l2"><joint name="j2"/><geom size=".05"/></body></body></body>\n'
@@ -395,3 +403,65 @@ def test_an_articulation_with_more_joints_behind_the_one_maniskill_takes_is_poin
     assert (warning.code, warning.location.line) == ("RS052", 4)
     assert "body 'target' (1 joint(s)), and this one has 2" in warning.message
     assert warning.hint == "if this is the robot, move it before the other bodies in <worldbody>"
+
+
+# -- joints without an axis ------------------------------------------------------------------------
+
+UNAXED = CODE_EXAMPLES / "RS095" / "unaxed.xml"
+
+
+def test_only_the_joint_that_writes_no_axis_nor_takes_one_from_a_class_is_reported() -> None:
+    # shoulder: no axis anywhere (MuJoCo: z); elbow: class 'bent' gives y; wrist: its own x
+    diagnostic = only(UNAXED, "RS095")
+    assert diagnostic.severity.value == "error"
+    assert diagnostic.location.line == 11  # the shoulder
+    assert "'shoulder'" in diagnostic.message and "about x" in diagnostic.message
+    assert "elbow" not in diagnostic.message and "wrist" not in diagnostic.message
+    assert diagnostic.hint is not None
+    assert "{axes: mujoco}" in diagnostic.hint and "loader: mujoco" in diagnostic.hint
+
+
+def test_joints_without_axes_are_one_error_at_the_first_listing_the_others(
+    tmp_path: Path,
+) -> None:
+    path = chain(tmp_path / "snake.xml", 4, axis=None)  # j1..j3 write no axis
+    diagnostic = only(path, "RS095")
+    assert "'j1'" in diagnostic.message and "2 more joint(s) ('j2', 'j3')" in diagnostic.message
+
+
+def test_an_axis_only_mujocos_class_reading_gives_is_reported_with_that_axis(
+    tmp_path: Path,
+) -> None:
+    # MuJoCo's root class spelled class="main": a class of its own in ManiSkill's reading,
+    # applied to no joint that does not name it, so the loader reads no axis there
+    path = tmp_path / "main.xml"
+    path.write_text(
+        '<mujoco><compiler angle="radian"/><default class="main"><joint axis="0 1 0"/>'
+        '</default><worldbody><body name="base"><geom size=".05"/><body name="arm">'
+        '<joint name="j"/><geom size=".05"/></body></body></worldbody></mujoco>'
+    )
+    diagnostic = only(path, "RS095")
+    assert "\"0 1 0\" (from class 'main')" in diagnostic.message
+
+
+def test_a_joint_mujoco_turns_about_x_is_not_reported(tmp_path: Path) -> None:
+    path = tmp_path / "x.xml"
+    path.write_text(
+        '<mujoco><compiler angle="radian"/><default class="main"><joint axis="1 0 0"/>'
+        '</default><worldbody><body name="base"><geom size=".05"/><body name="arm">'
+        '<joint name="j"/><geom size=".05"/></body></body></worldbody></mujoco>'
+    )
+    assert "RS095" not in {d.code for d in parse(path)[1]}
+
+
+def test_the_axes_mend_writes_mujocos_axis_on_the_unaxed_joint_only() -> None:
+    from lxml import etree
+
+    from robospec.derive import Source, derive
+
+    derived = derive(
+        Source(str(UNAXED), UNAXED.name, "mjcf", UNAXED.read_bytes()), {"axes": "mujoco"}
+    )
+    root = etree.fromstring(derived.text.encode())
+    axes = {joint.get("name"): joint.get("axis") for joint in root.find("worldbody").iter("joint")}
+    assert axes == {"shoulder": "0 0 1", "elbow": None, "wrist": "1 0 0"}

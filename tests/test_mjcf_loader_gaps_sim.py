@@ -231,3 +231,75 @@ def test_link_rules_fail_on_the_mjcf_loader_and_ee_controllers_without_a_urdf(
         Kinematics(None, "hand", robot, [0, 1])  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="URDF"):  # nor the MJCF in its place
         Kinematics(str(GAPS / "masses.xml"), "hand", robot, [0, 1])
+
+
+def _hand_from_root(robot: Any, link: str) -> np.ndarray:
+    """Link ``link``'s pose in the robot's root link's frame, as a 4x4 matrix."""
+    links = by_name(robot)
+    root = robot.get_links()[0].entity_pose.to_transformation_matrix()
+    pose = links[link].entity_pose.to_transformation_matrix()
+    return np.linalg.inv(root) @ pose
+
+
+def test_a_joint_without_an_axis_turns_about_x_and_the_axes_mend_puts_the_link_where_mujoco_does(
+    scene: Any, tmp_path: Path
+) -> None:
+    from conftest import CODE_EXAMPLES
+
+    from robospec.derive import Source, derive
+    from robospec.kinematics.mjcf_poses import mjcf_poser
+
+    unaxed = CODE_EXAMPLES / "RS095" / "unaxed.xml"
+    assert "RS095" in diagnostics(unaxed)
+    description = load_description(str(unaxed), "mjcf")[0]
+    assert description is not None
+    poser = mjcf_poser(description, unaxed.read_bytes(), str(unaxed))
+    assert poser is not None
+    shoulder = {"shoulder": 0.5}
+    mujoco_hand = poser(shoulder).links["hand"]
+
+    def hand(path: Path, x: float) -> np.ndarray:
+        robot = load(scene, path, x=x)
+        names = [joint.name for joint in robot.active_joints]
+        robot.qpos = np.array([0.5 if name.endswith("shoulder") else 0.0 for name in names])
+        return _hand_from_root(robot, "hand")
+
+    # as written: the shoulder turns about x, and the hand stands elsewhere than in MuJoCo
+    as_written = hand(unaxed, x=9.0)
+    assert np.linalg.norm(as_written[:3, 3] - mujoco_hand[:3, 3]) > 0.05
+    # mended: the shoulder's axis written as MuJoCo reads it, the hand where MuJoCo puts it
+    derived = derive(
+        Source(str(unaxed), unaxed.name, "mjcf", unaxed.read_bytes()), {"axes": "mujoco"}
+    )
+    mended = tmp_path / "unaxed.xml"
+    mended.write_text(derived.text)
+    assert "RS095" not in diagnostics(mended)
+    np.testing.assert_allclose(hand(mended, x=12.0), mujoco_hand, atol=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("extra", "written"),
+    [
+        pytest.param("", "loader: mujoco", id="mujoco-compiles-it"),
+        # an attribute MuJoCo refuses (ManiSkill's loader ignores it): new keeps that loader
+        pytest.param(' bogus="1"', "axes: mujoco", id="maniskill-loader"),
+    ],
+)
+def test_new_writes_a_spec_that_validates_for_a_joint_without_an_axis(
+    tmp_path: Path, extra: str, written: str
+) -> None:
+    from conftest import CODE_EXAMPLES, invoke_robospec
+
+    text = (CODE_EXAMPLES / "RS095" / "unaxed.xml").read_text()
+    (tmp_path / "unaxed.xml").write_text(
+        text.replace(
+            '<geom type="box" size=".1 .1 .02"/>', f'<geom type="box" size=".1 .1 .02"{extra}/>'
+        )
+    )
+    spec = tmp_path / "arm.yaml"
+    result = invoke_robospec("new", str(tmp_path / "unaxed.xml"), "-o", str(spec))
+    assert result.exit_code == 0, result.output
+    assert written in spec.read_text()
+    checked = invoke_robospec("validate", str(spec))
+    assert checked.exit_code == 0, checked.output
+    assert "RS095" not in checked.output

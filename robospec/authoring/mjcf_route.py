@@ -2,7 +2,8 @@
 (``description: {mjcf: FILE, loader: mujoco}``, robospec.derive.mujoco_urdf) wherever MuJoCo
 compiles the file, with a comment that says what ManiSkill's own MJCF loader would get wrong
 for this file — the total mass it would simulate against MuJoCo's, the bodies past its 32, the
-ball joints it cannot load, the bodies of visual geoms it would give no mass.
+ball joints it cannot load, the joints without an axis it turns about x, the bodies of visual
+geoms it would give no mass.
 """
 
 from __future__ import annotations
@@ -41,6 +42,8 @@ def why_mujoco(mjcf: bytes, path: Path, maniskill: frozenset[str]) -> str:
         wrong.append(
             f"weigh its links by their geoms, not the file's masses (MuJoCo: {ours:.3g} kg)"
         )
+    if "RS724" in maniskill:  # the axes mend wrote MuJoCo's axis on joints that write none
+        wrong.append("turn its joints that write no axis about x, where MuJoCo turns them about z")
     if len(bodies) > MAX_BODIES:
         wrong.append(f"stop at {MAX_BODIES} of its {len(bodies)} bodies")
     balls = [

@@ -8,6 +8,7 @@ from __future__ import annotations
 from typing import cast
 
 import robospec.derive.asset_names as asset_names
+import robospec.derive.axes as axes
 import robospec.derive.bodies as bodies
 import robospec.derive.contype as contype
 import robospec.derive.freejoint as freejoint
@@ -45,6 +46,7 @@ MENDS: tuple[MendClass, ...] = cast(
         asset_names,
         geom_meshes,
         mesh_scale,
+        axes,
         contype,
         freejoint,
         orientations,

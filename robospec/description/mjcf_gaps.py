@@ -1,5 +1,6 @@
 """Everything ManiSkill 3.0.1's MJCF loader drops from the robot or reads differently than
-MuJoCo, each reported once per kind at the MJCF element it concerns (RS070-RS085).
+MuJoCo, each reported once per kind at the MJCF element it concerns (RS070-RS085, RS094,
+RS095).
 
 Where the loaded robot is certainly wrong (a mesh ten times too large, a frame turned, a moving
 link without mass) or the file cannot be loaded at all, the report is an error; otherwise a
@@ -9,6 +10,7 @@ out (a mimic map, a never_collide list, a quat=). docs/loaders.md lists them all
 
 from __future__ import annotations
 
+from robospec.description.mjcf_axes import unaxed
 from robospec.description.mjcf_constraints import (
     actuators,
     contacts,
@@ -55,4 +57,5 @@ def loader_gaps(loaded: LoadedMjcf) -> list[Diagnostic]:
         *joint_attributes(loaded),  # RS084
         *mesh_files(loaded),  # RS085, RS056
         *repeated_assets(loaded),  # RS094
+        *unaxed(loaded),  # RS095
     ]

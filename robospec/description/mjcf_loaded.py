@@ -176,17 +176,6 @@ def loader_elements(
     the attributes it reads them with, given its default ``classes`` (:func:`loader_classes`)."""
     root_defaults: Defaults = classes.get("__root__", {})
 
-    def articulation(body: etree._Element, defaults: Defaults) -> Iterator[Any]:
-        childclass = body.get("childclass")
-        if childclass is not None:
-            if is_ignored_class(childclass) or childclass not in classes:
-                return
-            defaults = merge(defaults, classes[childclass])
-        yield body, merge(defaults.get("body", {}), dict(body.attrib))
-        yield from geoms(body, defaults)
-        for child in body.findall("body"):
-            yield from articulation(child, defaults)
-
     def geoms(body: etree._Element, defaults: Defaults) -> Iterator[Any]:
         for geom in body.findall("geom"):
             attributes = geom_attributes(geom, defaults, classes)
@@ -194,11 +183,10 @@ def loader_elements(
                 yield geom, attributes
 
     for body in worldbody.findall("body"):
-        if body.find("freejoint") is not None or next(body.iter("joint"), None) is not None:
-            tags = [child.tag for child in body if isinstance(child.tag, str)]
-            if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
-                body = next(body.iterchildren("body"))  # the one counted
-            yield from articulation(body, root_defaults)
+        if _articulated(body):
+            for member, defaults in articulation_bodies(body, classes):
+                yield member, merge(defaults.get("body", {}), dict(member.attrib))
+                yield from geoms(member, defaults)
         else:
             # a static or free actor: the loader reads the geoms down the first-child chain
             current: etree._Element | None = body
@@ -206,6 +194,57 @@ def loader_elements(
                 yield from geoms(current, root_defaults)
                 current = current.find("body")
     yield from geoms(worldbody, root_defaults)
+
+
+def _articulated(body: etree._Element) -> bool:
+    """Whether the loader builds a ``<worldbody>`` body as an articulation (a joint below it)."""
+    return body.find("freejoint") is not None or next(body.iter("joint"), None) is not None
+
+
+def articulation_bodies(
+    body: etree._Element, classes: Mapping[str, Defaults]
+) -> Iterator[tuple[etree._Element, Defaults]]:
+    """The bodies ManiSkill's ``_parse_body`` builds of the articulated ``<worldbody>`` body
+    ``body``, depth first, each with the defaults active in it (the root table merged with
+    each ``childclass`` down the tree); a wrapper holding only one body is skipped, and a
+    body of an ignored or unknown childclass is not built, nor anything below it."""
+    tags = [child.tag for child in body if isinstance(child.tag, str)]
+    if tags.count("body") == 1 and "geom" not in tags and "joint" not in tags:
+        body = next(body.iterchildren("body"))  # the one counted
+
+    def walk(member: etree._Element, defaults: Defaults) -> Iterator[tuple[Any, Defaults]]:
+        childclass = member.get("childclass")
+        if childclass is not None:
+            if is_ignored_class(childclass) or childclass not in classes:
+                return
+            defaults = merge(defaults, classes[childclass])
+        yield member, defaults
+        for child in member.findall("body"):
+            yield from walk(child, defaults)
+
+    yield from walk(body, classes.get("__root__", {}))
+
+
+def loader_joints(
+    robot: etree._Element, classes: Mapping[str, Defaults]
+) -> Iterator[tuple[etree._Element, dict[str, str]]]:
+    """Every ``<joint>`` ManiSkill's loader builds of the robot (its ``<worldbody>`` body
+    ``robot``), with the attributes ``_parse_body`` merges for it: the body's active ``joint``
+    defaults, then the joint's own class's, then its own (a class without a joint table, on
+    which the loader raises, is left out)."""
+    for body, defaults in articulation_bodies(robot, classes):
+        for joint in body.findall("joint"):
+            incoming: list[Mapping[str, Any]] = []
+            if "joint" in defaults:
+                incoming.append(defaults["joint"])
+            own_class = joint.get("class")
+            if own_class is not None:
+                table = classes.get(own_class, {}).get("joint")
+                if table is None:
+                    continue
+                incoming.append(table)
+            incoming.append(dict(joint.attrib))
+            yield joint, merge({}, *incoming)
 
 
 def loader_classes(

@@ -75,6 +75,7 @@ _CODES = [
     Code("RS092", "a file named as URDF is xacro: expanded as xacro"),
     Code("RS093", "collision mesh PhysX can build no shape from"),
     Code("RS094", "MJCF asset name defined twice"),
+    Code("RS095", "MJCF joint without an axis turned about x"),
     # -- schema
     Code("RS101", "unknown key"),
     Code("RS102", "invalid value"),
@@ -239,6 +240,7 @@ _CODES = [
     Code("RS721", "mended: MJCF frames written as MuJoCo's quat"),
     Code("RS722", "mended: number lists separated by commas"),
     Code("RS723", "mended: MJCF meshes from default classes written on the geoms"),
+    Code("RS724", "mended: MJCF joint axes written as MuJoCo reads them"),
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),

@@ -161,6 +161,13 @@ class Mends(StrictModel):
         "load a thousand times too large).",
         examples=["defaults"],
     )
+    axes: Literal["mujoco"] | None = Field(
+        default=None,
+        description="MJCF. `mujoco`: write on each hinge and slide joint that writes no `axis` "
+        "the axis MuJoCo turns it about (its class's, else `0 0 1`) where ManiSkill's loader "
+        "reads none and turns it about x.",
+        examples=["mujoco"],
+    )
     contype: Literal["conaffinity"] | None = Field(
         default=None,
         description='MJCF. `conaffinity`: geoms with `contype="0"` that MuJoCo still collides '
