@@ -224,14 +224,14 @@ def _ready(request: Request, robot: LoadedRobot, answer: dict[str, Any]) -> list
     than at rest; None when there is none."""
     from pathlib import Path
 
-    from robospec.authoring.description_file import read_description_file
     from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.mobile_base import read_for_new
     from robospec.authoring.new.ready_pose import ready_poses
     from robospec.authoring.new.rest_pose import rest_from_answer
     from robospec.authoring.new.task_members import gripper_fingers
 
     assert request.refinement is not None
-    source, _ = read_description_file(Path(request.refinement[0]))
+    source, _ = read_for_new(Path(request.refinement[0]))  # as new read it (a mobile base)
     if source is None:
         return None
     analysis = analyse(source)
