@@ -265,3 +265,22 @@ def test_what_mujoco_warns_about_while_compiling_is_rs792_at_the_element_it_name
         assert result.robot is not None
     # MuJoCo's own handler would have appended it to a log in the working folder
     assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+
+
+def test_a_compile_error_that_names_no_line_is_at_the_element_it_names(tmp_path: Path) -> None:
+    # MuJoCo refuses joint damping on a flex's vertex bodies, naming the flex but no line
+    flex = (
+        '    <flexcomp name="cloth" type="grid" count="3 3 1" spacing=".05 .05 .05" '
+        'radius=".01" dim="2" pos="3 0 0"/>\n'
+    )
+    text = _ARM.replace(
+        "  <worldbody>\n", '  <default><joint damping="1"/></default>\n  <worldbody>\n' + flex
+    )
+    (tmp_path / "arm.xml").write_text(text, encoding="utf-8")
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(SPEC.format(path="arm.xml"), encoding="utf-8")
+    errors = [d for d in compile_spec(spec).diagnostics if d.is_error]
+    assert [d.code for d in errors] == ["RS790"] and "line" not in errors[0].message
+    line = text.splitlines().index(flex.rstrip("\n")) + 1
+    where = errors[0].location
+    assert (where.file.endswith("arm.xml"), where.line, where.column) == (True, line, 5)

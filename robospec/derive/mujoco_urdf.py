@@ -91,7 +91,7 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
     try:
         model, said = compiled_with_warnings(source.data, source.path)
     except ValueError as exc:
-        return Compiled(None, [_compile_error(source, str(exc), entry)])
+        return Compiled(None, [_compile_error(source, lines, str(exc), entry)])
     writer = _Writer(model, source, lines)
     writer.diagnostics.extend(_compile_warning(source, lines, text, entry) for text in said)
     writer.write()
@@ -185,7 +185,9 @@ def _read_files(source: Source) -> set[str]:
     return {f for f in files if os.path.isfile(f)}
 
 
-def _compile_error(source: Source, message: str, entry: Location | None) -> Diagnostic:
+def _compile_error(
+    source: Source, lines: _Lines, message: str, entry: Location | None
+) -> Diagnostic:
     from robospec.description.source_columns import tag_column
 
     text = " ".join(message.split())
@@ -195,8 +197,8 @@ def _compile_error(source: Source, message: str, entry: Location | None) -> Diag
         number = int(line[1])
         column = tag_column(source.path, number, tag[1]) if tag is not None else 1
         where = Location(source.shown, number, column)
-    else:
-        where = entry or Location(source.shown, 1, 1)
+    else:  # a compiler error names the element, not its line ("Element name 'cloth', id 0")
+        where = _named_element(lines, text) or entry or Location(source.shown, 1, 1)
     return error(
         where,
         COMPILE_ERROR,
@@ -209,10 +211,22 @@ def _compile_warning(
     source: Source, lines: _Lines, message: str, entry: Location | None
 ) -> Diagnostic:
     """What MuJoCo's compiler warned about (it compiles the file anyway), at the element its
-    message names: by tag and name, else by name alone, else the first element of the tag
-    (``compiler attribute 'settotalmass'``: the ``<compiler>``), else where the spec names
-    the file."""
+    message names, else where the spec names the file."""
     text = " ".join(message.split())
+    where = _named_element(lines, text) or entry or Location(source.shown, 1, 1)
+    return warning(
+        where,
+        COMPILE_WARNING,
+        f"MuJoCo warns while compiling '{source.shown}': {text}",
+        "MuJoCo compiles the file anyway; fix it as the message says, or the robot may not "
+        "be the one the file meant",
+    )
+
+
+def _named_element(lines: _Lines, text: str) -> Location | None:
+    """Where the element a compiler message names stands: by tag and name, else by name alone
+    (``flex 'cloth'`` is a ``<flexcomp>``), else the first element of the tag (``compiler
+    attribute 'settotalmass'``: the ``<compiler>``); None where it names none."""
     subject, named = _SUBJECT.search(text), _NAMED.search(text)
     tag = subject[1] if subject is not None else None
     name = named[1] if named is not None and named[1] else None
@@ -223,17 +237,7 @@ def _compile_warning(
         tag, at = next(((t, w) for (t, n), w in lines.named.items() if n == name), (tag, None))
     if at is None and tag is not None:
         at = lines.first.get(tag)
-    if at is not None:
-        where = lines.location(at, tag or "")
-    else:
-        where = entry or Location(source.shown, 1, 1)
-    return warning(
-        where,
-        COMPILE_WARNING,
-        f"MuJoCo warns while compiling '{source.shown}': {text}",
-        "MuJoCo compiles the file anyway; fix it as the message says, or the robot may not "
-        "be the one the file meant",
-    )
+    return lines.location(at, tag or "") if at is not None else None
 
 
 # -- writing the URDF ----------------------------------------------------------------------
