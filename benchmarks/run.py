@@ -28,6 +28,9 @@
     gains (benchmarks/scaffold.py).
 12. The generated modules laid out by robospec's own layout against black and ruff: the same
     text or not, time per module and import, install size (benchmarks/formatter.py).
+13. Demonstrations from ManiSkill's solutions (benchmarks/solve.py).
+14. An MJCF compiled by MuJoCo and written as a URDF (`loader: mujoco`), per model, cold and
+    cached (benchmarks/mjcf_compile.py).
 
 Exit status 1 when a target is missed (speed-up, warm overhead, linear growth).
 """
@@ -46,6 +49,7 @@ import collision_matrix
 import first_error
 import formatter
 import lsp_latency
+import mjcf_compile
 import optimize_fidelity
 import optimize_gpu
 import optimize_throughput
@@ -73,6 +77,7 @@ SECTION_TITLES = (
     scaffold.TITLE,
     formatter.TITLE,
     solve.TITLE,
+    mjcf_compile.TITLE,
 )
 
 
@@ -90,6 +95,7 @@ PARTS = (
     "scaffold",
     "formatter",
     "solve",
+    "mjcf_compile",
 )
 """Each part's name (its module), in the order of SECTION_TITLES."""
 
@@ -125,6 +131,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
             "scaffold": lambda: scaffold.measure(1, only=["erd_ur5"], refine=False),
             "formatter": lambda: formatter.measure(1, random_count=10),
             "solve": lambda: solve.measure(1, ("PickCube-v1",)),
+            "mjcf_compile": lambda: mjcf_compile.measure(1, only=["dmc_jaco_arm"]),
         }
     return {
         "first_error": lambda: first_error.measure(repeat),
@@ -140,6 +147,7 @@ def measurers(quick: bool, repeat: int) -> dict[str, Callable[[], Section]]:
         "scaffold": lambda: scaffold.measure(repeat),
         "formatter": lambda: formatter.measure(repeat),
         "solve": lambda: solve.measure(),
+        "mjcf_compile": lambda: mjcf_compile.measure(repeat),
     }
 
 
@@ -160,7 +168,9 @@ def _insert_section(document: str, section: Section) -> str:
     later = SECTION_TITLES[SECTION_TITLES.index(section.title) + 1 :]
     starts = [document.find(f"\n## {title}\n") for title in later]
     start = min((found for found in starts if found != -1), default=len(document.rstrip()))
-    return document[:start].rstrip("\n") + "\n\n" + section.markdown() + document[start:]
+    rest = document[start:]  # the later sections, or the document's last newline
+    head = document[:start].rstrip("\n") + "\n\n" + section.markdown()
+    return head + (rest if rest.strip() else "")
 
 
 def document(sections: list[Section], repeat: int, seconds: float) -> str:

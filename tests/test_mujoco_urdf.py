@@ -203,3 +203,84 @@ def _spec_at(tmp_path: Path, path: str, more: str = "") -> Path:
     spec = tmp_path / "spec.yaml"
     spec.write_text(SPEC.format(path=path) + more, encoding="utf-8")
     return spec
+
+
+_ARM = """\
+<mujoco model="arm">
+  <compiler angle="degree"/>
+  <worldbody>
+    <body name="upper">
+      <joint name="shoulder" axis="0 1 0" range="-90 90"/>
+      <geom type="capsule" size=".04 .15" pos="0 0 .15"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize(
+    ("edit", "tag", "said"),
+    [
+        # a deprecated attribute: MuJoCo's warning names the <compiler>, no element
+        (
+            ('<compiler angle="degree"/>', '<compiler angle="degree" settotalmass="5"/>'),
+            "compiler",
+            "settotalmass",
+        ),
+        # a flex nothing holds together: the warning names the element (no robot is written:
+        # a flex's vertex bodies slide without limits, which the URDF writer does not carry)
+        (
+            (
+                "  <worldbody>\n",
+                '  <worldbody>\n    <flexcomp name="cloth" type="grid" count="3 3 1" '
+                'spacing=".05 .05 .05" radius=".01" dim="2" pos="3 0 0"/>\n',
+            ),
+            "flexcomp",
+            "cloth",
+        ),
+    ],
+)
+def test_what_mujoco_warns_about_while_compiling_is_rs792_at_the_element_it_names(
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    edit: tuple[str, str],
+    tag: str,
+    said: str,
+) -> None:
+    text = _ARM.replace(edit[0], edit[1], 1)
+    assert text != _ARM
+    (tmp_path / "arm.xml").write_text(text, encoding="utf-8")
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(SPEC.format(path="arm.xml"), encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    result = compile_spec(spec)
+    found = [d for d in result.diagnostics if d.code == "RS792"]
+    assert len(found) == 1 and not found[0].is_error, [str(d) for d in result.diagnostics]
+    lines = text.splitlines()
+    line = next(i for i, t in enumerate(lines, 1) if f"<{tag}" in t)
+    where = found[0].location
+    assert (where.line, where.column) == (line, lines[line - 1].index(f"<{tag}") + 1)
+    assert where.file.endswith("arm.xml") and said in found[0].message
+    if tag == "compiler":  # MuJoCo compiles the file, masses scaled: the robot is written
+        assert result.robot is not None
+    # MuJoCo's own handler would have appended it to a log in the working folder
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+
+
+def test_a_compile_error_that_names_no_line_is_at_the_element_it_names(tmp_path: Path) -> None:
+    # MuJoCo refuses joint damping on a flex's vertex bodies, naming the flex but no line
+    flex = (
+        '    <flexcomp name="cloth" type="grid" count="3 3 1" spacing=".05 .05 .05" '
+        'radius=".01" dim="2" pos="3 0 0"/>\n'
+    )
+    text = _ARM.replace(
+        "  <worldbody>\n", '  <default><joint damping="1"/></default>\n  <worldbody>\n' + flex
+    )
+    (tmp_path / "arm.xml").write_text(text, encoding="utf-8")
+    spec = tmp_path / "arm.yaml"
+    spec.write_text(SPEC.format(path="arm.xml"), encoding="utf-8")
+    errors = [d for d in compile_spec(spec).diagnostics if d.is_error]
+    assert [d.code for d in errors] == ["RS790"] and "line" not in errors[0].message
+    line = text.splitlines().index(flex.rstrip("\n")) + 1
+    where = errors[0].location
+    assert (where.file.endswith("arm.xml"), where.line, where.column) == (True, line, 5)

@@ -142,3 +142,24 @@ def test_mujoco_for_a_urdf_robot_is_a_usage_error_rs647(tmp_path: Path) -> None:
     code, report = _report(tmp_path, "mujoco")
     assert code == 2 and [d["code"] for d in report["diagnostics"]] == ["RS647"]
     assert report["status"] == "error"
+
+
+def test_mujoco_for_a_compiled_mjcf_reads_the_mjcf_the_spec_names(tmp_path: Path) -> None:
+    """``loader: mujoco`` resolves to the URDF MuJoCo's model is written as; --reference mujoco
+    still reads the MJCF the spec names (here: one with no position actuator, RS647 at it)."""
+    mjcf = Path(__file__).parent / "data" / "mjcf" / "compiled" / "ball_ghost.xml"
+    spec = tmp_path / "ball_ghost.yaml"
+    spec.write_text(
+        "robospec: 1\nuid: rs_ball_ghost_mj\n"
+        f'description: {{mjcf: "{mjcf.as_posix()}", loader: mujoco}}\n'
+        'groups: {all: "*"}\n'
+        "controllers:\n  all: {type: pd_joint_pos, joints: all, lower: null, upper: null,\n"
+        "    stiffness: 100, damping: 10, normalize_action: false}\n"
+        "control_modes:\n  pd_joint_pos: {all: all}\n",
+        encoding="utf-8",
+    )
+    code, text = reference_report(spec, None, "mujoco", [], False, None, "json")
+    report = json.loads(text)
+    found = [d for d in report["diagnostics"] if d["code"] == "RS647"]
+    assert code == 2 and len(found) == 1, report["diagnostics"]
+    assert found[0]["file"] == str(mjcf) and "no position actuator" in found[0]["message"]

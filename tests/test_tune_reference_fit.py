@@ -123,3 +123,29 @@ def test_mujoco_reference_reports_the_error_before_and_after_and_writes_the_gain
     # --write keeps 3 significant digits (robospec.tune.edits.number): within half a unit of
     # the third, 0.5 % at most (32.9662 is written 33.0)
     assert np.allclose(kwargs["stiffness"], fitted, rtol=5e-3, atol=0)
+
+
+def test_mujoco_reference_on_the_compiled_route_replays_the_mjcf_the_spec_names(
+    maniskill: ModuleType, tmp_path: Path
+) -> None:
+    """``loader: mujoco``: ManiSkill loads the URDF MuJoCo's model is written as, and MuJoCo
+    replays the MJCF the spec names: like with like, so the fit matches, and the report says
+    what the compiled route carries."""
+    from robospec.tune.reference.command import MATCH, MUJOCO_COMPILED_NOTES, reference_report
+
+    shutil.copy(ARM3 / "arm3.xml", tmp_path / "arm3.xml")
+    text = (ARM3 / "arm3.yaml").read_text(encoding="utf-8")
+    named = "  mjcf: arm3.xml\n"
+    assert named in text
+    text = text.replace(named, named + "  loader: mujoco\n").replace("rs_test_arm3", "rs_arm3_mj")
+    spec = tmp_path / "arm3.yaml"
+    spec.write_text(text, encoding="utf-8")
+    code, out = reference_report(spec, None, "mujoco", [], False, None, "json")
+    report = json.loads(out)
+    assert code == 0, report["diagnostics"]
+    assert report["status"] == "matched"
+    assert report["error_after"] < MATCH < report["error_before"]
+    assert {j["joint"] for j in report["joints"]} == {"shoulder_yaw", "elbow", "wrist"}
+    assert set(MUJOCO_COMPILED_NOTES) <= set(report["notes"])
+    # the compiled route's own notes: armature is what the URDF does not carry (RS791)
+    assert any(d["code"] == "RS791" and "armature" in d["message"] for d in report["diagnostics"])

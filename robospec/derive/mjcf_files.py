@@ -70,10 +70,27 @@ def compiled_model(text: bytes, path: str) -> Any:
     """MuJoCo's model of the MJCF ``text`` read from ``path`` (its ``<include>``s written in
     place and its files named absolutely, so that a derived copy compiles as the file would).
     Raises ValueError, with MuJoCo's message, where MuJoCo refuses it."""
+    return compiled_with_warnings(text, path)[0]
+
+
+def compiled_with_warnings(text: bytes, path: str) -> tuple[Any, list[str]]:
+    """:func:`compiled_model`, and what MuJoCo's compiler warned about while compiling it.
+
+    Compiled through ``MjSpec``, whose ``compile`` hands each compiler warning to Python as a
+    ``UserWarning``: ``MjModel.from_xml_string`` prints them instead, and MuJoCo's default
+    handler appends them to a ``MUJOCO_LOG.TXT`` in the working folder, beside the user's
+    files."""
+    import warnings
+
     import mujoco
 
     try:
         xml = carried_text(text.decode("utf-8"), path, lambda file: file)
     except UnicodeDecodeError as exc:
         raise ValueError(str(exc)) from exc
-    return mujoco.MjModel.from_xml_string(xml)  # its compiler's errors are ValueErrors
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", UserWarning)
+        # the parser's and the compiler's errors are ValueErrors
+        model = mujoco.MjSpec.from_string(xml).compile()
+    said = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    return model, list(dict.fromkeys(said))

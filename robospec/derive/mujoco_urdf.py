@@ -48,6 +48,7 @@ from robospec.geometry import IDENTITY, ZERO, Pose, Vector, compose, rpy_from_qu
 
 COMPILE_ERROR = "RS790"
 NOT_CARRIED = "RS791"
+COMPILE_WARNING = "RS792"
 DERIVED_FOLDER = "derived"  # robospec's cache folder for the files derived copies name
 WORLD = "world"  # MuJoCo's name of body 0: the root link of a robot whose root body moves
 # an intermediate link's mass and inertia (it holds a joint, no body): the bound of
@@ -60,6 +61,9 @@ INERTIA_FLOOR = 1e-12
 _VISIBLE_GROUPS = 3  # MuJoCo draws geom groups 0, 1 and 2 by default
 _LINE = re.compile(r"line (\d+)")  # where MuJoCo's message names the element
 _ELEMENT = re.compile(r"Element '(\w+)'")
+# what a compiler warning is about: "flex 'cloth' is ...", "compiler attribute 'x' is ..."
+_SUBJECT = re.compile(r"^<?(\w+)>?(?: attribute)? '([^']*)'")
+_NAMED = re.compile(r"Element name '([^']*)'")
 _ELLIPSOID_STEPS = (16, 8)  # longitude, latitude
 _LISTED = 6  # names a warning lists before it counts the rest
 
@@ -81,14 +85,15 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
     """The URDF of the MJCF ``source`` as MuJoCo compiles it; its text None (and an RS790
     error) where MuJoCo refuses the file: at the line MuJoCo names, else at ``entry`` (where
     the spec names the file)."""
-    from robospec.derive.mjcf_files import compiled_model
+    from robospec.derive.mjcf_files import compiled_with_warnings
 
     lines = _source_lines(source)
     try:
-        model = compiled_model(source.data, source.path)
+        model, said = compiled_with_warnings(source.data, source.path)
     except ValueError as exc:
-        return Compiled(None, [_compile_error(source, str(exc), entry)])
+        return Compiled(None, [_compile_error(source, lines, str(exc), entry)])
     writer = _Writer(model, source, lines)
+    writer.diagnostics.extend(_compile_warning(source, lines, text, entry) for text in said)
     writer.write()
     text = etree.tostring(writer.robot, encoding="unicode", pretty_print=True)
     facts = {
@@ -180,7 +185,9 @@ def _read_files(source: Source) -> set[str]:
     return {f for f in files if os.path.isfile(f)}
 
 
-def _compile_error(source: Source, message: str, entry: Location | None) -> Diagnostic:
+def _compile_error(
+    source: Source, lines: _Lines, message: str, entry: Location | None
+) -> Diagnostic:
     from robospec.description.source_columns import tag_column
 
     text = " ".join(message.split())
@@ -190,14 +197,47 @@ def _compile_error(source: Source, message: str, entry: Location | None) -> Diag
         number = int(line[1])
         column = tag_column(source.path, number, tag[1]) if tag is not None else 1
         where = Location(source.shown, number, column)
-    else:
-        where = entry or Location(source.shown, 1, 1)
+    else:  # a compiler error names the element, not its line ("Element name 'cloth', id 0")
+        where = _named_element(lines, text) or entry or Location(source.shown, 1, 1)
     return error(
         where,
         COMPILE_ERROR,
         f"MuJoCo cannot compile '{source.shown}': {text}",
         "fix the file as MuJoCo's message says (`python -m mujoco.viewer` shows the same)",
     )
+
+
+def _compile_warning(
+    source: Source, lines: _Lines, message: str, entry: Location | None
+) -> Diagnostic:
+    """What MuJoCo's compiler warned about (it compiles the file anyway), at the element its
+    message names, else where the spec names the file."""
+    text = " ".join(message.split())
+    where = _named_element(lines, text) or entry or Location(source.shown, 1, 1)
+    return warning(
+        where,
+        COMPILE_WARNING,
+        f"MuJoCo warns while compiling '{source.shown}': {text}",
+        "MuJoCo compiles the file anyway; fix it as the message says, or the robot may not "
+        "be the one the file meant",
+    )
+
+
+def _named_element(lines: _Lines, text: str) -> Location | None:
+    """Where the element a compiler message names stands: by tag and name, else by name alone
+    (``flex 'cloth'`` is a ``<flexcomp>``), else the first element of the tag (``compiler
+    attribute 'settotalmass'``: the ``<compiler>``); None where it names none."""
+    subject, named = _SUBJECT.search(text), _NAMED.search(text)
+    tag = subject[1] if subject is not None else None
+    name = named[1] if named is not None and named[1] else None
+    at: tuple[str, int] | None = None
+    if tag is not None and name is not None:
+        at = lines.named.get((tag, name))
+    if at is None and name is not None:
+        tag, at = next(((t, w) for (t, n), w in lines.named.items() if n == name), (tag, None))
+    if at is None and tag is not None:
+        at = lines.first.get(tag)
+    return lines.location(at, tag or "") if at is not None else None
 
 
 # -- writing the URDF ----------------------------------------------------------------------

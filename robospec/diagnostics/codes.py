@@ -250,6 +250,7 @@ _CODES = [
     # -- an MJCF compiled by MuJoCo, written as a URDF (description.loader: mujoco; RS790-RS799)
     Code("RS790", "MuJoCo cannot compile the MJCF"),
     Code("RS791", "what the URDF written from MuJoCo's model does not carry"),
+    Code("RS792", "MuJoCo warns while compiling the MJCF"),
     # -- parts: robots mounted on the spec's robot, composed into one description (RS730-RS759)
     Code("RS730", "part mounted on a link no one has"),
     Code("RS731", "part that is not one tree fixed at its root"),

@@ -43,6 +43,14 @@ MUJOCO_NOTES = (
     "the fit matches each joint's drive; links that collide, tendons and equality constraints "
     "(which the loader drops) cannot be matched by gains",
 )
+# the same, where MuJoCo compiled the MJCF into the URDF ManiSkill loads (loader: mujoco)
+MUJOCO_COMPILED_NOTES = (
+    "MuJoCo compiled the MJCF into the URDF ManiSkill loads (loader: mujoco): masses, "
+    "inertias, joint damping and frictionloss are MuJoCo's in both; armature is not carried "
+    "(RS791), so the fitted gains absorb it",
+    "the fit matches each joint's drive; tendons and equality constraints (which the URDF does "
+    "not carry) cannot be matched by gains",
+)
 
 
 def run_reference(
@@ -122,7 +130,8 @@ def _reference_source(item: CompiledSpec, reference: str) -> _ReferenceSource:
     robot, context = item.robot, item.context
     assert robot is not None and context is not None
     problems: list[Diagnostic] = []
-    if robot.description_kind != "mjcf":
+    mjcf = _mjcf_file(item)
+    if mjcf is None:
         problems.append(
             error(
                 Location(COMMAND_LINE),
@@ -136,7 +145,7 @@ def _reference_source(item: CompiledSpec, reference: str) -> _ReferenceSource:
         for a in context.description.actuators
         if a.type in ("position", "general") and a.kp is not None and a.joint is not None
     )
-    if robot.description_kind == "mjcf" and not joints:
+    if mjcf is not None and not joints:
         problems.append(
             error(
                 Location(context.description_file),
@@ -146,7 +155,22 @@ def _reference_source(item: CompiledSpec, reference: str) -> _ReferenceSource:
                 "MuJoCo would not move the robot: record a trajectory instead",
             )
         )
-    return _ReferenceSource(joints, None, str(robot.description.absolute), tuple(problems))
+    return _ReferenceSource(joints, None, mjcf, tuple(problems))
+
+
+def _mjcf_file(item: CompiledSpec) -> str | None:
+    """The MJCF MuJoCo replays: the file the spec names, whether ManiSkill's MJCF loader reads
+    it or MuJoCo compiles it into the URDF ManiSkill loads (``loader: mujoco``: the resolved
+    description is then that URDF, a derived copy that keeps the MJCF's path); None for a
+    robot described in URDF (or composed of parts, which no single MJCF describes)."""
+    robot, context = item.robot, item.context
+    assert robot is not None and context is not None
+    if robot.description_kind == "mjcf":
+        return str(robot.description.absolute)
+    declared = context.spec.description
+    if declared is not None and declared.compiled and not context.spec.parts:
+        return str(robot.description.absolute)
+    return None
 
 
 def _fit_plan(
@@ -359,7 +383,9 @@ class _Report:
     def notes(self) -> list[str]:
         notes = [ARMATURE_NOTE]
         if self.reference == MUJOCO:
-            notes += list(MUJOCO_NOTES)
+            robot = self.item.robot
+            compiled = robot is not None and robot.description_kind == "urdf"
+            notes += list(MUJOCO_COMPILED_NOTES if compiled else MUJOCO_NOTES)
         if self.outcome is not None:
             notes += self.outcome.notes
             fit = self.outcome.fit

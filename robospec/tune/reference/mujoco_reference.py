@@ -68,7 +68,12 @@ def make_reference(
     ``start`` (joint -> position; others at the model's qpos0)."""
     import mujoco
 
-    model = mujoco.MjModel.from_xml_path(path)
+    from robospec.derive.mjcf_files import compiled_model
+
+    # robospec's one compile of an MJCF (the same model every command reads; no
+    # MUJOCO_LOG.TXT written into the working folder for a compiler warning)
+    with open(path, "rb") as file:
+        model = compiled_model(file.read(), path)
     data = mujoco.MjData(model)
     servos = position_actuators(model)
     notes: list[str] = []
