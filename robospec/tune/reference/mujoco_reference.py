@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -82,18 +83,7 @@ def make_reference(
         return Made(None, {}, notes)
     if not gravity:
         model.opt.gravity[:] = 0.0
-    for joint, value in start.items():
-        jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
-        if jid >= 0:
-            data.qpos[model.jnt_qposadr[jid]] = value
-    mujoco.mj_forward(model, data)
-    # a free root held where it starts, as ManiSkill's replay holds it
-    free = [
-        (int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]))
-        for j in range(model.njnt)
-        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE
-    ]
-    held = [(q, d, data.qpos[q : q + 7].copy()) for q, d in free]
+    place(model, data, start)
     index = [list(joints).index(j) for j in used]
     t, targets = square_waves(
         np.array([start[j] for j in used]), limits[index], prismatic[index], sample_dt
@@ -108,16 +98,53 @@ def make_reference(
         int(model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j)]) for j in used
     ]
     actuators = [servos[j][0] for j in used]
-    qpos = np.empty_like(targets)
-    qpos[0] = data.qpos[addresses]
-    for k in range(1, t.size):
-        data.ctrl[actuators] = targets[k - 1]
-        for _ in range(substeps):
-            mujoco.mj_step(model, data)
-            for q, d, pose in held:
-                data.qpos[q : q + 7] = pose
-                data.qvel[d : d + 6] = 0.0
-        qpos[k] = data.qpos[addresses]
+    qpos = drive(model, data, actuators, addresses, targets, substeps)
     t = t[: qpos.shape[0]] * (substeps * model.opt.timestep / sample_dt)
     reference = Reference(t, targets, qpos, tuple(used), SOURCE)
     return Made(reference, {j: (servos[j][1], servos[j][2]) for j in used}, notes)
+
+
+def place(model: Any, data: Any, start: Mapping[str, float]) -> None:
+    """Put the joints named in ``start`` there (the others at the model's qpos0), at rest."""
+    import mujoco
+
+    for joint, value in start.items():
+        jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
+        if jid >= 0:
+            data.qpos[model.jnt_qposadr[jid]] = value
+    mujoco.mj_forward(model, data)
+
+
+def drive(
+    model: object,
+    data: object,
+    actuators: Sequence[int],
+    addresses: Sequence[int],
+    targets: np.ndarray,
+    substeps: int,
+) -> np.ndarray:
+    """The one MuJoCo stepping loop (the reference, check's keyframe hold): from where ``data``
+    is, the actuators given ``targets[k - 1]`` as their ``ctrl`` for ``substeps`` steps to
+    reach sample ``k``; the qpos at ``addresses`` of every sample (sample 0: the start). A free
+    root is held where it starts, as ManiSkill's replay and check's test stand hold it."""
+    import mujoco
+
+    m: mujoco.MjModel = model
+    d: mujoco.MjData = data
+    free = [
+        (int(m.jnt_qposadr[j]), int(m.jnt_dofadr[j]))
+        for j in range(m.njnt)
+        if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE
+    ]
+    held = [(q, v, d.qpos[q : q + 7].copy()) for q, v in free]
+    qpos = np.empty((targets.shape[0], len(addresses)))
+    qpos[0] = d.qpos[list(addresses)]
+    for k in range(1, targets.shape[0]):
+        d.ctrl[list(actuators)] = targets[k - 1]
+        for _ in range(substeps):
+            mujoco.mj_step(m, d)
+            for q, v, pose in held:
+                d.qpos[q : q + 7] = pose
+                d.qvel[v : v + 6] = 0.0
+        qpos[k] = d.qpos[list(addresses)]
+    return qpos
