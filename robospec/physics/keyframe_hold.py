@@ -185,25 +185,9 @@ def _hold(
         f"root drift {root_drift:.2g} m over {settings.steps} steps"
     )
     if judged is not None:
-        values |= metrics(
-            mujoco_max_joint_drift=None if judged.skipped else judged.drift,
-            mujoco_joint=judged.joint,
-            mujoco=judged.skipped or "held under the file's actuators",
-        )
+        values |= mujoco_hold.metrics_of(judged)
         summary += f"; {mujoco_hold.words(judged)}"
-    problems = []
-    if not found.finite:
-        problems.append("the state went NaN")
-    if joint_drift[worst] > settings.max_joint_drift:
-        problems.append(
-            f"joint '{sim.joint_names[worst]}' drifted {joint_drift[worst]:.3g} {unit} "
-            f"(more than max_joint_drift {settings.max_joint_drift:g})"
-        )
-    if root_drift > settings.max_root_drift:
-        problems.append(
-            f"the root link drifted {root_drift:.3g} m (more than max_root_drift "
-            f"{settings.max_root_drift:g})"
-        )
+    problems = _problems(run, sim, found, worst)
     if not problems:
         return Finding(NAME, sim.mode, subject, Status.PASS, summary, values)
     mimic, contradicted = _mimic_mismatch(
@@ -211,18 +195,14 @@ def _hold(
     )
     if mimic:
         problems.append(mimic)
-    if judged is not None and judged.skipped is None:
+    if judged is not None:
         maniskill = f"'{sim.joint_names[worst]}' drift {joint_drift[worst]:.3g} {unit}"
-        if judged.holds(settings.max_joint_drift):
-            problems.append(
-                f"MuJoCo holds it under the file's own actuators (largest drift "
-                f"{judged.drift:.3g} {judged.unit}, '{judged.joint}'): the spec's drives in "
-                "ManiSkill fail it, not the description"
-            )
-        elif found.finite and not mimic and root_drift <= settings.max_root_drift:
-            # the description cannot hold it either: a warning about it, not about the gains
-            diagnostic = mujoco_hold.cannot_hold(run, label, sim.mode, judged, maniskill)
-            return Finding(NAME, sim.mode, subject, Status.INFO, summary, values, (diagnostic,))
+        drift_alone = found.finite and not mimic and root_drift <= settings.max_root_drift
+        verdict = mujoco_hold.verdict(run, label, sim.mode, judged, maniskill, drift_alone)
+        if isinstance(verdict, str):
+            problems.append(verdict)
+        elif verdict is not None:  # the description cannot hold it either: RS535
+            return Finding(NAME, sim.mode, subject, Status.INFO, summary, values, (verdict,))
     if standing is not None and standing.touches:
         problems.append(
             f"it can stand there: its centre of mass is {standing.inside * 100:.3g} cm inside "
@@ -243,16 +223,33 @@ def _hold(
         + ground.note(run, keyframe),
         mimic_limits.HINT
         if contradicted
-        else (
-            mujoco_hold.MUJOCO_HINT
-            if judged is not None and judged.holds(settings.max_joint_drift)
-            else ""
-        )
+        else mujoco_hold.hint_before(judged, settings.max_joint_drift)
         + "stiffen the drives holding it (robospec tune finds gains), move the keyframe off "
         "joint limits and away from self-contact and the ground, or set "
         "checks.keyframe_hold.max_joint_drift/max_root_drift if the motion is expected",
     )
     return Finding(NAME, sim.mode, subject, Status.FAIL, summary, values, (diagnostic,))
+
+
+def _problems(run: CheckRun, sim: Sim, found: _Held, worst: int) -> list[str]:
+    """What went wrong in ``found``'s hold: NaN, a joint or the root past its threshold."""
+    settings = run.settings.keyframe_hold
+    drift = found.joint_drift[worst]
+    unit = "m" if sim.prismatic[worst] else "rad"
+    problems = []
+    if not found.finite:
+        problems.append("the state went NaN")
+    if drift > settings.max_joint_drift:
+        problems.append(
+            f"joint '{sim.joint_names[worst]}' drifted {drift:.3g} {unit} "
+            f"(more than max_joint_drift {settings.max_joint_drift:g})"
+        )
+    if found.root_drift > settings.max_root_drift:
+        problems.append(
+            f"the root link drifted {found.root_drift:.3g} m (more than max_root_drift "
+            f"{settings.max_root_drift:g})"
+        )
+    return problems
 
 
 def _standing(

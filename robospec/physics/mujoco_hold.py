@@ -37,6 +37,7 @@ import numpy as np
 
 from robospec.diagnostics import Diagnostic, warning
 from robospec.physics.check_run import CheckRun
+from robospec.physics.findings import Metric, metrics
 
 CODE = "RS535"
 MUJOCO_HINT = (
@@ -77,7 +78,7 @@ def judge(
     if path is None:
         return None
     from robospec.derive.mjcf_files import compiled_model
-    from robospec.tune.reference.mujoco_reference import drive, place, position_actuators
+    from robospec.physics.mujoco_servos import drive, place, position_actuators
 
     try:
         model = compiled_model(path.read_bytes(), str(path))
@@ -148,6 +149,37 @@ def _put_root(model: Any, data: Any, root: tuple[np.ndarray, np.ndarray] | None)
             data.qpos[q + 3 : q + 7] = root[1]
             break
     mujoco.mj_forward(model, data)
+
+
+def metrics_of(found: MujocoHold) -> dict[str, Metric]:
+    """MuJoCo's side of a hold, for its finding's metrics."""
+    return metrics(
+        mujoco_max_joint_drift=None if found.skipped else found.drift,
+        mujoco_joint=found.joint,
+        mujoco=found.skipped or "held under the file's actuators",
+    )
+
+
+def verdict(
+    run: CheckRun, label: str, mode: str, found: MujocoHold, maniskill: str, drift_alone: bool
+) -> str | Diagnostic | None:
+    """What MuJoCo says of a hold ManiSkill failed (``maniskill``: its worst drift, in words):
+    that it holds it (a problem's words, for RS501), that it cannot either (RS535, where the
+    drift is all that failed: ``drift_alone``), or nothing (not judged)."""
+    if found.skipped is not None:
+        return None
+    if found.holds(run.settings.keyframe_hold.max_joint_drift):
+        return (
+            f"MuJoCo holds it under the file's own actuators (largest drift "
+            f"{found.drift:.3g} {found.unit}, '{found.joint}'): the spec's drives in "
+            "ManiSkill fail it, not the description"
+        )
+    return cannot_hold(run, label, mode, found, maniskill) if drift_alone else None
+
+
+def hint_before(found: MujocoHold | None, limit: float) -> str:
+    """RS501's hint's start where MuJoCo holds the keyframe: the file's gains hold it."""
+    return MUJOCO_HINT if found is not None and found.holds(limit) else ""
 
 
 def cannot_hold(
