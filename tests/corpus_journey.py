@@ -113,12 +113,27 @@ class Pick:
     seconds: float = 0.0
 
 
+@dataclass(frozen=True)
+class Hold:
+    """An MJCF robot's keyframe hold in ``check`` (robospec.physics.mujoco_hold): the largest
+    joint drift in ManiSkill and in MuJoCo under the file's own servos (None: MuJoCo did not
+    hold it, ``why``), of the keyframe ManiSkill let drift most."""
+
+    keyframe: str
+    maniskill: float
+    maniskill_joint: str
+    mujoco: float | None
+    mujoco_joint: str | None
+    why: str
+
+
 @dataclass
 class Journey:
     robot: Robot
     steps: dict[str, Step]
     uid: str | None = None
     pick: Pick | None = None  # None: no arm with a grasp check, or its journey stopped before
+    hold: Hold | None = None  # None: not an MJCF robot, or check did not hold a keyframe
 
     def step(self, name: str) -> Step:
         return self.steps[name]
@@ -289,6 +304,7 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
         return journey
     _, reports = cli("check", "check", spec_name, "--steps", str(RANDOM_STEPS), "--format", "json")
     _read_uid(journey, reports)
+    journey.hold = _read_hold(reports)
     build, _ = cli("build", "build", spec_name, "-o", BUILD_PACKAGE, "--format", "json")
     _run_in_maniskill(journey, workdir, spec_name, folders, quoted, built=build.outcome == PASSED)
     if robot.category == ARM and journey.step("register").outcome == PASSED:
@@ -348,6 +364,33 @@ def _read_uid(journey: Journey, reports: list[dict[str, Any]]) -> None:
     for report in reports:
         for robot in report.get("robots") or []:
             journey.uid = robot.get("uid") or journey.uid
+
+
+def _read_hold(reports: list[dict[str, Any]]) -> Hold | None:
+    """The keyframe hold MuJoCo judged whose ManiSkill drift is largest (check's JSON)."""
+    holds = []
+    for report in reports:
+        for robot in report.get("robots") or []:
+            for finding in robot.get("findings") or []:
+                values = finding.get("metrics") or {}
+                if finding.get("check") != "keyframe_hold" or "mujoco" not in values:
+                    continue
+                mujoco = values.get("mujoco_max_joint_drift")
+                holds.append(
+                    Hold(
+                        str(finding.get("subject")),
+                        _number(values.get("max_joint_drift")),
+                        str(values.get("joint")),
+                        None if mujoco is None else _number(mujoco),
+                        values.get("mujoco_joint"),
+                        str(values.get("mujoco")),
+                    )
+                )
+    return max(holds, key=lambda hold: hold.maniskill, default=None)
+
+
+def _number(value: Any) -> float:
+    return float(value)  # check's JSON writes an infinite drift as "inf", which float reads
 
 
 def _run_in_maniskill(

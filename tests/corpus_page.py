@@ -18,6 +18,7 @@ from corpus_journey import (
     RANDOM_STEPS,
     STEPS,
     Found,
+    Hold,
     Journey,
     Pick,
     Step,
@@ -76,7 +77,8 @@ This page is written from the journeys' results: `{WRITE_COMMAND}` runs them aga
 
 
 def render_page(journeys: list[Journey]) -> str:
-    parts = [HEADER, _summary(journeys), _table(journeys), _picks(journeys), _pictures(journeys)]
+    parts = [HEADER, _summary(journeys), _table(journeys), _picks(journeys), _holds(journeys)]
+    parts.append(_pictures(journeys))
     parts.append(_files(journeys))
     parts.append(_robot_by_robot(journeys))
     return "\n".join(part for part in parts if part)
@@ -84,7 +86,9 @@ def render_page(journeys: list[Journey]) -> str:
 
 def render_rows(journeys: list[Journey]) -> str:
     """The table and the reasons alone (``tests/corpus.py --only``)."""
-    return "\n".join([_table(journeys), _picks(journeys), _robot_by_robot(journeys)])
+    return "\n".join(
+        [_table(journeys), _picks(journeys), _holds(journeys), _robot_by_robot(journeys)]
+    )
 
 
 def _summary(journeys: list[Journey]) -> str:
@@ -167,6 +171,44 @@ def _picks(journeys: list[Journey]) -> str:
             if found.hint:
                 lines.append(f"      mend: {_escape(found.hint)}")
     return "\n".join(lines) + "\n"
+
+
+def _holds(journeys: list[Journey]) -> str:
+    """Each MJCF robot's keyframe hold in ManiSkill and in MuJoCo (issue 34's dynamic
+    comparison): the largest joint drift on each side, as check measured them."""
+    held = [j for j in journeys if j.hold is not None]
+    if not held:
+        return ""
+    lines = [
+        "## Holding the keyframe: ManiSkill and MuJoCo\n",
+        "For each MJCF robot `check` holds its keyframe in ManiSkill and, as long, in MuJoCo "
+        "under the file's own position servos (on a test stand where the root is free); the "
+        "largest joint drift on each side (rad, or m for a prismatic joint), of the keyframe "
+        "ManiSkill let drift most. Where MuJoCo holds it and ManiSkill does not, the spec's "
+        "drives fail "
+        "([RS501](codes/RS501.md)); where neither does, the description cannot hold it "
+        "([RS535](codes/RS535.md)).\n",
+        "| robot | keyframe | ManiSkill | MuJoCo |",
+        "|---|---|---|---|",
+    ]
+    for journey in held:
+        hold = journey.hold
+        assert hold is not None
+        lines.append(
+            f"| {journey.robot.name} | {_escape(hold.keyframe)} | "
+            f"{_drift(hold.maniskill, hold.maniskill_joint)} | {_mujoco_cell(hold)} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def _drift(value: float, joint: str | None) -> str:
+    return f"{value:.3g} ({_escape(joint or '?')})"
+
+
+def _mujoco_cell(hold: Hold) -> str:
+    if hold.mujoco is None:
+        return f"not held: {_escape(hold.why)}"
+    return _drift(hold.mujoco, hold.mujoco_joint)
 
 
 def _failures(pick: Pick) -> str:

@@ -180,6 +180,7 @@ _CODES = [
     Code("RS532", "the robot loaded does not weigh what the description says"),
     Code("RS533", "a link loaded away from where the description puts it"),
     Code("RS534", "a joint's rated force cannot carry gravity where check steps it"),
+    Code("RS535", "a keyframe the MJCF's own actuators cannot hold in MuJoCo either"),
     Code("RS545", "a mimic joint's relation holds it outside its own limits"),
     # -- what the cameras see in the pictures of robospec doc --images (RS560-RS579)
     Code("RS560", "camera covered by its own mount"),

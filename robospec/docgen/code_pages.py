@@ -22,6 +22,7 @@ from robospec.physics import (
     keyframe_hold,
     loops,
     mimic_limits,
+    mujoco_hold,
     random_actions,
     rating,
     self_contact,
@@ -31,13 +32,14 @@ from robospec.physics import (
 )
 
 # the physics checks of `robospec check`, whose docstrings document RS501-RS508, RS518, RS519,
-# RS521-RS527, RS530-RS534, RS545
+# RS521-RS527, RS530-RS535, RS545
 PHYSICS_CHECKS = (
     described,
     rating,
     keyframe_hold,
     loops,
     mimic_limits,
+    mujoco_hold,
     random_actions,
     step_response,
     self_contact,

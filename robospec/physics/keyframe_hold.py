@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robospec.diagnostics import warning
-from robospec.physics import ground, mimic_limits
+from robospec.physics import ground, mimic_limits, mujoco_hold
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import Sim
@@ -94,6 +94,8 @@ class _Held:
     finite: bool
     how: str
     start: np.ndarray
+    held: np.ndarray  # the joints measured
+    root: tuple[np.ndarray, np.ndarray] | None  # a floating root's held pose (p, wxyz)
 
 
 def _run_hold(
@@ -104,6 +106,10 @@ def _run_hold(
     # on a test stand: lifted clear of the ground, its root held there (Sim.test_stand)
     pin = sim.test_stand() if pinned and not sim.fixed_root else None
     root_start = sim.root_position()
+    root = None
+    if not sim.fixed_root:
+        pose = sim.robot.pose
+        root = (pose.p[0].cpu().numpy().astype(float), pose.q[0].cpu().numpy().astype(float))
     action = sim.hold_action(start) if by_action else None
     if action is None:
         sim.hold_drive_targets()
@@ -129,7 +135,22 @@ def _run_hold(
     how = "actions" if action is not None else "drive targets"
     if pin is not None:
         how += ", root held"
-    return _Held(joint_drift, root_drift, finite, how, start)
+    return _Held(joint_drift, root_drift, finite, how, start, held, root)
+
+
+def _in_mujoco(run: CheckRun, sim: Sim, found: _Held) -> mujoco_hold.MujocoHold | None:
+    """The same hold in MuJoCo, for an MJCF robot (robospec.physics.mujoco_hold)."""
+    steps = run.settings.keyframe_hold.steps
+    return mujoco_hold.judge(
+        run,
+        list(sim.joint_names),
+        found.start,
+        found.held,
+        found.root,
+        steps / sim.control_freq,
+        1.0 / sim.control_freq,
+        gravity=not sim.gravity_off(),
+    )
 
 
 def _hold(
@@ -143,6 +164,8 @@ def _hold(
     settings = run.settings.keyframe_hold
     found = _run_hold(run, sim, keyframe, by_action, pinned)
     joint_drift, root_drift = found.joint_drift, found.root_drift
+    # MuJoCo judges the hold on the test stand (or a fixed root): its floor is not ManiSkill's
+    judged = _in_mujoco(run, sim, found) if standing is None else None
     worst = int(np.argmax(joint_drift))
     label = keyframe_label(keyframe)
     subject = label
@@ -161,19 +184,10 @@ def _hold(
         f"joint drift {joint_drift[worst]:.2g} {unit} ({sim.joint_names[worst]}), "
         f"root drift {root_drift:.2g} m over {settings.steps} steps"
     )
-    problems = []
-    if not found.finite:
-        problems.append("the state went NaN")
-    if joint_drift[worst] > settings.max_joint_drift:
-        problems.append(
-            f"joint '{sim.joint_names[worst]}' drifted {joint_drift[worst]:.3g} {unit} "
-            f"(more than max_joint_drift {settings.max_joint_drift:g})"
-        )
-    if root_drift > settings.max_root_drift:
-        problems.append(
-            f"the root link drifted {root_drift:.3g} m (more than max_root_drift "
-            f"{settings.max_root_drift:g})"
-        )
+    if judged is not None:
+        values |= mujoco_hold.metrics_of(judged)
+        summary += f"; {mujoco_hold.words(judged)}"
+    problems = _problems(run, sim, found, worst)
     if not problems:
         return Finding(NAME, sim.mode, subject, Status.PASS, summary, values)
     mimic, contradicted = _mimic_mismatch(
@@ -181,6 +195,14 @@ def _hold(
     )
     if mimic:
         problems.append(mimic)
+    if judged is not None:
+        maniskill = f"'{sim.joint_names[worst]}' drift {joint_drift[worst]:.3g} {unit}"
+        drift_alone = found.finite and not mimic and root_drift <= settings.max_root_drift
+        verdict = mujoco_hold.verdict(run, label, sim.mode, judged, maniskill, drift_alone)
+        if isinstance(verdict, str):
+            problems.append(verdict)
+        elif verdict is not None:  # the description cannot hold it either: RS535
+            return Finding(NAME, sim.mode, subject, Status.INFO, summary, values, (verdict,))
     if standing is not None and standing.touches:
         problems.append(
             f"it can stand there: its centre of mass is {standing.inside * 100:.3g} cm inside "
@@ -201,11 +223,33 @@ def _hold(
         + ground.note(run, keyframe),
         mimic_limits.HINT
         if contradicted
-        else "stiffen the drives holding it (robospec tune finds gains), move the keyframe off "
+        else mujoco_hold.hint_before(judged, settings.max_joint_drift)
+        + "stiffen the drives holding it (robospec tune finds gains), move the keyframe off "
         "joint limits and away from self-contact and the ground, or set "
         "checks.keyframe_hold.max_joint_drift/max_root_drift if the motion is expected",
     )
     return Finding(NAME, sim.mode, subject, Status.FAIL, summary, values, (diagnostic,))
+
+
+def _problems(run: CheckRun, sim: Sim, found: _Held, worst: int) -> list[str]:
+    """What went wrong in ``found``'s hold: NaN, a joint or the root past its threshold."""
+    settings = run.settings.keyframe_hold
+    drift = found.joint_drift[worst]
+    unit = "m" if sim.prismatic[worst] else "rad"
+    problems = []
+    if not found.finite:
+        problems.append("the state went NaN")
+    if drift > settings.max_joint_drift:
+        problems.append(
+            f"joint '{sim.joint_names[worst]}' drifted {drift:.3g} {unit} "
+            f"(more than max_joint_drift {settings.max_joint_drift:g})"
+        )
+    if found.root_drift > settings.max_root_drift:
+        problems.append(
+            f"the root link drifted {found.root_drift:.3g} m (more than max_root_drift "
+            f"{settings.max_root_drift:g})"
+        )
+    return problems
 
 
 def _standing(

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from robospec.physics.mujoco_servos import drive, place, position_actuators
 from robospec.tune.reference.excitation import square_waves
 from robospec.tune.reference.trajectory import Reference
 
@@ -28,31 +29,6 @@ class Made:
     reference: Reference | None
     actuated: dict[str, tuple[float, float]]  # joint -> MuJoCo's (kp, kv)
     notes: list[str] = field(default_factory=list)
-
-
-def position_actuators(model: object) -> dict[str, tuple[int, float, float, float]]:
-    """Joint name -> (actuator id, kp, kv, gear) for MuJoCo's position servos on one joint:
-    fixed gain kp and affine bias ``(0, -kp, -kv)``."""
-    import mujoco
-
-    found: dict[str, tuple[int, float, float, float]] = {}
-    m: mujoco.MjModel = model
-    for a in range(m.nu):
-        if m.actuator_trntype[a] != mujoco.mjtTrn.mjTRN_JOINT:
-            continue
-        kp = float(m.actuator_gainprm[a, 0])
-        bias = m.actuator_biasprm[a]
-        if (
-            m.actuator_gaintype[a] != mujoco.mjtGain.mjGAIN_FIXED
-            or m.actuator_biastype[a] != mujoco.mjtBias.mjBIAS_AFFINE
-            or kp <= 0
-            or abs(float(bias[1]) + kp) > 1e-9 * kp
-        ):
-            continue
-        joint = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, int(m.actuator_trnid[a, 0]))
-        if joint is not None:
-            found[joint] = (a, kp, -float(bias[2]), float(m.actuator_gear[a, 0]))
-    return found
 
 
 def make_reference(
@@ -87,18 +63,7 @@ def make_reference(
         return Made(None, {}, notes)
     if not gravity:
         model.opt.gravity[:] = 0.0
-    for joint, value in start.items():
-        jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
-        if jid >= 0:
-            data.qpos[model.jnt_qposadr[jid]] = value
-    mujoco.mj_forward(model, data)
-    # a free root held where it starts, as ManiSkill's replay holds it
-    free = [
-        (int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j]))
-        for j in range(model.njnt)
-        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE
-    ]
-    held = [(q, d, data.qpos[q : q + 7].copy()) for q, d in free]
+    place(model, data, start)
     index = [list(joints).index(j) for j in used]
     t, targets = square_waves(
         np.array([start[j] for j in used]), limits[index], prismatic[index], sample_dt
@@ -113,16 +78,7 @@ def make_reference(
         int(model.jnt_qposadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j)]) for j in used
     ]
     actuators = [servos[j][0] for j in used]
-    qpos = np.empty_like(targets)
-    qpos[0] = data.qpos[addresses]
-    for k in range(1, t.size):
-        data.ctrl[actuators] = targets[k - 1]
-        for _ in range(substeps):
-            mujoco.mj_step(model, data)
-            for q, d, pose in held:
-                data.qpos[q : q + 7] = pose
-                data.qvel[d : d + 6] = 0.0
-        qpos[k] = data.qpos[addresses]
+    qpos = drive(model, data, actuators, addresses, targets, substeps)
     t = t[: qpos.shape[0]] * (substeps * model.opt.timestep / sample_dt)
     reference = Reference(t, targets, qpos, tuple(used), SOURCE)
     return Made(reference, {j: (servos[j][1], servos[j][2]) for j in used}, notes)
