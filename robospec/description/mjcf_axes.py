@@ -21,6 +21,7 @@ from lxml import etree
 from robospec.description.mjcf_loaded import Defaults, LoadedMjcf, loader_joints
 from robospec.description.mjcf_mujoco import Table, childclass, effective
 from robospec.description.mjcf_structure import names
+from robospec.description.numbers import finite_numbers
 from robospec.diagnostics import Diagnostic, error
 
 UNAXED_JOINT = "RS095"
@@ -38,19 +39,6 @@ class UnaxedJoint:
     holder: str | None
 
 
-def _vector(text: str | None) -> tuple[float, ...] | None:
-    """The numbers of ``text``; None where it is not three finite numbers."""
-    if text is None:
-        return None
-    try:
-        values = tuple(float(part) for part in text.split())
-    except ValueError:
-        return None
-    if len(values) != 3 or not all(math.isfinite(v) for v in values):
-        return None
-    return values
-
-
 def unaxed_joints(
     robot: etree._Element,
     loader_classes: Mapping[str, Defaults],
@@ -63,14 +51,14 @@ def unaxed_joints(
         mujoco = effective(mujoco_classes, joint)
         if mujoco.get("type", "hinge") not in _MOVING or loaded.get("type", "hinge") not in _MOVING:
             continue
-        theirs = _vector(loaded.get("axis"))
+        theirs = finite_numbers(loaded.get("axis"), 3)
         if "axis" in loaded and theirs is None:
             continue  # an axis the loader cannot read: the model's parse says what is wrong
         if theirs is not None and math.hypot(*theirs) >= 1e-3:
             continue  # the loader reads an axis (compared with MuJoCo's elsewhere, if at all)
         holder = childclass(joint) if "axis" in mujoco else None
         axis = mujoco.get("axis", MUJOCO_AXIS)
-        meant = _vector(axis)
+        meant = finite_numbers(axis, 3)
         if meant is None or math.hypot(*meant) < 1e-12:
             continue  # MuJoCo refuses it: its compile says so
         norm = math.hypot(*meant)

@@ -19,9 +19,13 @@ by the functions that need them: nothing here is on ``validate``'s path.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 from robospec.description import Joint, RobotDescription
 from robospec.kinematics.placement import Placement, Poser
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 class KinematicModel:
@@ -37,6 +41,15 @@ class KinematicModel:
         """The links and axes with the joints at ``qpos`` (by name; 0 for those it leaves
         out, as ManiSkill starts a robot)."""
         return self._poser(qpos or {})
+
+    def link(self, qpos: Mapping[str, float], name: str) -> np.ndarray:
+        """One link's pose at ``qpos``: for a search that moves one chain and watches its end
+        (new's ready pose), where placing every link of a large robot each step is the cost
+        (TIAGo: 5 minutes). A backend that can place one link alone does (yourdfpy)."""
+        one = getattr(self._poser, "link", None)
+        if one is not None:
+            return one(qpos, name)
+        return self._poser(qpos).links[name]
 
     def joint(self, name: str) -> Joint | None:
         return self._by_name.get(name)

@@ -33,24 +33,42 @@ def urdf_poser(description: RobotDescription, text: bytes) -> Poser | None:
     model = _yourdfpy_model(text)
     if model is None:
         return None
-    import numpy as np
+    return _UrdfPoser(description, model)
 
-    root = description.root_link
-    links = description.link_names
-    moving = [j for j in description.joints if j.type in MOVING and j.name in model.joint_map]
-    axes = {j.name: np.asarray(model.joint_map[j.name].axis, dtype=np.float64) for j in moving}
 
-    def place(qpos: Mapping[str, float]) -> Placement:
-        model.update_cfg({j.name: float(qpos.get(j.name, 0.0)) for j in moving})
-        poses = {link: model.get_transform(link, root) for link in links}
+class _UrdfPoser:
+    """yourdfpy's model of the robot, placed at the joint values it is called with."""
+
+    def __init__(self, description: RobotDescription, model: Any) -> None:
+        import numpy as np
+
+        self.model = model
+        self.root = description.root_link
+        self.links = description.link_names
+        self.moving = [
+            j for j in description.joints if j.type in MOVING and j.name in model.joint_map
+        ]
+        self.axes = {
+            j.name: np.asarray(model.joint_map[j.name].axis, dtype=np.float64) for j in self.moving
+        }
+
+    def __call__(self, qpos: Mapping[str, float]) -> Placement:
+        self._configure(qpos)
+        poses = {link: self.model.get_transform(link, self.root) for link in self.links}
         placed = {}
-        for joint in moving:
+        for joint in self.moving:
             child = poses[joint.child]
             # the child's frame turns about (or slides along) the axis through its origin
-            placed[joint.name] = Axis(child[:3, :3] @ axes[joint.name], child[:3, 3].copy())
+            placed[joint.name] = Axis(child[:3, :3] @ self.axes[joint.name], child[:3, 3].copy())
         return Placement(poses, placed)
 
-    return place
+    def link(self, qpos: Mapping[str, float], name: str) -> Any:
+        """One link's pose alone (yourdfpy walks only its chain)."""
+        self._configure(qpos)
+        return self.model.get_transform(name, self.root)
+
+    def _configure(self, qpos: Mapping[str, float]) -> None:
+        self.model.update_cfg({j.name: float(qpos.get(j.name, 0.0)) for j in self.moving})
 
 
 def _yourdfpy_model(text: bytes) -> Any:

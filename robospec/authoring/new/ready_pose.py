@@ -155,7 +155,7 @@ def _descend(
 
     model = analysis.kinematics
     assert model is not None
-    error = _error(model.at(qpos).links, grip, target)
+    error = _error(model.link(qpos, grip.hand), grip, target)
     for _ in range(ITERATIONS):
         if _converged(error):
             return {name: float(value) for name, value in qpos.items()}
@@ -163,7 +163,7 @@ def _descend(
         for i, name in enumerate(arm):
             nudged = dict(qpos)
             nudged[name] = qpos[name] + FINITE_DIFFERENCE
-            moved = _error(model.at(nudged).links, grip, target)
+            moved = _error(model.link(nudged, grip.hand), grip, target)
             jacobian[:, i] = (error - moved) / FINITE_DIFFERENCE
         square = jacobian @ jacobian.T + DAMPING**2 * np.eye(6)
         delta = jacobian.T @ np.linalg.solve(square, error)
@@ -174,7 +174,7 @@ def _descend(
             tried = dict(qpos)
             for name, change, (low, high) in zip(arm, delta, limits, strict=True):
                 tried[name] = min(max(qpos[name] + float(change), low), high)
-            now = _error(model.at(tried).links, grip, target)
+            now = _error(model.link(tried, grip.hand), grip, target)
             if np.linalg.norm(now) < np.linalg.norm(error):
                 qpos, error = tried, now
                 break
@@ -265,12 +265,12 @@ def _grip(
     return middle, pointing / np.linalg.norm(pointing)
 
 
-def _error(poses: Mapping[str, np.ndarray], grip: Grip, target: np.ndarray) -> np.ndarray:
-    """How far the grip is from the target: the position's difference, and the turn (axis
-    times angle, weighted) that takes the fingers' pointing to straight down."""
+def _error(hand: np.ndarray, grip: Grip, target: np.ndarray) -> np.ndarray:
+    """How far the grip is from the target, with the hand at pose ``hand``: the position's
+    difference, and the turn (axis times angle, weighted) that takes the fingers' pointing to
+    straight down."""
     import numpy as np
 
-    hand = poses[grip.hand]
     middle = hand[:3, :3] @ grip.middle + hand[:3, 3]
     pointing = hand[:3, :3] @ grip.pointing
     down = np.array([0.0, 0.0, -1.0])
