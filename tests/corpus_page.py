@@ -61,9 +61,10 @@ exactly as `robospec new` writes it:
 
 Then an arm whose scaffold declares a two-finger grasp check (`grasping`) runs ManiSkill's own
 {PICK_TASK} solution: `robospec solve SPEC --task {PICK_TASK} -n {PICK_EPISODES}`
-([Demonstrations](solve.md)), with episodes starting at the keyframe `new` wrote for it. The
-"{PICK_TASK}" column says how many of those seeds the task judged a success, or why `solve`
-refused before any episode (its codes); **—**: no arm with a gripper, or not reached.
+([Demonstrations](solve.md)), with episodes starting at the keyframe `new` wrote for it.
+"Picking the cube" below says how many of those seeds the task judged a success, or why
+`solve` refused before any episode (its codes). (Its own section: a column more would put the
+journeys' table past a 1280-pixel page.)
 
 A robot passes when every step does. Otherwise `validate` or `check` must stop it with a
 located reason — a `file:line:column` in the spec or in the description — and never with a
@@ -117,8 +118,8 @@ def _summary(journeys: list[Journey]) -> str:
 def _table(journeys: list[Journey]) -> str:
     lines = [
         "## The journeys\n",
-        "| robot | category | format | " + " | ".join(STEPS) + f" | check found | {PICK_TASK} |",
-        "|---|---|---|" + "---|" * len(STEPS) + "---|---|",
+        "| robot | category | format | " + " | ".join(STEPS) + " | check found |",
+        "|---|---|---|" + "---|" * len(STEPS) + "---|",
     ]
     for journey in journeys:
         robot = journey.robot
@@ -127,7 +128,7 @@ def _table(journeys: list[Journey]) -> str:
         lines.append(
             f"| {name} | {robot.category} | {robot.format} | "
             + " | ".join(cells)
-            + f" | {_codes(journey.step('check').found)} | {_pick_cell(journey.pick)} |"
+            + f" | {_codes(journey.step('check').found)} |"
         )
     return "\n".join(lines) + "\n"
 

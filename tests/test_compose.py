@@ -299,7 +299,8 @@ def _jaco(tmp_path: Path) -> Path:
     except CorpusMissing as missing:
         pytest.fail(str(missing))
     (tmp_path / "hand.yaml").write_text(
-        f"robospec: 1\nuid: jaco_hand\ndescription: {{mjcf: '{hand}'}}\n"
+        # (its finger joints write no axis: ManiSkill's loader would turn them about x, RS095)
+        f"robospec: 1\nuid: jaco_hand\ndescription: {{mjcf: '{hand}', mend: {{axes: mujoco}}}}\n"
         "groups: {fingers: 'finger_[123]'}\n"
         "keyframes: {rest: {qpos: {fingers: 0.2}}}\n"
         "controllers:\n  fingers: {type: pd_joint_pos, joints: fingers, lower: null,"
@@ -308,7 +309,8 @@ def _jaco(tmp_path: Path) -> Path:
     )
     spec = tmp_path / "jaco.yaml"
     spec.write_text(
-        f"robospec: 1\nuid: jaco_with_hand\ndescription: {{mjcf: '{arm}'}}\n"
+        f"robospec: 1\nuid: jaco_with_hand\n"
+        f"description: {{mjcf: '{arm}', mend: {{axes: mujoco}}}}\n"
         "parts: {hand: {spec: hand.yaml, at: b_6}}\n"
         "groups: {arm: 'joint_[1-6]'}\n"
         "keyframes: {rest: {qpos: {arm: [0, 3.14, 3.14, 0, 0, 0]}}}\n"

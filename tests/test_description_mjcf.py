@@ -196,7 +196,10 @@ def test_joint_lines_point_at_joint_elements() -> None:
 
 
 def test_unnamed_active_joint_is_a_warning() -> None:
-    body = '<body name="a"><body name="b"><joint range="-1 1"/><geom size=".1"/></body></body>\n'
+    body = (
+        '<body name="a"><body name="b"><joint axis="0 0 1" range="-1 1"/><geom size=".1"/>'
+        "</body></body>\n"
+    )
     description, diagnostics = parse_mjcf(mjcf(body), "u.xml")
     assert description is not None and description.active_joint_names == ("",)
     assert [(d.code, d.severity.value, d.location.line) for d in diagnostics] == [
@@ -320,8 +323,10 @@ def test_each_defect_is_an_error_with_its_code_at_the_offending_line(
 
 def test_second_articulation_is_a_warning_and_the_first_is_the_robot() -> None:
     bodies = (
-        '<body name="a"><body name="b"><joint name="j"/><geom size=".1"/></body></body>\n'
-        '<body name="c"><body name="d"><joint name="k"/><geom size=".1"/></body></body>\n'
+        '<body name="a"><body name="b"><joint name="j" axis="0 0 1"/><geom size=".1"/>'
+        "</body></body>\n"
+        '<body name="c"><body name="d"><joint name="k" axis="0 0 1"/><geom size=".1"/>'
+        "</body></body>\n"
     )
     description, diagnostics = parse_mjcf(mjcf(bodies), "two.xml")
     assert description is not None and description.active_joint_names == ("j",)

@@ -41,14 +41,14 @@ URDF = """<?xml version="1.0"?>
 """
 MJCF = """<mujoco model="hostile">
   <default>
-    <default class="arm"><joint range="-1 1"/></default>
+    <default class="arm"><joint axis="0 0 1" range="-1 1"/></default>
   </default>
   <worldbody>
     <body name="base">
       <body name="upper">
         <geom size=".05"/><joint name="j1" class="arm"/>
         <body name="lower">
-          <geom size=".05"/><joint name="j2" range="-1 1"/>
+          <geom size=".05"/><joint name="j2" axis="0 0 1" range="-1 1"/>
         </body>
       </body>
     </body>
