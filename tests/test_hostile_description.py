@@ -373,6 +373,26 @@ def test_inspect_locates_the_defect(case: Broken, tmp_path: Path) -> None:
     _assert_located(case, description, _from_json(result.stderr))
 
 
+@pytest.mark.parametrize("case", [c.param() for c in CASES if c.kind == "mjcf"])
+def test_the_mujoco_route_refuses_the_broken_mjcf_at_the_defects_line(
+    case: Broken, tmp_path: Path
+) -> None:
+    # `loader: mujoco` (what new writes): MuJoCo compiles the file, which it must refuse at
+    # the same line, as robospec's own reading says it or as MuJoCo does (RS790)
+    spec, description = _setup(case, tmp_path)
+    spec.write_text(
+        spec.read_text().replace("{mjcf: robot.xml}", "{mjcf: robot.xml, loader: mujoco}")
+    )
+    result = invoke_robospec("validate", str(spec), "--format", "json")
+    assert result.exit_code == 1, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    located = [(Path(f).name, code, line) for f, code, line, _, _ in _from_json(result.stdout)]
+    # an include cycle is as well located at the model's own <include> that starts it
+    files = {case.file or description.name, description.name}
+    expected = {(file, code, case.line) for file in files for code in (case.code, "RS790")}
+    assert expected & set(located), located
+
+
 @pytest.mark.usefixtures("maniskill")  # register() imports ManiSkill first
 @pytest.mark.parametrize("case", [c.param() for c in CASES])
 def test_register_raises_spec_error_locating_the_defect_and_registers_nothing(

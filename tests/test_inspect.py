@@ -107,6 +107,54 @@ def test_mjcf_files_are_inspected() -> None:
     assert "right_knee" in [j["name"] for j in report["active_joints"]]
 
 
+TWO_HINGE_BODY = """<mujoco model="wrist">
+  <worldbody>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.1" mass="2"/>
+      <body name="hand" pos="0 0 0.2">
+        <joint name="pitch" axis="0 1 0" range="-1 1" limited="true"/>
+        <joint name="roll" axis="1 0 0" range="-1 1" limited="true"/>
+        <geom type="sphere" size="0.05" mass="0.5"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_an_mjcf_is_inspected_as_the_spec_new_writes_reads_it_compiled_by_mujoco(
+    tmp_path: Path,
+) -> None:
+    # new writes `loader: mujoco` for every MJCF MuJoCo compiles: inspect shows that robot
+    # (links named as the file names its bodies) unless asked for ManiSkill's own reading
+    path = tmp_path / "wrist.xml"
+    path.write_text(TWO_HINGE_BODY)
+    compiled = inspect_json(path)
+    assert compiled["loader"] == "mujoco"
+    assert [j["name"] for j in compiled["active_joints"]] == ["pitch", "roll"]
+    assert compiled["active_joints"][0]["effort"] is None  # no rating in the file's joints
+    assert compiled["tree"][-1]["link"] == "hand"
+    result = invoke_robospec("inspect", str(path), "--format", "json", "--loader", "maniskill")
+    assert result.exit_code == 0, result.output
+    maniskill = json.loads(result.stdout)
+    assert maniskill["loader"] == "maniskill"
+    assert [row["link"] for row in maniskill["tree"]] != [row["link"] for row in compiled["tree"]]
+    assert "(mjcf, loader: mujoco)" in invoke_robospec("inspect", str(path)).stdout
+
+
+def test_inspect_loader_mujoco_on_a_file_mujoco_refuses_says_why_at_the_element(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "bad.xml"
+    path.write_text(
+        '<mujoco>\n<worldbody><body name="b">\n<joint type="bogus"/>\n'
+        "</body></worldbody></mujoco>\n"
+    )
+    result = invoke_robospec("inspect", str(path), "--loader", "mujoco")
+    assert result.exit_code == 1
+    assert f"{path}:3:1: error[RS790]" in result.output
+
+
 def test_a_file_is_named_as_given_and_a_xacros_problem_as_its_expansion(tmp_path: Path) -> None:
     # read as validate reads a spec's description: a ManiSkill folder by its placeholder, a
     # problem found in a xacro's expansion at the expansion's line, named so

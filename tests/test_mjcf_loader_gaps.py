@@ -343,10 +343,10 @@ def test_the_tree_reaches_every_link_through_the_nameless_fixed_joints() -> None
     assert description.joint_names == ("joint",)  # the nameless joint is no spec's to name
 
 
-def test_inspect_shows_an_mjcf_robots_tree_with_the_mends_new_would_write() -> None:
+def test_inspect_shows_maniskills_reading_of_an_mjcf_with_the_mends_it_needs() -> None:
     from robospec.authoring.commands import run_inspect
 
-    result = run_inspect(GAPS / "orientation.xml")
+    result = run_inspect(GAPS / "orientation.xml", loader="maniskill")
     text, diagnostics = result.report, result.diagnostics
     assert text is not None
     assert "    base  <- (fixed, unnamed)\n      tilted  <- tilted (continuous)\n" in text

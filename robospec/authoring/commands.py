@@ -67,13 +67,26 @@ class CommandResult:
         return result.with_diagnostics(problems)
 
 
-def run_inspect(path: Path, as_json: bool = False) -> CommandResult:
-    """The report of the description at ``path`` (text, or JSON); none when it cannot be read."""
-    from robospec.authoring.description_file import read_description_file
+def run_inspect(path: Path, as_json: bool = False, loader: str | None = None) -> CommandResult:
+    """The report of the description at ``path`` (text, or JSON); none when it cannot be read.
+
+    An MJCF is read as ``new``'s spec reads it (``loader`` None): compiled by MuJoCo where it
+    compiles, else as ManiSkill's MJCF loader reads it; ``loader`` "mujoco" or "maniskill"
+    asks for one reading (MuJoCo's refusal is then the diagnostics)."""
+    from robospec.authoring.description_file import (
+        file_kind,
+        read_compiled_mjcf,
+        read_description_file,
+    )
     from robospec.authoring.inspect import inspect_report, render_json, render_text
 
-    # a robot ManiSkill would load wrongly is still shown, beside the errors that say so
-    source, diagnostics = read_description_file(path, keep_errors=True)
+    if loader == "mujoco" and file_kind(path) == "mjcf":
+        source, diagnostics = read_compiled_mjcf(path)
+    else:
+        # a robot ManiSkill would load wrongly is still shown, beside the errors that say so
+        source, diagnostics = read_description_file(
+            path, keep_errors=True, compile_mjcf=loader is None
+        )
     if source is None:
         return CommandResult(diagnostics=tuple(diagnostics))
     report = inspect_report(source)

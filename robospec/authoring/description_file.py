@@ -90,9 +90,9 @@ def read_description_file(
             )
         ]
     if kind == "mjcf" and compile_mjcf:
-        compiled = _compiled(path, text)
+        compiled, found = read_compiled_mjcf(path)
         if compiled is not None:
-            return compiled
+            return compiled, found
     # the command line names the file itself: its problems are shown at the path as given
     reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
     loaded = load(reader, DescriptionEntry(text, kind, mends=None, sections=sections or {}))
@@ -111,16 +111,18 @@ def read_description_file(
     )
 
 
-def _compiled(path: Path, text: str) -> tuple[DescriptionFile, list[Diagnostic]] | None:
-    """The MJCF at ``path`` as MuJoCo compiles it; None where MuJoCo refuses it (or the URDF
-    written from it has errors)."""
+def read_compiled_mjcf(path: Path) -> tuple[DescriptionFile | None, list[Diagnostic]]:
+    """The MJCF at ``path`` as MuJoCo compiles it (``loader: mujoco``); None, with the
+    diagnostics that say why, where MuJoCo refuses it (or the URDF written from it has
+    errors)."""
     from robospec.authoring.mjcf_route import why_mujoco, with_file_facts
     from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
 
+    text = str(path)
     reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
     loaded = load(reader, DescriptionEntry(text, "mjcf", mends={}, loader="mujoco"))
     if not isinstance(loaded, Loaded) or has_errors(reader.diagnostics):
-        return None
+        return None, reader.diagnostics
     ref = loaded.ref
     mjcf = ref.absolute.read_bytes()
     given = path if ref.kind == "file" else ref.absolute

@@ -24,9 +24,15 @@ def inspect_report(source: DescriptionFile) -> dict[str, Any]:
     from robospec.authoring.mounting import mounting_frames
 
     description = source.description
+    # the URDF written from MuJoCo's model rates no joint (effort="0" velocity="0": new reads
+    # the ratings from the MJCF's own actuators), so its zeros are shown as no rating
+    rated = source.loader != "mujoco"
     return {
         "file": str(source.path),
         "kind": source.kind,
+        # an MJCF's reading, as the spec's description.loader says it: "mujoco" (MuJoCo's
+        # compiled model, what new writes) or "maniskill" (ManiSkill's own MJCF loader)
+        "loader": (source.loader or "maniskill") if source.kind == "mjcf" else None,
         "robot": source.robot_name,
         "root_link": description.root_link,
         "floating_root": description.floating_root,
@@ -37,8 +43,8 @@ def inspect_report(source: DescriptionFile) -> dict[str, Any]:
                 "type": joint.type,
                 "lower": joint.lower,
                 "upper": joint.upper,
-                "velocity": joint.velocity,
-                "effort": joint.effort,
+                "velocity": joint.velocity if rated else None,
+                "effort": joint.effort if rated else None,
                 "mimic": None
                 if joint.mimic is None
                 else {
@@ -81,7 +87,8 @@ def _number(value: float | None, unbounded: str = "-") -> str:
 
 def render_text(report: dict[str, Any]) -> str:
     joints = report["active_joints"]
-    head = f"{report['file']} ({report['kind']})"
+    loader = f", loader: {report['loader']}" if report.get("loader") else ""
+    head = f"{report['file']} ({report['kind']}{loader})"
     if report["robot"]:
         head += f": robot '{report['robot']}'"
     root = report["root_link"] + (" (floating)" if report["floating_root"] else "")

@@ -68,6 +68,14 @@ PathsArg = Annotated[
 ReportFormatOpt = Annotated[ReportFormat, typer.Option("--format", "-f", help="report format")]
 
 
+class MjcfLoader(str, enum.Enum):
+    """How an MJCF becomes the robot (the spec's ``description.loader``)."""
+
+    maniskill = "maniskill"
+    mujoco = "mujoco"
+
+
+
 DiagnosticFormatOpt = Annotated[
     DiagnosticFormat,
     typer.Option(
@@ -134,18 +142,31 @@ def _finish(result: CommandResult, fmt: DiagnosticFormat, color: Color, done: st
 def inspect(
     file: Annotated[Path, typer.Argument(help="a URDF, xacro or MJCF file")],
     format: ReportFormatOpt = ReportFormat.text,
+    loader: Annotated[
+        MjcfLoader | None,
+        typer.Option(
+            "--loader",
+            help="an MJCF read as MuJoCo compiles it (mujoco: what robospec new writes, "
+            "wherever MuJoCo compiles the file) or as ManiSkill's own MJCF loader reads it "
+            "(maniskill)",
+        ),
+    ] = None,
     color: ColorOpt = Color.auto,
 ) -> None:
     """Print a URDF/xacro/MJCF file's active joints, mimic relations and kinematic tree.
 
     Active joints come in qpos order with their limits (lower, upper, velocity, effort). The
-    report goes to stdout, diagnostics to stderr.
+    report goes to stdout, diagnostics to stderr. An MJCF is shown as the spec `robospec new`
+    writes reads it: compiled by MuJoCo (its bodies named as the file names them, ball joints
+    as three hinges), unless --loader maniskill asks for ManiSkill's own MJCF loader's reading.
 
     Example: robospec inspect robots/my_arm.urdf --format json
     """
     from robospec.authoring.commands import run_inspect
 
-    result = run_inspect(file, as_json=format is ReportFormat.json)
+    result = run_inspect(
+        file, as_json=format is ReportFormat.json, loader=None if loader is None else loader.value
+    )
     if result.report is not None:
         sys.stdout.write(result.report)
     if result.diagnostics:

@@ -25,6 +25,9 @@ CODE = "RS712"
 FIXES = ("RS082",)
 WHY = "ManiSkill's loader reads an <include> only directly under <mujoco>"
 
+# carrying the model elsewhere (MuJoCo compiling it), as the description's own reading says it
+UNREADABLE_INCLUDE = "RS050"
+INCLUDE_CYCLE = "RS052"
 _DEPTH = 16  # nested includes followed this deep (a cycle stops there, refused)
 
 
@@ -43,9 +46,12 @@ def inline_all(document: Document, *, note: bool) -> None:
         for include in includes:
             _inline(document, include, folder, shown_folder, note)
     for include in document.tree.iter("include"):
-        document.refuse(
-            include, CANNOT_MEND, "mend 'includes' stopped: the includes nest in a cycle", ""
-        )
+        if note:
+            document.refuse(
+                include, CANNOT_MEND, "mend 'includes' stopped: the includes nest in a cycle", ""
+            )
+        else:
+            document.refuse(include, INCLUDE_CYCLE, "the includes nest in a cycle", "")
 
 
 def _inline(
@@ -63,12 +69,20 @@ def _inline(
                 etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False),
             )
     except (OSError, etree.XMLSyntaxError) as exc:
-        document.refuse(
-            include,
-            CANNOT_MEND,
-            f"mend 'includes' cannot read '{file}': {exc}",
-            "the file must be beside the model, as MuJoCo looks for it",
-        )
+        if note:  # the mend
+            document.refuse(
+                include,
+                CANNOT_MEND,
+                f"mend 'includes' cannot read '{file}': {exc}",
+                "the file must be beside the model, as MuJoCo looks for it",
+            )
+        else:  # carrying the model elsewhere (MuJoCo compiling it): the file itself is missing
+            document.refuse(
+                include,
+                UNREADABLE_INCLUDE,
+                f"cannot read included file '{file}': {exc}",
+                "the file must be beside the model, as MuJoCo looks for it",
+            )
         parent.remove(include)
         return
     shown = os.path.join(shown_folder, file) if shown_folder else file

@@ -44,14 +44,26 @@ def named_files(root: etree._Element, model: str) -> list[tuple[etree._Element, 
     return found
 
 
+def inlined(source: Source) -> Document:
+    """The MJCF ``source`` parsed (``root`` None where it is not XML), every ``<include>``
+    written in place as MuJoCo reads them; an include it cannot read is among its
+    ``refusals`` (RS050, at the ``<include>``, named as ``source`` shows its file)."""
+    from robospec.derive.includes import inline_all
+
+    document = Document(source)
+    if document.parse():
+        inline_all(document, note=False)
+    return document
+
+
 def carried_text(text: str, model: str, name_of: Callable[[str], str]) -> str:
     """The model ``text`` (read from the file ``model``) as written elsewhere: includes in
     place, each file named ``name_of(absolute path)``, no compiler directories."""
-    document = Document(Source(model, model, "mjcf", text.encode("utf-8")))
-    document.parse()
-    from robospec.derive.includes import inline_all
-
-    inline_all(document, note=False)
+    document = inlined(Source(model, model, "mjcf", text.encode("utf-8")))
+    if document.root is None:  # MuJoCo's parser would refuse it too: its errors are ValueErrors
+        raise ValueError(f"XML Error: '{model}' is not well-formed XML")
+    if document.refusals:
+        raise ValueError(f"XML Error: {document.refusals[0].message}")
     root = document.tree
     for element, path in named_files(root, model):
         if element.tag == "mesh" and element.get("name") is None:

@@ -85,8 +85,17 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
     """The URDF of the MJCF ``source`` as MuJoCo compiles it; its text None (and an RS790
     error) where MuJoCo refuses the file: at the line MuJoCo names, else at ``entry`` (where
     the spec names the file)."""
-    from robospec.derive.mjcf_files import compiled_with_warnings
+    from robospec.derive.mjcf_files import compiled_with_warnings, inlined
+    from robospec.description.urdf import parse_xml
 
+    # what the file's own reading says first, at its line, as the other routes say it: not
+    # XML (RS051), an include that cannot be read (RS050; MuJoCo would name no line)
+    _, malformed = parse_xml(source.data, source.shown)
+    if malformed:
+        return Compiled(None, malformed)
+    unreadable = inlined(source).refusals
+    if unreadable:
+        return Compiled(None, unreadable)
     lines = _source_lines(source)
     try:
         model, said = compiled_with_warnings(source.data, source.path)
@@ -108,6 +117,15 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
 
 
 # -- reading the user's file: where its elements stand -------------------------------------
+
+
+# the compiled arrays the URDF is written from, per element kind: MuJoCo compiles a NaN
+# in a joint's range or a body's pos with only a warning ("XML contains a 'NaN'"), and
+# the URDF written from it would load a different robot without a word
+_COMPILED_NUMBERS = {
+    "joint": ("jnt_range", "jnt_axis", "jnt_pos"),
+    "body": ("body_pos", "body_quat", "body_mass", "body_ipos", "body_iquat", "body_inertia"),
+}
 
 
 @dataclass
@@ -272,6 +290,31 @@ class _Writer:
         self.ball_joints: dict[int, list[str]] = {}  # ball joint -> its three hinges' names
         self.hinges: dict[int, str] = {}  # hinge or slide -> its URDF joint
 
+    # -- what MuJoCo compiles although it is not a number
+
+    def _not_numbers(self) -> bool:
+        """RS052 at each joint and body whose compiled values are not all finite numbers."""
+        import numpy as np
+
+        names = {"joint": self.joint_name, "body": self.body_name}
+        found = []
+        for tag, arrays in _COMPILED_NUMBERS.items():
+            for index in range(len(getattr(self.model, arrays[0]))):
+                bad = [a for a in arrays if not np.isfinite(getattr(self.model, a)[index]).all()]
+                if bad and not (tag == "body" and index == 0):  # the world body
+                    name = names[tag](index)
+                    found.append(
+                        error(
+                            self.lines.location(self.lines.of(tag, name), tag),
+                            "RS052",
+                            f"{tag} '{name}' compiles to values that are not numbers "
+                            f"({', '.join(a.split('_', 1)[1] for a in bad)}: NaN or infinite)",
+                            "write each of the element's numbers as a finite number",
+                        )
+                    )
+        self.diagnostics.extend(found)
+        return bool(found)
+
     # -- names
 
     def body_name(self, body: int) -> str:
@@ -294,6 +337,8 @@ class _Writer:
 
     def write(self) -> None:
         model, mj = self.model, self.mujoco
+        if self._not_numbers():
+            return
         tops = [b for b in range(1, model.nbody) if int(model.body_parentid[b]) == 0]
         if not tops:
             self.diagnostics.append(
