@@ -208,6 +208,8 @@ def _compile_parts(
     """Each part given as a spec, compiled on its own (its problems reported where they are
     written); a spec that mounts, directly or through its parts, the spec mounting it is
     RS733 at the entry that closes the ring."""
+    if not spec.parts:
+        return {}  # nothing of the parts' machinery is imported for a spec without parts
     from robospec.resolve.part_types import PartInput
 
     parts: dict[str, PartInput] = {}

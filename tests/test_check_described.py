@@ -5,8 +5,10 @@ description's forward kinematics). A robot that is not the one described fails a
 with both numbers, and none of its behaviour is judged (issue 36 class 8).
 
 The robots are made to show it (tests/data/check/described/): a URDF link SAPIEN loads at
-1e-6 kg where the file says 2 kg, an MJCF whose <inertial>s ManiSkill's loader does not read;
-and two that are as described, a URDF chain and an MJCF crawler.
+1e-6 kg where the file says 2 kg, an MJCF whose <inertial>s ManiSkill's loader does not read,
+a URDF each of whose links is 3× off (only the total's bound reaches it) and one whose hand
+alone is 60× off (only the link's bound reaches it); and two that are as described, a URDF
+chain and an MJCF crawler.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ DATA = Path(__file__).parent / "data" / "check"
 SPECS = {
     "weightless": DATA / "described" / "weightless.yaml",
     "inertials": DATA / "described" / "inertials.yaml",
+    "thirds": DATA / "described" / "thirds.yaml",
+    "light_hand": DATA / "described" / "light_hand.yaml",
     "chain": DATA / "isolation" / "a_chain.yaml",
     "crawler": DATA / "crawler_falls.yaml",
 }
@@ -82,10 +86,40 @@ def test_an_mjcf_whose_inertials_maniskill_does_not_read_fails_check_at_the_heav
     assert "link 'lower': 2 kg described" in diagnostic.message
 
 
+def test_a_robot_every_link_of_which_is_three_times_off_fails_check_by_its_total(
+    reports: dict[str, RobotReport],
+) -> None:
+    # each link 3x off, under the link's bound (10x): only the total's (2x) makes it an error
+    mass = _described(reports["thirds"], "mass")
+    assert mass.status is Status.FAIL
+    (diagnostic,) = mass.diagnostics
+    assert diagnostic.code == "RS532" and diagnostic.is_error
+    urdf = SPECS["thirds"].parent / "thirds.urdf"
+    # no link is off enough to matter alone: the error stands at the heaviest
+    assert diagnostic.location.line == _line(urdf, '<link name="base">')
+    assert "link 'base': 3 kg described, 1 kg loaded" in diagnostic.message
+    assert mass.metrics["described_kg"] == pytest.approx(4.92)
+    assert mass.metrics["loaded_kg"] == pytest.approx(1.64, rel=1e-4)
+
+
+def test_one_link_sixty_times_off_fails_check_at_it_though_the_total_is_within_five_percent(
+    reports: dict[str, RobotReport],
+) -> None:
+    # the total is within 5 %, under its bound (2x): only the link's (10x) makes it an error
+    mass = _described(reports["light_hand"], "mass")
+    assert mass.status is Status.FAIL
+    (diagnostic,) = mass.diagnostics
+    assert diagnostic.code == "RS532" and diagnostic.is_error
+    urdf = SPECS["light_hand"].parent / "light_hand.urdf"
+    assert diagnostic.location.line == _line(urdf, '<link name="hand">')
+    assert "link 'hand': 0.5 kg described, 0.008 kg loaded" in diagnostic.message
+    assert mass.metrics["loaded_kg"] / mass.metrics["described_kg"] > 0.95
+
+
 def test_no_behaviour_is_judged_of_a_robot_that_is_not_the_one_described(
     reports: dict[str, RobotReport],
 ) -> None:
-    for name in ("weightless", "inertials"):
+    for name in ("weightless", "inertials", "thirds", "light_hand"):
         report = reports[name]
         behaviour = [f for f in report.findings if f.check not in (NAME, "action_layout")]
         later = [check for check, _ in CHECKS][[c for c, _ in CHECKS].index(NAME) + 1 :]

@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from conftest import ROOT, fast_first
@@ -98,12 +99,24 @@ NOT_FOR_A_PLAIN_URDF_SPEC = (
     "xacro",
     "robospec.derive",
     "robospec.compose",
+    "robospec.resolve.parts",
+    "robospec.resolve.part_renaming",
+    "robospec.resolve.part_types",
     "pydantic",
     "robospec.kinematics",
     "robospec.load.syntax_hints",
     "robospec.resolve.python_refs",
     "robospec.diagnostics.codes",
     "hashlib",
+    # nor the simulator: validate reads the uids ManiSkill registers from its source, unimported
+    "mani_skill",
+    "sapien",
+    "torch",
+    "gymnasium",
+    # nor TOML's reader for a YAML spec (ruamel, for a TOML spec: below)
+    "tomllib",
+    "robospec.load.toml_parser",
+    "robospec.load.toml_positions",
 )
 # a spec whose first error is in its model (a misspelled key) is never resolved: neither its
 # description (nor lxml) is read, nor a check run
@@ -154,6 +167,24 @@ def test_validate_imports_only_what_the_spec_in_hand_needs(
         if any(module == name or module.startswith(f"{name}.") for name in not_loaded)
     )
     assert unneeded == []
+
+
+def test_a_toml_spec_is_validated_without_yaml_s_reader(tmp_path: Path) -> None:
+    # the misspelled joint of BAD, written in TOML: the same error, and no YAML library loaded
+    spec = tmp_path / "fail.toml"
+    spec.write_text(
+        'robospec = 1\nuid = "my_panda"\n'
+        'description = {urdf = "{maniskill_assets}/robots/panda/panda_v2.urdf"}\n'
+        '[groups]\narm = ["panda_joint1", "panda_joint77"]\n'
+        '[controllers]\narm = {type = "pd_joint_pos", joints = "arm", lower = -1, upper = 1, '
+        "stiffness = 1e3, damping = 1e2}\n"
+        '[control_modes]\npd_joint_pos = {arm = "arm"}\n',
+        encoding="utf-8",
+    )
+    exit_code, loaded = _validate_loads(str(spec))
+    assert exit_code == 1
+    assert {"robospec.load.toml_parser", "robospec.resolve"} <= loaded  # read, then resolved
+    assert sorted(m for m in loaded if m.split(".")[0] == "ruamel") == []
 
 
 def test_plain_validate_imports_no_typer_click_or_rich() -> None:

@@ -12,21 +12,23 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from robospec.diagnostics import error
 from robospec.load.source_map import LoadedSpec
 from robospec.model.validate import SpecModelResult
-from robospec.resolve import carried, mechanisms, members, parts
+from robospec.resolve import carried, mechanisms, members
 from robospec.resolve.cameras import resolve_camera
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.controllers import resolve_controller
-from robospec.resolve.description_files import load_inherited_description, load_spec_description
+from robospec.resolve.description_files import (
+    Mount,
+    load_inherited_description,
+    load_spec_description,
+)
 from robospec.resolve.keyframes import resolve_keyframe
 from robospec.resolve.modes import resolve_modes
 from robospec.resolve.never_collide import resolve_never_collide
-from robospec.resolve.part_renaming import carry_parts
-from robospec.resolve.part_types import PartInput
 from robospec.resolve.reset import resolve_reset
 from robospec.resolve.resolved import (
     FileRef,
@@ -36,6 +38,11 @@ from robospec.resolve.resolved import (
 )
 from robospec.resolve.selection import group_joints, select_joints, select_links
 from robospec.resolve.urdf_config import resolve_urdf_config
+
+if TYPE_CHECKING:
+    # parts (robospec.resolve.parts, part_renaming, part_types) are imported for a spec that
+    # mounts some, and for no other
+    from robospec.resolve.part_types import CarriedPart, PartInput
 
 
 def resolve(
@@ -55,23 +62,23 @@ def resolve(
 def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
     spec = context.spec
     if spec.parts and spec.description is None:
-        parts.warn_unsupported(context)  # said before the extended class is imported
+        from robospec.resolve.parts import warn_unsupported
+
+        warn_unsupported(context)  # said before the extended class is imported
         return None
     base_ref, base_class = members.base_class(context)
     if spec.extends is not None and base_ref is None:
         return None
     description_kind: Literal["urdf", "mjcf"]
     if spec.description is not None:
-        description_ref = load_spec_description(
-            context, parts.compose_parts if spec.parts else None
-        )
+        description_ref = load_spec_description(context, _parts_mount(context))
         description_kind = spec.description.loaded_kind
     else:
         description_ref, description_kind = load_inherited_description(context, base_class)
     if description_ref is None or context.loaded_description is None:
         return None
     description = context.description
-    context.carried = carry_parts(context, description_ref)
+    context.carried = _carried_parts(context, description_ref)
     _resolve_groups(context)
     if spec.passive_joints is not None:
         select_joints(context, spec.passive_joints, ("passive_joints",))
@@ -130,6 +137,24 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         simulation=members.simulation(context),
     )
     return carried.with_parts(context, robot)
+
+
+def _parts_mount(context: ResolveContext) -> Mount | None:
+    """What mounts the spec's parts on its description; None for a spec without parts."""
+    if not context.spec.parts:
+        return None
+    from robospec.resolve.parts import compose_parts
+
+    return compose_parts
+
+
+def _carried_parts(context: ResolveContext, description: FileRef) -> tuple[CarriedPart, ...]:
+    """The mounted parts renamed into the robot's names; none where nothing was mounted."""
+    if context.composed is None:
+        return ()
+    from robospec.resolve.part_renaming import carry_parts
+
+    return carry_parts(context, description)
 
 
 def _resolve_groups(context: ResolveContext) -> None:

@@ -19,10 +19,9 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.resolve.context import ResolveContext
-from robospec.resolve.part_types import CarriedPart
 from robospec.resolve.resolved import (
     FileRef,
     ResolvedCollisionRule,
@@ -31,6 +30,9 @@ from robospec.resolve.resolved import (
     ResolvedMode,
     ResolvedRobot,
 )
+
+if TYPE_CHECKING:
+    from robospec.resolve.part_types import CarriedPart
 
 # the sections of a part's robot that come along as they are, after the robot's own
 CONCATENATED = (

@@ -17,11 +17,12 @@ from robospec.diagnostics import Diagnostic, Location, error, warning
 from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.model.frozen import Spec
 from robospec.model.validate import SpecModelResult
-from robospec.resolve.part_types import CarriedPart, Locator, PartInput
 from robospec.resolve.resolved import Bindings, ResolvedRobot
 
 if TYPE_CHECKING:
+    # the parts' types (and what makes them) are imported for a spec that mounts parts alone
     from robospec.compose.model import Composed
+    from robospec.resolve.part_types import CarriedPart, Locator, PartInput
 
 
 @dataclass
