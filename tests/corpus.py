@@ -195,8 +195,8 @@ CORPUS: tuple[Robot, ...] = (
         ("rsu_baxter", "Rethink Baxter (robosuite)", "robots/baxter/robot.xml", ARM, MJCF),
     ),
     # gym-aloha (Apache-2.0): ALOHA's two ViperX 300 S arms in their transfer-cube scene, each
-    # its own body tree welded to the world: the robot is the first (the left arm), as
-    # ManiSkill's loader chooses, the right arm and the cube dropped with a warning (RS791)
+    # its own body tree welded to the world, both driven by the file's actuators: one robot
+    # (loader: mujoco), the table and the cube the scene's (RS791)
     *_shipped_by(
         "gym-aloha",
         "gym_aloha/assets",
