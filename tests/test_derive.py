@@ -328,6 +328,32 @@ def test_an_inlined_include_keeps_its_file_and_line_for_later_diagnostics() -> N
     assert dict(derived.line_map)[body.sourceline] == ("arm_part.xml", 2)
 
 
+def test_inlined_includes_merge_their_worldbodies_in_the_order_mujoco_reads_them() -> None:
+    """A scene's file brings a <worldbody> (a table) before the one the arm is included in:
+    written in place, the copy has one <worldbody> holding MuJoCo's bodies in MuJoCo's order
+    (ManiSkill's loader reads only the first, which alone holds no robot)."""
+    import mujoco
+
+    model = Path(__file__).parent / "data" / "mjcf" / "scene_include" / "robot.xml"
+    derived = derive(_source(model), {"includes": "inline"})
+    root = etree.fromstring(derived.text.encode())
+    (worldbody,) = root.findall("worldbody")
+    bodies = [body.get("name") for body in worldbody.iter("body")]
+    compiled = mujoco.MjModel.from_xml_path(str(model))
+    names = [mujoco.mj_id2name(compiled, mujoco.mjtObj.mjOBJ_BODY, b) for b in range(1, 4)]
+    assert bodies == names == ["table", "arm_base", "upper_arm"]
+    assert worldbody.find("light") is not None
+    assert "its <worldbody> merged with the model's" in derived.notes[0].message
+
+
+def test_inspect_finds_the_arm_of_a_scene_whose_table_is_included_first() -> None:
+    from robospec.authoring.commands import run_inspect
+
+    result = run_inspect(Path(__file__).parent / "data" / "mjcf" / "scene_include" / "robot.xml")
+    assert result.report is not None and not result.failed, result.diagnostics
+    assert "upper_arm  <- shoulder (revolute)" in result.report
+
+
 def test_a_derived_mjcf_is_carried_with_its_files_named_from_where_it_is_carried(
     tmp_path: Path,
 ) -> None:

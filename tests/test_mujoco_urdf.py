@@ -199,6 +199,30 @@ def test_a_keyframe_without_a_pose_leaves_the_root_body_where_the_file_puts_it(
     assert rest.q == pytest.approx((0.7071068, 0.0, 0.0, 0.7071068), abs=1e-6)
 
 
+def test_the_trees_a_scenes_actuators_drive_are_one_robot_its_free_cube_is_not(
+    tmp_path: Path,
+) -> None:
+    """Two arms, each its own body tree welded to the world (a bimanual scene as gym-aloha
+    writes it), and a free cube: the robot is both arms, hung from `world`, with the file's
+    keyframe and actuators on both; the table and the cube are the scene's (RS791)."""
+    spec = _spec_at(tmp_path, (COMPILED / "two_arms.xml").as_posix())
+    result = compile_spec(spec)
+    assert not has_errors(result.diagnostics), [d.format_text() for d in result.diagnostics]
+    robot, description = result.robot, result.description
+    assert robot is not None and description is not None
+    assert description.root_link == "world" and not description.floating_root
+    arms = ("left_shoulder", "right_shoulder", "left_elbow", "right_elbow")
+    assert sorted(robot.active_joints) == sorted(arms)
+    assert "cube" not in description.link_names and "table" not in description.link_names
+    (ready,) = description.keyframes
+    assert dict(ready.qpos) == pytest.approx(
+        {"left_shoulder": 0.3, "left_elbow": -0.6, "right_shoulder": -0.3, "right_elbow": 0.6}
+    )
+    assert {a.joint for a in description.actuators} == set(arms)
+    (dropped,) = [d for d in result.diagnostics if "other body trees" in d.message]
+    assert dropped.code == "RS791" and "bodies table, cube" in dropped.message
+
+
 def _spec_at(tmp_path: Path, path: str, more: str = "") -> Path:
     spec = tmp_path / "spec.yaml"
     spec.write_text(SPEC.format(path=path) + more, encoding="utf-8")

@@ -4,7 +4,8 @@ MuJoCo puts its bodies at random joint values (1e-5 m, 1e-4 rad) — for the zoo
 public MJCF robots beyond ManiSkill's loader (dm_control's rodent, 65 bodies; gymnasium-
 robotics' Shadow hand, included from its scene, with visual-only bodies and tendons; the Jaco
 arm's meshes) and for a model of what the loader cannot load at all (a ball joint, a ghost body,
-an ellipsoid, joints off their body's origin, a ``ref``). Each robot is registered from its spec
+an ellipsoid, joints off their body's origin, a ``ref``; two arms of a scene, each its own body
+tree). Each robot is registered from its spec
 and built by ``gym.make`` in Empty-v1 (physx_cpu, no renderer), as a user's would be."""
 
 from __future__ import annotations
@@ -59,6 +60,8 @@ ROBOTS = {
         True,
     ),
     "ball_ghost": None,
+    # two arms, each its own tree welded to the world, and a free cube: the robot is both arms
+    "two_arms": None,
 }
 
 
@@ -77,8 +80,8 @@ def _spec(key: str, tmp_path: Path) -> tuple[Path, Path, str]:
         assets = maniskill_assets_dir()
         assert assets is not None
         return spec, assets / "robots" / "humanoid" / "humanoid.xml", uid
-    if key == "ball_ghost":
-        path, fixed = COMPILED / "ball_ghost.xml", True
+    if key in ("ball_ghost", "two_arms"):
+        path, fixed = COMPILED / f"{key}.xml", True
     else:
         distribution, inside, fixed = ROBOTS[key]  # type: ignore[misc]
         path = _public(distribution, inside)

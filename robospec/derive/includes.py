@@ -6,6 +6,12 @@ hand in one) is dropped without a word, and with it the robot (RS082). MuJoCo re
 wherever they stand. ``inline`` writes the contents of every ``<include>``, at any depth, in its
 place, as MuJoCo does; each element inlined keeps the file and line it was written on, so every
 later diagnostic points into the included file.
+
+An included file may bring a ``<worldbody>`` of its own (a scene's table and lights, before the
+file's robots): MuJoCo merges every ``<worldbody>`` into one, in the order written, where
+ManiSkill's loader reads only the first. Written in place, they are merged into the first, so
+that the copy means to ManiSkill what the file means to MuJoCo (gym-aloha's scene would
+otherwise leave the loader a table and no robot).
 """
 
 from __future__ import annotations
@@ -42,6 +48,7 @@ def inline_all(document: Document, *, note: bool) -> None:
     for _ in range(_DEPTH):
         includes = list(document.tree.iter("include"))
         if not includes:
+            _merge_worldbodies(document)
             return
         for include in includes:
             _inline(document, include, folder, shown_folder, note)
@@ -93,11 +100,13 @@ def _inline(
             document.origins[element] = (shown, element.sourceline)
     if note:
         read = parent is document.tree  # ManiSkill reads these, from beside the model only
+        merged = read and any(child.tag == "worldbody" for child in children)
         document.changed(
             where[1] if where else include,
             f'<include file="{file}"> in <{parent.tag!s}>',
             "read from beside the model" if read else "not read by ManiSkill",
-            f"its {len(children)} element(s) written in place",
+            f"its {len(children)} element(s) written in place"
+            + (", its <worldbody> merged with the model's, as MuJoCo reads them" if merged else ""),
         )
     anchor_tail = include.tail
     for child in children:
@@ -107,6 +116,19 @@ def _inline(
     if previous is not None:
         previous.tail = (previous.tail or "") + (anchor_tail or "")
     parent.remove(include)
+
+
+def _merge_worldbodies(document: Document) -> None:
+    """Every ``<worldbody>`` of the model's top level merged into the first, as MuJoCo reads
+    them: their bodies, geoms, sites and lights in the order written."""
+    worldbodies = document.tree.findall("worldbody")
+    if len(worldbodies) < 2:
+        return
+    first, *others = worldbodies
+    for other in others:
+        for child in list(other):
+            first.append(child)  # (an element keeps its identity: its origin stays)
+        document.tree.remove(other)
 
 
 def suggest(document: Document) -> str | None:

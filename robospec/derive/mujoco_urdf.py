@@ -19,6 +19,9 @@ writes what the compiled ``MjModel`` says:
   joint becomes (``{joint}_x``…); intermediate links weigh the 1 g robospec's mass bound gives;
 - a free joint on the root body: the root floats (no joint; the spec's ``fix_root_link:
   false``); a root body with other joints hangs from a link ``world``;
+- the robot: the first body tree that moves, as ManiSkill's loader chooses, or, where several
+  trees welded to the world are driven by the file's actuators (a bimanual scene's arms), all
+  of them, each hung from a link ``world``;
 - geoms: collision shapes where MuJoCo collides them (``contype`` or ``conaffinity``), drawn
   where MuJoCo draws them by default (groups 0-2) with their colour; boxes, spheres, cylinders
   and capsules as URDF's, meshes (as MuJoCo recentred and scaled them) and ellipsoids as OBJ
@@ -352,15 +355,32 @@ class _Writer:
             return
         moving = [b for b in tops if self._subtree_moves(b)]
         top = (moving or tops)[0]
-        others = [self.body_name(b) for b in tops if b != top]
+        # several trees welded to the world that the file's actuators drive (a bimanual
+        # scene's arms) are one robot, hung from a link `world`; else the first that moves,
+        # as ManiSkill's loader chooses (an unactuated door or a free cube is the scene's)
+        driven = [b for b in moving if self._welded(b) and self._driven(b)]
+        robot = driven if len(driven) > 1 else [top]
+        others = [self.body_name(b) for b in tops if b not in robot]
         if others:
+            chosen = ", ".join(f"'{self.body_name(b)}'" for b in robot)
+            why = (
+                f"the trees welded to the world that the actuators drive, {chosen}"
+                if len(robot) > 1
+                else f"the first tree that moves, {chosen}"
+            )
             self._drop(
                 "body",
                 "other body trees of the scene",
-                f"bodies {', '.join(others)} (the robot is the first tree that moves, "
-                f"'{self.body_name(top)}')",
-                self.body_name(tops[0] if tops[0] != top else tops[1]),
+                f"bodies {', '.join(others)} (the robot is {why})",
+                next(self.body_name(b) for b in tops if b not in robot),
             )
+        if len(robot) > 1:
+            self.links[0] = self._link(WORLD, "worldbody", None)
+            for body in range(1, model.nbody):
+                if int(model.body_rootid[body]) in robot:
+                    self._body(body)
+            self._report_dropped()
+            return
         jointed = [int(model.body_jntadr[top]) + k for k in range(int(model.body_jntnum[top]))]
         free = [j for j in jointed if int(model.jnt_type[j]) == int(mj.mjtJoint.mjJNT_FREE)]
         if not jointed or (free and len(jointed) == 1):
@@ -379,6 +399,23 @@ class _Writer:
             if int(model.body_rootid[body]) == top:
                 self._body(body)
         self._report_dropped()
+
+    def _welded(self, top: int) -> bool:
+        """Whether the top-level body ``top`` is fixed to the world (no free joint)."""
+        model, free = self.model, int(self.mujoco.mjtJoint.mjJNT_FREE)
+        first = int(model.body_jntadr[top])
+        joints = range(first, first + int(model.body_jntnum[top]))
+        return not any(int(model.jnt_type[j]) == free for j in joints)
+
+    def _driven(self, top: int) -> bool:
+        """Whether an actuator of the file drives a joint of the tree below ``top``."""
+        model, by_joint = self.model, int(self.mujoco.mjtTrn.mjTRN_JOINT)
+        return any(
+            int(model.actuator_trntype[a]) == by_joint
+            and int(model.body_rootid[int(model.jnt_bodyid[int(model.actuator_trnid[a][0])])])
+            == top
+            for a in range(int(model.nu))
+        )
 
     def _subtree_moves(self, top: int) -> bool:
         model = self.model
