@@ -235,20 +235,6 @@ class Stop:
 # that fails at another step or with other codes, and one listed here that now passes (then
 # it goes, with the page written again). Reviewed against docs/robots.md of f181ff8.
 EXPECTED_STOPS: dict[str, Stop] = {
-    "rsu_gr1": Stop(
-        "inspect",
-        frozenset({"RS076", "RS081"}),
-        "inspect reads an MJCF as ManiSkill's own MJCF loader (a spec's default, loader: "
-        "maniskill) would, and that loader cannot load GR1: it has 33 bodies even with those "
-        "welded without a joint merged (45 in MuJoCo), and the loader's one collision bit per "
-        "body runs out at the 33rd (RS081; ManiSkill 3.0.1's loader raises "
-        "set_collision_groups: incompatible function arguments on the file as written), and "
-        "the hands' r/l_hand_roll and hand_pitch bodies have no geom "
-        "MuJoCo collides (contype=conaffinity=0, or none), which that loader would load at "
-        "1e-6 kg where MuJoCo gives them the file's inertials (RS076). new writes loader: "
-        "mujoco, which loads every body with MuJoCo's masses: validate, check, register and "
-        "build then pass",
-    ),
     "erd_pr2": Stop(
         "check",
         frozenset({"RS501", "RS503", "RS505", "RS506", "RS545"}),
