@@ -4,11 +4,12 @@ scaffolded arm with a gripper runs ``PickCube-v1`` as written.
 
 * **Fingers.** Of a linkage gripper (two closed loops), the fingertip of each loop's finger.
   In a gripper or hand group (or a mimic group), two joints that hang from the same
-  link are two fingers, each the last link of the chain its joint carries (a knuckle that
-  carries one finger, swung parallel: the finger); of several such pairs, the two whose
-  fingers lie farthest apart (a three-finger hand: the most opposed). A gripper of one moving
-  jaw closes it against the link it hangs from (SO-101's fixed jaw). A hand of finger chains
-  (``finger1``, ``finger2``...) uses the tips of its two chains that lie farthest apart.
+  link are two fingers, each the last link of the chain its joint carries where both carry
+  one (a knuckle that carries one finger, swung parallel: the finger); of several such pairs,
+  the two whose fingers lie farthest apart (a three-finger hand: the most opposed). A gripper
+  of one moving jaw closes it against the link it hangs from (SO-101's fixed jaw). A hand of
+  finger chains (``finger1``, ``finger2``...) uses the tips of its two chains that lie
+  farthest apart.
 * **Opening.** Each finger opens along the way its joint moves it: both finger joints are
   nudged each way from the rest pose, and the nudge that puts the fingers' centres of mass
   farthest apart opens them; each finger's opening axis is its centre's move under that nudge,
@@ -184,16 +185,23 @@ def _fingers(
             link = children[link][0]
         return link
 
+    def tips(a: str, b: str) -> tuple[str, str]:
+        # both fingers' chains, or neither: a knuckle beside a bar that carries nothing (PR2's
+        # parallel links) is no pair with the other side's fingertip
+        if children.get(a) and children.get(b) and (tip(a) != a) == (tip(b) != b):
+            return tip(a), tip(b)
+        return a, b
+
     pairs = []
     for group in gripping:
         for i, a in enumerate(group):
             for b in group[i + 1 :]:
                 if a.parent == b.parent and a.child != b.child:
-                    pairs.append((tip(a.child), tip(b.child), a.parent))
+                    pairs.append((*tips(a.child, b.child), a.parent))
     if not pairs:
         for group in gripping:
             if len(group) == 1:  # one jaw closing against the link it hangs from
-                pairs.append((tip(group[0].child), group[0].parent, group[0].parent))
+                pairs.append((group[0].child, group[0].parent, group[0].parent))
     if not pairs:
         tips = _finger_tips(analysis, poses)
         if tips is not None:
