@@ -77,6 +77,13 @@ CORPUS: tuple[Robot, ...] = (
         "pybullet_data",
         ("pb_kuka_iiwa", "KUKA LBR iiwa 7", "kuka_iiwa/model.urdf", ARM, URDF),
         ("pb_xarm6", "UFactory xArm6", "xarm/xarm6_robot.urdf", ARM, URDF),
+        (
+            "pb_xarm6_gripper",
+            "UFactory xArm6 with its gripper",
+            "xarm/xarm6_with_gripper.urdf",
+            ARM,
+            URDF,
+        ),
         ("pb_panda", "Franka Panda", "franka_panda/panda.urdf", ARM, URDF),
         ("pb_pr2_gripper", "PR2 gripper", "pr2_gripper.urdf", GRIPPER, URDF),
         ("pb_a1", "Unitree A1", "a1/a1.urdf", QUADRUPED, URDF),

@@ -14,6 +14,7 @@ from robospec.authoring.new.exemptions import (
     nesting_yokes,
     overlapping,
     physx_exemptions,
+    pinned_pairs,
     shapeless_neighbours,
     welded_neighbours,
 )
@@ -131,6 +132,42 @@ def test_the_parts_of_a_mechanism_its_coupling_keeps_apart_are_exempt() -> None:
     # an unbounded leader is never swept
     unbounded = JointSpace(PINCER, ["left", "right"], [(0.0, None)] * 2, [(1, 0, 1.0, 0.0)])
     assert mechanism_pairs(unbounded, [0.0, 0.0], Sweep(_jaws, TOUCH)) == []
+
+
+# the xArm gripper's side, cut open: base -knuckle- k -finger- f, and base -inner- i, whose
+# far end is pinned to the finger where the description leaves the loop's last joint out
+LINKAGE = _tree(
+    "base",
+    ("knuckle", "revolute", "base", "k"),
+    ("finger", "revolute", "k", "f"),
+    ("inner", "revolute", "base", "i"),
+)
+
+
+def _cut(qpos: list[float]) -> dict[Pair, float]:
+    """The finger and the inner knuckle 12 mm into each other wherever the coupling holds them
+    (at the pin); apart once the inner knuckle turns away from the finger's knuckle; the
+    knuckle against its finger (its child) and the inner knuckle touching at the open end."""
+    knuckle, _, inner = qpos
+    return {
+        ("f", "i"): 0.012 if abs(knuckle - inner) < 1e-9 else -0.01,
+        ("f", "k"): 0.005,
+        ("i", "k"): 0.003 if knuckle < 0.1 else -0.002,
+    }
+
+
+def test_the_ends_of_a_closed_linkage_the_description_cuts_open_are_exempt() -> None:
+    coupled = JointSpace(
+        LINKAGE,
+        ["knuckle", "finger", "inner"],
+        [(0.0, 0.85)] * 3,
+        [(1, 0, 1.0, 0.0), (2, 0, 1.0, 0.0)],
+    )
+    # touching in every pose of the coupling, and not parent and child (PhysX leaves those out)
+    assert pinned_pairs(coupled, [0.0] * 3, Sweep(_cut, TOUCH)) == [("f", "i")]
+    # without the coupling nothing pins them: a pose of one joint alone pulls them apart
+    loose = JointSpace(LINKAGE, ["knuckle", "finger", "inner"], [(0.0, 0.85)] * 3)
+    assert pinned_pairs(loose, [0.0] * 3, Sweep(_cut, TOUCH)) == []
 
 
 def test_the_physx_exemptions_come_shapeless_first_then_each_reason_once() -> None:

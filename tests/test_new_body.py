@@ -510,6 +510,59 @@ def test_a_gripper_of_one_jaw_closes_it_against_the_link_it_hangs_from(tmp_path:
     assert data["tcp"]["midpoint"] == ["jaw", "hand"]
 
 
+def test_a_gripper_whose_knuckles_carry_its_fingers_grasps_with_the_fingers(
+    tmp_path: Path,
+) -> None:
+    # the xArm gripper's: a knuckle each side turns on the hand and carries a finger, which
+    # turns back as far (every joint a mimic of the first) and so stays parallel; the pads that
+    # close on the cube are the fingers, farther out than the knuckles that hold them
+    mimic = '<mimic joint="left_knuckle_joint"/>'
+    links = ["base", "upper", "hand", "left_knuckle", "left_finger", "right_knuckle"]
+    links.append("right_finger")
+    joints = [
+        _joint("shoulder", "revolute", "base", "upper", "0 1 0"),
+        _joint("elbow", "revolute", "upper", "hand", "0 1 0", '<origin xyz="0 0 0.3"/>'),
+        _joint(
+            "left_knuckle_joint",
+            "revolute",
+            "hand",
+            "left_knuckle",
+            "1 0 0",
+            '<origin xyz="0 0.03 0.05"/>',
+        ),
+        _joint(
+            "left_finger_joint",
+            "revolute",
+            "left_knuckle",
+            "left_finger",
+            "-1 0 0",
+            f'<origin xyz="0 0.03 0.04"/>{mimic}',
+        ),
+        _joint(
+            "right_knuckle_joint",
+            "revolute",
+            "hand",
+            "right_knuckle",
+            "-1 0 0",
+            f'<origin xyz="0 -0.03 0.05"/>{mimic}',
+        ),
+        _joint(
+            "right_finger_joint",
+            "revolute",
+            "right_knuckle",
+            "right_finger",
+            "1 0 0",
+            f'<origin xyz="0 -0.03 0.04"/>{mimic}',
+        ),
+    ]
+    urdf = _urdf(tmp_path / "knuckles.urdf", "knuckles", links, joints)
+    data, _ = scaffold(urdf, tmp_path / "knuckles.yaml")
+    fingers = data["grasping"]["is_grasping"]["fingers"]
+    assert [finger["link"] for finger in fingers] == ["left_finger", "right_finger"]
+    assert data["tcp"]["midpoint"] == ["left_finger", "right_finger"]
+    assert data["tcp"]["link"] == "hand"
+
+
 def test_a_hand_of_finger_chains_grasps_with_the_tips_of_the_two_farthest_apart(
     tmp_path: Path,
 ) -> None:

@@ -162,3 +162,64 @@ def test_the_refinement_stiffens_a_fixed_arm_that_sags_where_the_description_mou
             sim.sim_step()
             drift = max(drift, abs(float(sim.qpos()[0][swing]) - start[swing]))
     assert drift < 0.05 / 2, drift
+
+
+def _box(size: str, at: str) -> str:
+    return f'<collision><origin xyz="{at}"/><geometry><box size="{size}"/></geometry></collision>'
+
+
+def _cut_linkage_gripper(path: Path) -> Path:
+    """An arm with one side of the xArm gripper's four-bar: a knuckle turns on the hand and
+    carries a finger, which turns back as far (staying parallel); an inner knuckle turns
+    beside it, its far end pinned to the finger where the URDF, a tree, cannot write the pin.
+    Every gripper joint is a mimic of the knuckle's; a box on each end marks the pin."""
+    inertial = (
+        '<inertial><mass value="0.05"/>'
+        '<inertia ixx="1e-5" iyy="1e-5" izz="1e-5" ixy="0" ixz="0" iyz="0"/></inertial>'
+    )
+    shapes = {
+        "base": _box("0.1 0.1 0.05", "0 0 0.025"),
+        "upper": _box("0.04 0.04 0.3", "0 0 0.15"),
+        "hand": _box("0.06 0.03 0.02", "0 0 0.01"),
+        "knuckle": _box("0.01 0.005 0.005", "0 0.02 0.02"),
+        "finger": _box("0.01 0.008 0.04", "0 0 0.03") + _box("0.008 0.008 0.008", "0 -0.015 0.015"),
+        "inner": _box("0.008 0.008 0.008", "0 0.035 0.042"),
+    }
+    links = "".join(f'<link name="{n}">{inertial}{s}</link>\n' for n, s in shapes.items())
+
+    def joint(name: str, parent: str, child: str, axis: str, at: str, mimic: bool) -> str:
+        follow = '<mimic joint="knuckle_joint"/>' if mimic else ""
+        return (
+            f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
+            f'<child link="{child}"/><origin xyz="{at}"/><axis xyz="{axis}"/>'
+            f'<limit lower="0" upper="0.8" effort="10" velocity="2"/>{follow}</joint>\n'
+        )
+
+    joints = (
+        joint("shoulder", "base", "upper", "0 1 0", "0 0 0.05", False).replace(
+            'lower="0" upper="0.8"', 'lower="-1" upper="1"'
+        )
+        + '<joint name="wrist" type="fixed"><parent link="upper"/><child link="hand"/>'
+        '<origin xyz="0 0 0.3"/></joint>\n'
+        + joint("knuckle_joint", "hand", "knuckle", "1 0 0", "0 0.03 0.02", False)
+        + joint("finger_joint", "knuckle", "finger", "-1 0 0", "0 0.035 0.042", True)
+        + joint("inner_joint", "hand", "inner", "1 0 0", "0 0.015 0.035", True)
+    )
+    path.write_text(f'<?xml version="1.0"?>\n<robot name="cut">\n{links}{joints}</robot>\n')
+    return path
+
+
+def test_the_ends_of_a_linkage_the_urdf_cuts_open_never_collide_and_only_the_controller_couples(
+    tmp_path: Path,
+) -> None:
+    spec = tmp_path / "cut.yaml"
+    data = scaffold(_cut_linkage_gripper(tmp_path / "cut.urdf"), spec)
+    from robospec.authoring.new.exemptions import ADJACENT_WHY
+
+    # the inner knuckle's end lies in the finger at every opening of the coupling: pinned
+    assert ["finger", "inner"] in data["never_collide"]
+    assert f"#   finger + inner: {ADJACENT_WHY['pinned']}\n" in spec.read_text()
+    # PhysX's tendons for the <mimic> tags are left out: the mimic controller couples them
+    assert data["description"]["mend"]["mimic"] == "controller"
+    gripper = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos_mimic"]
+    assert gripper and set(gripper[0]["mimic"]) == {"finger_joint", "inner_joint"}

@@ -173,3 +173,68 @@ def test_a_robot_on_a_free_root_keeps_its_rest_pose_as_its_start(tmp_path: Path)
     assert humanoid["reset"] == {"keyframe": "rest"}
     arm = YAML().load(_scaffold("pb_panda", tmp_path, "rs_pb_panda").read_text())
     assert "ready" in arm["keyframes"] and arm["reset"] == {"keyframe": "ready"}
+
+
+def _with_declared_linkages(spec: Path) -> Path:
+    """The xArm gripper's scaffold with its two four-bars declared as loops, as a user writes
+    them (new infers no URDF linkage: robospec.authoring.new.linkages): each inner knuckle's
+    far end pinned to its finger, the knuckles' drives the gripper, the rest passive."""
+    from ruamel.yaml import YAML
+
+    yaml = YAML()
+    data = yaml.load(spec.read_text(encoding="utf-8"))
+    drivers = ["drive_joint", "right_outer_knuckle_joint"]
+    data["groups"]["gripper"] = drivers
+    data["groups"]["linkage"] = [
+        "left_inner_knuckle_joint",
+        "right_inner_knuckle_joint",
+        "left_finger_joint",
+        "right_finger_joint",
+    ]
+    for keyframe in data["keyframes"].values():
+        keyframe["qpos"]["linkage"] = 0.0
+    gripper = data["controllers"]["gripper"]
+    for gains in ("stiffness", "damping"):
+        if isinstance(gripper[gains], dict):
+            gripper[gains] = {j: v for j, v in gripper[gains].items() if j in drivers}
+    gripper["mimic"] = {"right_outer_knuckle_joint": "drive_joint"}
+    data["controllers"]["linkage"] = {"type": "passive", "joints": "linkage", "damping": 0}
+    for mode in data["control_modes"].values():
+        mode["linkage"] = "linkage"
+    data["loops"] = {
+        f"{side}_linkage": {
+            "links": [f"{side}_inner_knuckle", f"{side}_finger"],
+            "at": [[0, sign * 0.035465, 0.042039], [0, -sign * 0.015, 0.015]],
+        }
+        for side, sign in (("left", 1), ("right", -1))
+    }
+    out = spec.with_name("linkages.yaml")
+    with out.open("w", encoding="utf-8") as stream:
+        yaml.dump(data, stream)
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.maniskill
+def test_a_closed_linkages_passive_joints_are_no_second_gripper_to_the_solver(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The xArm gripper with its four-bars closed by loops: the passive controller of the
+    linkage's joints takes no action, and the loops move the fingers; solve refused the mode
+    before, two controllers moving the fingers (RS682). (18 of 20 PickCube-v1 seeds so.)"""
+    from robospec.solve.command import compile_robot
+    from robospec.solve.episodes import make_env
+    from robospec.solve.gripper import read_facts
+
+    monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+    spec = _with_declared_linkages(_scaffold("pb_xarm6_gripper", tmp_path, "pick_xarm_loops"))
+    robot, problems = compile_robot(spec)
+    assert robot is not None, problems
+    env = make_env(robot.uid, "PickCube-v1")
+    try:
+        env.reset(seed=0)
+        facts = read_facts(env.unwrapped.agent, robot.fingers)
+        assert [role for role, width in facts.layout if width] == ["arm", "gripper"]
+        assert facts.closed_action != facts.open_action
+    finally:
+        env.close()

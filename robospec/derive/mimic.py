@@ -18,7 +18,7 @@ KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
 CODE = "RS710"
 FIXES: tuple[str, ...] = ()  # RS309 (a check) names this mend in its hint
-WHY = "PhysX's mimic joints go NaN: a pd_joint_pos_mimic controller couples these joints"
+WHY = "PhysX's mimic couplings go NaN or fight the drives: the mimic controller couples them"
 
 
 def apply(document: Document, policy: str) -> None:
@@ -40,5 +40,7 @@ def apply(document: Document, policy: str) -> None:
 def suggest(document: Document) -> str | None:
     """Never by itself: the scaffold already drives every mimic pair with a
     ``pd_joint_pos_mimic`` controller, beside which PhysX's mimic joint holds (RS309 warns
-    where none does); the mend is for specs that want PhysX out of it altogether."""
+    where none does); the mend is for specs that want PhysX out of it altogether. ``new``
+    writes it itself for a linkage the URDF cuts open (robospec.authoring.new.scaffold), whose
+    tendons and drives jam it, and for a gripper of closed loops (its analysis)."""
     return None

@@ -7,9 +7,10 @@ the simulation:
 
 - the arm: the ``pd_joint_pos`` controller whose joints carry the tcp (absolute positions, not
   normalised: the planned joint positions are its action); the gripper: the mode's controller
-  whose joints move the fingers of the spec's grasp check; any other controller of the mode
-  (a gripper's motor horn that a mimic controller of the fingers leaves aside, a head) is held
-  where the reset put its joints;
+  whose joints move the fingers of the spec's grasp check (a passive controller, a closed
+  linkage's joints that its loops move, takes no action and is none); any other controller of
+  the mode (a gripper's motor horn that a mimic controller of the fingers leaves aside, a head)
+  is held where the reset put its joints;
 - OPEN and CLOSED: the ends of the gripper controller's action range, the one that puts the
   fingers farther apart open (by the kinematics SAPIEN builds of the loaded robot, the mimic
   map included);
@@ -160,7 +161,14 @@ def _arm_and_gripper(parts: dict[str, Any], tcp: Any, fingers: list[Any]) -> tup
             "grasping",
         )
     moving = _ancestor_joints(fingers[0]) | _ancestor_joints(fingers[1])
-    grippers = [n for n in parts if n not in arms and {j.name for j in parts[n].joints} & moving]
+    # (a passive controller takes no action: a closed linkage's joints, which its loop moves)
+    grippers = [
+        n
+        for n in parts
+        if n not in arms
+        and {j.name for j in parts[n].joints} & moving
+        and int(parts[n].single_action_space.shape[0]) > 0
+    ]
     if len(arms) != 1 or len(grippers) != 1:
         raise NotSolvable(
             f"{MODE} has controllers {', '.join(parts)}: the solutions drive one arm, whose "

@@ -10,6 +10,8 @@ pairs touch at a pose):
 * :func:`welded_neighbours`: pairs welded together, or across a joint over whose range they
   never touch;
 * :func:`mechanism_pairs`: parts of one mimic mechanism that its coupling keeps apart;
+* :func:`pinned_pairs`: parts of one mimic mechanism that touch in every pose of it, where the
+  description cuts its closed linkage open;
 * :func:`filtered_cliques`: the links an MJCF's own collision filters keep apart.
 
 PhysX leaves out only the contacts of a link and its parent; every pair here it collides, and
@@ -51,6 +53,7 @@ ADJACENT_WHY = {
     "yoke": "the ends of a universal joint, nested round its cross",
     "welded": "welded together, or across a joint over whose range they never touch",
     "mechanism": "parts of one mimic mechanism, kept apart by its coupling",
+    "pinned": "parts of one mimic mechanism, pinned together where its closed linkage is cut",
 }
 
 Line = tuple[Vector, Vector]  # a point on it, its direction (a unit vector)
@@ -200,6 +203,22 @@ class Sweep:
                 found[pair] = max(found.get(pair, -math.inf), depth)
         return found
 
+    def everywhere(
+        self, space: JointSpace, qpos: list[float], index: int, span: tuple[float, float]
+    ) -> set[Pair]:
+        """The pairs that touch (at least :attr:`touch` deep) in every one of
+        :data:`MECHANISM_SAMPLES` poses as joint ``index`` sweeps ``span``, its mimic followers
+        following."""
+        low, high = span
+        found: set[Pair] | None = None
+        for k in range(MECHANISM_SAMPLES):
+            sample = list(qpos)
+            sample[index] = low + (high - low) * k / (MECHANISM_SAMPLES - 1)
+            posed = self.posed(space.follow(sample))
+            touching = {pair for pair, depth in posed.items() if depth >= self.touch}
+            found = touching if found is None else found & touching
+        return found or set()
+
 
 def welded_neighbours(
     found: Bodies, space: JointSpace, qpos: list[float], near: Near, sweep: Sweep
@@ -268,6 +287,38 @@ def mechanism_pairs(space: JointSpace, qpos: list[float], sweep: Sweep) -> list[
     return sorted(pairs)
 
 
+def pinned_pairs(space: JointSpace, qpos: list[float], sweep: Sweep) -> list[Pair]:
+    """Pairs of links that one mimic coupling moves, not parent and child, which touch in every
+    pose as the leader sweeps its range from ``qpos``, the followers following: a closed
+    linkage that the description cuts open (a URDF writes trees), its two ends overlapping at
+    the pin it leaves out. The xArm gripper's inner knuckle is pinned to its finger, which
+    hangs from the outer knuckle: 12 mm into each other at every opening, they were pushed
+    apart by PhysX each step, and the gripper's drive spun away."""
+    groups: dict[int, set[int]] = {}
+    for follower, leader, _, _ in space.mimic:
+        groups.setdefault(leader, {leader}).add(follower)
+    pairs: set[Pair] = set()
+    for leader, members in sorted(groups.items()):
+        low, high = space.limits[leader]
+        if low is None or high is None:
+            continue
+        joints = {space.joints[i] for i in members}
+        links = {link for link in space.tree.up if space.driven_by(link) in joints}
+        pairs.update(
+            (a, b)
+            for a, b in sweep.everywhere(space, qpos, leader, (low, high))
+            if a in links and b in links and not _joined(space.tree, a, b)
+        )
+    return sorted(pairs)
+
+
+def _joined(tree: KinematicTree, a: str, b: str) -> bool:
+    """Whether one link is the other's parent (PhysX leaves their contacts out itself)."""
+    return any(
+        link in tree.up and tree.up[link].parent == other for link, other in ((a, b), (b, a))
+    )
+
+
 def physx_exemptions(
     found: Bodies,
     axes: Mapping[str, Line],
@@ -279,13 +330,15 @@ def physx_exemptions(
     """The pairs the simulation collides and the robot does not, at the rest pose ``qpos``
     (``near``: the pairs PhysX reports there, within its contact offset), each with the kind
     of reason that found it (a key of :data:`ADJACENT_WHY`): joined through shapeless links
-    first, then the nesting yokes, welded neighbours and a mechanism's parts not among them
+    first, then the nesting yokes, welded neighbours and a mechanism's parts (kept apart, then
+    pinned together) not among them
     (the order of the scaffold's comment), each pair once, under the first reason found."""
     exempt = dict.fromkeys(shapeless_neighbours(found), "shapeless")
     for kind, pairs in (
         ("yoke", nesting_yokes(found, axes, near)),
         ("welded", welded_neighbours(found, space, qpos, near, sweep)),
         ("mechanism", mechanism_pairs(space, qpos, sweep)),
+        ("pinned", pinned_pairs(space, qpos, sweep)),
     ):
         for pair in pairs:
             exempt.setdefault(pair, kind)

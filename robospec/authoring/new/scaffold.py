@@ -25,6 +25,7 @@ The spec validates as written, and is meant to be right for the robot, not just 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import textwrap
@@ -34,7 +35,7 @@ from typing import Any
 
 from robospec.authoring.description_file import DescriptionFile
 from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
-from robospec.authoring.new.exemptions import filtered_cliques
+from robospec.authoring.new.exemptions import ADJACENT_WHY, filtered_cliques
 from robospec.authoring.new.file_keyframes import fit_to_limits
 from robospec.authoring.new.gains import DAMPING_RATIO, NATURAL_FREQUENCY, JointGains
 from robospec.authoring.new.grip import grip_gains
@@ -159,7 +160,9 @@ def scaffold(
     notes: dict[KeyPath, str] = {}
     data: dict[str, Any] = {"robospec": 1, "uid": uid}
 
-    data["description"] = _description_section(source, spec_path, absolute_paths, notes)
+    data["description"] = _description_section(
+        _with_cut_linkage_mend(source, rest), spec_path, absolute_paths, notes
+    )
     if floating:
         data["loader"] = {"fix_root_link": False}
         notes[("loader", "fix_root_link")] = analysis.body.why_floating
@@ -204,6 +207,21 @@ def scaffold(
         data.update(members)
         notes[(next(iter(members)),)] = _members_note(members)
     return SpecDoc(data, _header(analysis, rest, entries, gains), notes)
+
+
+def _with_cut_linkage_mend(source: DescriptionFile, rest: RestPose) -> DescriptionFile:
+    """``source`` with the ``mimic: controller`` mend where the probe found a closed linkage the
+    URDF cuts open (exemptions.pinned_pairs): PhysX's couplings of its ``<mimic>`` joints
+    (fixed tendons, which ManiSkill builds for a follower beside its leader or below its
+    leader's link) and the mimic controller's drives on the same joints jammed the xArm
+    gripper, closing in the air: one side stayed open and the arm was flung about; the
+    controller alone closes it."""
+    pinned = ADJACENT_WHY["pinned"]
+    if source.kind == "mjcf" or "mimic" in source.mends or pinned not in rest.why.values():
+        return source
+    if not any(joint.mimic for joint in source.description.joints):
+        return source
+    return dataclasses.replace(source, mends={**source.mends, "mimic": "controller"})
 
 
 def _description_section(

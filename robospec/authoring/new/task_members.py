@@ -4,10 +4,12 @@ scaffolded arm with a gripper runs ``PickCube-v1`` as written.
 
 * **Fingers.** Of a linkage gripper (two closed loops), the fingertip of each loop's finger.
   In a gripper or hand group (or a mimic group), two joints that hang from the same
-  link are two fingers; of several such pairs, the two whose fingers lie farthest apart (a
-  three-finger hand: the most opposed). A gripper of one moving jaw closes it against the link
-  it hangs from (SO-101's fixed jaw). A hand of finger chains (``finger1``, ``finger2``...) uses
-  the tips of its two chains that lie farthest apart.
+  link are two fingers, each the last link of the chain its joint carries where both carry
+  one (a knuckle that carries one finger, swung parallel: the finger); of several such pairs,
+  the two whose fingers lie farthest apart (a three-finger hand: the most opposed). A gripper
+  of one moving jaw closes it against the link it hangs from (SO-101's fixed jaw). A hand of
+  finger chains (``finger1``, ``finger2``...) uses the tips of its two chains that lie
+  farthest apart.
 * **Opening.** Each finger opens along the way its joint moves it: both finger joints are
   nudged each way from the rest pose, and the nudge that puts the fingers' centres of mass
   farthest apart opens them; each finger's opening axis is its centre's move under that nudge,
@@ -172,12 +174,30 @@ def _fingers(
         for name, kind in analysis.groups.kinds.items()
         if kind in GRIPPING_KINDS or name.startswith(("gripper", "hand"))
     ]
+    children: dict[str, list[str]] = {}
+    for joint in model.joints:
+        children.setdefault(joint.parent, []).append(joint.child)
+
+    def tip(link: str) -> str:
+        # a finger that carries a chain of one link after another (a knuckle and the finger
+        # it swings parallel: the xArm gripper's) closes with the chain's last link
+        while len(children.get(link, [])) == 1:
+            link = children[link][0]
+        return link
+
+    def tips(a: str, b: str) -> tuple[str, str]:
+        # both fingers' chains, or neither: a knuckle beside a bar that carries nothing (PR2's
+        # parallel links) is no pair with the other side's fingertip
+        if children.get(a) and children.get(b) and (tip(a) != a) == (tip(b) != b):
+            return tip(a), tip(b)
+        return a, b
+
     pairs = []
     for group in gripping:
         for i, a in enumerate(group):
             for b in group[i + 1 :]:
                 if a.parent == b.parent and a.child != b.child:
-                    pairs.append((a.child, b.child, a.parent))
+                    pairs.append((*tips(a.child, b.child), a.parent))
     if not pairs:
         for group in gripping:
             if len(group) == 1:  # one jaw closing against the link it hangs from
