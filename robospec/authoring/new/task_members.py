@@ -123,8 +123,8 @@ def _loop_fingers(
     analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], qpos: Mapping[str, float]
 ) -> Fingers | None:
     """A linkage gripper's fingers: of each of two closed loops, the link that carries more
-    below it (the finger, not the knuckle that holds it parallel), as its fingertip: the link
-    at the end of its welded chain (a pad)."""
+    below it, else the deeper one (the finger, not the knuckle that holds it parallel), as its
+    fingertip: the link at the end of its welded chain (a pad)."""
     model = analysis.kinematics
     assert model is not None
     children: dict[str, list[str]] = {}
@@ -137,9 +137,16 @@ def _loop_fingers(
     def size(link: str) -> int:
         return 1 + sum(size(child) for child in children.get(link, []))
 
+    above_link = {joint.child: joint.parent for joint in model.joints}
+
+    def depth(link: str) -> int:
+        return 0 if link not in above_link else 1 + depth(above_link[link])
+
     tips = []
     for loop in analysis.loops[:2]:
-        finger = max(loop.links, key=size)
+        # on a tie (a pad that is a geom of its finger, as robosuite's Robotiq grippers have
+        # them), the link further down the tree: the coupler hangs from the crank
+        finger = max(loop.links, key=lambda link: (size(link), depth(link)))
         while len(welded.get(finger, [])) == 1:
             finger = welded[finger][0]
         tips.append(finger)
