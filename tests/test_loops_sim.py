@@ -7,6 +7,9 @@ coupled by tendons, which ManiSkill does not load) are scaffolded with one loop 
 - each loop's two anchor points stay within 1 mm of each other while it closes and under
   random actions.
 
+A small MJCF four-bar (tests/data/new/fourbar.xml, not a parallelogram) shows the stated case:
+its ``<connect>`` becomes the loop, and turning its crank turns its follower through it.
+
 No public URDF of a Robotiq gripper is on this machine (ManiSkill's own Robotiq agents load
 theirs from its asset download, which the corpus does not have).
 """
@@ -14,6 +17,7 @@ theirs from its asset download, which the corpus does not have).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -188,3 +192,45 @@ def test_a_scaffolded_robotiqs_loops_stay_closed_under_random_actions(gripper) -
     )
     assert run.worst_gap < CLOSED, run.worst_gap
     assert run.worst_turn < PARALLEL, math.degrees(run.worst_turn)
+
+
+FOURBAR = ROOT / "tests" / "data" / "new" / "fourbar.xml"
+
+
+def test_an_mjcf_connect_becomes_a_loop_that_turns_the_follower_with_the_crank(
+    tmp_path: Path,
+) -> None:
+    from ruamel.yaml import YAML
+
+    from robospec import register
+    from robospec.authoring.commands import run_new
+    from robospec.physics.sim import Sim
+    from robospec.pipeline import compile_spec
+
+    spec = tmp_path / "fourbar.yaml"
+    result = run_new(FOURBAR, spec, None, force=False).write()
+    assert not result.failed, result.diagnostics
+    data = YAML(typ="safe").load(spec.read_text())
+    (loop,) = data["loops"].values()
+    # the connect's anchor on the follower; on the coupler, where that point is at rest
+    assert loop["links"] == ["follower", "coupler"]
+    assert np.allclose(loop["at"], [[0, 0, 0.07], [0.06, 0, 0.02]], atol=1e-6)
+    assert data["groups"]["gripper"] == ["crank_joint"]  # the actuated joint drives it
+    compiled = compile_spec(spec)
+    assert compiled.robot is not None
+    register(spec)
+    robot = compiled.robot
+    with Sim(robot.uid, "pd_joint_pos") as sim:
+        sim.start(robot.keyframes[0])
+        worst = 0.0
+        for target in (0.4, -0.4):
+            for _ in range(int(SETTLE * sim.control_freq)):
+                sim.step(np.array([target]))
+                worst = max(worst, *_anchor_gaps(sim, robot))
+            qpos = dict(zip(sim.joint_names, sim.qpos()[0], strict=True))
+            assert abs(qpos["crank_joint"] - target) < 0.05, qpos
+            # a four-bar's follower turns the crank's way (no drive of its own moves it)
+            assert np.sign(qpos["follower_joint"]) == np.sign(target), qpos
+            assert abs(qpos["follower_joint"]) > 0.1, qpos
+    print(f"fourbar: worst anchor gap {worst * 1000:.4f} mm")
+    assert worst < CLOSED, worst

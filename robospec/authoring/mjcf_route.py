@@ -97,9 +97,15 @@ def with_file_facts(
     written = loaded.description
     links = set(description.link_names)
     joints = {j.name for j in description.joints}
+    carried = {"connect"}  # the compiled model's, in the description (derive.mujoco_urdf)
     facts: dict[str, Any] = {
         "couplings": tuple(c for c in written.couplings if {c.follower, c.mimic.joint} <= joints),
-        "closures": tuple(c for c in written.closures if {c.first, c.second} <= links),
+        # MuJoCo's compiled <connect>s (the description's), and what it does not carry as
+        # the file states it (<weld>)
+        "closures": description.closures
+        + tuple(
+            c for c in written.closures if {c.first, c.second} <= links and c.kind not in carried
+        ),
         "filtered_pairs": tuple(p for p in written.filtered_pairs if set(p) <= links),
     }
     return dataclasses.replace(description, **facts), codes
