@@ -234,3 +234,86 @@ def test_an_mjcf_connect_becomes_a_loop_that_turns_the_follower_with_the_crank(
             assert abs(qpos["follower_joint"]) > 0.1, qpos
     print(f"fourbar: worst anchor gap {worst * 1000:.4f} mm")
     assert worst < CLOSED, worst
+
+
+CUBE = 0.02  # m: half the cube's side (PickCube-v1's)
+HELD = 0.005  # m: how far the held cube may sink in two seconds (free, it falls 20 m)
+
+
+def _cube_scene():
+    """ManiSkill's empty scene with a cube (registered once)."""
+    import sapien
+    from mani_skill.envs.tasks.empty_env import EmptyEnv
+    from mani_skill.utils.building import actors
+    from mani_skill.utils.registration import REGISTERED_ENVS, register_env
+
+    name = "RobospecCubeBetweenPads-v1"
+    if name not in REGISTERED_ENVS:
+
+        @register_env(name, max_episode_steps=1000)
+        class CubeBetweenPads(EmptyEnv):
+            def _load_scene(self, options: dict) -> None:
+                super()._load_scene(options)
+                self.cube = actors.build_cube(
+                    self.scene,
+                    half_size=CUBE,
+                    color=[1, 0, 0, 1],
+                    name="cube",
+                    initial_pose=sapien.Pose([0, 0, 2]),
+                )
+
+    return name
+
+
+def test_a_scaffolded_robotiq_closed_on_a_cube_holds_it_against_gravity(gripper) -> None:
+    import gymnasium as gym
+    import sapien
+    import torch
+
+    from robospec.maniskill.headless import headless_loading
+    from robospec.output.register import sim_config_for
+
+    key, _, robot = gripper
+    closed = GRIPPERS[key]
+    with headless_loading():
+        env = gym.make(
+            _cube_scene(),
+            robot_uids=robot.uid,
+            obs_mode="state",
+            render_backend="none",
+            control_mode="pd_joint_pos",
+            sim_config=sim_config_for(robot.uid),
+        )
+    try:
+        env.reset(seed=0)
+        base = env.unwrapped
+        agent, cube = base.agent, base.cube
+        rest = robot.keyframes[0]  # mounted where its keyframe says (the 2F-140: 0.3 m up)
+        agent.robot.set_pose(sapien.Pose(list(rest.p), list(rest.q)))
+        names = [j.name for j in agent.controller.controllers["gripper"].joints]
+        opened = np.zeros(len(names))
+        for _ in range(base.control_freq):  # open, at the reset keyframe
+            env.step(opened)
+        # the cube at the tcp (between the pads), weightless while the pads close on it
+        tcp = agent.tcp.pose.raw_pose[0].cpu().numpy().astype(np.float64)
+        cube.set_pose(sapien.Pose(tcp[:3]))
+        body = cube._bodies[0]
+        body.disable_gravity = True
+        shut = np.array([closed[n] for n in names])
+        for _ in range(base.control_freq):
+            env.step(shut)
+        grasped = bool(agent.is_grasping(cube)[0])
+        body.disable_gravity = False
+        start = cube.pose.p[0].cpu().numpy().astype(np.float64)
+        for _ in range(2 * base.control_freq):
+            env.step(shut)
+        end = cube.pose.p[0].cpu().numpy().astype(np.float64)
+        still = bool(agent.is_grasping(cube)[0])
+        assert torch.isfinite(agent.robot.get_qpos()).all()
+    finally:
+        env.close()
+    sunk = float(start[2] - end[2])
+    print(f"{key}: cube sank {sunk * 1000:.3f} mm in 2 s; is_grasping {grasped}, then {still}")
+    assert sunk < HELD, sunk
+    assert np.linalg.norm(end[:2] - start[:2]) < HELD, (start, end)
+    assert grasped and still

@@ -42,8 +42,9 @@ def apply(document: Document, policy: str) -> None:
     if compiler is not None and compiler.get("angle") is not None:
         return  # the model says its unit: nothing to mend
     if compiler is None:
+        # on the root's own line, every element after it kept on its line
         compiler = etree.Element("compiler")
-        compiler.tail = root.text
+        compiler.tail, root.text = root.text, ""
         root.insert(0, compiler)
     compiler.set("angle", policy)
     at = compiler if isinstance(compiler.sourceline, int) else root
