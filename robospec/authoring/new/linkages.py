@@ -143,8 +143,6 @@ def _parallelograms(analysis: Analysed) -> tuple[FoundLoop, ...]:
     a coupler hinged on the crank, all on parallel axes, the follower's missing pin (its pivot
     moved by the crank's bar) inside both the follower's and the coupler's collision boxes —
     in the pose as written (every joint at 0), where the description assembles its linkage."""
-    import numpy as np
-
     description = analysis.description
     assert analysis.kinematics is not None
     placed = analysis.kinematics.at({})
@@ -156,38 +154,27 @@ def _parallelograms(analysis: Analysed) -> tuple[FoundLoop, ...]:
     ]
     boxes = _boxes(analysis)
     found: list[FoundLoop] = []
+    taken: set[frozenset[str]] = set()
     for crank in hinges:
         for coupler in (h for h in hinges if h.parent == crank.child):
             for follower in (h for h in hinges if h.parent == crank.parent and h is not crank):
-                if follower.child in (crank.child, coupler.child):
+                names = frozenset((crank.name, coupler.name, follower.name))
+                if names in taken or follower.child in (crank.child, coupler.child):
                     continue
-                if not _parallel(crank, coupler, follower):
-                    continue
-                bar = coupler.anchor - crank.anchor
-                if min(np.linalg.norm(bar), np.linalg.norm(follower.anchor - crank.anchor)) < (
-                    SHORTEST_BAR
-                ):
-                    continue
-                pin = np.array([*(follower.anchor + bar), 1.0])
-                links = placed.links
+                pin = _missing_pin(placed.links, boxes, crank, coupler, follower)
                 first, second = follower.child, coupler.child
-                on_first = (np.linalg.inv(links[first]) @ pin)[:3]
-                on_second = (np.linalg.inv(links[second]) @ pin)[:3]
-                if not (
-                    _inside(on_first, boxes.get(first)) and _inside(on_second, boxes.get(second))
-                ):
-                    continue
                 joints = _cycle(description, first, second)
-                if set(joints) != {crank.name, coupler.name, follower.name}:
+                if pin is None or set(joints) != names:
                     continue
                 if _coupled_alike(analysis, _rates(crank, coupler, follower)):
                     continue
+                taken.add(names)
                 driver = _driver(analysis, first, second, joints)
                 found.append(
                     FoundLoop(
                         _name(first, [f.name for f in found]),
                         (first, second),
-                        (_point(on_first), _point(on_second)),
+                        pin,
                         joints,
                         driver,
                         source=f"the parallelogram of '{crank.name}', '{coupler.name}' and "
@@ -196,6 +183,33 @@ def _parallelograms(analysis: Analysed) -> tuple[FoundLoop, ...]:
                     )
                 )
     return tuple(found)
+
+
+def _missing_pin(
+    links: Mapping[str, np.ndarray],
+    boxes: Mapping[str, tuple[tuple[float, ...], tuple[float, ...]]],
+    crank: _Hinge,
+    coupler: _Hinge,
+    follower: _Hinge,
+) -> tuple[tuple[float, float, float], tuple[float, float, float]] | None:
+    """Where the parallelogram's fourth pin is, in the follower's frame and the coupler's:
+    the follower's pivot moved as far as the coupler's pivot is from the crank's; None unless
+    the three hinges are parallel, its bars have a length, and the pin lies inside both links'
+    collision boxes."""
+    import numpy as np
+
+    if not _parallel(crank, coupler, follower):
+        return None
+    bar = coupler.anchor - crank.anchor
+    if min(np.linalg.norm(bar), np.linalg.norm(follower.anchor - crank.anchor)) < SHORTEST_BAR:
+        return None
+    pin = np.array([*(follower.anchor + bar), 1.0])
+    on_first = (np.linalg.inv(links[follower.child]) @ pin)[:3]
+    on_second = (np.linalg.inv(links[coupler.child]) @ pin)[:3]
+    inside = _inside(on_first, boxes.get(follower.child))
+    if not inside or not _inside(on_second, boxes.get(coupler.child)):
+        return None
+    return _point(on_first), _point(on_second)
 
 
 def _parallel(*hinges: _Hinge) -> bool:
