@@ -3,7 +3,7 @@ proof): robosuite's Robotiq 2F-85 and 2F-140 (MJCF; their four-bars are cut into
 coupled by tendons, which ManiSkill does not load) are scaffolded with one loop per finger, and
 
 - closing drives the pads together, each pad keeping its orientation to within 2° over the
-  stroke (a parallel gripper's pads stay parallel);
+  stroke and the two faces parallel to within 2° (a parallel gripper's pads);
 - each loop's two anchor points stay within 1 mm of each other while it closes and under
   random actions.
 
@@ -117,8 +117,10 @@ class _Run:
         self.root = sim.robot.root
         self.start = sim.start(robot.keyframes[0])
         self.reference = [_rotation(pad, self.root) for pad in self.pads]
+        self.fingers = robot.grasping[0].fingers
         self.worst_turn = 0.0
         self.worst_gap = 0.0
+        self.worst_facing = 0.0  # the two pads' faces: the angle between their normals
 
     def command(self, targets: dict[str, float], seconds: float = SETTLE) -> None:
         sim = self.sim
@@ -137,6 +139,13 @@ class _Run:
             for ref, pad in zip(self.reference, self.pads, strict=True)
         ]
         self.worst_turn = max(self.worst_turn, *turns)
+        # each pad's face normal: its opening axis (the scaffold's is_grasping), the two facing
+        normals = [
+            _rotation(pad, self.root)[:, finger.axis] * finger.sign
+            for pad, finger in zip(self.pads, self.fingers, strict=True)
+        ]
+        cosine = float(np.clip(-np.dot(normals[0], normals[1]), -1.0, 1.0))
+        self.worst_facing = max(self.worst_facing, math.acos(cosine))
         self.worst_gap = max(self.worst_gap, *_anchor_gaps(self.sim, self.robot))
 
     def pad_distance(self) -> float:
@@ -165,12 +174,14 @@ def test_closing_a_scaffolded_robotiq_drives_its_pads_together_parallel_with_its
         qpos = dict(zip(sim.joint_names, sim.qpos()[0], strict=True))
     print(
         f"{key}: pads {wide * 1000:.1f} mm apart open, {shut * 1000:.1f} mm closed; worst pad "
-        f"turn {math.degrees(run.worst_turn):.3f} deg; worst anchor gap "
+        f"turn {math.degrees(run.worst_turn):.3f} deg, faces "
+        f"{math.degrees(run.worst_facing):.3f} deg off parallel; worst anchor gap "
         f"{run.worst_gap * 1000:.4f} mm; drivers at {[round(qpos[j], 3) for j in closed]}"
     )
     assert all(abs(qpos[j] - target) < 0.1 for j, target in closed.items()), qpos
     assert shut < wide - 0.02, (wide, shut)  # the pads came at least 2 cm closer
     assert run.worst_turn < PARALLEL, math.degrees(run.worst_turn)
+    assert run.worst_facing < PARALLEL, math.degrees(run.worst_facing)
     assert run.worst_gap < CLOSED, run.worst_gap
 
 
