@@ -187,6 +187,13 @@ CORPUS: tuple[Robot, ...] = (
         ("dmc_quadruped", "dm_control quadruped", "suite/quadruped.xml", QUADRUPED, MJCF),
         ("dmc_humanoid", "dm_control humanoid", "suite/humanoid.xml", HUMANOID, MJCF),
     ),
+    # robosuite (MIT): the Robotiq grippers its robots carry, four-bars it couples with tendons
+    *_shipped_by(
+        "robosuite",
+        "robosuite/models/assets/grippers",
+        ("rsu_robotiq_2f85", "Robotiq 2F-85", "robotiq_gripper_85.xml", GRIPPER, MJCF),
+        ("rsu_robotiq_2f140", "Robotiq 2F-140", "robotiq_gripper_140.xml", GRIPPER, MJCF),
+    ),
     # gymnasium-robotics (MIT): OpenAI's Shadow hand
     *_shipped_by(
         "gymnasium-robotics",

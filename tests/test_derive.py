@@ -44,6 +44,7 @@ MJCF_BROKEN: dict[str, tuple[str, typing.Any]] = {
     "geoms": ("RS713/terrain.xml", "drop"),
     "mesh_names": ("RS715/unnamed.xml", "mujoco"),
     "asset_names": ("RS719/repeated.xml", "first"),
+    "angles": ("RS728/fragment.xml", "radian"),
     "geom_meshes": ("RS723/defaulted.xml", "defaults"),
     "axes": ("RS724/unaxed.xml", "mujoco"),
     "mesh_scale": ("RS716/scaled.xml", "defaults"),

@@ -308,3 +308,34 @@ def test_a_compile_error_that_names_no_line_is_at_the_element_it_names(tmp_path:
     line = text.splitlines().index(flex.rstrip("\n")) + 1
     where = errors[0].location
     assert (where.file.endswith("arm.xml"), where.line, where.column) == (True, line, 5)
+
+
+FOURBAR = ROOT / "tests" / "data" / "new" / "fourbar.xml"
+
+
+def test_a_connect_equality_is_carried_as_a_closed_loop_and_other_equalities_are_rs791(
+    tmp_path: Path,
+) -> None:
+    # the four-bar's <connect>: a closure between its two bodies, anchored in the first's
+    # frame as MuJoCo compiled it; nothing said of it
+    folder = tmp_path / "robot"
+    folder.mkdir()
+    shutil.copy(FOURBAR, folder / "fourbar.xml")
+    result = compile_spec(_spec_at(tmp_path, "robot/fourbar.xml"))
+    assert not has_errors(result.diagnostics), [d.format_text() for d in result.diagnostics]
+    assert result.description is not None
+    (closure,) = result.description.closures
+    assert (closure.kind, closure.first, closure.second) == ("connect", "follower", "coupler")
+    assert closure.anchor == pytest.approx((0.0, 0.0, 0.07))
+    said = [d.message for d in result.diagnostics if d.code == "RS791"]
+    assert not any("equality" in message for message in said), said
+    # a joint equality beside it is not carried: RS791 counts it alone
+    text = FOURBAR.read_text(encoding="utf-8").replace(
+        "  </equality>",
+        '    <joint name="tied" joint1="coupler_joint" joint2="crank_joint"/>\n  </equality>',
+    )
+    (folder / "fourbar.xml").write_text(text, encoding="utf-8")
+    result = compile_spec(_spec_at(tmp_path, "robot/fourbar.xml"))
+    assert result.description is not None and len(result.description.closures) == 1
+    said = [d.message for d in result.diagnostics if d.code == "RS791"]
+    assert any("equality constraints (<equality>): 1 in the model" in m for m in said), said

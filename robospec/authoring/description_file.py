@@ -115,16 +115,26 @@ def read_compiled_mjcf(path: Path) -> tuple[DescriptionFile | None, list[Diagnos
     """The MJCF at ``path`` as MuJoCo compiles it (``loader: mujoco``); None, with the
     diagnostics that say why, where MuJoCo refuses it (or the URDF written from it has
     errors)."""
-    from robospec.authoring.mjcf_route import why_mujoco, with_file_facts
+    from robospec.authoring.mjcf_route import mujoco_mends, why_mujoco, with_file_facts
     from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
 
     text = str(path)
+    # with the mends that change what MuJoCo itself reads (robospec.authoring.mjcf_route)
     reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
-    loaded = load(reader, DescriptionEntry(text, "mjcf", mends={}, loader="mujoco"))
+    loaded = load(reader, DescriptionEntry(text, "mjcf", mends=mujoco_mends(text), loader="mujoco"))
     if not isinstance(loaded, Loaded) or has_errors(reader.diagnostics):
         return None, reader.diagnostics
     ref = loaded.ref
     mjcf = ref.absolute.read_bytes()
+    mended = loaded.prepared.mends
+    if mended:  # the MJCF MuJoCo compiled: the mended copy (read alone, the same mends)
+        alone = load(
+            Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True),
+            DescriptionEntry(text, "mjcf", mends=mended),
+        )
+        if not isinstance(alone, Loaded):
+            return None, reader.diagnostics
+        mjcf = alone.ref.read_bytes()
     given = path if ref.kind == "file" else ref.absolute
     description, maniskill = with_file_facts(loaded.description, text)
     found = DescriptionFile(
@@ -133,6 +143,7 @@ def read_compiled_mjcf(path: Path) -> tuple[DescriptionFile | None, list[Diagnos
         description,
         _robot_name(mjcf),
         ref.read_bytes(),
+        mended,
         loader="mujoco",
         mjcf=mjcf,
         why=why_mujoco(mjcf, ref.absolute, maniskill),

@@ -14,6 +14,10 @@ from typing import Any
 
 from robospec.description import RobotDescription
 
+# the mends that change what MuJoCo itself reads or accepts, which the compiled model takes
+# where the file needs them: the unit of its angles, names defined twice (MuJoCo refuses them);
+# the others mend what ManiSkill's MJCF loader reads otherwise than MuJoCo
+MUJOCO_MENDS = ("angles", "asset_names")
 MAX_BODIES = 32  # ManiSkill's MJCF loader gives body k bit k of collision group 2
 _MASS_TOLERANCE = 0.01  # a total within 1% of MuJoCo's is not worth a word
 
@@ -93,9 +97,28 @@ def with_file_facts(
     written = loaded.description
     links = set(description.link_names)
     joints = {j.name for j in description.joints}
+    carried = {"connect"}  # the compiled model's, in the description (derive.mujoco_urdf)
     facts: dict[str, Any] = {
         "couplings": tuple(c for c in written.couplings if {c.follower, c.mimic.joint} <= joints),
-        "closures": tuple(c for c in written.closures if {c.first, c.second} <= links),
+        # MuJoCo's compiled <connect>s (the description's), and what it does not carry as
+        # the file states it (<weld>)
+        "closures": description.closures
+        + tuple(
+            c for c in written.closures if {c.first, c.second} <= links and c.kind not in carried
+        ),
         "filtered_pairs": tuple(p for p in written.filtered_pairs if set(p) <= links),
     }
     return dataclasses.replace(description, **facts), codes
+
+
+def mujoco_mends(mjcf_path: str) -> dict[str, Any]:
+    """The mends of :data:`MUJOCO_MENDS` the MJCF at ``mjcf_path`` needs (as robospec
+    suggests them for the file), for MuJoCo to compile what its author meant."""
+    from robospec.diagnostics import Location
+    from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
+
+    reader = Reader(Path(""), Path(""), lambda _: Location(mjcf_path), entry_is_file=True)
+    loaded = load(reader, DescriptionEntry(mjcf_path, "mjcf", mends=None))
+    if not isinstance(loaded, Loaded):
+        return {}
+    return {k: v for k, v in loaded.prepared.mends.items() if k in MUJOCO_MENDS}

@@ -75,7 +75,6 @@ class MjcfLoader(str, enum.Enum):
     mujoco = "mujoco"
 
 
-
 DiagnosticFormatOpt = Annotated[
     DiagnosticFormat,
     typer.Option(

@@ -28,10 +28,13 @@ writes what the compiled ``MjModel`` says:
   files written, named by their content, into robospec's cache (``derived/``; ``build`` copies
   them into the package like any mesh).
 
-What the URDF cannot carry is one warning per kind (RS791): armature, ``<equality>``,
-``<tendon>``, ``<contact>`` pairs and exclusions, actuators (the spec's controllers drive the
-joints), ball-joint cones (each hinge gets the cone's limit), planes, height fields, other body
-trees of a scene. A file MuJoCo refuses is RS790, at the line MuJoCo names.
+A ``<connect>`` between two of the robot's bodies is carried as a closed loop (the
+description's closures: ``robospec new`` writes it under ``loops:``, closed by a drive after
+loading). What the URDF cannot carry is one warning per kind (RS791): armature, the other
+``<equality>`` constraints, ``<tendon>``, ``<contact>`` pairs and exclusions, actuators (the
+spec's controllers drive the joints), ball-joint cones (each hinge gets the cone's limit),
+planes, height fields, other body trees of a scene. A file MuJoCo refuses is RS790, at the
+line MuJoCo names.
 """
 
 from __future__ import annotations
@@ -112,6 +115,7 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
         "keyframes": writer.keyframes(),
         "actuators": writer.actuators(),
         "floating_root": writer.floating,
+        "closures": writer.closures(),
     }
     if writer.root_pose is not None:  # the root link is the root body: no offset between
         facts.update(root_body_pose=writer.root_pose, root_body_offset=(ZERO, IDENTITY))
@@ -638,8 +642,11 @@ class _Writer:
 
     def _report_dropped(self) -> None:
         model = self.model
+        # a <connect> between two of the robot's bodies is carried: a closed loop (the
+        # description's closures, which new writes under loops:); other equalities are not
+        carried = len(self.closures())
         counted = (
-            ("equality", int(model.neq), "equality constraints (<equality>)"),
+            ("equality", int(model.neq) - carried, "equality constraints (<equality>)"),
             ("tendon", int(model.ntendon), "tendons (<tendon>)"),
             ("contact", int(model.npair) + int(model.nexclude), "contact pairs and exclusions"),
             ("actuator", int(model.nu), "actuators (the spec's controllers drive the joints)"),
@@ -703,6 +710,29 @@ class _Writer:
                     qvel=tuple(v for v in velocities if v[1]),
                 )
             )
+        return tuple(found)
+
+    def closures(self) -> tuple[Any, ...]:
+        """The model's ``<connect>`` equalities between two of the robot's bodies (or sites on
+        them) as closed loops: each anchor in the first body's frame, as MuJoCo compiled it
+        (``eq_data``'s first three numbers; a site's position in its body)."""
+        from robospec.description.facts import Closure
+
+        model, mj = self.model, self.mujoco
+        found = []
+        for eq in range(int(model.neq)):
+            if int(model.eq_type[eq]) != int(mj.mjtEq.mjEQ_CONNECT):
+                continue
+            first, second = int(model.eq_obj1id[eq]), int(model.eq_obj2id[eq])
+            anchor = _vector(model.eq_data[eq][:3])
+            if int(model.eq_objtype[eq]) == int(mj.mjtObj.mjOBJ_SITE):
+                anchor = _vector(model.site_pos[first])
+                first, second = int(model.site_bodyid[first]), int(model.site_bodyid[second])
+            if first not in self.links or second not in self.links or 0 in (first, second):
+                continue
+            name = mj.mj_id2name(model, mj.mjtObj.mjOBJ_EQUALITY, eq)
+            line = self.lines.of("connect", name)[1]
+            found.append(Closure("connect", self.links[first], self.links[second], anchor, line))
         return tuple(found)
 
     def actuators(self) -> tuple[Any, ...]:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import cast
 
+import robospec.derive.angles as angles
 import robospec.derive.asset_names as asset_names
 import robospec.derive.axes as axes
 import robospec.derive.bodies as bodies
@@ -44,6 +45,7 @@ MENDS: tuple[MendClass, ...] = cast(
         geoms,
         mesh_names,
         asset_names,
+        angles,
         geom_meshes,
         mesh_scale,
         axes,

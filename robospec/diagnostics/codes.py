@@ -245,6 +245,7 @@ _CODES = [
     Code("RS725", "mend changes nothing"),
     Code("RS726", "mend for another kind of description"),
     Code("RS727", "mend cannot mend an element as asked"),
+    Code("RS728", "mended: MJCF angles read as radians"),
     # -- what the spec's own sections change in the derived copy (RS780-RS789)
     Code("RS780", "derived: a planar base added above the base link"),
     Code("RS781", "a planar base cannot be added where it is asked"),

@@ -147,6 +147,13 @@ class Mends(StrictModel):
         "(what ManiSkill's loader does without a word).",
         examples=["first"],
     )
+    angles: Literal["radian"] | None = Field(
+        default=None,
+        description="MJCF. `radian`: read the model's angles (hinge ranges, `euler`, "
+        "`axisangle`) as radians where it gives no `<compiler angle>` (MJCF's default is "
+        "degrees): a fragment of a larger model that says radian, as robosuite's grippers.",
+        examples=["radian"],
+    )
     geom_meshes: Literal["defaults"] | None = Field(
         default=None,
         description="MJCF. `defaults`: write on each geom the `mesh` its `<default>` class "

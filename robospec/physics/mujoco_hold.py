@@ -81,7 +81,7 @@ def judge(
     from robospec.physics.mujoco_servos import drive, place, position_actuators
 
     try:
-        model = compiled_model(path.read_bytes(), str(path))
+        model = compiled_model(mended_mjcf(run, path), str(path))
     except (OSError, ValueError) as exc:
         return MujocoHold(skipped=f"MuJoCo cannot compile the file ({exc})")
     if model.nu == 0:
@@ -128,6 +128,21 @@ def mjcf_file(run: CheckRun) -> Path | None:
         return None
     absolute = run.robot.description.absolute
     return Path(absolute) if absolute is not None else None
+
+
+def mended_mjcf(run: CheckRun, path: Path) -> bytes:
+    """The MJCF at ``path`` with the mends the spec declares for it, which MuJoCo reads too
+    (the unit of its angles, names it defines twice: robosuite's Robotiq 2F-85 needs both to
+    compile as its author meant)."""
+    from robospec.derive import Source, derive
+
+    data = path.read_bytes()
+    declared = getattr(getattr(run.context.spec, "description", None), "mend", None)
+    mends = declared.model_dump(exclude_none=True) if declared is not None else {}
+    if not mends:
+        return data
+    derived = derive(Source(str(path), path.name, "mjcf", data), mends)
+    return derived.text.encode("utf-8") if not derived.refusals else data
 
 
 def _joint(model: Any, name: str) -> int:

@@ -202,7 +202,14 @@ def _set_apart_linkage(groups: Groups, loops: tuple[FoundLoop, ...]) -> tuple[Mi
         else:
             del groups.groups[name]
             del groups.kinds[name]
-    linkage = tuple(m for m in groups.mimic if m.follower in followers)
+    # the followers' rules: the linkage's own where its shape says them (a parallelogram),
+    # else the description's couplings
+    shaped = [MimicLink(f, loop.driver, m, o) for loop in loops for f, m, o in loop.follows]
+    ruled = {m.follower for m in shaped}
+    linkage = (
+        *shaped,
+        *(m for m in groups.mimic if m.follower in followers and m.follower not in ruled),
+    )
     groups.mimic[:] = [m for m in groups.mimic if m.follower in drivers and m.leader in drivers] + [
         m for m in groups.mimic if m.follower not in moved and m.leader not in moved
     ]

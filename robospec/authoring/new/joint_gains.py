@@ -12,11 +12,13 @@ cannot move at all (equal limits) get no drive
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 from robospec.authoring.new.analysis import RobotAnalysis, immobile_reason
 from robospec.authoring.new.gains import (
     NATURAL_FREQUENCY,
+    UNBOUNDED_SPAN,
     JointGains,
     analytic_gains,
 )
@@ -83,10 +85,17 @@ def joint_gains(
         if drive is not None and drive.stiffness is not None:
             # the model's own servo gains: what it was tuned with
             damping = drive.damping if drive.damping is not None else computed.damping
+            force_limit = computed.force_limit
+            if computed.rating is None:
+                # unrated: what the servo asks for across the joint's whole range (the
+                # natural-frequency gains' limit would clip the model's own law: robosuite's
+                # Robotiq 2F-85, kp 20, held to 0.07 N m)
+                reach = span if span is not None and math.isfinite(span) else UNBOUNDED_SPAN
+                force_limit = significant(abs(load.load) + drive.stiffness * reach)
             computed = JointGains(
                 significant(drive.stiffness),
                 significant(damping),
-                computed.force_limit,
+                force_limit,
                 computed.inertia,
                 computed.load,
                 0.0,  # the model's own gains: robospec claims nothing about them

@@ -125,8 +125,8 @@ def _loop_fingers(
     analysis: RobotAnalysis, poses: Mapping[str, np.ndarray], qpos: Mapping[str, float]
 ) -> Fingers | None:
     """A linkage gripper's fingers: of each of two closed loops, the link that carries more
-    below it (the finger, not the knuckle that holds it parallel), as its fingertip: the link
-    at the end of its welded chain (a pad)."""
+    below it, else the deeper one (the finger, not the knuckle that holds it parallel), as its
+    fingertip: the link at the end of its welded chain (a pad)."""
     model = analysis.kinematics
     assert model is not None
     children: dict[str, list[str]] = {}
@@ -139,9 +139,17 @@ def _loop_fingers(
     def size(link: str) -> int:
         return 1 + sum(size(child) for child in children.get(link, []))
 
-    tips = []
+    above_link = {joint.child: joint.parent for joint in model.joints}
+
+    def depth(link: str) -> int:
+        return 0 if link not in above_link else 1 + depth(above_link[link])
+
+    tips, drivers = [], []
     for loop in analysis.loops[:2]:
-        finger = max(loop.links, key=size)
+        drivers.append(loop.driver)
+        # on a tie (a pad that is a geom of its finger, as robosuite's Robotiq grippers have
+        # them), the link further down the tree: the coupler hangs from the crank
+        finger = max(loop.links, key=lambda link: (size(link), depth(link)))
         while len(welded.get(finger, [])) == 1:
             finger = welded[finger][0]
         tips.append(finger)
@@ -158,7 +166,7 @@ def _loop_fingers(
 
     parent = next((n for n in ancestors(tips[0]) if n in set(ancestors(tips[1]))), model.root)
     a, b = tips
-    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b))
+    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b, tuple(drivers)))
 
 
 def _fingers(
@@ -295,13 +303,16 @@ def _openings(
     qpos: Mapping[str, float],
     a: str,
     b: str,
+    drivers: tuple[str, str] | None = None,
 ) -> tuple[str, str]:
     """Each finger's opening axis: how the joint moving it carries it as the fingers part,
-    from the rest pose ``qpos`` (``poses``)."""
+    from the rest pose ``qpos`` (``poses``). A linkage's finger moves as its loop's
+    ``drivers`` move the linkage, its followers with them (robosuite's Robotiq pads, which
+    their own joints alone would turn about the pin instead)."""
     model = analysis.kinematics
     assert model is not None
     moving = {j.child: j.name for j in model.joints if j.type != "fixed"}
-    joints = [_moving_joint_above(model, moving, link) for link in (a, b)]
+    joints = list(drivers or [_moving_joint_above(model, moving, link) for link in (a, b)])
     rest = dict(qpos)
     best: tuple[float, Mapping[str, np.ndarray]] | None = None
     for signs in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
@@ -309,6 +320,9 @@ def _openings(
         for joint, sign in zip(joints, signs, strict=True):
             if joint is not None:
                 nudged[joint] = qpos.get(joint, 0.0) + sign * NUDGE
+        for rule in analysis.linkage_mimic:  # the loops' followers follow their drivers
+            if rule.leader in joints:
+                nudged[rule.follower] = nudged[rule.leader] * rule.multiplier + rule.offset
         moved = model.at(nudged).links
         apart = _distance(analysis, moved, a, b)
         if best is None or apart > best[0] + 1e-12:
