@@ -166,7 +166,7 @@ def _loop_fingers(
 
     parent = next((n for n in ancestors(tips[0]) if n in set(ancestors(tips[1]))), model.root)
     a, b = tips
-    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b, tuple(drivers)))
+    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b, (drivers[0], drivers[1])))
 
 
 def _fingers(
@@ -193,7 +193,7 @@ def _fingers(
             link = children[link][0]
         return link
 
-    def tips(a: str, b: str) -> tuple[str, str]:
+    def chain_ends(a: str, b: str) -> tuple[str, str]:
         # both fingers' chains, or neither: a knuckle beside a bar that carries nothing (PR2's
         # parallel links) is no pair with the other side's fingertip
         if children.get(a) and children.get(b) and (tip(a) != a) == (tip(b) != b):
@@ -205,15 +205,15 @@ def _fingers(
         for i, a in enumerate(group):
             for b in group[i + 1 :]:
                 if a.parent == b.parent and a.child != b.child:
-                    pairs.append((*tips(a.child, b.child), a.parent))
+                    pairs.append((*chain_ends(a.child, b.child), a.parent))
     if not pairs:
         for group in gripping:
             if len(group) == 1:  # one jaw closing against the link it hangs from
                 pairs.append((group[0].child, group[0].parent, group[0].parent))
     if not pairs:
-        tips = _finger_tips(analysis, poses)
-        if tips is not None:
-            pairs.append(tips)
+        hand = _finger_tips(analysis, poses)
+        if hand is not None:
+            pairs.append(hand)
     if not pairs:
         return None
     left, right, parent = max(pairs, key=lambda pair: _distance(analysis, poses, pair[0], pair[1]))
