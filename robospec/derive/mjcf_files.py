@@ -100,9 +100,17 @@ def compiled_with_warnings(text: bytes, path: str) -> tuple[Any, list[str]]:
         xml = carried_text(text.decode("utf-8"), path, lambda file: file)
     except UnicodeDecodeError as exc:
         raise ValueError(str(exc)) from exc
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", UserWarning)
-        # the parser's and the compiler's errors are ValueErrors
-        model = mujoco.MjSpec.from_string(xml).compile()
-    said = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    # the XML parser's own warnings ("XML contains a 'NaN'") go to MuJoCo's user warning
+    # handler, whose default also appends them to MUJOCO_LOG.TXT in the working folder
+    parsed: list[str] = []
+    before = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(parsed.append)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            # the parser's and the compiler's errors are ValueErrors
+            model = mujoco.MjSpec.from_string(xml).compile()
+    finally:
+        mujoco.set_mju_user_warning(before)
+    said = parsed + [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
     return model, list(dict.fromkeys(said))
