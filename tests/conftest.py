@@ -43,6 +43,9 @@ from robospec.maniskill.installed import installed
 if TYPE_CHECKING:
     from click.testing import Result
 
+# every run writes where its time went, per test file (tests/durations.py)
+pytest_plugins = ["durations"]
+
 ROOT = Path(__file__).resolve().parent.parent
 # property tests draw ROBOSPEC_FUZZ_SCALE times their examples (scripts/test --fast: a fifth)
 FUZZ_SCALE = max(float(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 0.01)
