@@ -1,8 +1,8 @@
 """Where a test run's time goes, written down by every run (a pytest plugin that
 tests/conftest.py loads): ``out/test-durations-<ManiSkill>.json`` (``out/`` is ignored by git;
 one file per ManiSkill, so CI's nightly run does not overwrite its 3.0.1 figures) holds each test
-file's seconds (setup, call and teardown of its tests), its count of tests, the xdist worker that
-ran it, and when on the run's clock it started and ended; the end of the run's summary prints the
+file's seconds (setup, call and teardown of its tests), its count of tests, the xdist workers that
+ran them, and when on the run's clock it started and ended; the end of the run's summary prints the
 busiest files and each worker's busy time, so that CI's log says it too. ``docs/development.md``
 ("CI") reads these figures; the next change to CI starts from them, not from guesses.
 """
@@ -26,7 +26,12 @@ class _Durations:
     def __init__(self) -> None:
         self.started = time.time()
         self.files: dict[str, dict[str, Any]] = defaultdict(
-            lambda: {"seconds": 0.0, "tests": 0, "worker": None, "start": None, "end": None}
+            lambda: {"seconds": 0.0, "tests": 0, "workers": [], "start": None, "end": None}
+        )
+        # each worker's busy seconds, and when it ended its last test: a worker that ends long
+        # before the run does sat idle while one long file kept the other busy
+        self.workers: dict[str, dict[str, float]] = defaultdict(
+            lambda: {"seconds": 0.0, "end": 0.0}
         )
 
     def add(self, report: pytest.TestReport) -> None:
@@ -35,20 +40,18 @@ class _Durations:
         if report.when == "call" or (report.when == "setup" and report.outcome != "passed"):
             row["tests"] += 1
         node = getattr(report, "node", None)  # pytest-xdist's controller: the worker's
-        row["worker"] = node.gateway.id if node is not None else "main"
+        name = node.gateway.id if node is not None else "main"
+        if name not in row["workers"]:  # --dist load spreads a file's tests over workers
+            row["workers"].append(name)
         start = getattr(report, "start", 0) - self.started
         stop = getattr(report, "stop", 0) - self.started
+        worker = self.workers[name]
+        worker["seconds"] += report.duration
+        worker["end"] = max(worker["end"], stop)
         row["start"] = start if row["start"] is None else min(row["start"], start)
         row["end"] = stop if row["end"] is None else max(row["end"], stop)
 
     def document(self, config: pytest.Config, label: str) -> dict[str, Any]:
-        # each worker's busy seconds, and when it ended its last file: a worker that ends long
-        # before the run does sat idle while one long file kept the other busy
-        workers: dict[str, dict[str, float]] = defaultdict(lambda: {"seconds": 0.0, "end": 0.0})
-        for row in self.files.values():
-            worker = workers[row["worker"]]
-            worker["seconds"] += row["seconds"]
-            worker["end"] = max(worker["end"], row["end"] or 0.0)
         files = dict(sorted(self.files.items(), key=lambda item: -item[1]["seconds"]))
         return {
             "maniskill": label,
@@ -57,7 +60,7 @@ class _Durations:
             "wall_seconds": round(time.time() - self.started, 1),
             "workers": {
                 name: {key: round(value, 1) for key, value in worker.items()}
-                for name, worker in sorted(workers.items())
+                for name, worker in sorted(self.workers.items())
             },
             "files": {
                 name: {
@@ -99,7 +102,7 @@ def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> Non
         terminalreporter.write_line(f"test durations not written: {error}")
         return
     workers = ", ".join(
-        f"{name} {worker['seconds']:.0f} s (last file ended at {worker['end']:.0f} s)"
+        f"{name} {worker['seconds']:.0f} s (its last test ended at {worker['end']:.0f} s)"
         for name, worker in document["workers"].items()
     )
     terminalreporter.write_line(
@@ -108,6 +111,6 @@ def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> Non
     )
     for name, row in list(document["files"].items())[:SHOWN]:
         terminalreporter.write_line(
-            f"  {row['seconds']:7.1f} s  {row['tests']:4d} tests  {row['worker']:>4}  "
+            f"  {row['seconds']:7.1f} s  {row['tests']:4d} tests  {','.join(row['workers']):>7}  "
             f"{row['start']:6.0f}-{row['end']:6.0f} s  {name}"
         )
