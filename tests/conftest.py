@@ -43,6 +43,9 @@ from robospec.maniskill.installed import installed
 if TYPE_CHECKING:
     from click.testing import Result
 
+# every run writes where its time went, per test file (tests/durations.py)
+pytest_plugins = ["durations"]
+
 ROOT = Path(__file__).resolve().parent.parent
 # property tests draw ROBOSPEC_FUZZ_SCALE times their examples (scripts/test --fast: a fifth)
 FUZZ_SCALE = max(float(os.environ.get("ROBOSPEC_FUZZ_SCALE", "1")), 0.01)
@@ -75,6 +78,17 @@ SAME_ON_EVERY_MANISKILL = pytest.mark.skipif(
     MANISKILL_VERSION == "nightly",
     reason="the same on every ManiSkill version: judged on 3.0.1",
 )
+
+
+def sample_on_nightly(values: Iterable[Any], sample: Container[Any], why: str) -> list[Any]:
+    """A sweep over every shipped robot whose mechanism ``sample`` proves on ManiSkill's
+    nightly: the others are judged on 3.0.1 only (``why``: what the sample covers). CI's
+    nightly run exists to find what the nightly breaks, and a change there that breaks one
+    robot of such a sweep breaks the mechanism the sample takes too."""
+    skip = pytest.mark.skipif(MANISKILL_VERSION == "nightly", reason=f"sampled there: {why}")
+    return [pytest.param(value, marks=[] if value in sample else [skip]) for value in values]
+
+
 # The control modes this ManiSkill cannot build, ManiSkill's agent and the spec's alike
 # (docs/zoo.md, "ManiSkill versions"): the nightly's PDEEPosController reads root_link before
 # setting it whenever root_link_name is set, as Fetch's end-effector controllers set it

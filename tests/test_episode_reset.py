@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import sample_on_nightly
 from maniskill_compare import TWINS, registered_maniskill_specs, shared_cache_dir
 
 pytestmark = [
@@ -199,8 +200,26 @@ def test_set_state_restores_the_observation(agents: dict[str, type], uid: str) -
         env.close()
 
 
+# on the nightly, twins of each kind: an arm and a mobile base with keyframes, hands without one
+# (the Allegro's), hands with mimic joints (the NaN branch), a humanoid; the module's other
+# tests take the reset itself on the Panda and twolink there
+NIGHTLY_TWINS = {
+    "rs_panda",
+    "rs_fetch",
+    "rs_allegro_hand_left",
+    "rs_floating_inspire_hand_right",
+    "rs_floating_ability_hand_right",
+    "rs_unitree_g1",
+}
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("uid", sorted(TWINS.values()))
+@pytest.mark.parametrize(
+    "uid",
+    sample_on_nightly(
+        sorted(TWINS.values()), NIGHTLY_TWINS, "a twin of each kind (keyframe, none, mimic)"
+    ),
+)
 def test_every_twin_with_a_keyframe_repeats_its_first_observation_after_a_seeded_reset(
     agents: dict[str, type], uid: str
 ) -> None:

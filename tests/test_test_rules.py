@@ -49,6 +49,8 @@ SUITE = {
 @pytest.fixture
 def suite(pytester: pytest.Pytester, monkeypatch: pytest.MonkeyPatch) -> pytest.Pytester:
     pytester.makeconftest((ROOT / "tests" / "conftest.py").read_text(encoding="utf-8"))
+    # the plugin the conftest loads (where the run's time went)
+    pytester.makepyfile(durations=(ROOT / "tests" / "durations.py").read_text(encoding="utf-8"))
     pytester.makeini(
         "[pytest]\nmarkers =\n    maniskill\n    slow\n    minutes\n"
         "asyncio_default_fixture_loop_scope = function\n"
