@@ -22,7 +22,7 @@ the middle four in the probe's child process, in the order the scaffold's commen
 from __future__ import annotations
 
 import math
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Collection, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 
 from robospec.authoring.new.joint_space import NEIGHBOURS, JointSpace
@@ -268,16 +268,8 @@ def mechanism_pairs(space: JointSpace, qpos: list[float], sweep: Sweep) -> list[
     gripper is a parallelogram of four bars a side; its two sides' bars, 3 to 9 mm apart at
     rest, struck each other at 100 rad/s under random actions and carried a bar 0.14 rad past
     its limit: left out, no joint passes it."""
-    groups: dict[int, set[int]] = {}
-    for follower, leader, _, _ in space.mimic:
-        groups.setdefault(leader, {leader}).add(follower)
     pairs: set[Pair] = set()
-    for leader, members in sorted(groups.items()):
-        low, high = space.limits[leader]
-        if low is None or high is None:
-            continue
-        joints = {space.joints[i] for i in members}
-        links = {link for link in space.tree.up if space.driven_by(link) in joints}
+    for leader, (low, high), links in _mechanisms(space):
         deepest = sweep.deepest(space, qpos, leader, (low, high), coupled=True)
         pairs.update(
             (a, b)
@@ -294,22 +286,32 @@ def pinned_pairs(space: JointSpace, qpos: list[float], sweep: Sweep) -> list[Pai
     the pin it leaves out. The xArm gripper's inner knuckle is pinned to its finger, which
     hangs from the outer knuckle: 12 mm into each other at every opening, they were pushed
     apart by PhysX each step, and the gripper's drive spun away."""
-    groups: dict[int, set[int]] = {}
-    for follower, leader, _, _ in space.mimic:
-        groups.setdefault(leader, {leader}).add(follower)
     pairs: set[Pair] = set()
-    for leader, members in sorted(groups.items()):
-        low, high = space.limits[leader]
-        if low is None or high is None:
-            continue
-        joints = {space.joints[i] for i in members}
-        links = {link for link in space.tree.up if space.driven_by(link) in joints}
+    for leader, (low, high), links in _mechanisms(space):
         pairs.update(
             (a, b)
             for a, b in sweep.everywhere(space, qpos, leader, (low, high))
             if a in links and b in links and not _joined(space.tree, a, b)
         )
     return sorted(pairs)
+
+
+def _mechanisms(space: JointSpace) -> Iterator[tuple[int, tuple[float, float], set[str]]]:
+    """Each mimic coupling with a bounded leader: the leader, its range, and the links that
+    the leader and its followers move."""
+    groups: dict[int, set[int]] = {}
+    for follower, leader, _, _ in space.mimic:
+        groups.setdefault(leader, {leader}).add(follower)
+    for leader, members in sorted(groups.items()):
+        low, high = space.limits[leader]
+        if low is None or high is None:
+            continue
+        joints = {space.joints[i] for i in members}
+        yield (
+            leader,
+            (low, high),
+            {link for link in space.tree.up if space.driven_by(link) in joints},
+        )
 
 
 def _joined(tree: KinematicTree, a: str, b: str) -> bool:
