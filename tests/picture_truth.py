@@ -140,20 +140,28 @@ def picture_faults(truth: Truth, picture: Path) -> list[str]:
 
 
 def links_off_the_robot(truth: Truth, robot: np.ndarray) -> tuple[list[str], int]:
-    """The links with a shape whose origin, where SAPIEN puts it, lands on none of the
-    ``robot`` pixels (a mask of the picture); and how many links were looked for."""
+    """The links with a shape whose origin, and each of whose shapes' origins, where SAPIEN
+    puts them, land on none of the ``robot`` pixels (a mask of the picture); and how many
+    links were looked for. (A link's frame may stand away from its own shapes: the Robotiq
+    2F-140's right_gripper frame sits at its knuckle's pin, beside the pad it carries.)"""
     near = _grown(robot, REACH_PX)
-    shaped = sorted(
-        {shape.link for shape in truth.pictured.shapes if shape.layer == truth.layer}  # type: ignore[attr-defined]
-    )
-    off = []
-    for link in shaped:
-        u, v, depth = truth.view.project(truth.sapien[link][:3, 3])  # type: ignore[attr-defined]
+    pictured = truth.pictured  # type: ignore[attr-defined]
+    points: dict[str, list[np.ndarray]] = {}
+    for shape, pose in zip(pictured.shapes, pictured.poses, strict=True):
+        if shape.layer == truth.layer:  # type: ignore[attr-defined]
+            at_sapien = truth.sapien[shape.link] @ np.linalg.inv(pictured.links[shape.link]) @ pose  # type: ignore[attr-defined]
+            points.setdefault(shape.link, [truth.sapien[shape.link][:3, 3]]).append(
+                at_sapien[:3, 3]
+            )  # type: ignore[attr-defined]
+
+    def lands(point: np.ndarray) -> bool:
+        u, v, depth = truth.view.project(point)  # type: ignore[attr-defined]
         column, row = int(np.floor(u)), int(np.floor(v))
         inside = 0 <= row < near.shape[0] and 0 <= column < near.shape[1] and depth > 0
-        if not (inside and near[row, column]):
-            off.append(link)
-    return off, len(shaped)
+        return bool(inside and near[row, column])
+
+    off = [link for link in sorted(points) if not any(map(lands, points[link]))]
+    return off, len(points)
 
 
 def _grown(mask: np.ndarray, reach: int) -> np.ndarray:

@@ -186,10 +186,14 @@ def _fingers(
     for joint in model.joints:
         children.setdefault(joint.parent, []).append(joint.child)
 
+    swinging = {joint.child for joint in model.joints if joint.type != "fixed"}
+
     def tip(link: str) -> str:
-        # a finger that carries a chain of one link after another (a knuckle and the finger
-        # it swings parallel: the xArm gripper's) closes with the chain's last link
-        while len(children.get(link, [])) == 1:
+        # a finger that carries a chain of one link after another, each swinging on a joint
+        # (a knuckle and the finger it swings parallel: the xArm gripper's), closes with the
+        # chain's last link; a pad welded to its finger is the finger still (ManiSkill's Panda
+        # grasps with panda_leftfinger, not its pad)
+        while len(children.get(link, [])) == 1 and children[link][0] in swinging:
             link = children[link][0]
         return link
 
