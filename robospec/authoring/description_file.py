@@ -115,28 +115,33 @@ def read_compiled_mjcf(path: Path) -> tuple[DescriptionFile | None, list[Diagnos
     """The MJCF at ``path`` as MuJoCo compiles it (``loader: mujoco``); None, with the
     diagnostics that say why, where MuJoCo refuses it (or the URDF written from it has
     errors)."""
-    from robospec.authoring.mjcf_route import mujoco_mends, why_mujoco, with_file_facts
+    from robospec.authoring.mjcf_route import (
+        maniskill_reading,
+        mujoco_mends,
+        why_mujoco,
+        with_file_facts,
+    )
+    from robospec.derive import Source, mended_bytes
     from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
 
     text = str(path)
+    as_maniskill = maniskill_reading(text)
     # with the mends that change what MuJoCo itself reads (robospec.authoring.mjcf_route)
     reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
-    loaded = load(reader, DescriptionEntry(text, "mjcf", mends=mujoco_mends(text), loader="mujoco"))
+    mends = mujoco_mends(as_maniskill)
+    loaded = load(reader, DescriptionEntry(text, "mjcf", mends=mends, loader="mujoco"))
     if not isinstance(loaded, Loaded) or has_errors(reader.diagnostics):
         return None, reader.diagnostics
     ref = loaded.ref
-    mjcf = ref.absolute.read_bytes()
+    mjcf: bytes | None = ref.absolute.read_bytes()
     mended = loaded.prepared.mends
-    if mended:  # the MJCF MuJoCo compiled: the mended copy (read alone, the same mends)
-        alone = load(
-            Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True),
-            DescriptionEntry(text, "mjcf", mends=mended),
-        )
-        if not isinstance(alone, Loaded):
+    if mended:  # the MJCF MuJoCo compiled: the file with the same mends
+        mjcf = mended_bytes(Source(str(ref.absolute), text, "mjcf", mjcf or b""), mended)
+        if mjcf is None:
             return None, reader.diagnostics
-        mjcf = alone.ref.read_bytes()
+    assert mjcf is not None
     given = path if ref.kind == "file" else ref.absolute
-    description, maniskill = with_file_facts(loaded.description, text)
+    description, maniskill = with_file_facts(loaded.description, as_maniskill)
     found = DescriptionFile(
         given,
         "mjcf",

@@ -9,10 +9,14 @@ geoms it would give no mass.
 from __future__ import annotations
 
 import dataclasses
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.description import RobotDescription
+
+if TYPE_CHECKING:
+    from robospec.resolve.description_loading import Loaded
 
 # the mends that change what MuJoCo itself reads or accepts, which the compiled model takes
 # where the file needs them: the unit of its angles, names defined twice (MuJoCo refuses them);
@@ -78,21 +82,37 @@ def why_mujoco(mjcf: bytes, path: Path, maniskill: frozenset[str]) -> str:
     return "MuJoCo's compiled model: ManiSkill's MJCF loader would " + "; ".join(wrong)
 
 
+@dataclass(frozen=True)
+class ManiSkillReading:
+    """An MJCF file as ManiSkill's own loader would read it, with the mends it needs: the
+    loaded description (None: it cannot be read so) and the codes robospec says of it."""
+
+    loaded: Loaded | None
+    codes: frozenset[str]
+
+
+def maniskill_reading(mjcf_path: str) -> ManiSkillReading:
+    from robospec.diagnostics import Location
+    from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
+
+    reader = Reader(Path(""), Path(""), lambda _: Location(mjcf_path), entry_is_file=True)
+    loaded = load(reader, DescriptionEntry(mjcf_path, "mjcf", mends=None))
+    return ManiSkillReading(
+        loaded if isinstance(loaded, Loaded) else None,
+        frozenset(d.code for d in reader.diagnostics),
+    )
+
+
 def with_file_facts(
-    description: RobotDescription, mjcf_path: str
+    description: RobotDescription, reading: ManiSkillReading
 ) -> tuple[RobotDescription, frozenset[str]]:
     """``description`` (the compiled URDF's) with the joint couplings, closed loops and
     collision filters robospec reads from the MJCF file as written (what ``new`` turns into
     mimic controllers, ``loops`` and ``never_collide``), where it reads them — the file read as
     ManiSkill's loader would, with the mends it needs (a file it cannot read gives none) — and
     the codes of what robospec says of that reading."""
-    from robospec.diagnostics import Location
-    from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
-
-    reader = Reader(Path(""), Path(""), lambda _: Location(mjcf_path), entry_is_file=True)
-    loaded = load(reader, DescriptionEntry(mjcf_path, "mjcf", mends=None))
-    codes = frozenset(d.code for d in reader.diagnostics)
-    if not isinstance(loaded, Loaded):
+    loaded, codes = reading.loaded, reading.codes
+    if loaded is None:
         return description, codes
     written = loaded.description
     links = set(description.link_names)
@@ -111,14 +131,9 @@ def with_file_facts(
     return dataclasses.replace(description, **facts), codes
 
 
-def mujoco_mends(mjcf_path: str) -> dict[str, Any]:
-    """The mends of :data:`MUJOCO_MENDS` the MJCF at ``mjcf_path`` needs (as robospec
-    suggests them for the file), for MuJoCo to compile what its author meant."""
-    from robospec.diagnostics import Location
-    from robospec.resolve.description_loading import DescriptionEntry, Loaded, Reader, load
-
-    reader = Reader(Path(""), Path(""), lambda _: Location(mjcf_path), entry_is_file=True)
-    loaded = load(reader, DescriptionEntry(mjcf_path, "mjcf", mends=None))
-    if not isinstance(loaded, Loaded):
+def mujoco_mends(reading: ManiSkillReading) -> dict[str, Any]:
+    """The mends of :data:`MUJOCO_MENDS` the MJCF ``reading`` read needs (as robospec suggests
+    them for the file), for MuJoCo to compile what its author meant."""
+    if reading.loaded is None:
         return {}
-    return {k: v for k, v in loaded.prepared.mends.items() if k in MUJOCO_MENDS}
+    return {k: v for k, v in reading.loaded.prepared.mends.items() if k in MUJOCO_MENDS}

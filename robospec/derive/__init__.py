@@ -110,6 +110,13 @@ class Derived:
         return self.unexplained(out)
 
 
+def mended_bytes(source: Source, mends: Mapping[str, Policy]) -> bytes | None:
+    """``source``'s bytes with ``mends`` applied (the file MuJoCo compiles where a spec mends
+    an MJCF); None where a mend refuses an element."""
+    derived = derive(source, mends)
+    return None if derived.refusals else derived.text.encode("utf-8")
+
+
 def derive(
     source: Source, requested: Mapping[str, Policy], sections: Mapping[str, Policy] | None = None
 ) -> Derived:

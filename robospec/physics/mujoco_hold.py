@@ -134,15 +134,14 @@ def mended_mjcf(run: CheckRun, path: Path) -> bytes:
     """The MJCF at ``path`` with the mends the spec declares for it, which MuJoCo reads too
     (the unit of its angles, names it defines twice: robosuite's Robotiq 2F-85 needs both to
     compile as its author meant)."""
-    from robospec.derive import Source, derive
+    from robospec.derive import Source, mended_bytes
 
     data = path.read_bytes()
     declared = getattr(getattr(run.context.spec, "description", None), "mend", None)
     mends = declared.model_dump(exclude_none=True) if declared is not None else {}
     if not mends:
         return data
-    derived = derive(Source(str(path), path.name, "mjcf", data), mends)
-    return derived.text.encode("utf-8") if not derived.refusals else data
+    return mended_bytes(Source(str(path), path.name, "mjcf", data), mends) or data
 
 
 def _joint(model: Any, name: str) -> int:
