@@ -61,10 +61,26 @@ def validate(spec: Path) -> None:
     assert compiled.robot is not None
 
 
+@pytest.fixture(scope="module")
+def real_scaffolds(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """Each real robot's scaffold, written once for the module's tests that read it (Fetch's
+    ready-pose search alone costs seconds)."""
+    return {}
+
+
+def real_scaffold(scaffolds: dict[str, Path], robot: str, folder: Path) -> tuple[Path, dict]:
+    if robot not in scaffolds:
+        out = folder / (robot.replace("/", "_") + ".yaml")
+        scaffold(maniskill_assets() / "robots" / robot, out)
+        scaffolds[robot] = out
+    return scaffolds[robot], load(scaffolds[robot])
+
+
 @pytest.mark.parametrize("robot", REAL_ROBOTS)
-def test_scaffold_of_a_real_robot_validates_with_no_errors(tmp_path: Path, robot: str) -> None:
-    out = tmp_path / "spec.yaml"
-    data = scaffold(maniskill_assets() / "robots" / robot, out)
+def test_scaffold_of_a_real_robot_validates_with_no_errors(
+    real_scaffolds: dict[str, Path], tmp_path_factory: pytest.TempPathFactory, robot: str
+) -> None:
+    out, data = real_scaffold(real_scaffolds, robot, tmp_path_factory.mktemp("real"))
     validate(out)
     assert list(data["control_modes"]) == ["pd_joint_delta_pos", "pd_joint_pos"]
     # every group is driven in both modes
@@ -89,10 +105,9 @@ def test_scaffold_of_the_xacro_robot_validates_and_names_it_relative_to_the_spec
 
 
 def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
-    tmp_path: Path,
+    real_scaffolds: dict[str, Path], tmp_path_factory: pytest.TempPathFactory
 ) -> None:
-    out = tmp_path / "panda.yaml"
-    data = scaffold(maniskill_assets() / "robots/panda/panda_v2.urdf", out)
+    _, data = real_scaffold(real_scaffolds, "panda/panda_v2.urdf", tmp_path_factory.mktemp("real"))
     assert data["uid"] == "rs_panda"  # 'panda' is ManiSkill's own uid
     assert data["description"] == {"urdf": "{maniskill_assets}/robots/panda/panda_v2.urdf"}
     assert data["groups"]["arm"] == [f"panda_joint{i}" for i in range(1, 8)]
@@ -129,8 +144,10 @@ def test_panda_scaffold_guesses_arm_and_a_mimic_gripper_and_a_safe_keyframe(
     assert absolute["stiffness"]["panda_joint2"] > 100 * absolute["stiffness"]["panda_joint7"]
 
 
-def test_fetch_scaffold_drives_its_planar_base_forward_like_fetch_does(tmp_path: Path) -> None:
-    data = scaffold(maniskill_assets() / "robots/fetch/fetch.urdf", tmp_path / "fetch.yaml")
+def test_fetch_scaffold_drives_its_planar_base_forward_like_fetch_does(
+    real_scaffolds: dict[str, Path], tmp_path_factory: pytest.TempPathFactory
+) -> None:
+    _, data = real_scaffold(real_scaffolds, "fetch/fetch.urdf", tmp_path_factory.mktemp("real"))
     assert data["groups"]["base"] == [
         "root_x_axis_joint",
         "root_y_axis_joint",
@@ -145,10 +162,11 @@ def test_fetch_scaffold_drives_its_planar_base_forward_like_fetch_does(tmp_path:
     assert "loader" not in data
 
 
-def test_hand_of_identical_fingers_gets_one_group_per_finger_and_no_arm(tmp_path: Path) -> None:
-    data = scaffold(
-        maniskill_assets() / "robots/allegro/allegro_hand_right.urdf", tmp_path / "a.yaml"
-    )
+def test_hand_of_identical_fingers_gets_one_group_per_finger_and_no_arm(
+    real_scaffolds: dict[str, Path], tmp_path_factory: pytest.TempPathFactory
+) -> None:
+    robot = "allegro/allegro_hand_right.urdf"
+    _, data = real_scaffold(real_scaffolds, robot, tmp_path_factory.mktemp("real"))
     assert list(data["groups"]) == ["finger1", "finger2", "finger3", "finger4"]
     assert data["groups"]["finger2"] == ["joint_4.0", "joint_5.0", "joint_6.0", "joint_7.0"]
 

@@ -51,6 +51,10 @@ class _UrdfPoser:
         self.axes = {
             j.name: np.asarray(model.joint_map[j.name].axis, dtype=np.float64) for j in self.moving
         }
+        # the joint values the model is at: yourdfpy keeps a joint it is not given where it
+        # was, so a search that moves one joint at a time (new's ready pose: a finite-difference
+        # Jacobian) updates that joint's edge of the scene graph, not every joint's
+        self._configured: dict[str, float] = {}
 
     def __call__(self, qpos: Mapping[str, float]) -> Placement:
         self._configure(qpos)
@@ -68,7 +72,13 @@ class _UrdfPoser:
         return self.model.get_transform(name, self.root)
 
     def _configure(self, qpos: Mapping[str, float]) -> None:
-        self.model.update_cfg({j.name: float(qpos.get(j.name, 0.0)) for j in self.moving})
+        wanted = {j.name: float(qpos.get(j.name, 0.0)) for j in self.moving}
+        changed = {
+            name: value for name, value in wanted.items() if self._configured.get(name) != value
+        }
+        if changed:
+            self.model.update_cfg(changed)
+            self._configured.update(changed)
 
 
 def _yourdfpy_model(text: bytes) -> Any:
