@@ -13,9 +13,9 @@ from corpus_journey import (
     FAILED,
     NOT_RUN,
     PASSED,
-    PICK_EPISODES,
-    PICK_TASK,
     RANDOM_STEPS,
+    SOLVE_EPISODES,
+    SOLVED_TASKS,
     STEPS,
     Found,
     Hold,
@@ -39,6 +39,9 @@ BEFORE_MENDS_AND_DERIVED_GAINS = (
 RAN_TO_ITS_END = "the solution ran to its end; the task judged it no success"
 CELL = {PASSED: "ok", FAILED: "fails", CRASHED: "**CRASH**", NOT_RUN: "—"}
 
+# the solved tasks, as a sentence names them
+TASKS_SAID = ", ".join(SOLVED_TASKS[:-1]) + " and " + SOLVED_TASKS[-1]
+
 HEADER = f"""\
 # Robots nobody here wrote
 
@@ -60,10 +63,10 @@ exactly as `robospec new` writes it:
    `gym.make` with the agent it registers
 
 Then an arm whose scaffold declares a two-finger grasp check (`grasping`) runs ManiSkill's own
-{PICK_TASK} solution: `robospec solve SPEC --task {PICK_TASK} -n {PICK_EPISODES}`
+solutions of {TASKS_SAID}: `robospec solve SPEC --task TASK -n {SOLVE_EPISODES}`
 ([Demonstrations](solve.md)), with episodes starting at the keyframe `new` wrote for it.
-"Picking the cube" below says how many of those seeds the task judged a success, or why
-`solve` refused before any episode (its codes). (Its own section: a column more would put the
+"Solving the tasks" below says how many of those seeds each task judged a success, or why
+`solve` refused before any episode (its codes). (Its own section: columns more would put the
 journeys' table past a 1280-pixel page.)
 
 A robot passes when every step does. Otherwise `validate` or `check` must stop it with a
@@ -134,7 +137,7 @@ def _table(journeys: list[Journey]) -> str:
 
 
 def _pick_cell(pick: Pick | None) -> str:
-    """The pick's successes (``2 of 3``), the refusal's codes, or a crash."""
+    """The task's successes (``2 of 3``), the refusal's codes, or a crash."""
     if pick is None:
         return "—"
     if pick.crash:
@@ -146,31 +149,43 @@ def _pick_cell(pick: Pick | None) -> str:
 
 
 def _picks(journeys: list[Journey]) -> str:
-    """Each arm with a gripper: what ManiSkill's pick solution made of it, and why ``solve``
-    refused where it did (its first error of each code, with the mend)."""
-    picked = [j for j in journeys if j.pick is not None]
-    if not picked:
+    """Each arm with a gripper: what ManiSkill's solutions made of it, task by task, then why
+    episodes failed and why ``solve`` refused where it did (each task's first error of each
+    code, with the mend)."""
+    solved = [j for j in journeys if j.picks]
+    if not solved:
         return ""
     lines = [
-        "## Picking the cube\n",
-        f"`robospec solve SPEC --task {PICK_TASK} -n {PICK_EPISODES}` with each arm's scaffold "
-        "(seeds 0 on); the task mounts every robot where it mounts the Panda.\n",
+        "## Solving the tasks\n",
+        f"`robospec solve SPEC --task TASK -n {SOLVE_EPISODES}` with each arm's scaffold "
+        f"(seeds 0 to {SOLVE_EPISODES - 1}) for ManiSkill's solutions of {TASKS_SAID}; each "
+        "task mounts every robot where it mounts the Panda.\n",
+        "| robot | " + " | ".join(SOLVED_TASKS) + " |",
+        "|---|" + "---|" * len(SOLVED_TASKS),
     ]
-    for journey in picked:
-        pick = journey.pick
-        assert pick is not None
-        head = f"- **{journey.robot.name}**: {_pick_cell(pick)}"
-        if pick.crash:
-            lines.append(f"{head}: {_code_span(pick.crash)}")
-            continue
-        lines.append(head + _failures(pick))
-        first_of_code: dict[str, Found] = {}
-        for found in pick.refused:
-            first_of_code.setdefault(found.code, found)
-        for found in first_of_code.values():
-            lines.append(f"    - {_code_span(found.text())}")
-            if found.hint:
-                lines.append(f"      mend: {_escape(found.hint)}")
+    for journey in solved:
+        cells = [_pick_cell(journey.picks.get(task)) for task in SOLVED_TASKS]
+        lines.append(f"| {journey.robot.name} | " + " | ".join(cells) + " |")
+    notes = []
+    for journey in solved:
+        for task, pick in journey.picks.items():
+            head = f"- **{journey.robot.name}**, {task}"
+            if pick.crash:
+                notes.append(f"{head}: {_code_span(pick.crash)}")
+                continue
+            if pick.failures:
+                notes.append(f"{head}:{_failures(pick)}")
+            first_of_code: dict[str, Found] = {}
+            for found in pick.refused:
+                first_of_code.setdefault(found.code, found)
+            if first_of_code:
+                notes.append(f"{head}: refused")
+            for found in first_of_code.values():
+                notes.append(f"    - {_code_span(found.text())}")
+                if found.hint:
+                    notes.append(f"      mend: {_escape(found.hint)}")
+    if notes:
+        lines += ["", "Where episodes failed, and why `solve` refused:\n", *notes]
     return "\n".join(lines) + "\n"
 
 
@@ -213,7 +228,7 @@ def _mujoco_cell(hold: Hold) -> str:
 
 
 def _failures(pick: Pick) -> str:
-    """The seeds that failed, grouped by why (``seeds 0, 2: a motion had no plan``)."""
+    """The seeds that failed, grouped by why (`` seeds 0, 2: a motion had no plan``)."""
     why: dict[str, list[int]] = {}
     for seed, note in pick.failures:
         why.setdefault(note or RAN_TO_ITS_END, []).append(seed)
@@ -221,7 +236,7 @@ def _failures(pick: Pick) -> str:
         f"seed{'s' if len(seeds) > 1 else ''} {', '.join(map(str, seeds))}: {_escape(note)}"
         for note, seeds in why.items()
     ]
-    return f" ({'; '.join(parts)})" if parts else ""
+    return f" {'; '.join(parts)}" if parts else ""
 
 
 def _codes(found: list[Found]) -> str:

@@ -82,30 +82,41 @@ def test_the_expected_stops_name_corpus_robots_steps_that_stop_and_codes() -> No
         assert stop.reason, key
 
 
-def test_the_pick_section_says_successes_the_seeds_that_failed_and_refusals() -> None:
-    """docs/robots.md's PickCube-v1 section, from the picks as the journeys record
-    them (no ManiSkill: the page is written from data)."""
+def test_the_solving_section_says_each_tasks_successes_failed_seeds_and_refusals() -> None:
+    """docs/robots.md's section on ManiSkill's solutions, from the journeys' records of each
+    task (no ManiSkill: the page is written from data)."""
     from corpus_journey import Found, Pick
     from corpus_page import render_rows
 
-    def journey(key: str, pick: Pick | None) -> Journey:
+    def journey(key: str, picks: dict[str, Pick]) -> Journey:
         steps = {name: Step(name, PASSED) for name in STEPS}
-        return Journey(BY_KEY[key], steps, pick=pick)
+        return Journey(BY_KEY[key], steps, picks=picks)
 
     refusal = Found("x.yaml", 3, 1, "RS526", "error", "PickCube-v1: 'cube' lies 0.62 m", "far")
     rows = render_rows(
         [
-            journey("pb_panda", Pick(3, 2, [(1, "a motion had no plan")])),
-            journey("rtb_px100", Pick(refused=[refusal])),
-            journey("pb_kuka_iiwa", None),
+            journey(
+                "pb_panda",
+                {
+                    "PickCube-v1": Pick(20, 19, [(1, "a motion had no plan")]),
+                    "PushCube-v1": Pick(20, 20),
+                },
+            ),
+            journey("rtb_px100", {"PickCube-v1": Pick(refused=[refusal])}),
+            journey("pb_kuka_iiwa", {}),
         ]
     )
-    # its own section, not a column: the journeys' table stays within a 1280-pixel page
+    # its own section, not columns: the journeys' table stays within a 1280-pixel page
     assert "| check found |\n" in rows
-    assert "- **Interbotix PincherX 100**: refused: [RS526](codes/RS526.md)" in rows
-    assert "KUKA" not in rows.split("## Picking the cube")[1]
-    assert "- **Franka Panda**: 2 of 3 (seed 1: a motion had no plan)" in rows
-    assert "`x.yaml:3:1: error[RS526] PickCube-v1: 'cube' lies 0.62 m`" in rows
+    section = rows.split("## Solving the tasks")[1]
+    assert "| robot | PickCube-v1 | PushCube-v1 | StackCube-v1 |" in section
+    assert "| Franka Panda | 19 of 20 | 20 of 20 | — |" in section
+    assert "| Interbotix PincherX 100 | refused: [RS526](codes/RS526.md) | — | — |" in section
+    assert "KUKA" not in section
+    assert "- **Franka Panda**, PickCube-v1: seed 1: a motion had no plan" in section
+    assert "PushCube-v1: seed" not in section  # nothing failed there
+    assert "- **Interbotix PincherX 100**, PickCube-v1: refused" in section
+    assert "`x.yaml:3:1: error[RS526] PickCube-v1: 'cube' lies 0.62 m`" in section
 
 
 # -- the journeys
