@@ -311,9 +311,11 @@ def run_journey(robot: Robot, workdir: Path) -> Journey:
     _run_in_maniskill(journey, workdir, spec_name, folders, quoted, built=build.outcome == PASSED)
     if robot.category == ARM and journey.step("register").outcome == PASSED:
         if "grasping" in _spec_sections(workdir / spec_name):
-            journey.picks = {
-                task: _solve(workdir, spec_name, task, folders, quoted) for task in SOLVED_TASKS
-            }
+            for task in SOLVED_TASKS:
+                solved = _solve(workdir, spec_name, task, folders, quoted)
+                journey.picks[task] = solved
+                if not solved.episodes:
+                    break  # refused (or crashed) at the first task: the others would be too
     return journey
 
 

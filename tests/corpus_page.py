@@ -159,7 +159,8 @@ def _picks(journeys: list[Journey]) -> str:
         "## Solving the tasks\n",
         f"`robospec solve SPEC --task TASK -n {SOLVE_EPISODES}` with each arm's scaffold "
         f"(seeds 0 to {SOLVE_EPISODES - 1}) for ManiSkill's solutions of {TASKS_SAID}; each "
-        "task mounts every robot where it mounts the Panda.\n",
+        "task mounts every robot where it mounts the Panda. The other tasks do not run where "
+        f"`solve` refused {SOLVED_TASKS[0]} (—).\n",
         "| robot | " + " | ".join(SOLVED_TASKS) + " |",
         "|---|" + "---|" * len(SOLVED_TASKS),
     ]
