@@ -101,6 +101,13 @@ CORPUS: tuple[Robot, ...] = (
         ("erd_ur5", "Universal Robots UR5", "ur_description/urdf/ur5_robot.urdf", ARM, URDF),
         ("erd_so101", "SO-101", "so_arm_description/urdf/so101.urdf", ARM, URDF),
         ("erd_z1", "Unitree Z1", "z1_description/urdf/z1.urdf", ARM, URDF),
+        (
+            "erd_panda",
+            "Franka Panda (example-robot-data)",
+            "panda_description/urdf/panda.urdf",
+            ARM,
+            URDF,
+        ),
         ("erd_baxter", "Rethink Baxter", "baxter_description/urdf/baxter.urdf", ARM, URDF),
         (
             "erd_allegro_right",
