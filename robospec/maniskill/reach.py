@@ -8,33 +8,53 @@ from typing import Any
 import numpy as np
 
 
-def chain_reach(robot: Any) -> float | None:
-    """The length of the robot's longest chain of links: from the root, each link's distance
-    from its parent link (joint frames and link origins), summed; plus the farthest point of
-    the last link's collision shapes."""
-    lengths: dict[str, float] = {}
+def chain_reach(robot: Any, base: str | None = None) -> float | None:
+    """The length of the robot's longest chain of links: from the root (or from the link
+    ``base``, over the links it carries), each link's distance from its parent link (joint
+    frames and link origins), summed; plus the farthest point of the last link's collision
+    shapes."""
+    lengths: dict[str, float | None] = {}
     links = {link.name: link for link in robot.links}
     pose = {name: link.pose.p[0].cpu().numpy() for name, link in links.items()}
 
-    def length(name: str) -> float:
+    def length(name: str) -> float | None:
+        """From ``base`` to the link, along the tree; None for a link ``base`` does not carry."""
         if name in lengths:
             return lengths[name]
         link = links[name]
         parent = link.joint.parent_link if link.joint is not None else None
-        if parent is None:
+        if name == base or (parent is None and base is None):
             lengths[name] = 0.0
+        elif parent is None:
+            lengths[name] = None
         else:
+            above = length(parent.name)
             step = float(np.linalg.norm(pose[name] - pose[parent.name]))
-            lengths[name] = length(parent.name) + step
+            lengths[name] = None if above is None else above + step
         return lengths[name]
 
     best = 0.0
     for name, link in links.items():
+        along = length(name)
+        if along is None:
+            continue
         extent = 0.0
         body = link._objs[0]
         if body.collision_shapes:
             low, high = body.compute_global_aabb_tight()
             corners = np.array([low, high], dtype=np.float64)
             extent = float(np.max(np.linalg.norm(corners - pose[name], axis=1)))
-        best = max(best, length(name) + extent)
+        best = max(best, along + extent)
     return best
+
+
+def arm_base(link: Any) -> Any:
+    """The link an arm hangs from: above ``link`` (its tcp), the parent of the first moving
+    joint of the chain from the root (the root itself for an arm on it; one arm's own base,
+    welded to the root beside another's, for a robot of two)."""
+    base = link
+    while link is not None and link.joint is not None and link.joint.parent_link is not None:
+        if link.joint.active_index is not None:
+            base = link.joint.parent_link
+        link = link.joint.parent_link
+    return base

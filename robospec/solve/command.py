@@ -140,7 +140,7 @@ def preflight(robot: Robot, task: str, at_task: Location) -> Diagnostic | None:
     builds: None when it can."""
     import numpy as np
 
-    from robospec.maniskill.reach import chain_reach
+    from robospec.maniskill.reach import arm_base, chain_reach
     from robospec.solve.episodes import make_env
     from robospec.solve.gripper import MODE, NotSolvable, read_facts
 
@@ -166,8 +166,18 @@ def preflight(robot: Robot, task: str, at_task: Location) -> Diagnostic | None:
         )
     try:
         base = env.unwrapped
-        root = base.agent.robot.pose.p[0].cpu().numpy()
-        reach = chain_reach(base.agent.robot)
+        # from the base of the arm that carries the tcp (one arm of two: its own base), over
+        # the links it carries
+        tcp = getattr(base.agent, "tcp", None)
+        arm = arm_base(tcp) if tcp is not None and hasattr(tcp, "joint") else None
+        if arm is None or arm.joint is None or arm.joint.parent_link is None:  # the root's
+            root = base.agent.robot.pose.p[0].cpu().numpy()
+            reach = chain_reach(base.agent.robot)
+            where = "the robot's root"
+        else:
+            root = arm.pose.p[0].cpu().numpy()
+            reach = chain_reach(base.agent.robot, arm.name)
+            where = f"{arm.name} (the base of the tcp's arm)"
         farthest = max(
             (
                 (name, float(np.linalg.norm(actor.pose.p[0].cpu().numpy() - root)))
@@ -181,8 +191,8 @@ def preflight(robot: Robot, task: str, at_task: Location) -> Diagnostic | None:
             return error(
                 at_task,
                 "RS526",
-                f"{task}: '{farthest[0]}' lies {farthest[1]:.2f} m from the robot's root where "
-                f"the task mounts it, beyond its reach ({reach:.2f} m: its links end to end)",
+                f"{task}: '{farthest[0]}' lies {farthest[1]:.2f} m from {where} where the "
+                f"task mounts it, beyond its reach ({reach:.2f} m: its links end to end)",
                 "the task mounts every robot where it mounts the Panda; this arm cannot reach "
                 "its objects from there",
             )

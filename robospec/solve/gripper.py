@@ -11,9 +11,12 @@ the simulation:
   linkage's joints that its loops move, takes no action and is none); any other controller of
   the mode (a gripper's motor horn that a mimic controller of the fingers leaves aside, a head)
   is held where the reset put its joints;
-- OPEN and CLOSED: the ends of the gripper controller's action range, the one that puts the
-  fingers farther apart open (by the kinematics SAPIEN builds of the loaded robot, the mimic
-  map included);
+- OPEN and CLOSED: one value per dimension of the gripper controller's action, each an end of
+  that dimension's range: the one that puts the fingers farther apart open (by the kinematics
+  SAPIEN builds of the loaded robot, the mimic map included), so fingers whose joints have
+  ranges of their own (ALOHA's, one sliding over [0.021, 0.057], the other over [-0.057,
+  -0.021]) open and close together; a dimension that moves neither finger (the other hand's,
+  in a controller of both) is held where the reset put it;
 - the grasp frame, measured at the reset pose by the fingers' collision shapes: its origin
   where the fingers close (the middle of the moving fingers' shapes, open and closed), y the
   way the fingers part as they start to open (from finger 2 to finger 1), z from the hand (the
@@ -28,6 +31,7 @@ reason, before an episode runs.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -56,13 +60,19 @@ class GripperFacts:
     # the action: ("arm" | "gripper" | "held", width) in order; "held": a controller the solver
     # keeps where the reset put its joints (``hold``, their positions in the layout's order)
     layout: tuple[tuple[str, int], ...]
-    open_action: float
-    closed_action: float
+    # one value per dimension of the gripper controller's action
+    open_action: tuple[float, ...]
+    closed_action: tuple[float, ...]
     grasp_to_tcp: Any  # sapien.Pose: the tcp link's pose in the solutions' grasp frame
     with_velocities: bool = False  # the arm takes positions and velocities (pd_joint_pos_vel)
     hold: tuple[float, ...] = ()
 
-    def action(self, arm: np.ndarray, gripper: float, velocity: np.ndarray | None) -> np.ndarray:
+    def action(
+        self, arm: np.ndarray, gripper: float | Sequence[float], velocity: np.ndarray | None
+    ) -> np.ndarray:
+        """The mode's action: the arm's joint positions (and velocities), the gripper's action
+        (one value per dimension, or one value for all: a solution's ``gripper_state``), the
+        held controllers' positions."""
         parts: list[np.ndarray] = []
         held = 0
         for role, width in self.layout:
@@ -74,7 +84,7 @@ class GripperFacts:
                 parts.append(np.asarray(self.hold[held : held + width], dtype=np.float64))
                 held += width
             else:
-                parts.append(np.full(width, gripper, dtype=np.float64))
+                parts.append(np.broadcast_to(np.asarray(gripper, dtype=np.float64), (width,)))
         return np.concatenate(parts)
 
 
@@ -112,17 +122,18 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
         )
     model = robot._objs[0].create_pinocchio_model()
     qpos = robot.get_qpos()[0].cpu().numpy().astype(np.float64)
-    ends = (-1.0, 1.0) if gripper.config.normalize_action else _raw_ends(gripper)
-    spans = [_finger_span(model, qpos, gripper, end, fingers) for end in ends]
-    if abs(spans[1] - spans[0]) < 1e-4:
+    ends = _open_and_closed(model, qpos, gripper, fingers)
+    if ends is None:
         raise NotSolvable(
             f"the gripper controller '{gripper_name}' does not move the fingers "
             f"{finger_links[0]} and {finger_links[1]} apart or together",
             "the grasp check's fingers must be the ones the gripper controller moves",
             "grasping",
         )
-    open_action, closed_action = (ends[1], ends[0]) if spans[1] > spans[0] else ends
-    grasp, middle = _grasp_frame(model, robot, tcp, fingers, qpos, gripper, ends, open_action)
+    open_action, closed_action = ends
+    grasp, middle = _grasp_frame(
+        model, robot, tcp, fingers, qpos, gripper, closed_action, open_action
+    )
     tcp_pose = tcp.pose.sp.to_transformation_matrix()
     frame = np.eye(4)
     frame[:3, :3] = grasp
@@ -139,8 +150,8 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
         tcp_index=robot.links.index(tcp),
         arm_joints=tuple(int(j.active_index[0]) for j in arm.joints),
         layout=layout,
-        open_action=float(open_action),
-        closed_action=float(closed_action),
+        open_action=tuple(float(v) for v in open_action),
+        closed_action=tuple(float(v) for v in closed_action),
         grasp_to_tcp=sapien.Pose(turn),
         hold=tuple(hold),
     )
@@ -207,40 +218,93 @@ def _ancestor_joints(link: Any) -> set[str]:
     return names
 
 
-def _raw_ends(gripper: Any) -> tuple[float, float]:
-    """The gripper controller's raw action range: its bounds, or (given as null) the limits of
-    the joints its action sets, as ManiSkill's controller takes them."""
+def _action_range(gripper: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The gripper controller's action range, one (low, high) per dimension: ±1 for a
+    normalised action, else its bounds or (given as null) the limits of the joints its action
+    sets, as ManiSkill's controller takes them (a mimic controller's: its leaders')."""
+    width = int(gripper.single_action_space.shape[0])
+    if gripper.config.normalize_action:
+        return np.full(width, -1.0), np.full(width, 1.0)
     limits = np.asarray(gripper._get_joint_limits(), dtype=np.float64).reshape(-1, 2)
-    config = gripper.config
-    low = limits[:, 0] if config.lower is None else np.atleast_1d(config.lower).astype(np.float64)
-    high = limits[:, 1] if config.upper is None else np.atleast_1d(config.upper).astype(np.float64)
-    if low.size != 1 and not (np.all(low == low[0]) and np.all(high == high[0])):
-        raise NotSolvable(
-            "the gripper controller's range differs between its joints: one action value "
-            "cannot open or close it",
-            "give the gripper controller one lower and one upper bound",
-            "controllers",
-        )
-    return float(low[0]), float(high[0])
+    return limits[:, 0].copy(), limits[:, 1].copy()
 
 
-def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: float) -> np.ndarray:
-    """The joint positions the gripper controller targets for ``action``, the mimic map's
-    followers included; the other joints as in ``qpos``."""
-    config = gripper.config
+def _raw(gripper: Any, action: np.ndarray) -> np.ndarray:
+    """The joint positions ``action`` sets (a normalised action scaled as ManiSkill scales it:
+    -1 to the lower bound, 1 to the upper)."""
+    if not gripper.config.normalize_action:
+        return np.asarray(action, dtype=np.float64)
+    limits = np.asarray(gripper._get_joint_limits(), dtype=np.float64).reshape(-1, 2)
+    low, high = limits[:, 0], limits[:, 1]
+    return low + (np.clip(action, -1, 1) + 1) / 2 * (high - low)
+
+
+def _action_at(gripper: Any, qpos: np.ndarray) -> np.ndarray:
+    """The action that keeps the gripper's joints where ``qpos`` has them, within its range."""
+    joints = _action_joints(gripper)
+    values = qpos[joints].astype(np.float64)
+    if gripper.config.normalize_action:
+        limits = np.asarray(gripper._get_joint_limits(), dtype=np.float64).reshape(-1, 2)
+        low, high = limits[:, 0], limits[:, 1]
+        span = np.where(high > low, high - low, 1.0)
+        values = 2 * (values - low) / span - 1
+    low, high = _action_range(gripper)
+    return np.clip(values, low, high)
+
+
+def _action_joints(gripper: Any) -> np.ndarray:
+    """The active-joint indices (of the articulation) that the action's dimensions set, in
+    order: every joint's, or a mimic controller's leaders'."""
     indices = gripper.active_joint_indices.cpu().numpy()
-    if config.normalize_action:
-        low, high = _raw_ends(gripper)
-        raw = np.full(len(indices), low + (action + 1) / 2 * (high - low))
-    else:
-        raw = np.full(len(indices), float(action))
-    targets = raw.copy()
+    leaders = getattr(gripper, "control_joint_indices", None)
+    if leaders is not None and getattr(gripper, "mimic_joint_indices", None) is not None:
+        return indices[leaders.cpu().numpy()]
+    return indices
+
+
+def _open_and_closed(
+    model: Any, qpos: np.ndarray, gripper: Any, fingers: list[Any]
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The gripper's open and closed actions, one value per dimension: for each dimension that
+    moves the fingers, the end of its range that parts them most is open, the other closed (the
+    other dimensions as the reset put them); None when no dimension moves them."""
+    low, high = _action_range(gripper)
+    rest = _action_at(gripper, qpos)
+    opened, closed = rest.copy(), rest.copy()
+    moved = False
+    for d in range(len(rest)):
+        spans = []
+        for end in (low[d], high[d]):
+            action = rest.copy()
+            action[d] = end
+            spans.append(_finger_span(model, qpos, gripper, action, fingers))
+        if abs(spans[1] - spans[0]) < 1e-4:
+            continue
+        moved = True
+        opened[d], closed[d] = (high[d], low[d]) if spans[1] > spans[0] else (low[d], high[d])
+    if not moved:
+        return None
+    wide = _finger_span(model, qpos, gripper, opened, fingers)
+    shut = _finger_span(model, qpos, gripper, closed, fingers)
+    return (opened, closed) if wide - shut >= 1e-4 else None
+
+
+def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: np.ndarray) -> np.ndarray:
+    """The joint positions the gripper controller targets for ``action`` (one value per
+    dimension), the mimic map's followers included; the other joints as in ``qpos``."""
+    indices = gripper.active_joint_indices.cpu().numpy()
+    raw = _raw(gripper, np.asarray(action, dtype=np.float64))
+    targets = qpos[indices].astype(np.float64)
     followers = getattr(gripper, "mimic_joint_indices", None)
-    if followers is not None and len(followers):
-        leaders = gripper.mimic_control_joint_indices.cpu().numpy()
-        multiplier = gripper._multiplier.cpu().numpy()
-        offset = gripper._offset.cpu().numpy()
-        targets[followers.cpu().numpy()] = raw[leaders] * multiplier + offset
+    if followers is not None:
+        targets[gripper.control_joint_indices.cpu().numpy()] = raw
+        if len(followers):
+            leaders = gripper.mimic_control_joint_indices.cpu().numpy()
+            multiplier = gripper._multiplier.cpu().numpy()
+            offset = gripper._offset.cpu().numpy()
+            targets[followers.cpu().numpy()] = targets[leaders] * multiplier + offset
+    else:
+        targets[:] = raw
     out = qpos.copy()
     out[indices] = targets
     return out
@@ -280,7 +344,9 @@ def _shape_points(shapes: list[Any]) -> np.ndarray:
     return np.vstack(points) if points else np.zeros((1, 3))
 
 
-def _finger_span(model: Any, qpos: np.ndarray, gripper: Any, action: float, fingers: list[Any]):
+def _finger_span(
+    model: Any, qpos: np.ndarray, gripper: Any, action: np.ndarray, fingers: list[Any]
+) -> float:
     first, second = _finger_points(model, _gripper_qpos(qpos, gripper, action), fingers)
     return float(np.linalg.norm(first - second))
 
@@ -292,8 +358,8 @@ def _grasp_frame(
     fingers: list[Any],
     qpos: np.ndarray,
     gripper: Any,
-    ends: tuple[float, float],
-    open_action: float,
+    closed_action: np.ndarray,
+    open_action: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The solutions' grasp frame in the world (columns x, y, z) and its origin, where the
     fingers close: between them, the middle of the moving fingers' centres, open and closed (a
@@ -301,7 +367,6 @@ def _grasp_frame(
     :data:`TIP_MARGIN` short of their tips along z. y: how the fingers part as they start to
     open from closed (from finger 2 to finger 1: a jaw that turns opens across the jaws,
     whatever its centres say); z: from the hand toward that middle."""
-    closed_action = ends[0] if open_action == ends[1] else ends[1]
     nudged = closed_action + NUDGE * (open_action - closed_action)
     shut = _finger_points(model, _gripper_qpos(qpos, gripper, closed_action), fingers)
     wide = _finger_points(model, _gripper_qpos(qpos, gripper, open_action), fingers)

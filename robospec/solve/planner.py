@@ -20,6 +20,7 @@ the fixed transform from the solutions' grasp frame to the tcp link's.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -60,9 +61,10 @@ class GripperArmSolver:
         self.base_env = env.unwrapped
         self.robot = self.base_env.agent.robot
         self.control_mode = self.base_env.control_mode
-        self.OPEN = self.facts.open_action
-        self.CLOSED = self.facts.closed_action
-        self.gripper_state = self.OPEN
+        # one value per dimension of the gripper's action (upstream's solvers: one number)
+        self.OPEN: float | Sequence[float] = self.facts.open_action
+        self.CLOSED: float | Sequence[float] = self.facts.closed_action
+        self.gripper_state: float | Sequence[float] = self.OPEN
         self.elapsed_steps = 0
         self.velocity_limit = MPLIB_LIMIT * joint_vel_limits
         self.acceleration_limit = MPLIB_LIMIT * joint_acc_limits
@@ -86,10 +88,10 @@ class GripperArmSolver:
     move_to_pose_with_RRTConnect = move_to_pose_with_screw
     move_to_pose_with_RRTStar = move_to_pose_with_screw
 
-    def open_gripper(self, t: int = 6, gripper_state: float | None = None):
+    def open_gripper(self, t: int = 6, gripper_state: float | Sequence[float] | None = None):
         return self._hold_gripper(self.OPEN if gripper_state is None else gripper_state, t)
 
-    def close_gripper(self, t: int = 6, gripper_state: float | None = None):
+    def close_gripper(self, t: int = 6, gripper_state: float | Sequence[float] | None = None):
         return self._hold_gripper(self.CLOSED if gripper_state is None else gripper_state, t)
 
     def add_box_collision(self, extents: Any, pose: Any) -> None:
@@ -189,7 +191,7 @@ class GripperArmSolver:
             outcome = self._step(positions[at], velocity)
         return outcome
 
-    def _hold_gripper(self, state: float, steps: int):
+    def _hold_gripper(self, state: float | Sequence[float], steps: int):
         self.gripper_state = state
         arm = self.robot.get_qpos()[0].cpu().numpy()[self.arm]
         outcome = None
