@@ -4,10 +4,11 @@ solution, planned by robospec for the spec's robot, in ManiSkill's trajectory fo
 Before any episode: a located reason where the solution cannot apply (RS680 no solution robospec
 runs for the task, RS681 no two-finger grasp check, RS682 a gripper or arm the solver cannot
 drive, RS526 the task's objects beyond the robot's reach from where the task mounts it, with
-the reach measured). Then the episodes (seeds ``--seed`` on), spread over ``--num-procs``
-processes as ManiSkill's run scripts spread them, each writing its part, merged into
-``DIR/TASK.h5`` and ``.json`` by ManiSkill's ``merge_trajectories``; each episode's success as
-the task judges it.
+the reach measured: its links end to end, and, for a solution that grasps from above, with its
+grasp pointing straight down at the objects' height, over the seeds asked). Then the episodes
+(seeds ``--seed`` on), spread over ``--num-procs`` processes as ManiSkill's run scripts spread
+them, each writing its part, merged into ``DIR/TASK.h5`` and ``.json`` by ManiSkill's
+``merge_trajectories``; each episode's success as the task judges it.
 """
 
 from __future__ import annotations
@@ -92,11 +93,11 @@ def run_solve(
             )
         )
         return report
-    refusal = preflight(robot, task, at_task)
+    seeds = list(range(seed, seed + count))
+    refusal = preflight(robot, task, at_task, seeds)
     if refusal is not None:
         report.diagnostics.append(refusal)
         return report
-    seeds = list(range(seed, seed + count))
     report.episodes, report.trajectory = _episodes(robot, task, seeds, out, procs, progress)
     return report
 
@@ -135,14 +136,18 @@ def compile_robot(spec: Path) -> tuple[Robot | None, list[Diagnostic]]:
     return Robot(spec, resolved.uid, (first, second), sections, modes), []
 
 
-def preflight(robot: Robot, task: str, at_task: Location) -> Diagnostic | None:
+def preflight(
+    robot: Robot, task: str, at_task: Location, seeds: Sequence[int] = (0,)
+) -> Diagnostic | None:
     """Why the solution cannot apply to ``robot`` in ``task``, read from the scene the task
-    builds: None when it can."""
+    builds (at ``seeds``, the episodes' resets): None when it can."""
     import numpy as np
 
     from robospec.maniskill.reach import arm_base, chain_reach
     from robospec.solve.episodes import make_env
     from robospec.solve.gripper import MODE, NotSolvable, read_facts
+    from robospec.solve.reach import beyond_downward_reach
+    from robospec.solve.solutions import GRASPED_FROM_ABOVE
 
     if MODE not in robot.modes:
         return error(
@@ -197,12 +202,22 @@ def preflight(robot: Robot, task: str, at_task: Location) -> Diagnostic | None:
                 "its objects from there",
             )
         try:
-            read_facts(base.agent, robot.fingers)
+            facts = read_facts(base.agent, robot.fingers)
         except NotSolvable as exc:
             at = robot.sections.get(
                 exc.section, robot.sections.get("uid", Location(str(robot.spec)))
             )
             return error(at, "RS682", str(exc), exc.hint)
+        if task in GRASPED_FROM_ABOVE and reach is not None:
+            why = beyond_downward_reach(env, facts, list(seeds), reach)
+            if why is not None:
+                return error(
+                    at_task,
+                    "RS526",
+                    f"{task}: {why}",
+                    "the task mounts every robot where it mounts the Panda; from there this "
+                    "arm cannot reach down to most of the task's placements",
+                )
         return None
     finally:
         env.close()

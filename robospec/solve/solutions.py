@@ -27,6 +27,9 @@ SOLUTIONS: dict[str, str] = {
     "PlaceSphere-v1": "place_sphere",
     "StackPyramid-v1": "stack_pyramid",
 }
+# the solutions that grasp from above (``approaching = [0, 0, -1]``) wherever the task put the
+# objects; push and pull move the tcp as the reset holds it
+GRASPED_FROM_ABOVE = frozenset(SOLUTIONS) - {"PushCube-v1", "PullCube-v1"}
 PACKAGE = "mani_skill.examples.motionplanning.panda.solutions"
 SOLVER_NAME = "PandaArmMotionPlanningSolver"
 
