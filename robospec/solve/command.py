@@ -141,9 +141,6 @@ def preflight(
 ) -> Diagnostic | None:
     """Why the solution cannot apply to ``robot`` in ``task``, read from the scene the task
     builds (at ``seeds``, the episodes' resets): None when it can."""
-    import numpy as np
-
-    from robospec.maniskill.reach import arm_base, chain_reach
     from robospec.solve.episodes import make_env
     from robospec.solve.gripper import MODE, NotSolvable, read_facts
     from robospec.solve.reach import beyond_downward_reach
@@ -171,36 +168,9 @@ def preflight(
         )
     try:
         base = env.unwrapped
-        # from the base of the arm that carries the tcp (one arm of two: its own base), over
-        # the links it carries
-        tcp = getattr(base.agent, "tcp", None)
-        arm = arm_base(tcp) if tcp is not None and hasattr(tcp, "joint") else None
-        if arm is None or arm.joint is None or arm.joint.parent_link is None:  # the root's
-            root = base.agent.robot.pose.p[0].cpu().numpy()
-            reach = chain_reach(base.agent.robot)
-            where = "the robot's root"
-        else:
-            root = arm.pose.p[0].cpu().numpy()
-            reach = chain_reach(base.agent.robot, arm.name)
-            where = f"{arm.name} (the base of the tcp's arm)"
-        farthest = max(
-            (
-                (name, float(np.linalg.norm(actor.pose.p[0].cpu().numpy() - root)))
-                for name, actor in base.scene.actors.items()
-                if actor.px_body_type == "dynamic"
-            ),
-            key=lambda item: item[1],
-            default=None,
-        )
-        if farthest is not None and reach is not None and farthest[1] > reach:
-            return error(
-                at_task,
-                "RS526",
-                f"{task}: '{farthest[0]}' lies {farthest[1]:.2f} m from {where} where the "
-                f"task mounts it, beyond its reach ({reach:.2f} m: its links end to end)",
-                "the task mounts every robot where it mounts the Panda; this arm cannot reach "
-                "its objects from there",
-            )
+        reach, beyond = _beyond_chain_reach(base, task, at_task)
+        if beyond is not None:
+            return beyond
         try:
             facts = read_facts(base.agent, robot.fingers)
         except NotSolvable as exc:
@@ -221,6 +191,47 @@ def preflight(
         return None
     finally:
         env.close()
+
+
+def _beyond_chain_reach(
+    base: Any, task: str, at_task: Location
+) -> tuple[float | None, Diagnostic | None]:
+    """The reach of the arm that carries the tcp, its links end to end, from its base (one arm
+    of two: its own base) over the links it carries; and RS526 where one of the task's objects
+    lies beyond it."""
+    import numpy as np
+
+    from robospec.maniskill.reach import arm_base, chain_reach
+
+    tcp = getattr(base.agent, "tcp", None)
+    arm = arm_base(tcp) if tcp is not None and hasattr(tcp, "joint") else None
+    if arm is None or arm.joint is None or arm.joint.parent_link is None:  # the root's
+        root = base.agent.robot.pose.p[0].cpu().numpy()
+        reach = chain_reach(base.agent.robot)
+        where = "the robot's root"
+    else:
+        root = arm.pose.p[0].cpu().numpy()
+        reach = chain_reach(base.agent.robot, arm.name)
+        where = f"{arm.name} (the base of the tcp's arm)"
+    farthest = max(
+        (
+            (name, float(np.linalg.norm(actor.pose.p[0].cpu().numpy() - root)))
+            for name, actor in base.scene.actors.items()
+            if actor.px_body_type == "dynamic"
+        ),
+        key=lambda item: item[1],
+        default=None,
+    )
+    if farthest is None or reach is None or farthest[1] <= reach:
+        return reach, None
+    return reach, error(
+        at_task,
+        "RS526",
+        f"{task}: '{farthest[0]}' lies {farthest[1]:.2f} m from {where} where the "
+        f"task mounts it, beyond its reach ({reach:.2f} m: its links end to end)",
+        "the task mounts every robot where it mounts the Panda; this arm cannot reach "
+        "its objects from there",
+    )
 
 
 def _episodes(
