@@ -151,3 +151,56 @@ def test_check_solve_reports_the_success_of_the_tasks_solution() -> None:
     done = run_robospec("check", str(PANDA), "--task", "PickCube-v1", "--solve", "2", timeout=600)
     assert done.returncode == 0, done.stdout + done.stderr
     assert re.search(r"solve .* PickCube-v1 +pass +ManiSkill's solution: 2 of 2", done.stdout)
+
+
+def test_a_failed_episode_says_which_joint_did_not_follow_its_plan_and_what_it_struck() -> None:
+    """The planner checks no collisions: an arm whose path runs through its own body stops
+    against it (Baxter's scaffold: right_s0 1 rad short, its shoulder on the torso), and the
+    episode's note says so rather than nothing."""
+    import types
+
+    import numpy as np
+
+    from robospec.solve.episodes import _episode
+    from robospec.solve.planner import FOLLOW_TOLERANCE, GripperArmSolver
+
+    env = types.SimpleNamespace(unwrapped=types.SimpleNamespace(elapsed_steps=np.array([7])))
+    notes: list[str] = []
+
+    def solve(env: object, **_: object) -> list[dict[str, np.ndarray]]:
+        solver = GripperArmSolver.__new__(GripperArmSolver)
+        solver.notes = notes
+        joint = types.SimpleNamespace(name="shoulder")
+        qpos = np.array([[0.0, 0.0]])
+        solver.robot = types.SimpleNamespace(
+            get_qpos=lambda: _Tensor(qpos),
+            active_joints=[joint, joint],
+            links=[],
+        )
+        solver.arm = np.array([0, 1])
+        solver.base_env = types.SimpleNamespace(
+            scene=types.SimpleNamespace(px=types.SimpleNamespace(get_contacts=list))
+        )
+        solver._check_followed(np.array([0.0, 0.0]))  # reached: no note
+        solver._check_followed(np.array([0.0, 2 * FOLLOW_TOLERANCE]))
+        return [{"success": np.array(False)}]
+
+    episode = _episode(env, solve, seed=3, notes=notes)
+    assert not episode.success and episode.steps == 7
+    assert episode.error == "the arm did not follow its plan: shoulder ended 0.20 rad from it"
+
+
+class _Tensor:
+    def __init__(self, value: object) -> None:
+        import numpy as np
+
+        self.value = np.asarray(value)
+
+    def __getitem__(self, index: int) -> _Tensor:
+        return _Tensor(self.value[index])
+
+    def cpu(self) -> _Tensor:
+        return self
+
+    def numpy(self) -> object:
+        return self.value

@@ -82,18 +82,22 @@ def record(
         agent = env.unwrapped.agent
         lend_grasp_pose(agent)
         facts = read_facts(agent, finger_links)
-        solve = solution(task, solver_class(facts))
+        solver = solver_class(facts)
+        solve = solution(task, solver)
         seen = in_grasp_frame(env, facts.grasp_to_tcp)
         for seed in seeds:
-            on_episode(_episode(seen, solve, seed))
+            on_episode(_episode(seen, solve, seed, solver.notes))
             env.flush_trajectory()
         return Path(env._h5_file.filename)
     finally:
         env.close()
 
 
-def _episode(env: Any, solve: Callable[..., Any], seed: int) -> Episode:
+def _episode(env: Any, solve: Callable[..., Any], seed: int, notes: list[str]) -> Episode:
+    """One seed solved; a failure's note: the solution's exception, else the first path the arm
+    did not follow (the solver's notes)."""
     error = None
+    notes.clear()
     try:
         result = solve(env, seed=seed, debug=False, vis=False)
     except Exception as exc:  # a solution's own failure, as ManiSkill's run script counts it
@@ -103,4 +107,6 @@ def _episode(env: Any, solve: Callable[..., Any], seed: int) -> Episode:
     # a last motion with no plan is a failure
     planned = not (isinstance(result, int) and result == -1)
     success = planned and bool(result[-1]["success"].item())
+    if error is None and not success and notes:
+        error = notes[0]
     return Episode(seed, success, steps, planned, error)

@@ -35,6 +35,10 @@ LIMIT_TOLERANCE = 1e-3  # rad past a joint limit that a screw step may go (mplib
 # pseudo-inverse's steps barely move the tcp, and an unbounded screw ran for minutes into
 # paths of thousands of control steps
 MAX_SCREW_STEPS = 200
+# rad: how far a joint of the arm may end from its planned position after a path (and its
+# refine steps); past it the arm did not follow the plan (the planner checks no collisions: an
+# arm swinging through its own body stops against it), which the episode's note says
+FOLLOW_TOLERANCE = 0.1
 
 
 class PlanFailed(Exception):
@@ -45,6 +49,9 @@ class GripperArmSolver:
     """``TwoFingerGripperMotionPlanningSolver``'s interface, planned with SAPIEN's kinematics."""
 
     facts: GripperFacts  # set per robot by :func:`solver_class`
+    # what kept the arm from its plans, one line per path, across the class's instances (the
+    # solutions build their own solver: robospec.solve.episodes reads and clears it per episode)
+    notes: list[str]
 
     def __init__(
         self,
@@ -189,7 +196,23 @@ class GripperArmSolver:
             at = min(i, len(positions) - 1)
             velocity = velocities[at] if self.control_mode == "pd_joint_pos_vel" else None
             outcome = self._step(positions[at], velocity)
+        self._check_followed(positions[-1])
         return outcome
+
+    def _check_followed(self, planned: np.ndarray) -> None:
+        """Note where the arm ended short of the path's end: the joint farthest off, and the
+        robot's links pressing on each other (the planner checks no collisions)."""
+        reached = self.robot.get_qpos()[0].cpu().numpy()[self.arm]
+        off = np.abs(reached - planned)
+        worst = int(np.argmax(off))
+        if off[worst] <= FOLLOW_TOLERANCE:
+            return
+        joint = self.robot.active_joints[int(self.arm[worst])].name
+        note = f"the arm did not follow its plan: {joint} ended {off[worst]:.2f} rad from it"
+        touching = _self_contacts(self.base_env.scene, {link.name for link in self.robot.links})
+        if touching:
+            note += " (" + ", ".join(f"{a} pressed on {b}" for a, b in touching) + ")"
+        self.notes.append(note)
 
     def _hold_gripper(self, state: float | Sequence[float], steps: int):
         self.gripper_state = state
@@ -205,6 +228,19 @@ class GripperArmSolver:
         outcome = self.env.step(action)
         self.elapsed_steps += 1
         return outcome
+
+
+def _self_contacts(scene: Any, links: set[str]) -> list[tuple[str, str]]:
+    """Pairs of the robot's links pressing on each other now (a contact with an impulse)."""
+    pairs: set[tuple[str, str]] = set()
+    for contact in scene.px.get_contacts():
+        names = [body.entity.name for body in contact.bodies]
+        if not all(name in links for name in names):
+            continue
+        if sum(float(np.linalg.norm(point.impulse)) for point in contact.points) > 1e-3:
+            first, second = sorted(names)
+            pairs.add((first, second))
+    return sorted(pairs)
 
 
 def _exp_coordinates(transform: np.ndarray) -> np.ndarray:
@@ -235,4 +271,4 @@ def _exp_coordinates(transform: np.ndarray) -> np.ndarray:
 def solver_class(facts: GripperFacts) -> type[GripperArmSolver]:
     """The solver for one robot: ``GripperArmSolver`` with its facts (the solutions construct
     the class themselves, with the environment as the only robot-specific argument)."""
-    return type("RobospecSolver", (GripperArmSolver,), {"facts": facts})
+    return type("RobospecSolver", (GripperArmSolver,), {"facts": facts, "notes": []})
