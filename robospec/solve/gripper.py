@@ -223,7 +223,7 @@ def read_facts(
 
 
 def _arm_and_gripper(
-    parts: dict[str, Any], tcp: Any, fingers: list[Any], loops: list[tuple[Any, Any]] = ()
+    parts: dict[str, Any], tcp: Any, fingers: list[Any], loops: Sequence[tuple[Any, Any]] = ()
 ) -> tuple[str, str]:
     """The names of the mode's one arm controller, whose joints carry the tcp, and its one
     gripper controller, whose joints move the grasp check's fingers (which must have collision
