@@ -223,6 +223,14 @@ CORPUS: tuple[Robot, ...] = (
         "gym_aloha/assets",
         ("aloha_bimanual", "ALOHA", "bimanual_viperx_transfer_cube.xml", ARM, MJCF),
     ),
+    # gym-xarm (Apache-2.0): lerobot's xArm7 lift scene, its arm moved by a mocap body welded
+    # to link7 (no actuator: new drives the joints the weld moves), its 4-bar gripper closed
+    # by <connect>s (loader: mujoco), the pedestal, table and cube the scene's
+    *_shipped_by(
+        "gym-xarm",
+        "gym_xarm/tasks/assets",
+        ("gx_xarm7", "UFactory xArm7 (gym-xarm)", "lift.xml", ARM, MJCF),
+    ),
     # hello-robot-stretch-urdf (BSD-3-Clause-Clear): Hello Robot's Stretch mobile manipulator
     *_shipped_by(
         "hello-robot-stretch-urdf",
