@@ -404,3 +404,59 @@ def test_a_robot_written_y_up_is_stood_upright_and_its_loads_computed_so(tmp_pat
         assert turned_load.held == pytest.approx(load.held, abs=1e-9), joint
         assert turned_load.standing == pytest.approx(load.standing, abs=1e-9), joint
         assert turned_load.topple == pytest.approx(load.topple, abs=1e-9), joint
+
+
+MOCAP = """<mujoco model="mocap_arm">
+  <worldbody>
+    <body name="target" mocap="true" pos="0.3 0 0.5"/>
+    <body name="base">
+      <geom type="box" size="0.1 0.1 0.1"/>
+      <body name="upper" pos="0 0 0.2">
+        <joint name="shoulder" axis="0 1 0" range="-1 1" limited="true"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <body name="hand" pos="0.3 0 0">
+          <joint name="wrist" axis="0 1 0" range="-1 1" limited="true"/>
+          <geom type="box" size="0.03 0.03 0.03"/>
+          <body name="jaw" pos="0.05 0 0">
+            <joint name="jaw_joint" axis="0 1 0" range="0 0.5" limited="true"/>
+            <geom type="box" size="0.03 0.01 0.01"/>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <equality>
+    <weld body1="target" body2="hand"/>
+  </equality>
+  <actuator>
+    <motor joint="jaw_joint" ctrlrange="-1 1" gear="2"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_joints_a_weld_to_a_mocap_body_moves_are_driven_not_passive(tmp_path: Path) -> None:
+    # no actuator drives the arm: MuJoCo moves it by its mocap body, welded to the hand
+    # (gym-xarm's xArm7); the joints between the root and the hand get drives, the jaw's its
+    # actuator's, and nothing is passive
+    description = tmp_path / "robot.xml"
+    description.write_text(MOCAP)
+    source, _ = read_description_file(description)
+    assert source is not None
+    assert source.description.mocap_welds == ("hand",)
+    data, _ = _scaffold(tmp_path, MOCAP, ".xml")
+    kinds = {c.get("type") for c in data["controllers"].values()}
+    assert "passive" not in kinds
+    driven = {
+        joint
+        for c in data["controllers"].values()
+        if c.get("type") == "pd_joint_pos"
+        for joint in data["groups"][c["joints"]]
+    }
+    assert {"shoulder", "wrist"} <= driven
+    # without the weld the arm is passive, as in MuJoCo
+    (tmp_path / "free").mkdir()
+    loose, _ = _scaffold(
+        tmp_path / "free", MOCAP.replace('<weld body1="target" body2="hand"/>', ""), ".xml"
+    )
+    assert "passive" in {c.get("type") for c in loose["controllers"].values()}

@@ -106,11 +106,11 @@ def maniskill_reading(mjcf_path: str) -> ManiSkillReading:
 def with_file_facts(
     description: RobotDescription, reading: ManiSkillReading
 ) -> tuple[RobotDescription, frozenset[str]]:
-    """``description`` (the compiled URDF's) with the joint couplings, closed loops and
-    collision filters robospec reads from the MJCF file as written (what ``new`` turns into
-    mimic controllers, ``loops`` and ``never_collide``), where it reads them — the file read as
-    ManiSkill's loader would, with the mends it needs (a file it cannot read gives none) — and
-    the codes of what robospec says of that reading."""
+    """``description`` (the compiled URDF's) with the joint couplings, closed loops, mocap
+    welds and collision filters robospec reads from the MJCF file as written (what ``new``
+    turns into mimic controllers, ``loops``, drives and ``never_collide``), where it reads
+    them — the file read as ManiSkill's loader would, with the mends it needs (a file it cannot
+    read gives none) — and the codes of what robospec says of that reading."""
     loaded, codes = reading.loaded, reading.codes
     if loaded is None:
         return description, codes
@@ -127,6 +127,7 @@ def with_file_facts(
             c for c in written.closures if {c.first, c.second} <= links and c.kind not in carried
         ),
         "filtered_pairs": tuple(p for p in written.filtered_pairs if set(p) <= links),
+        "mocap_welds": tuple(b for b in written.mocap_welds if b in links),
     }
     return dataclasses.replace(description, **facts), codes
 

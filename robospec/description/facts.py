@@ -162,6 +162,9 @@ class RobotDescription:
     couplings: tuple[Coupling, ...] = ()
     # MJCF: the closed loops its <equality connect/weld> state (robospec new writes `loops`)
     closures: tuple[Closure, ...] = ()
+    # MJCF: the robot's bodies a <weld> holds to a mocap body: the mocap moves them, and so
+    # drives the joints between them and the root (robospec new gives those joints drives)
+    mocap_welds: tuple[str, ...] = ()
     # MJCF: pairs of links (sorted) whose geoms MuJoCo never lets collide (contype/conaffinity)
     # and ManiSkill collides (robospec new declares them never_collide where bits allow)
     filtered_pairs: tuple[tuple[str, str], ...] = ()

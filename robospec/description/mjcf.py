@@ -45,7 +45,12 @@ from robospec.description.facts import (
     Link,
     RobotDescription,
 )
-from robospec.description.mjcf_constraints import closures, joint_couplings, robot_names
+from robospec.description.mjcf_constraints import (
+    closures,
+    joint_couplings,
+    mocap_welds,
+    robot_names,
+)
 from robospec.description.mjcf_control import file_actuators, file_keyframes
 from robospec.description.mjcf_frames import Unparsable, body_pose
 from robospec.description.mjcf_gaps import loader_gaps
@@ -341,6 +346,7 @@ def _description(
             frozenset(a.joint for a in actuators if a.joint is not None),
         ),
         closures=closures(loaded, names),
+        mocap_welds=mocap_welds(loaded, names),
         filtered_pairs=filtered_pairs(loaded),
     )
 

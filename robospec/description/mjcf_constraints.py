@@ -280,6 +280,28 @@ def closures(loaded: LoadedMjcf, robot: Robot) -> tuple[Closure, ...]:
     return tuple(found)
 
 
+def mocap_welds(loaded: LoadedMjcf, robot: Robot) -> tuple[str, ...]:
+    """The robot's bodies a ``<weld>`` holds to a mocap body (outside the robot's tree): MuJoCo
+    moves such a body with the mocap, and with it the joints between it and the root."""
+    mocap: set[str] = set()
+    pending = [loaded.worldbody]
+    while pending:
+        for child in loaded.includes.children(pending.pop()):
+            if child.tag == "body":
+                if child.get("mocap") == "true":
+                    mocap.add(child.get("name", ""))
+                pending.append(child)
+    mocap.discard("")
+    found: list[str] = []
+    for section in loaded.sections("equality"):
+        for element in loaded.includes.find_all(section, "weld"):
+            ends = [element.get("body1"), element.get("body2")]
+            for this, other in (ends, ends[::-1]):
+                if this in robot.bodies and other in mocap and this not in found:
+                    found.append(this)
+    return tuple(found)
+
+
 def _loop_bodies(element: etree._Element, robot: Robot) -> list[str]:
     bodies = [element.get("body1"), element.get("body2")]
     bodies += [robot.sites.get(element.get(site) or "") for site in ("site1", "site2")]

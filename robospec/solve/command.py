@@ -23,6 +23,7 @@ from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.solve.episodes import Episode
+from robospec.solve.gripper import Closing
 
 TASK_OPTION = "--task"
 
@@ -60,6 +61,9 @@ class Robot:
     fingers: tuple[str, str]
     sections: dict[str, Location] = field(default_factory=dict)
     modes: tuple[str, ...] = ()
+    # the spec's closed loops (a finger can move through one): each its two links, the point
+    # where they meet in each one's frame, and the joints of its cycle
+    loops: tuple[Closing, ...] = ()
 
 
 def run_solve(
@@ -133,7 +137,16 @@ def compile_robot(spec: Path) -> tuple[Robot | None, list[Diagnostic]]:
     context = compiled.context
     sections = {name: context.key((name,)) for name in compiled.context.spec.model_fields_set}
     modes = tuple(mode.name for mode in resolved.modes)
-    return Robot(spec, resolved.uid, (first, second), sections, modes), []
+    loops = tuple(
+        Closing(
+            (str(named.get(a, a)), str(named.get(b, b))),
+            (tuple(loop.poses[0][0]), tuple(loop.poses[1][0])),
+            tuple(loop.joints),
+        )
+        for loop in resolved.loops
+        for a, b in [loop.links]
+    )
+    return Robot(spec, resolved.uid, (first, second), sections, modes, loops), []
 
 
 def preflight(
@@ -172,7 +185,7 @@ def preflight(
         if beyond is not None:
             return beyond
         try:
-            facts = read_facts(base.agent, robot.fingers)
+            facts = read_facts(base.agent, robot.fingers, robot.loops)
         except NotSolvable as exc:
             at = robot.sections.get(
                 exc.section, robot.sections.get("uid", Location(str(robot.spec)))
@@ -257,7 +270,9 @@ def _episodes(
         if procs == 1:
             from robospec.solve.episodes import record
 
-            parts = [record(robot.uid, task, robot.fingers, seeds, folder, task, count)]
+            parts = [
+                record(robot.uid, task, robot.fingers, seeds, folder, task, count, robot.loops)
+            ]
         else:
             parts = _in_processes(robot, task, chunks, folder, count)
     finally:
@@ -274,7 +289,17 @@ def _in_processes(robot: Robot, task: str, chunks: list[list[int]], folder: Path
     workers = [
         context.Process(
             target=_worker,
-            args=(str(robot.spec), robot.uid, task, robot.fingers, chunk, str(folder), i, queue),
+            args=(
+                str(robot.spec),
+                robot.uid,
+                task,
+                robot.fingers,
+                chunk,
+                str(folder),
+                i,
+                queue,
+                robot.loops,
+            ),
         )
         for i, chunk in enumerate(chunks)
     ]
@@ -306,6 +331,7 @@ def _worker(
     folder: str,
     index: int,
     queue: Any,
+    loops: tuple[Closing, ...] = (),
 ) -> None:
     from robospec.output.register import register
     from robospec.solve.episodes import record
@@ -320,6 +346,7 @@ def _worker(
             Path(folder),
             f"{task}.{index}",
             lambda e: queue.put(("episode", e.as_dict())),
+            loops,
         )
         queue.put(("done", str(path)))
     except Exception as exc:  # reported by the parent

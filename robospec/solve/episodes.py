@@ -13,7 +13,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from robospec.solve.gripper import Closing
 
 SOURCE = "robospec solve: ManiSkill's motion-planning solution, robospec's planner"
 
@@ -58,6 +61,7 @@ def record(
     folder: Path,
     name: str,
     on_episode: Callable[[Episode], None],
+    loops: tuple[Closing, ...] = (),
 ) -> Path:
     """Solve and record ``seeds``; the trajectory file written (``folder/name.h5``)."""
     from mani_skill.utils.wrappers.record import RecordEpisode
@@ -81,7 +85,7 @@ def record(
         env.reset(seed=seeds[0] if seeds else 0)
         agent = env.unwrapped.agent
         lend_grasp_pose(agent)
-        facts = read_facts(agent, finger_links)
+        facts = read_facts(agent, finger_links, loops)
         solver = solver_class(facts)
         solve = solution(task, solver)
         seen = in_grasp_frame(env, facts.grasp_to_tcp)

@@ -88,8 +88,68 @@ class GripperFacts:
         return np.concatenate(parts)
 
 
-def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
-    """The facts of ``agent`` as the environment has just reset it (``pd_joint_pos``)."""
+@dataclass(frozen=True)
+class Closing:
+    """A closed loop of the spec: its two links, where they meet in each one's frame, and
+    the joints of the cycle it closes."""
+
+    links: tuple[str, str]
+    points: tuple[tuple[float, ...], tuple[float, ...]]
+    joints: tuple[str, ...]
+
+
+class _Closed:
+    """A gripper controller whose fingers move through closed loops: its targets leave the
+    loops' other joints (passive, which the loops move) where they close the loops again, as
+    the simulation does (the kinematics alone would leave them where the reset put them)."""
+
+    def __init__(self, controller: Any, model: Any, robot: Any, loops: list[Closing]) -> None:
+        self._controller = controller
+        self._model = model
+        links = robot.links_map
+        own = {j.name for j in controller.joints}
+        names = [j.name for j in robot.active_joints]
+        self._free = sorted(
+            {names.index(j) for loop in loops for j in loop.joints if j in names and j not in own}
+        )
+        self._ends = [
+            (links[a].index, np.asarray(pa), links[b].index, np.asarray(pb))
+            for loop in loops
+            for (a, b), (pa, pb) in [(loop.links, loop.points)]
+        ]
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._controller, name)
+
+    def close(self, qpos: np.ndarray) -> np.ndarray:
+        from scipy.optimize import least_squares
+
+        if not self._free:
+            return qpos
+
+        def gaps(free: np.ndarray) -> np.ndarray:
+            q = qpos.copy()
+            q[self._free] = free
+            self._model.compute_forward_kinematics(q)
+            out = []
+            for a, pa, b, pb in self._ends:
+                ta = self._model.get_link_pose(a).to_transformation_matrix()
+                tb = self._model.get_link_pose(b).to_transformation_matrix()
+                out.append(ta[:3, :3] @ pa + ta[:3, 3] - tb[:3, :3] @ pb - tb[:3, 3])
+            return np.concatenate(out)
+
+        # (SAPIEN's kinematics are float32: finite differences of 1e-3 rad, not 1e-8)
+        found = least_squares(gaps, qpos[self._free], diff_step=1e-3, xtol=1e-9, ftol=1e-12)
+        out = qpos.copy()
+        out[self._free] = found.x
+        return out
+
+
+def read_facts(
+    agent: Any, finger_links: tuple[str, str], loops: tuple[Closing, ...] = ()
+) -> GripperFacts:
+    """The facts of ``agent`` as the environment has just reset it (``pd_joint_pos``);
+    ``loops``: the spec's closed loops, each its two links."""
     import sapien
 
     robot = agent.robot
@@ -109,7 +169,10 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
     parts = dict(controller.controllers)
     links = robot.links_map
     fingers = [links[name] for name in finger_links]
-    arm_name, gripper_name = _arm_and_gripper(parts, tcp, fingers)
+    closing = [loop for loop in loops if set(loop.links) <= set(links)]
+    arm_name, gripper_name = _arm_and_gripper(
+        parts, tcp, fingers, [(links[a], links[b]) for a, b in (c.links for c in closing)]
+    )
     arm, gripper = parts[arm_name], parts[gripper_name]
     held = [n for n in parts if n not in (arm_name, gripper_name)]
     if arm.config.use_delta or arm.config.normalize_action:
@@ -122,6 +185,8 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
         )
     model = robot._objs[0].create_pinocchio_model()
     qpos = robot.get_qpos()[0].cpu().numpy().astype(np.float64)
+    if closing:
+        gripper = _Closed(gripper, model, robot, closing)
     ends = _open_and_closed(model, qpos, gripper, fingers)
     if ends is None:
         raise NotSolvable(
@@ -157,10 +222,15 @@ def read_facts(agent: Any, finger_links: tuple[str, str]) -> GripperFacts:
     )
 
 
-def _arm_and_gripper(parts: dict[str, Any], tcp: Any, fingers: list[Any]) -> tuple[str, str]:
+def _arm_and_gripper(
+    parts: dict[str, Any], tcp: Any, fingers: list[Any], loops: Sequence[tuple[Any, Any]] = ()
+) -> tuple[str, str]:
     """The names of the mode's one arm controller, whose joints carry the tcp, and its one
     gripper controller, whose joints move the grasp check's fingers (which must have collision
-    shapes: they close on the cube)."""
+    shapes: they close on the cube), directly or through a closed loop (``loops``: its two
+    links): a finger on one side of a loop moves with the joints that carry the other side
+    (gym-xarm's fingers hang from the outer knuckles, linkage joints, and the inner knuckles
+    the gripper drives close the loops)."""
     carried = _ancestor_joints(tcp)
     arms = [n for n, c in parts.items() if {j.name for j in c.joints} <= carried]
     shapeless = [link.name for link in fingers if not link._objs[0].collision_shapes]
@@ -172,6 +242,11 @@ def _arm_and_gripper(parts: dict[str, Any], tcp: Any, fingers: list[Any]) -> tup
             "grasping",
         )
     moving = _ancestor_joints(fingers[0]) | _ancestor_joints(fingers[1])
+    above = {link.name for finger in fingers for link in _chain_up(finger)}
+    for first, second in loops:
+        for this, other in ((first, second), (second, first)):
+            if this.name in above:
+                moving |= _ancestor_joints(other)
     # (a passive controller takes no action: a closed linkage's joints, which its loop moves)
     grippers = [
         n
@@ -207,6 +282,15 @@ def _holding(name: str, controller: Any, qpos: np.ndarray) -> list[float]:
             "controllers",
         )
     return [float(v) for v in qpos[joints]]
+
+
+def _chain_up(link: Any) -> list[Any]:
+    """``link`` and the links above it, to the root."""
+    chain = [link]
+    while link.joint is not None and link.joint.parent_link is not None:
+        link = link.joint.parent_link
+        chain.append(link)
+    return chain
 
 
 def _ancestor_joints(link: Any) -> set[str]:
@@ -307,7 +391,7 @@ def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: np.ndarray) -> np.ndar
         targets[:] = raw
     out = qpos.copy()
     out[indices] = targets
-    return out
+    return gripper.close(out) if isinstance(gripper, _Closed) else out
 
 
 def _finger_points(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.ndarray]:

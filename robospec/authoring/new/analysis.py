@@ -172,8 +172,9 @@ def analyse(source: DescriptionFile) -> RobotAnalysis:
     kinematics = kinematics_of(source.description, source.text, str(source.path))
     body = morphology(source.description, kinematics)
     groups = guess_groups(source.description, body)
-    if drives and not indirect:
-        _set_apart_passive(groups, set(drives))
+    mocap = mocap_driven(source.description)
+    if (drives or mocap) and not indirect:
+        _set_apart_passive(groups, set(drives) | mocap)
     _set_apart_immobile(groups, source.description)
     analysis = RobotAnalysis(source, body, groups, drives, kinematics, inertials, armature)
     loops = find_loops(analysis, analysis.start_qpos())
@@ -220,6 +221,18 @@ def _set_apart_linkage(groups: Groups, loops: tuple[FoundLoop, ...]) -> tuple[Mi
     groups.add(name, "mimic" if coupled else "gripper", sorted(drivers, key=order.index))
     groups.add(LINKAGE_GROUP, "linkage", sorted(followers, key=order.index))
     return linkage
+
+
+def mocap_driven(description: RobotDescription) -> set[str]:
+    """The joints between the root and a body welded to a mocap body: MuJoCo moves them by
+    moving the mocap (gym-xarm's arm has no actuator), so they are driven, not passive."""
+    parent_joint = {j.child: j for j in description.joints}
+    driven: set[str] = set()
+    for body in description.mocap_welds:
+        while (joint := parent_joint.get(body)) is not None and joint.name not in driven:
+            driven.add(joint.name)
+            body = joint.parent
+    return driven & set(description.active_joint_names)
 
 
 def _set_apart_passive(groups: Groups, driven: set[str]) -> None:

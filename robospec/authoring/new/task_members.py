@@ -34,6 +34,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from robospec.authoring.new.analysis import RobotAnalysis
+from robospec.description.urdf import parse_xml
+from robospec.kinematics.mjcf_model import read_mjcf_model
 
 if TYPE_CHECKING:
     import numpy as np
@@ -60,6 +62,9 @@ class Fingers:
     links: tuple[str, str]
     parent: str  # the link both hang from (the palm, the hand)
     openings: tuple[str, str]  # each finger's opening axis, in its own frame
+    # the frames the tcp is the midpoint of, where they are not the fingers (fingertip frames
+    # without collision shapes, welded below them)
+    tips: tuple[str, str] | None = None
 
 
 def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str, Any]:
@@ -84,7 +89,7 @@ def task_members(analysis: RobotAnalysis, qpos: Mapping[str, float]) -> dict[str
         if tcp is not None
         else {
             "link": fingers.parent,
-            "midpoint": list(fingers.links),
+            "midpoint": list(fingers.tips or fingers.links),
             "orientation": fingers.parent,
         }
     )
@@ -144,15 +149,20 @@ def _loop_fingers(
     def depth(link: str) -> int:
         return 0 if link not in above_link else 1 + depth(above_link[link])
 
-    tips, drivers = [], []
+    shaped = shaped_links(analysis)
+    tips, ends, drivers = [], [], []
     for loop in analysis.loops[:2]:
         drivers.append(loop.driver)
         # on a tie (a pad that is a geom of its finger, as robosuite's Robotiq grippers have
         # them), the link further down the tree: the coupler hangs from the crank
         finger = max(loop.links, key=lambda link: (size(link), depth(link)))
-        while len(welded.get(finger, [])) == 1:
-            finger = welded[finger][0]
-        tips.append(finger)
+        chain = [finger]
+        while len(welded.get(chain[-1], [])) == 1:
+            chain.append(welded[chain[-1]][0])
+        # the grasp check's finger closes on the cube: of the chain, the last link with
+        # collision shapes (a fingertip frame welded below the finger has none: gym-xarm's)
+        tips.append(next((link for link in reversed(chain) if link in shaped), chain[-1]))
+        ends.append(chain[-1])
     if len(tips) < 2:
         return None
     above = {joint.child: joint.parent for joint in model.joints}
@@ -166,7 +176,25 @@ def _loop_fingers(
 
     parent = next((n for n in ancestors(tips[0]) if n in set(ancestors(tips[1]))), model.root)
     a, b = tips
-    return Fingers((a, b), parent, _openings(analysis, poses, qpos, a, b, (drivers[0], drivers[1])))
+    openings = _openings(analysis, poses, qpos, a, b, (drivers[0], drivers[1]))
+    frames = (ends[0], ends[1])
+    return Fingers((a, b), parent, openings, None if frames == (a, b) else frames)
+
+
+def shaped_links(analysis: RobotAnalysis) -> set[str]:
+    """The links with collision shapes as the description states them: a URDF's links with a
+    ``<collision>`` (MuJoCo's compiled one, for ``loader: mujoco``), an MJCF's bodies with a
+    geom."""
+    source = analysis.source
+    if source.kind == "mjcf" and source.loader is None:
+        model = read_mjcf_model(source.text, str(source.path))
+        return set() if model is None else {b.name for b in model.walk() if b.geoms}
+    root, _ = parse_xml(source.text, "")
+    if root is None:
+        return set()
+    return {
+        link.get("name", "") for link in root.iterfind("link") if link.find("collision") is not None
+    }
 
 
 def _fingers(
