@@ -64,28 +64,17 @@ def test_a_scaffolded_arm_resets_to_a_ready_pose_with_its_fingers_pointing_down(
     there. new's ready keyframe points them down, and PickCube-v1 resets the robot to it; the
     way they point is measured in ManiSkill (the solver's grasp frame), not by new's kinematics."""
     import numpy as np
-
-    from robospec.solve.command import compile_robot
-    from robospec.solve.episodes import make_env
-    from robospec.solve.gripper import read_facts
+    from solve_scene import solve_scene
 
     monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
     spec = _scaffold("pb_panda", tmp_path, "ready_pb_panda")
     text = spec.read_text(encoding="utf-8")
     assert "\n  ready:" in text and "\nreset: " in text and "  keyframe: ready\n" in text
-    robot, problems = compile_robot(spec)
-    assert robot is not None, problems
-    env = make_env(robot.uid, "PickCube-v1")
-    try:
-        env.reset(seed=0)
-        agent = env.unwrapped.agent
-        facts = read_facts(agent, robot.fingers)
+    with solve_scene(spec) as (_, _, agent, facts):
         tcp = agent.tcp.pose.sp
         grasp = (tcp * facts.grasp_to_tcp.inv()).to_transformation_matrix()
         assert grasp[:3, 2] @ np.array([0.0, 0.0, -1.0]) > 0.99  # the fingers point down
         assert grasp[2, 3] > 0.05  # above the table
-    finally:
-        env.close()
 
 
 @pytest.mark.slow

@@ -55,20 +55,12 @@ def test_the_pandas_grasp_reaches_down_to_every_cube_the_task_places() -> None:
     the task's placements): the Panda's grasp frame, pointing straight down at the cube's
     height, reaches 0.8 m from its root; PickCube-v1 puts the cube 0.52 to 0.72 m away."""
     import numpy as np
+    from solve_scene import solve_scene
 
     from robospec.maniskill.reach import chain_reach
-    from robospec.solve.command import compile_robot
-    from robospec.solve.episodes import make_env
-    from robospec.solve.gripper import read_facts
     from robospec.solve.reach import DownwardReach, beyond_downward_reach, dynamic_actors
 
-    robot, problems = compile_robot(PANDA)
-    assert robot is not None, problems
-    env = make_env(robot.uid, "PickCube-v1")
-    try:
-        env.reset(seed=0)
-        agent = env.unwrapped.agent
-        facts = read_facts(agent, robot.fingers)
+    with solve_scene(PANDA) as (_, env, agent, facts):
         reach = DownwardReach(agent, facts)
         cube = dynamic_actors(env.unwrapped)["cube"]
         assert reach.reaches(cube)
@@ -78,8 +70,6 @@ def test_the_pandas_grasp_reaches_down_to_every_cube_the_task_places() -> None:
         farthest = reach.farthest(cube, bound)
         assert farthest is not None and 0.75 < farthest < 0.85
         assert beyond_downward_reach(env, facts, list(range(5)), bound) is None
-    finally:
-        env.close()
 
 
 def test_a_task_without_a_solution_is_refused_at_the_task_option() -> None:

@@ -47,19 +47,10 @@ def test_each_dimension_of_the_gripper_opens_to_the_end_of_its_own_range(
     aloha: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     import numpy as np
-
-    from robospec.solve.command import compile_robot
-    from robospec.solve.episodes import make_env
-    from robospec.solve.gripper import read_facts
+    from solve_scene import solve_scene
 
     monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
-    robot, problems = compile_robot(aloha)
-    assert robot is not None, problems
-    env = make_env(robot.uid, "PickCube-v1")
-    try:
-        env.reset(seed=0)
-        agent = env.unwrapped.agent
-        facts = read_facts(agent, robot.fingers)
+    with solve_scene(aloha) as (_, _, agent, facts):
         gripper = next(
             c
             for c in agent.controller.controllers.values()
@@ -81,8 +72,6 @@ def test_each_dimension_of_the_gripper_opens_to_the_end_of_its_own_range(
         shape = agent.action_space.shape
         assert facts.action(arm, facts.closed_action, None).shape == shape
         assert facts.action(arm, -0.6, None).shape == shape  # a solution's own gripper_state
-    finally:
-        env.close()
 
 
 def test_the_cube_beyond_the_tcps_arm_is_refused_with_that_arms_reach(
