@@ -215,6 +215,7 @@ def _beyond_chain_reach(
     import numpy as np
 
     from robospec.maniskill.reach import arm_base, chain_reach
+    from robospec.solve.reach import dynamic_actors
 
     tcp = getattr(base.agent, "tcp", None)
     arm = arm_base(tcp) if tcp is not None and hasattr(tcp, "joint") else None
@@ -228,9 +229,8 @@ def _beyond_chain_reach(
         where = f"{arm.name} (the base of the tcp's arm)"
     farthest = max(
         (
-            (name, float(np.linalg.norm(actor.pose.p[0].cpu().numpy() - root)))
-            for name, actor in base.scene.actors.items()
-            if actor.px_body_type == "dynamic"
+            (name, float(np.linalg.norm(point - root)))
+            for name, point in dynamic_actors(base).items()
         ),
         key=lambda item: item[1],
         default=None,
