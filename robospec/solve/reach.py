@@ -110,30 +110,21 @@ class DownwardReach:
         return np.concatenate([grasp[:3, 3] - target, ANGLE_WEIGHT * (grasp[:3, 2] - self.down)])
 
     def _descend(self, arm: np.ndarray, target: np.ndarray) -> bool:
-        error = self._error(arm, target)
-        for _ in range(ITERATIONS):
-            if self._close(error):
-                return True
-            jacobian = np.empty((6, len(arm)))
-            for i in range(len(arm)):
-                nudged = arm.copy()
-                nudged[i] += FINITE_DIFFERENCE
-                jacobian[:, i] = (self._error(nudged, target) - error) / FINITE_DIFFERENCE
-            square = jacobian @ jacobian.T + DAMPING**2 * np.eye(6)
-            delta = -jacobian.T @ np.linalg.solve(square, error)
-            largest = float(np.max(np.abs(delta)))
-            if largest > STEP:
-                delta *= STEP / largest
-            for _ in range(HALVINGS):
-                tried = np.clip(arm + delta, self.low, self.high)
-                now = self._error(tried, target)
-                if np.linalg.norm(now) < np.linalg.norm(error):
-                    arm, error = tried, now
-                    break
-                delta /= 2
-            else:
-                return False  # held at a limit, or at a minimum that is no solution
-        return self._close(error)
+        from robospec.kinematics.descent import damped_descent
+
+        found = damped_descent(
+            lambda joints: self._error(joints, target),
+            arm,
+            self.low,
+            self.high,
+            self._close,
+            iterations=ITERATIONS,
+            damping=DAMPING,
+            step=STEP,
+            halvings=HALVINGS,
+            difference=FINITE_DIFFERENCE,
+        )
+        return found.converged or (not found.stalled and self._close(found.error))
 
     @staticmethod
     def _close(error: np.ndarray) -> bool:

@@ -150,38 +150,35 @@ def _descend(
     limits: list[tuple[float, float]],
     qpos: dict[str, float],
 ) -> dict[str, float] | None:
-    """Damped least squares from ``qpos``, each step halved until it helps."""
+    """Damped least squares from ``qpos``, each step halved until it helps
+    (:func:`robospec.kinematics.descent.damped_descent`, on the grip's offset from the
+    target)."""
     import numpy as np
+
+    from robospec.kinematics.descent import damped_descent
 
     model = analysis.kinematics
     assert model is not None
-    error = _error(model.link(qpos, grip.hand), grip, target)
-    for _ in range(ITERATIONS):
-        if _converged(error):
-            return {name: float(value) for name, value in qpos.items()}
-        jacobian = np.zeros((6, len(arm)))
-        for i, name in enumerate(arm):
-            nudged = dict(qpos)
-            nudged[name] = qpos[name] + FINITE_DIFFERENCE
-            moved = _error(model.link(nudged, grip.hand), grip, target)
-            jacobian[:, i] = (error - moved) / FINITE_DIFFERENCE
-        square = jacobian @ jacobian.T + DAMPING**2 * np.eye(6)
-        delta = jacobian.T @ np.linalg.solve(square, error)
-        largest = float(np.max(np.abs(delta)))
-        if largest > STEP:
-            delta *= STEP / largest
-        for _ in range(HALVINGS):
-            tried = dict(qpos)
-            for name, change, (low, high) in zip(arm, delta, limits, strict=True):
-                tried[name] = min(max(qpos[name] + float(change), low), high)
-            now = _error(model.link(tried, grip.hand), grip, target)
-            if np.linalg.norm(now) < np.linalg.norm(error):
-                qpos, error = tried, now
-                break
-            delta = delta / 2
-        else:
-            return None  # no step helps: held at a limit, or at a minimum that is no solution
-    return None
+
+    def placed(joints: np.ndarray) -> dict[str, float]:
+        return {**qpos, **{name: float(v) for name, v in zip(arm, joints, strict=True)}}
+
+    def offset(joints: np.ndarray) -> np.ndarray:
+        return -_error(model.link(placed(joints), grip.hand), grip, target)
+
+    found = damped_descent(
+        offset,
+        np.array([qpos[name] for name in arm], dtype=float),
+        np.array([low for low, _ in limits], dtype=float),
+        np.array([high for _, high in limits], dtype=float),
+        _converged,
+        iterations=ITERATIONS,
+        damping=DAMPING,
+        step=STEP,
+        halvings=HALVINGS,
+        difference=FINITE_DIFFERENCE,
+    )
+    return placed(found.joints) if found.converged else None
 
 
 def _arm_joints(analysis: RobotAnalysis, hand: str) -> list[str]:
