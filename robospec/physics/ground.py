@@ -26,8 +26,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from robospec.diagnostics import Severity, error, warning
+from robospec.physics import statics
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
+from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "ground"
@@ -55,6 +57,21 @@ class Clearance:
         shown = ", ".join(name for name, _ in self.below[:limit])
         more = len(self.below) - limit
         return shown + (f" and {more} more" if more > 0 else "")
+
+
+def touching(sim: Sim) -> set[str]:
+    """The links of the robot the ground touches now (CPU only)."""
+    return {link for link, _, _ in sim.ground_contacts()}
+
+
+def standing_on(sim: Sim) -> set[str]:
+    """The links the robot stands on, or would land on, as it starts: its lowest, within
+    :data:`statics.TOUCHING` of its lowest point (by their lowest points, not the contacts:
+    none are reported before the first step, and a keyframe may hold the robot above the
+    floor)."""
+    lowest = sim.lowest_points()
+    bottom = min(lowest.values(), default=0.0)
+    return {link for link, z in lowest.items() if z <= bottom + statics.TOUCHING}
 
 
 def clearance(run: CheckRun, start: ResolvedKeyframe | None) -> Clearance:

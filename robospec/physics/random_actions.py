@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, warning
-from robospec.physics import ground, statics
+from robospec.physics import ground
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.nan_cause import nan_cause
@@ -94,7 +94,7 @@ def _drive_randomly(
     # nothing: a knee buckling under the robot's own weight stays the robot's failure.
     watch_ground = not sim.backend.gpu and not on_stand
     moved = [sim.moved_by(name) for name in sim.joint_names] if watch_ground else []
-    supports = _standing_on(sim) if watch_ground and not sim.fixed_root else set()
+    supports = ground.standing_on(sim) if watch_ground and not sim.fixed_root else set()
     for step in range(settings.steps):
         sim.step(rng.uniform(low, high, size=(sim.backend.num_envs, low.size)), pin)
         trace.steps_run = step + 1
@@ -109,7 +109,7 @@ def _drive_randomly(
         speed = np.abs(qvel).max(axis=0)
         faster = (speed > trace.top_speed) & (speed > settings.max_joint_speed)
         if watch_ground and (worse | faster).any():
-            touching = _touching_ground(sim) - supports
+            touching = ground.touching(sim) - supports
             for j in np.nonzero(worse)[0]:
                 trace.grounded[j] = bool(touching & moved[j])
             for j in np.nonzero(faster)[0]:
@@ -223,20 +223,6 @@ def runaways(
     if top_root_speed > settings.max_root_speed:
         found.append(Runaway("RS504", None, float(top_root_speed), settings.max_root_speed))
     return found
-
-
-def _touching_ground(sim: Sim) -> set[str]:
-    return {link for link, _, _ in sim.ground_contacts()}
-
-
-def _standing_on(sim: Sim) -> set[str]:
-    """The links the robot stands on, or would land on, as it starts: its lowest, within
-    :data:`statics.TOUCHING` of its lowest point (by their lowest points, not the contacts:
-    none are reported before the first step, and a keyframe may hold the robot above the
-    floor)."""
-    lowest = sim.lowest_points()
-    bottom = min(lowest.values(), default=0.0)
-    return {link for link, z in lowest.items() if z <= bottom + statics.TOUCHING}
 
 
 def limit_excess(qpos: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
