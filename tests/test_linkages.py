@@ -1,9 +1,10 @@
 """How ``robospec new`` finds a parallelogram linkage its description cut into a tree (no
 simulation): the missing pin where the follower's pivot, moved by the crank's bar, lies inside
 both the follower's and the coupler's collision boxes; the followers' rules from the shape
-(the follower turns as the crank does, the coupler back); no loop where the description
-already couples the joints alike (a ``<mimic>`` family with those rates: TALOS's grippers),
-and one where it couples them otherwise (robosuite's 2F-140's tendons)."""
+(the follower turns as the crank does, the coupler back); the loop where the description
+already couples the joints alike (a ``<mimic>`` family with those rates: the xArm6's and TALOS's
+grippers, whose followers' drives each held their share of a grasp alone) as where it couples
+them otherwise (robosuite's 2F-140's tendons)."""
 
 from __future__ import annotations
 
@@ -78,9 +79,13 @@ def test_a_parallelogram_cut_into_a_tree_is_closed_at_its_missing_pin(tmp_path: 
     assert analysis.groups.groups["linkage"] == ["coupler_joint", "follower_joint"]
 
 
-def test_a_parallelogram_its_mimic_tags_already_move_alike_gets_no_loop(tmp_path: Path) -> None:
+def test_a_parallelogram_its_mimic_tags_already_move_alike_is_closed_too(tmp_path: Path) -> None:
     mimic = '\n    <mimic joint="crank_joint" multiplier="-1"/>'
-    assert _loops(tmp_path, coupler=mimic, follower=mimic).loops == ()
+    analysis = _loops(tmp_path, coupler=mimic, follower=mimic)
+    (loop,) = analysis.loops
+    assert loop.links == ("follower", "coupler")
+    # the loop stands in for the <mimic> tags: its followers are passive, the crank drives
+    assert sorted(analysis.groups.groups["linkage"]) == ["coupler_joint", "follower_joint"]
 
 
 def test_a_parallelogram_coupled_at_other_rates_is_closed_with_the_shapes_rules(

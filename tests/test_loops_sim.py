@@ -328,3 +328,46 @@ def test_a_scaffolded_robotiq_closed_on_a_cube_holds_it_against_gravity(gripper)
     assert sunk < HELD, sunk
     assert np.linalg.norm(end[:2] - start[:2]) < HELD, (start, end)
     assert grasped and still
+
+
+def test_an_arms_parallelogram_gripper_gets_loops_and_the_solver_iterations_they_need(
+    tmp_path: Path,
+) -> None:
+    """pybullet's xArm6 with its gripper: its <mimic> tags turn the cut parallelograms' joints
+    at their own rates, and new still closes them (followers passive, the loops shape the
+    fingers); whipped about on the arm, the loops open past half of check's max_gap at
+    ManiSkill's 15 solver iterations, and the scaffold recommends as many as keep them
+    within it."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from corpus import BY_KEY, locate
+
+    from robospec import register
+    from robospec.authoring.commands import run_new
+    from robospec.authoring.new.refinement import LOOP_SHARE, SCENE_ITERATIONS, loop_gap
+    from robospec.physics.sim import Sim
+    from robospec.pipeline import compile_spec
+
+    spec = tmp_path / "xarm6_gripper.yaml"
+    result = run_new(locate(BY_KEY["pb_xarm6_gripper"]), spec, None, force=False).write()
+    assert not result.failed, result.diagnostics
+    compiled = compile_spec(spec)
+    robot = compiled.robot
+    assert robot is not None and compiled.context is not None
+    assert sorted(loop.links for loop in robot.loops) == [
+        ("left_inner_knuckle", "left_finger"),
+        ("right_inner_knuckle", "right_finger"),
+    ]
+    recommended = robot.simulation.solver_position_iterations
+    assert recommended is not None and recommended > SCENE_ITERATIONS
+    register(spec)
+    checks = compiled.context.spec.checks
+    limit = LOOP_SHARE * float(checks.loops.max_gap)
+    rest = next(k for k in robot.keyframes if k.name == "rest")
+    with Sim(robot.uid, robot.modes[0].name) as sim:
+        gains: dict[str, tuple[float, float, float]] = {}  # the spec's own, as written
+        at_default = loop_gap(sim, checks, rest, robot.loops, gains, SCENE_ITERATIONS)
+        at_recommended = loop_gap(sim, checks, rest, robot.loops, gains, recommended)
+    assert at_default > limit, at_default
+    assert at_recommended <= limit, at_recommended

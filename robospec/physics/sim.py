@@ -387,6 +387,12 @@ class Sim:
         if self.backend.gpu:
             self.scene._gpu_fetch_all()
 
+    def set_solver_position_iterations(self, iterations: int) -> None:
+        """Solve the robot with ``iterations`` PhysX position iterations from now on (what a
+        scene config's ``solver_position_iterations`` gives it; ``start`` builds it afresh)."""
+        for articulation in self.robot._objs:
+            articulation.set_solver_position_iterations(iterations)
+
     def test_stand(self) -> Any:
         """Put the robot on a test stand: lifted :data:`TEST_STAND_HEIGHT` clear of the ground
         (a mounted arm too: the floor it stands on would block half its motions); returns the

@@ -176,6 +176,7 @@ def run(request: Request) -> dict[str, Any]:
                 over_rating=found.over_rating,
                 refined=found.changed,
                 simulations=found.simulations,
+                solver_position_iterations=found.solver_position_iterations,
             )
     return answer
 
@@ -265,7 +266,7 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Refined:
 
     from robospec.authoring.new.analysis import analyse
     from robospec.authoring.new.joint_gains import joint_gains
-    from robospec.authoring.new.refinement import refine
+    from robospec.authoring.new.refinement import loop_iterations, refine
     from robospec.authoring.new.rest_pose import REFINE_UID, rest_from_answer
     from robospec.authoring.new.scaffold import scaffold
     from robospec.authoring.new.scaffold_controllers import unbalanced
@@ -299,11 +300,16 @@ def refine_scaffold(request: Request, answer: dict[str, Any]) -> Refined:
         # the Shadow hand's mount turns its wrist across gravity, which sagged 0.073 rad there
         # and 0.002 rad upright at the origin)
         keyframe = next(k for k in item.robot.keyframes if k.name == "rest")
+        checks = item.context.spec.checks
         sim = Sim(REFINE_UID, request.mode)
         try:
-            return refine(sim, item.context.spec.checks, ratings, keyframe)
+            found = refine(sim, checks, ratings, keyframe)
+            if item.robot.loops:  # in check's first mode, as check tests the loops
+                with Sim(REFINE_UID, item.robot.modes[0].name) as first:
+                    loop_iterations(first, sim, checks, keyframe, item.robot.loops, found)
         finally:
             sim.close()
+        return found
 
 
 def main() -> int:

@@ -20,9 +20,18 @@
    most. Random joint targets jump across a joint's whole range; damping is what keeps that
    from flinging it. The controllers of the joints damped are then searched again from there,
    so that none is left too slow for check's step.
+4. A robot with closed loops: random actions as check sends them to its loops (check's first
+   control mode, from the rest keyframe, the refined gains; a floating robot on its test stand,
+   where the floor cannot press on the linkage). PhysX solves a loop's drive with the joints,
+   so a linkage whipped about (an xArm6 gripper on its arm: 1.6 mm at ManiSkill's 15 solver
+   position iterations) opens; the articulation's iterations double until the loops stay
+   within half of check's ``max_gap``, and the scaffold recommends that many
+   (``simulation.solver_position_iterations``, what ``sim_config_for`` passes to
+   ``gym.make``).
 
-The answer is each joint's stiffness, damping and force limit, and the joints whose gains need
-more force than their rating (the scaffold keeps the rating and says so: RS609).
+The answer is each joint's stiffness, damping and force limit, the joints whose gains need
+more force than their rating (the scaffold keeps the rating and says so: RS609), and the solver
+position iterations the loops need (None: ManiSkill's default holds them).
 """
 
 from __future__ import annotations
@@ -36,7 +45,7 @@ import numpy as np
 from robospec.authoring.new.gains import HOLD_SHARE  # of check's max_joint_drift
 from robospec.physics.findings import significant
 from robospec.physics.sim import Sim
-from robospec.resolve.resolved import ResolvedKeyframe
+from robospec.resolve.resolved import ResolvedKeyframe, ResolvedLoop
 
 if TYPE_CHECKING:
     from robospec.model.frozen import Checks
@@ -50,6 +59,9 @@ DAMPING_RAISE = 2.0
 # gets too slow for check's step (at ratio 2 a step rises in about 8/w)
 MAX_RANDOM_ZETA = 2.0
 MAX_RAISE = 10.0  # one round raises a joint's stiffness at most this many times
+SCENE_ITERATIONS = 15  # ManiSkill's scenes' solver position iterations (its SceneConfig)
+MAX_ITERATIONS = 240  # 15 doubled four times: past it, check says the loops open (RS531)
+LOOP_SHARE = 0.5  # of check's loops.max_gap: how far the loops may open
 
 
 @dataclass
@@ -60,6 +72,7 @@ class Refined:
     over_rating: dict[str, tuple[float, float]] = field(default_factory=dict)  # (asked, rating)
     simulations: int = 0
     changed: list[str] = field(default_factory=list)  # the controllers whose gains changed
+    solver_position_iterations: int | None = None  # what the loops need; None: the scene's
 
 
 def refine(
@@ -279,9 +292,11 @@ def _random_speeds(
     keyframe: ResolvedKeyframe,
     gains: dict[str, tuple[float, float, float]],
     settings: Any,
+    iterations: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Each joint's top speed, and how far past its limits it went, under check's random
-    actions from ``keyframe``."""
+    actions from ``keyframe`` (``iterations``: solver position iterations, if not the
+    scene's)."""
     from robospec.physics.random_actions import limit_excess
 
     rng = np.random.default_rng(settings.seed)
@@ -289,6 +304,8 @@ def _random_speeds(
     high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
     sim.start(keyframe)
     _apply(sim, gains)
+    if iterations is not None:
+        sim.set_solver_position_iterations(iterations)
     top = np.zeros(len(sim.joint_names))
     excess = np.zeros(len(sim.joint_names))
     lower, upper = sim.limits[:, 0], sim.limits[:, 1]
@@ -301,3 +318,72 @@ def _random_speeds(
         top = np.maximum(top, np.abs(qvel).max(axis=0))
         excess = np.maximum(excess, limit_excess(qpos, lower, upper))
     return top, excess
+
+
+def loop_iterations(
+    first: Sim,
+    driven: Sim,
+    checks: Checks,
+    keyframe: ResolvedKeyframe,
+    loops: tuple[ResolvedLoop, ...],
+    found: Refined,
+) -> None:
+    """Step 4 (the module's doc): the solver position iterations ``loops`` need in ``first``'s
+    mode (check's first), into ``found``, where random actions in ``driven``'s (the draft's
+    pd_joint_pos) stay inside check's bounds with as many. None where the scene's own hold
+    them, where even :data:`MAX_ITERATIONS` do not, or where the iterations that do fling a
+    joint (gym-xarm's xArm7 blew up at 3.97e+31 rad): check then says how far they open
+    (RS531)."""
+    limit = LOOP_SHARE * float(checks.loops.max_gap)
+    iterations = SCENE_ITERATIONS
+    while iterations <= MAX_ITERATIONS:
+        found.simulations += 1
+        if loop_gap(first, checks, keyframe, loops, found.gains, iterations) <= limit:
+            if iterations > SCENE_ITERATIONS and _calm(driven, checks, keyframe, found, iterations):
+                found.solver_position_iterations = iterations
+            return
+        iterations *= 2
+
+
+def _calm(
+    sim: Sim, checks: Checks, keyframe: ResolvedKeyframe, found: Refined, iterations: int
+) -> bool:
+    """Whether check's random actions in ``sim``'s mode keep every joint inside check's own
+    bounds (``max_joint_speed``, ``joint_limit_tolerance``) with ``iterations``."""
+    settings = checks.random_actions
+    found.simulations += 1
+    speeds, excess = _random_speeds(sim, keyframe, found.gains, settings, iterations)
+    return bool(
+        np.all(speeds <= float(settings.max_joint_speed))
+        and np.all(excess <= float(settings.joint_limit_tolerance))
+    )
+
+
+def loop_gap(
+    sim: Sim,
+    checks: Checks,
+    keyframe: ResolvedKeyframe,
+    loops: tuple[ResolvedLoop, ...],
+    gains: dict[str, tuple[float, float, float]],
+    iterations: int,
+) -> float:
+    """The widest any loop opens under check's random actions from ``keyframe``, the robot
+    solved with ``iterations`` position iterations."""
+    from robospec.physics.loops import gaps
+
+    settings = checks.random_actions
+    rng = np.random.default_rng(settings.seed)
+    low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
+    high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
+    sim.start(keyframe)
+    _apply(sim, gains)
+    sim.set_solver_position_iterations(iterations)
+    pin = None if sim.fixed_root else sim.test_stand()
+    widest = 0.0
+    for _ in range(int(settings.steps)):
+        sim.step(rng.uniform(low, high, size=(sim.backend.num_envs, low.size)), pin)
+        now = gaps(sim, loops)
+        if not np.isfinite(now).all():
+            return float("inf")
+        widest = max(widest, float(now.max()))
+    return widest

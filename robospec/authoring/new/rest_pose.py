@@ -90,6 +90,8 @@ class RefinedGains:
     over_rating: dict[str, tuple[float, float]]  # joint -> (force asked for, its rating)
     changed: tuple[str, ...]  # the controllers (groups) whose gains changed, "hold" too
     simulations: int
+    # the solver position iterations the closed loops need (None: ManiSkill's default holds them)
+    solver_position_iterations: int | None = None
 
 
 @dataclass(frozen=True)
@@ -162,6 +164,7 @@ def probe_rest_pose(
         over_rating={k: (float(v[0]), float(v[1])) for k, v in answer["over_rating"].items()},
         changed=tuple(answer["refined"]),
         simulations=int(answer["simulations"]),
+        solver_position_iterations=answer.get("solver_position_iterations"),
     )
 
 

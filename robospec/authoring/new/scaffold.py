@@ -148,11 +148,13 @@ def scaffold(
     absolute_paths: bool = False,
     gains: Mapping[str, JointGains] | None = None,
     refined: bool = False,
+    iterations: int | None = None,
 ) -> SpecDoc:
     """The spec; ``absolute_paths`` names the description by its absolute path (the draft
     :mod:`.rest_pose` loads from a temporary folder). ``gains`` by joint: the drives (default:
     :func:`.joint_gains.joint_gains` at the rest pose); ``refined``: they were measured in
-    ManiSkill and changed where they missed (the comment says so)."""
+    ManiSkill and changed where they missed (the comment says so); ``iterations``: the solver
+    position iterations the loops were measured to need (:mod:`.refinement`, step 4)."""
     source = analysis.source
     groups = analysis.groups
     floating = analysis.body.floating
@@ -193,6 +195,12 @@ def scaffold(
             for loop in analysis.loops
         }
         notes[("loops",)] = "closed by a drive after loading; their other joints follow"
+    if iterations is not None:
+        data["simulation"] = {"solver_position_iterations": iterations}
+        notes[("simulation",)] = (
+            "measured: the loops stay closed under check's random actions with this many "
+            "(ManiSkill's scenes solve 15); gym.make(..., sim_config=sim_config_for(uid))"
+        )
 
     if gains is None:
         gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))

@@ -37,6 +37,7 @@ def scaffold_text(
     rest, found = _measured(analysis, out, schema, simulate)
     gains = joint_gains(analysis, rest.qpos, unbalanced(analysis))
     refined = False
+    iterations: int | None = None
     problems: list[Diagnostic] = []
     if isinstance(found, str):
         problems.append(
@@ -50,7 +51,8 @@ def scaffold_text(
     elif found is not None:
         gains = with_refined(gains, found.gains, found.over_rating)
         refined = bool(found.changed)
-    text, rest = _fitted(analysis, out, uid, schema, rest, gains, refined)
+        iterations = found.solver_position_iterations
+    text, rest = _fitted(analysis, out, uid, schema, rest, gains, refined, iterations)
     return text, [
         *rating_warnings(analysis, gains),
         *problems,
@@ -105,6 +107,7 @@ def _fitted(
     rest: RestPose,
     gains: Mapping[str, JointGains],
     refined: bool,
+    iterations: int | None,
 ) -> tuple[str, RestPose]:
     """The spec's text at ``rest``, its never_collide pairs fewer until validate takes them,
     and the rest pose whose pairs it declares."""
@@ -112,7 +115,10 @@ def _fitted(
     from robospec.importer.yamlout import to_yaml
 
     def written(rest: RestPose) -> str:
-        return to_yaml(scaffold(analysis, out, rest, uid, gains=gains, refined=refined), schema)
+        doc = scaffold(
+            analysis, out, rest, uid, gains=gains, refined=refined, iterations=iterations
+        )
+        return to_yaml(doc, schema)
 
     text = written(rest)
     depth = {(a, b): d for a, b, d in rest.touching}
