@@ -209,17 +209,18 @@ def _cut_linkage_gripper(path: Path) -> Path:
     return path
 
 
-def test_the_ends_of_a_linkage_the_urdf_cuts_open_never_collide_and_only_the_controller_couples(
+def test_a_parallelogram_the_urdf_cuts_open_is_closed_by_a_loop_and_its_tendons_left_out(
     tmp_path: Path,
 ) -> None:
+    """Its <mimic> tags turn the linkage at the parallelogram's own rates, and the loop closes
+    it all the same (a mimic controller left each follower's drive to hold its share of a
+    grasp alone: the xArm6's fingers let the cube squeeze out)."""
     spec = tmp_path / "cut.yaml"
     data = scaffold(_cut_linkage_gripper(tmp_path / "cut.urdf"), spec)
-    from robospec.authoring.new.exemptions import ADJACENT_WHY
-
-    # the inner knuckle's end lies in the finger at every opening of the coupling: pinned
-    assert ["finger", "inner"] in data["never_collide"]
-    assert f"#   finger + inner: {ADJACENT_WHY['pinned']}\n" in spec.read_text()
-    # PhysX's tendons for the <mimic> tags are left out: the mimic controller couples them
+    # the inner knuckle's end is pinned to the finger where the URDF could not write the pin
+    assert data["loops"]["inner"]["links"] == ["inner", "finger"]
+    # PhysX's tendons for the <mimic> tags are left out: the loop moves the followers
     assert data["description"]["mend"]["mimic"] == "controller"
-    gripper = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos_mimic"]
-    assert gripper and set(gripper[0]["mimic"]) == {"finger_joint", "inner_joint"}
+    assert sorted(data["groups"]["linkage"]) == ["finger_joint", "inner_joint"]
+    assert data["controllers"]["linkage"]["type"] == "passive"
+    assert data["groups"]["gripper"] == ["knuckle_joint"]
