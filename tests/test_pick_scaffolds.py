@@ -75,6 +75,24 @@ def test_a_scaffolded_arm_resets_to_a_ready_pose_with_its_fingers_pointing_down(
         grasp = (tcp * facts.grasp_to_tcp.inv()).to_transformation_matrix()
         assert grasp[:3, 2] @ np.array([0.0, 0.0, -1.0]) > 0.99  # the fingers point down
         assert grasp[2, 3] > 0.05  # above the table
+        # and close along y, as ManiSkill's Panda's do (its hand is turned 45° on its flange)
+        assert abs(grasp[:3, 1] @ np.array([0.0, 1.0, 0.0])) > 0.99
+
+
+@pytest.mark.slow
+@pytest.mark.maniskill
+def test_pybullets_panda_as_new_writes_it_pushes_the_cube_home(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """0 of 20 while its ready pose left the hand turned 45°: pushing along x, one closed
+    finger's corner met the cube and slid it off sideways."""
+    from robospec.solve.command import render_report, run_solve
+
+    monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+    spec = _scaffold("pb_panda", tmp_path, "push_pb_panda")
+    report = run_solve(spec, "PushCube-v1", 2, None, 1, 0, progress=False)
+    assert not report.diagnostics, render_report(report, "text")
+    assert [e.success for e in report.episodes] == [True, True], render_report(report, "text")
 
 
 @pytest.mark.slow

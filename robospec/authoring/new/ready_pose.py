@@ -7,7 +7,12 @@ away and no screw reaches it within the joint limits. ManiSkill's own Panda star
 table with its fingers pointing down; ``ready`` is that pose for any arm: the fingers pointing
 straight down, their middle half the arm's length in front of the first arm joint (the root
 frame's +x, where ManiSkill's tasks face a robot) at that joint's height, and never lower than
-:data:`LOWEST` of the arm's length above the root (the table the tasks mount it on).
+:data:`LOWEST` of the arm's length above the root (the table the tasks mount it on); and, where
+the arm can turn its wrist so, the fingers closing along the root frame's y, as the Panda's do.
+The push and pull solutions hold the gripper as the episode starts it and push along x: closing
+along y, the two closed fingers meet the cube's face side by side; turned 45° (pybullet's
+Panda, whose hand is turned so on its flange), one finger's corner slid every cube off sideways
+(0 of 20 pushed home).
 
 The pose is found by damped least squares over the arm's joints (those between the root and
 the link the fingers hang from), on the description's forward kinematics, from the rest pose,
@@ -62,6 +67,7 @@ class Grip:
     hand: str  # the link the fingers hang from
     middle: np.ndarray
     pointing: np.ndarray  # a unit vector
+    across: np.ndarray  # the way the fingers part: a unit vector normal to pointing
 
 
 def ready_pose(
@@ -107,11 +113,15 @@ def ready_poses(
         [first[0] + FORWARD * length, first[1], max(first[2], LOWEST * length)], dtype=float
     )
     limits = [_limits(analysis, name) for name in arm]
-    found = [
-        pose
-        for begin in _starts(start, arm, limits)
-        if (pose := _descend(analysis, grip, target, arm, limits, begin)) is not None
-    ]
+    found: list[dict[str, float]] = []
+    for square in (True, False):  # closing along y where the wrist can turn so, else anyhow
+        found = [
+            pose
+            for begin in _starts(start, arm, limits)
+            if (pose := _descend(analysis, grip, target, arm, limits, begin, square)) is not None
+        ]
+        if found:
+            break
     # farthest from its joints' limits first: the solutions' first moves start from it
     return sorted(found, key=lambda pose: -_margin(pose, arm, limits))
 
@@ -149,10 +159,11 @@ def _descend(
     arm: list[str],
     limits: list[tuple[float, float]],
     qpos: dict[str, float],
+    square: bool,
 ) -> dict[str, float] | None:
     """Damped least squares from ``qpos``, each step halved until it helps
     (:func:`robospec.kinematics.descent.damped_descent`, on the grip's offset from the
-    target)."""
+    target; ``square``: the fingers closing along y too)."""
     import numpy as np
 
     from robospec.kinematics.descent import damped_descent
@@ -164,7 +175,7 @@ def _descend(
         return {**qpos, **{name: float(v) for name, v in zip(arm, joints, strict=True)}}
 
     def offset(joints: np.ndarray) -> np.ndarray:
-        return -_error(model.link(placed(joints), grip.hand), grip, target)
+        return -_error(model.link(placed(joints), grip.hand), grip, target, square)
 
     found = damped_descent(
         offset,
@@ -213,11 +224,12 @@ def _limits(analysis: RobotAnalysis, name: str) -> tuple[float, float]:
 
 def _grip(
     analysis: RobotAnalysis, rest: Mapping[str, float], fingers: Fingers
-) -> tuple[np.ndarray, np.ndarray] | None:
-    """Where the fingers close and the way they point, in the frame of the link they hang from,
-    as ``robospec solve`` reads them (robospec.solve.gripper): the middle of the moving fingers'
-    centres at both ends of their joints; from that link toward it, how the fingers part as
-    they start to open from closed left out (a jaw that turns opens across the jaws)."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Where the fingers close, the way they point and the way they part, in the frame of the
+    link they hang from, as ``robospec solve`` reads them (robospec.solve.gripper): the middle
+    of the moving fingers' centres at both ends of their joints; from that link toward it, how
+    the fingers part as they start to open from closed left out (a jaw that turns opens across
+    the jaws); that parting."""
     import numpy as np
 
     model = analysis.kinematics
@@ -259,13 +271,14 @@ def _grip(
     pointing = middle - (middle @ across) * across
     if np.linalg.norm(pointing) < 1e-6:
         return None
-    return middle, pointing / np.linalg.norm(pointing)
+    return middle, pointing / np.linalg.norm(pointing), across
 
 
-def _error(hand: np.ndarray, grip: Grip, target: np.ndarray) -> np.ndarray:
+def _error(hand: np.ndarray, grip: Grip, target: np.ndarray, square: bool) -> np.ndarray:
     """How far the grip is from the target, with the hand at pose ``hand``: the position's
     difference, and the turn (axis times angle, weighted) that takes the fingers' pointing to
-    straight down."""
+    straight down; ``square``: and the parting's x component (the sine of its turn off the y
+    axis, either way along it, once pointing down), weighted alike."""
     import numpy as np
 
     middle = hand[:3, :3] @ grip.middle + hand[:3, 3]
@@ -276,7 +289,11 @@ def _error(hand: np.ndarray, grip: Grip, target: np.ndarray) -> np.ndarray:
         axis = np.array([0.0, 1.0, 0.0])
     angle = math.acos(max(-1.0, min(1.0, float(pointing @ down))))
     turn = axis / np.linalg.norm(axis) * angle
-    return np.concatenate([target - middle, ROTATION_WEIGHT * turn])
+    error = np.concatenate([target - middle, ROTATION_WEIGHT * turn])
+    if not square:
+        return error
+    across = hand[:3, :3] @ grip.across
+    return np.append(error, ROTATION_WEIGHT * float(across[0]))
 
 
 def _converged(error: np.ndarray) -> bool:
