@@ -172,7 +172,8 @@ def beyond_downward_reach(
     name = max({n for n, _ in beyond}, key=lambda n: sum(m == n for m, _ in beyond))
     distances = [d for n, d in beyond if n == name]
     limit = farthest[name]
-    lies = f"{min(distances):.2f}" + ("" if len(distances) == 1 else f" to {max(distances):.2f}")
+    nearest, farthest_seen = f"{min(distances):.2f}", f"{max(distances):.2f}"
+    lies = nearest if nearest == farthest_seen else f"{nearest} to {farthest_seen}"
     measured = (
         f"it cannot point its grasp straight down at the {name}'s height"
         if limit is None
