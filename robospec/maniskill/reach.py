@@ -48,13 +48,31 @@ def chain_reach(robot: Any, base: str | None = None) -> float | None:
     return best
 
 
+def chain_up(link: Any) -> list[Any]:
+    """``link`` (a loaded robot's link) and the links above it, to the root: the one walk up
+    the tree that the reach, the solver's gripper facts and the arm's base take."""
+    chain = [link]
+    while link.joint is not None and link.joint.parent_link is not None:
+        link = link.joint.parent_link
+        chain.append(link)
+    return chain
+
+
+def moving_joints_above(link: Any) -> set[str]:
+    """The names of the moving joints between the root and ``link``."""
+    return {
+        below.joint.name
+        for below in chain_up(link)[:-1]  # the root has no joint above it
+        if below.joint.active_index is not None
+    }
+
+
 def arm_base(link: Any) -> Any:
     """The link an arm hangs from: above ``link`` (its tcp), the parent of the first moving
     joint of the chain from the root (the root itself for an arm on it; one arm's own base,
     welded to the root beside another's, for a robot of two)."""
     base = link
-    while link is not None and link.joint is not None and link.joint.parent_link is not None:
-        if link.joint.active_index is not None:
-            base = link.joint.parent_link
-        link = link.joint.parent_link
+    for below in chain_up(link)[:-1]:  # from the tcp up: the last moving joint's parent wins
+        if below.joint.active_index is not None:
+            base = below.joint.parent_link
     return base

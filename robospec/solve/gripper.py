@@ -37,6 +37,8 @@ from typing import Any
 
 import numpy as np
 
+from robospec.maniskill.reach import chain_up, moving_joints_above
+
 # m: how far short of the fingertips the grasp frame sits, along the fingers (ManiSkill's Panda:
 # its tcp, panda_hand_tcp, 1 cm short of its fingers' tips)
 TIP_MARGIN = 0.01
@@ -231,7 +233,7 @@ def _arm_and_gripper(
     links): a finger on one side of a loop moves with the joints that carry the other side
     (gym-xarm's fingers hang from the outer knuckles, linkage joints, and the inner knuckles
     the gripper drives close the loops)."""
-    carried = _ancestor_joints(tcp)
+    carried = moving_joints_above(tcp)
     arms = [n for n, c in parts.items() if {j.name for j in c.joints} <= carried]
     shapeless = [link.name for link in fingers if not link._objs[0].collision_shapes]
     if shapeless:
@@ -241,12 +243,12 @@ def _arm_and_gripper(
             "give the finger links <collision> geometry in the description",
             "grasping",
         )
-    moving = _ancestor_joints(fingers[0]) | _ancestor_joints(fingers[1])
-    above = {link.name for finger in fingers for link in _chain_up(finger)}
+    moving = moving_joints_above(fingers[0]) | moving_joints_above(fingers[1])
+    above = {link.name for finger in fingers for link in chain_up(finger)}
     for first, second in loops:
         for this, other in ((first, second), (second, first)):
             if this.name in above:
-                moving |= _ancestor_joints(other)
+                moving |= moving_joints_above(other)
     # (a passive controller takes no action: a closed linkage's joints, which its loop moves)
     grippers = [
         n
@@ -282,24 +284,6 @@ def _holding(name: str, controller: Any, qpos: np.ndarray) -> list[float]:
             "controllers",
         )
     return [float(v) for v in qpos[joints]]
-
-
-def _chain_up(link: Any) -> list[Any]:
-    """``link`` and the links above it, to the root."""
-    chain = [link]
-    while link.joint is not None and link.joint.parent_link is not None:
-        link = link.joint.parent_link
-        chain.append(link)
-    return chain
-
-
-def _ancestor_joints(link: Any) -> set[str]:
-    names = set()
-    while link is not None and link.joint is not None:
-        if link.joint.active_index is not None:
-            names.add(link.joint.name)
-        link = link.joint.parent_link
-    return names
 
 
 def _action_range(gripper: Any) -> tuple[np.ndarray, np.ndarray]:
