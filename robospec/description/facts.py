@@ -56,6 +56,9 @@ class Closure:
 class Link:
     name: str
     line: int
+    # the description gives it shapes to collide with: a URDF link's <collision>, the <geom>s of
+    # the MJCF body it is (not a dummy link ManiSkill adds for a body's other joints)
+    shaped: bool = False
 
 
 @dataclass(frozen=True)

@@ -90,6 +90,7 @@ class _Node:
     line: int
     parent: str | None
     joint: Joint | None  # None for the dummy root
+    shaped: bool = False  # it carries its body's geoms (Link.shaped)
 
 
 @dataclass
@@ -309,7 +310,7 @@ def _qpos_order(root_name: str, state: _State) -> _Ordered:
         joints.append(joint)
         if joint.type in ACTIVE_JOINT_TYPES:
             active.append(joint.name)
-    links = tuple(Link(name, by_name[name].line) for name in order)
+    links = tuple(Link(name, by_name[name].line, by_name[name].shaped) for name in order)
     return _Ordered(order, links, tuple(joints), tuple(unnamed), tuple(active))
 
 
@@ -483,7 +484,7 @@ def _parse_body(
     if not joint_elements:
         # the loader attaches the body with a fixed joint it leaves nameless
         fixed = Joint(name="", type="fixed", parent=parent, child=name, line=line_of(body))
-        _add_link(name, body, link_parent, fixed, state)
+        _add_link(name, body, link_parent, fixed, state, shaped=body.find("geom") is not None)
         link_parent = name
     for i, joint_element in enumerate(joint_elements):
         link_name = name if i == len(joint_elements) - 1 else f"{name}_dummy_{i}"
@@ -491,7 +492,8 @@ def _parse_body(
         if attributes is None:
             return
         joint = _make_joint(joint_element, attributes, link_parent, link_name, state)
-        _add_link(link_name, body, link_parent, joint, state)
+        shaped = link_name == name and body.find("geom") is not None  # a dummy has none
+        _add_link(link_name, body, link_parent, joint, state, shaped)
         link_parent = link_name
 
     record = LoadedBody(
@@ -512,7 +514,12 @@ def _parse_body(
 
 
 def _add_link(
-    name: str, body: etree._Element, parent: str, joint: Joint | None, state: _State
+    name: str,
+    body: etree._Element,
+    parent: str,
+    joint: Joint | None,
+    state: _State,
+    shaped: bool = False,
 ) -> None:
     where = state.where(body)
     if name in state.link_lines:
@@ -528,7 +535,7 @@ def _add_link(
         )
         return
     state.link_lines[name] = (where.file, where.line)
-    state.nodes.append(_Node(name, where.line, parent, joint))
+    state.nodes.append(_Node(name, where.line, parent, joint, shaped))
     state.children.setdefault(parent, []).append(name)
     state.children.setdefault(name, [])
 

@@ -231,7 +231,7 @@ def _read_links(
             )
             fatal = True
             continue
-        links[name] = Link(name, line_of(element))
+        links[name] = Link(name, line_of(element), element.find("collision") is not None)
     return links, fatal
 
 

@@ -34,8 +34,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from robospec.authoring.new.analysis import RobotAnalysis
-from robospec.description.urdf import parse_xml
-from robospec.kinematics.mjcf_model import read_mjcf_model
 
 if TYPE_CHECKING:
     import numpy as np
@@ -182,19 +180,10 @@ def _loop_fingers(
 
 
 def shaped_links(analysis: RobotAnalysis) -> set[str]:
-    """The links with collision shapes as the description states them: a URDF's links with a
-    ``<collision>`` (MuJoCo's compiled one, for ``loader: mujoco``), an MJCF's bodies with a
-    geom."""
-    source = analysis.source
-    if source.kind == "mjcf" and source.loader is None:
-        model = read_mjcf_model(source.text, str(source.path))
-        return set() if model is None else {b.name for b in model.walk() if b.geoms}
-    root, _ = parse_xml(source.text, "")
-    if root is None:
-        return set()
-    return {
-        link.get("name", "") for link in root.iterfind("link") if link.find("collision") is not None
-    }
+    """The links with collision shapes as the description states them (``Link.shaped``: a
+    URDF's links with a ``<collision>``, MuJoCo's compiled one's for ``loader: mujoco``, an
+    MJCF's bodies with a geom)."""
+    return {link.name for link in analysis.description.links if link.shaped}
 
 
 def _fingers(
