@@ -10,6 +10,9 @@ reset put them. From PickCube-v1's mount the cube lies beyond the left arm's rea
 says before any episode (RS526, measured from that arm's own base): it ran episodes that had no
 plan before, the whole robot's chain (1.66 m from the root, across the weld to the arm) being
 taken as the arm's reach.
+
+gym-xarm's xArm7 (an MJCF): its fingers move through two closed four-bars, and the gripper's
+open and closed actions are read by closing the loops' kinematics again.
 """
 
 from __future__ import annotations
@@ -87,3 +90,38 @@ def test_the_cube_beyond_the_tcps_arm_is_refused_with_that_arms_reach(
     distance, reach = (float(v) for v in re.findall(r"(\d+\.\d+) m", diagnostic.message))
     assert reach < distance < 1.3 and 0.8 < reach < 1.1  # the arm's own: not the robot's 1.66
     assert not report.episodes
+
+
+def test_a_gripper_closed_through_loops_opens_and_closes_its_fingers_as_its_facts_say(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """gym-xarm's xArm7 (MJCF): each finger hangs on a four-bar closed by a loop, so where the
+    fingers are at a gripper action is found by closing the loops' kinematics again (least
+    squares, robospec.solve.gripper); the open and closed actions read so, driven in the task's
+    scene, part the fingers and bring them together (a sign turned in that solve makes the
+    "open" action the narrower)."""
+    import numpy as np
+    from solve_scene import solve_scene
+
+    monkeypatch.setenv("ROBOSPEC_CACHE_DIR", str(tmp_path / "cache"))
+    try:
+        description = locate(BY_KEY["gx_xarm7"])
+    except CorpusMissing as missing:
+        pytest.fail(str(missing), pytrace=False)
+    spec = tmp_path / "xarm7.yaml"
+    result = run_new(description, spec, "loops_xarm7", force=True, simulate=False).write()
+    assert not result.failed, result.diagnostics
+    with solve_scene(spec) as (robot, env, agent, facts):
+        assert len(robot.loops) == 2
+        links = [agent.robot.links_map[name] for name in robot.fingers]
+        arm = agent.robot.get_qpos()[0].numpy()[list(facts.arm_joints)]
+
+        def span_after(gripper: object) -> float:
+            for _ in range(40):
+                env.step(facts.action(arm, gripper, None))
+            a, b = (link.pose.p[0].numpy() for link in links)
+            return float(np.linalg.norm(a - b))
+
+        wide = span_after(facts.open_action)
+        shut = span_after(facts.closed_action)
+    assert wide > shut + 0.01, (wide, shut)
