@@ -280,3 +280,19 @@ def test_a_closed_linkages_passive_joints_are_no_second_gripper_to_the_solver(
         assert facts.closed_action != facts.open_action
     finally:
         env.close()
+
+
+@pytest.mark.slow
+@pytest.mark.maniskill
+def test_an_arm_new_finds_no_ready_pose_for_says_what_stopped_it(tmp_path: Path) -> None:
+    """example-robot-data's Baxter: its lower shoulder's collision shape overlaps its torso
+    whenever the arm turns forward (s0 ≥ 0), so every pose with the fingers pointing down in
+    front of the arm touches, and the episodes start at rest; the reset's comment says why."""
+    out = tmp_path / "baxter.yaml"
+    result = run_new(_description("erd_baxter"), out, "ready_baxter", force=True).write()
+    assert not result.failed, result.diagnostics
+    text = out.read_text(encoding="utf-8")
+    assert "\n  ready:" not in text
+    (reset,) = [line for line in text.splitlines() if line.startswith("reset:")]
+    assert "every episode starts at rest" in reset and "no ready pose" in reset
+    assert "right_lower_shoulder + torso touch" in reset, reset

@@ -162,7 +162,7 @@ def run(request: Request) -> dict[str, Any]:
     try:
         answer = _search(request, robot)
         if request.refinement is not None:  # the description is at hand: new's own run
-            answer["ready"] = _ready(request, robot, answer)
+            answer["ready"], answer["ready_refused"] = _ready(request, robot, answer)
     finally:
         robot.sim.close()
     if request.refinement is not None:
@@ -218,11 +218,14 @@ def _search(request: Request, robot: LoadedRobot) -> dict[str, Any]:
     }
 
 
-def _ready(request: Request, robot: LoadedRobot, answer: dict[str, Any]) -> list[float] | None:
+def _ready(
+    request: Request, robot: LoadedRobot, answer: dict[str, Any]
+) -> tuple[list[float] | None, str]:
     """The ready keyframe of an arm with a gripper (:mod:`.ready_pose`): the first pose found
     in which no two links touch deeper than robospec check counts (but the pairs that touch at
     rest, which the scaffold declares never_collide) and none reaches below the ground farther
-    than at rest; None when there is none."""
+    than at rest; None when there is none, with what stopped the first pose found (the one
+    farthest from its joints' limits): Baxter's every pose pressed its shoulder on its torso."""
     from pathlib import Path
 
     from robospec.authoring.new.analysis import analyse
@@ -234,27 +237,33 @@ def _ready(request: Request, robot: LoadedRobot, answer: dict[str, Any]) -> list
     assert request.refinement is not None
     source, _ = read_for_new(Path(request.refinement[0]))  # as new read it (a mobile base)
     if source is None:
-        return None
+        return None, ""
     analysis = analyse(source)
     rest = rest_from_answer(answer, analysis.description)
     fingers = gripper_fingers(analysis, rest.qpos)
     if fingers is None:
-        return None
+        return None, ""
     exempt = {frozenset(pair) for pair in request.joined}
     exempt |= {frozenset((a, b)) for a, b, _ in rest.touching}
     exempt |= {frozenset(pair) for pair in rest.never_collide}
     rest_qpos = [rest.qpos[name] for name in request.joints]
     floor = robot.mount_height(rest_qpos) or 0.0
+    refused = ""
     for pose in ready_poses(analysis, rest.qpos, fingers):
         qpos = [pose[name] for name in request.joints]
         touching = [
-            pair
+            (pair, depth)
             for pair, depth in robot.posed(qpos).items()
             if depth >= request.min_depth - DEPTH_NOISE and frozenset(pair) not in exempt
         ]
-        if not touching and (robot.mount_height(qpos) or 0.0) <= floor:
-            return qpos
-    return None
+        below = (robot.mount_height(qpos) or 0.0) > floor
+        if not touching and not below:
+            return qpos, ""
+        if not refused:
+            deepest = sorted(touching, key=lambda found: -found[1])[:2]
+            refused = ", ".join(f"{a} + {b} touch ({d * 1000:.0f} mm)" for (a, b), d in deepest)
+            refused = refused or "it reaches below the ground"
+    return None, refused
 
 
 def refine_scaffold(request: Request, answer: dict[str, Any]) -> Refined:

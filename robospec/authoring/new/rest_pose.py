@@ -64,6 +64,7 @@ class RestPose:
     # None with ``ready_checked``: none of the poses found passed
     ready: dict[str, float] | None = None
     ready_checked: bool = False
+    ready_refused: str = ""  # what stopped the first pose found, where none passed
 
     def reason(self, pair: tuple[str, str]) -> str:
         """Why ``pair``, one of :attr:`never_collide`, is declared so, in a few words."""
@@ -188,6 +189,7 @@ def rest_from_answer(answer: dict[str, Any], description: RobotDescription) -> R
     return RestPose(
         ready=None if ready is None else dict(zip(joints, map(_tidy, ready), strict=True)),
         ready_checked="ready" in answer,
+        ready_refused=str(answer.get("ready_refused") or ""),
         qpos=qpos,
         root_height=None if height is None else _tidy(height),
         checked=True,

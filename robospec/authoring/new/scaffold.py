@@ -276,6 +276,11 @@ def _start(
     notes[("reset",)] = (
         f"every episode starts at {start} (ManiSkill's tasks reset only the robots they know)"
     )
+    if ready is None and rest.ready_refused:
+        notes[("reset",)] += (
+            "; no ready pose (fingers pointing down in front of the arm): in the first found, "
+            + rest.ready_refused
+        )
 
 
 # why an MJCF's collision filters make a never_collide entry (the header says it for each)
