@@ -32,6 +32,7 @@ from robospec.geometry import Vector, rotate
 from robospec.physics import ground
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
+from robospec.physics.random_actions import random_draws
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe, ResolvedLoop
 
@@ -121,9 +122,7 @@ def _drive_randomly(run: CheckRun, sim: Sim, on_stand: bool = False) -> _Opening
     loops = run.robot.loops
     settings = run.settings.random_actions
     start = run.robot.keyframes[0] if run.robot.keyframes else None
-    rng = np.random.default_rng(settings.seed)
-    low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
-    high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
+    draw = random_draws(sim, settings.seed)
     sim.start(start)
     pin = sim.test_stand() if on_stand else None
     # as random_actions watches the floor: random actions topple a free robot onto a gripper
@@ -136,7 +135,7 @@ def _drive_randomly(run: CheckRun, sim: Sim, on_stand: bool = False) -> _Opening
     supports = ground.standing_on(sim) if watch else set()
     opening = _Opening(np.zeros(len(loops)), np.zeros(len(loops), dtype=bool))
     for _ in range(settings.steps):
-        sim.step(rng.uniform(low, high), pin)
+        sim.step(draw(), pin)
         now = gaps(sim, loops)
         if not np.all(np.isfinite(now)):
             break  # NaN: random_actions says why (RS502)

@@ -25,7 +25,7 @@ mimic controller drives them, so the hand goes NaN within a few steps (RS502, na
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -63,15 +63,23 @@ class _Trace:
     flung: np.ndarray  # each joint's top speed (past max_joint_speed) did
 
 
+def random_draws(sim: Sim, seed: int) -> Callable[[], np.ndarray]:
+    """Check's random actions for ``sim``, one batch a call: uniform within its action space
+    (±1 where a bound is infinite), one row per environment, drawn from ``seed`` — what
+    random_actions, the loops check and new's refinement all send."""
+    rng = np.random.default_rng(seed)
+    low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
+    high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
+    return lambda: rng.uniform(low, high, size=(sim.backend.num_envs, low.size))
+
+
 def _drive_randomly(
     run: CheckRun, sim: Sim, start: ResolvedKeyframe | None, on_stand: bool = False
 ) -> _Trace:
     """The random actions of ``checks.random_actions`` from ``start``; ``on_stand``: with the
     robot lifted clear of the floor, a free root held there (``Sim.test_stand``)."""
     settings = run.settings.random_actions
-    rng = np.random.default_rng(settings.seed)
-    low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
-    high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
+    draw = random_draws(sim, settings.seed)
     sim.start(start)
     pin = sim.test_stand() if on_stand else None
     lower = sim.limits[:, 0] - settings.joint_limit_tolerance
@@ -96,7 +104,7 @@ def _drive_randomly(
     moved = [sim.moved_by(name) for name in sim.joint_names] if watch_ground else []
     supports = ground.standing_on(sim) if watch_ground and not sim.fixed_root else set()
     for step in range(settings.steps):
-        sim.step(rng.uniform(low, high, size=(sim.backend.num_envs, low.size)), pin)
+        sim.step(draw(), pin)
         trace.steps_run = step + 1
         qpos, qvel = sim.qpos(), sim.qvel()
         bad = ~(np.isfinite(qpos) & np.isfinite(qvel)).all(axis=0)

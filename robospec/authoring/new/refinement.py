@@ -297,11 +297,9 @@ def _random_speeds(
     """Each joint's top speed, and how far past its limits it went, under check's random
     actions from ``keyframe`` (``iterations``: solver position iterations, if not the
     scene's)."""
-    from robospec.physics.random_actions import limit_excess
+    from robospec.physics.random_actions import limit_excess, random_draws
 
-    rng = np.random.default_rng(settings.seed)
-    low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
-    high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
+    draw = random_draws(sim, settings.seed)
     sim.start(keyframe)
     _apply(sim, gains)
     if iterations is not None:
@@ -310,7 +308,7 @@ def _random_speeds(
     excess = np.zeros(len(sim.joint_names))
     lower, upper = sim.limits[:, 0], sim.limits[:, 1]
     for _ in range(int(settings.steps)):
-        sim.step(rng.uniform(low, high, size=(sim.backend.num_envs, low.size)))
+        sim.step(draw())
         qpos, qvel = sim.qpos(), sim.qvel()
         if not np.isfinite(qvel).all() or not np.isfinite(qpos).all():
             broken = np.full(len(sim.joint_names), np.inf)
@@ -370,18 +368,17 @@ def loop_gap(
     """The widest any loop opens under check's random actions from ``keyframe``, the robot
     solved with ``iterations`` position iterations."""
     from robospec.physics.loops import gaps
+    from robospec.physics.random_actions import random_draws
 
     settings = checks.random_actions
-    rng = np.random.default_rng(settings.seed)
-    low = np.where(np.isfinite(sim.action_low), sim.action_low, -1.0)
-    high = np.where(np.isfinite(sim.action_high), sim.action_high, 1.0)
+    draw = random_draws(sim, settings.seed)
     sim.start(keyframe)
     _apply(sim, gains)
     sim.set_solver_position_iterations(iterations)
     pin = None if sim.fixed_root else sim.test_stand()
     widest = 0.0
     for _ in range(int(settings.steps)):
-        sim.step(rng.uniform(low, high, size=(sim.backend.num_envs, low.size)), pin)
+        sim.step(draw(), pin)
         now = gaps(sim, loops)
         if not np.isfinite(now).all():
             return float("inf")
