@@ -25,6 +25,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from robospec.diagnostics import Severity, error, warning
 from robospec.physics import statics
 from robospec.physics.check_run import CheckRun, keyframe_label
@@ -72,6 +74,29 @@ def standing_on(sim: Sim) -> set[str]:
     lowest = sim.lowest_points()
     bottom = min(lowest.values(), default=0.0)
     return {link for link, z in lowest.items() if z <= bottom + statics.TOUCHING}
+
+
+class FloorPress:
+    """Which of some sets of the robot's links the floor presses on now, while random actions
+    run: a mounted robot's random targets drive it into the floor it stands on, and random
+    actions topple a free one onto links never made to carry it, so what such links do may be
+    the floor's doing. The links a free robot stands on as it starts carry it by design and
+    count for nothing (a knee buckling under the robot's own weight stays its failure).
+    Watched on the CPU only (the contact list), and only where ``watch`` says so."""
+
+    def __init__(self, sim: Sim, moved: list[set[str]], watch: bool) -> None:
+        self.sim = sim
+        self.watching = watch and not sim.backend.gpu
+        self.moved = moved if self.watching else []
+        self.supports = standing_on(sim) if self.watching and not sim.fixed_root else set()
+
+    def pressed(self, which: np.ndarray) -> dict[int, bool]:
+        """For each set ``which`` (a mask over them) picks: whether the floor presses on one
+        of its links now (beyond the supports); nothing where not watching."""
+        if not self.watching or not which.any():
+            return {}
+        now = touching(self.sim) - self.supports
+        return {int(i): bool(now & self.moved[i]) for i in np.nonzero(which)[0]}
 
 
 def clearance(run: CheckRun, start: ResolvedKeyframe | None) -> Clearance:

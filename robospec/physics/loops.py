@@ -125,25 +125,18 @@ def _drive_randomly(run: CheckRun, sim: Sim, on_stand: bool = False) -> _Opening
     draw = random_draws(sim, settings.seed)
     sim.start(start)
     pin = sim.test_stand() if on_stand else None
-    # as random_actions watches the floor: random actions topple a free robot onto a gripper
-    # (TALOS lands on its fingertips), and a linkage pressed on by its weight opens; the links
-    # it stands on at the start excuse nothing
-    watch = not sim.backend.gpu and not on_stand and not sim.fixed_root
-    moved = (
-        [set().union(*(sim.moved_by(j) for j in loop.joints)) for loop in loops] if watch else []
-    )
-    supports = ground.standing_on(sim) if watch else set()
+    # as random_actions watches the floor, a free robot only: random actions topple it onto a
+    # gripper (TALOS lands on its fingertips), and a linkage pressed on by its weight opens
+    moved = [set().union(*(sim.moved_by(j) for j in loop.joints)) for loop in loops]
+    floor = ground.FloorPress(sim, moved, not on_stand and not sim.fixed_root)
     opening = _Opening(np.zeros(len(loops)), np.zeros(len(loops), dtype=bool))
     for _ in range(settings.steps):
         sim.step(draw(), pin)
         now = gaps(sim, loops)
         if not np.all(np.isfinite(now)):
             break  # NaN: random_actions says why (RS502)
-        wider = now > opening.gap
-        if watch and wider.any():
-            touching = ground.touching(sim) - supports
-            for i in np.nonzero(wider)[0]:
-                opening.grounded[i] = bool(touching & moved[i])
+        for i, on_floor in floor.pressed(now > opening.gap).items():
+            opening.grounded[i] = on_floor
         opening.gap = np.maximum(opening.gap, now)
     return opening
 

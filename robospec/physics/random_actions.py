@@ -95,14 +95,8 @@ def _drive_randomly(
         grounded=np.zeros(n_joints, dtype=bool),
         flung=np.zeros(n_joints, dtype=bool),
     )
-    # a mounted robot's random targets drive it into the floor it stands on, and random actions
-    # topple a free-standing one onto links never made to carry it: what a joint does while
-    # such a link presses on the ground may be the floor's doing (watched on the CPU only). The
-    # links a free robot stands on at the start carry it by design, so their contacts excuse
-    # nothing: a knee buckling under the robot's own weight stays the robot's failure.
-    watch_ground = not sim.backend.gpu and not on_stand
-    moved = [sim.moved_by(name) for name in sim.joint_names] if watch_ground else []
-    supports = ground.standing_on(sim) if watch_ground and not sim.fixed_root else set()
+    # what a joint does while the floor presses on a link it moves may be the floor's doing
+    floor = ground.FloorPress(sim, [sim.moved_by(name) for name in sim.joint_names], not on_stand)
     for step in range(settings.steps):
         sim.step(draw(), pin)
         trace.steps_run = step + 1
@@ -116,12 +110,12 @@ def _drive_randomly(
         worse = excess > trace.past_limit
         speed = np.abs(qvel).max(axis=0)
         faster = (speed > trace.top_speed) & (speed > settings.max_joint_speed)
-        if watch_ground and (worse | faster).any():
-            touching = ground.touching(sim) - supports
-            for j in np.nonzero(worse)[0]:
-                trace.grounded[j] = bool(touching & moved[j])
-            for j in np.nonzero(faster)[0]:
-                trace.flung[j] = bool(touching & moved[j])
+        pressed = floor.pressed(worse | faster)
+        for j, on_floor in pressed.items():
+            if worse[j]:
+                trace.grounded[j] = on_floor
+            if faster[j]:
+                trace.flung[j] = on_floor
         trace.past_limit = np.maximum(trace.past_limit, excess)
         trace.top_speed = np.maximum(trace.top_speed, speed)
         if not sim.fixed_root and pin is None:

@@ -387,6 +387,11 @@ class Sim:
         if self.backend.gpu:
             self.scene._gpu_fetch_all()
 
+    def solver_position_iterations(self) -> int:
+        """The PhysX position iterations the robot is solved with now (as built: its scene
+        config's)."""
+        return int(self.robot._objs[0].get_solver_position_iterations())
+
     def set_solver_position_iterations(self, iterations: int) -> None:
         """Solve the robot with ``iterations`` PhysX position iterations from now on (what a
         scene config's ``solver_position_iterations`` gives it; ``start`` builds it afresh)."""

@@ -59,8 +59,9 @@ DAMPING_RAISE = 2.0
 # gets too slow for check's step (at ratio 2 a step rises in about 8/w)
 MAX_RANDOM_ZETA = 2.0
 MAX_RAISE = 10.0  # one round raises a joint's stiffness at most this many times
-SCENE_ITERATIONS = 15  # ManiSkill's scenes' solver position iterations (its SceneConfig)
-MAX_ITERATIONS = 240  # 15 doubled four times: past it, check says the loops open (RS531)
+# solver position iterations tried at most (ManiSkill's scenes' 15 doubled four times): past
+# them, check says the loops open (RS531)
+MAX_ITERATIONS = 240
 LOOP_SHARE = 0.5  # of check's loops.max_gap: how far the loops may open
 
 
@@ -333,11 +334,12 @@ def loop_iterations(
     joint (gym-xarm's xArm7 blew up at 3.97e+31 rad): check then says how far they open
     (RS531)."""
     limit = LOOP_SHARE * float(checks.loops.max_gap)
-    iterations = SCENE_ITERATIONS
+    scene = first.solver_position_iterations()  # what the scene solves it with, as built
+    iterations = scene
     while iterations <= MAX_ITERATIONS:
         found.simulations += 1
         if loop_gap(first, checks, keyframe, loops, found.gains, iterations) <= limit:
-            if iterations > SCENE_ITERATIONS and _calm(driven, checks, keyframe, found, iterations):
+            if iterations > scene and _calm(driven, checks, keyframe, found, iterations):
                 found.solver_position_iterations = iterations
             return
         iterations *= 2
