@@ -370,6 +370,7 @@ def _maniskill_facts(scene: Any, path: Path) -> dict[str, Any]:
         "active": [j.name for j in robot.active_joints],
         "limits": [[float(x) for x in j.limits[0]] for j in robot.active_joints],
         "fixed_root": bool(robot.fixed_root_link.all()),
+        "shaped": {link.name for link in robot.links if link._objs[0].collision_shapes},
     }
 
 
@@ -382,6 +383,9 @@ def test_fixtures_and_humanoid_match_maniskill_mjcf_loader(scene: Any) -> None:
         assert list(description.link_names) == facts["links"], path.name
         assert list(description.active_joint_names) == facts["active"], path.name
         assert description.floating_root == (not facts["fixed_root"]), path.name
+        # the links with collision shapes: a body's own, never the dummies before it
+        shaped = {link.name for link in description.links if link.shaped}
+        assert shaped == facts["shaped"], path.name
         for joint, (lower, upper) in zip(description.active_joints, facts["limits"], strict=True):
             assert (joint.lower if joint.lower is not None else -math.inf) == pytest.approx(
                 lower, rel=1e-6

@@ -354,6 +354,7 @@ def _sapien_facts(uid: str) -> dict[str, Any]:
             "limits": [[float(x) for x in j.limits[0].flatten()] for j in robot.active_joints],
             "fixed_root": bool(robot.fixed_root_link.all()),
             "fix_root_link": env.unwrapped.agent.fix_root_link,  # type: ignore[attr-defined]
+            "shaped": {link.name for link in robot.links if link._objs[0].collision_shapes},
         }
     finally:
         env.close()
@@ -391,6 +392,9 @@ def test_parser_matches_sapien_for_every_bundled_maniskill_agent() -> None:
                 )
         if description.floating_root and facts["fixed_root"]:
             mismatches.append(f"{uid}: floating root expected, SAPIEN's root is fixed")
+        shaped = {link.name for link in description.links if link.shaped}
+        if shaped != facts["shaped"]:
+            mismatches.append(f"{uid} links with collision shapes: {shaped ^ facts['shaped']}")
     assert mismatches == []
 
 
