@@ -16,6 +16,13 @@ from robospec.diagnostics import (
     sort_key,
     without_codes,
 )
+from robospec.diagnostics.codes import (
+    DESCRIPTION_NOT_FOUND,
+    DUPLICATE_UID,
+    INTERNAL_ERROR,
+    PART_CYCLE,
+    UNKNOWN_SILENCED_CODE,
+)
 from robospec.load.discovery import discover
 from robospec.load.reader import SPEC_SUFFIXES, parse_spec_bytes, read_spec
 from robospec.load.source_map import KeyPath, LoadedSpec
@@ -83,7 +90,7 @@ def compile_spec(
         result.diagnostics.append(
             error(
                 Location(result.display),
-                "RS900",
+                INTERNAL_ERROR,
                 f"internal error: {type(exc).__name__}: {exc}",
                 "please report this with the spec that caused it",
             )
@@ -124,7 +131,7 @@ def _silence(result: CompiledSpec, silence: frozenset[str]) -> None:
                 problems.append(
                     error(
                         result.loaded.source.value(("silence", index)),
-                        "RS107",
+                        UNKNOWN_SILENCED_CODE,
                         f"{code} is not a robospec diagnostic code",
                         "docs/diagnostics.md lists them",
                     )
@@ -155,7 +162,7 @@ def _compile_into(
         result.diagnostics.append(
             error(
                 loaded.source.value(("uid",)),
-                "RS306",
+                DUPLICATE_UID,
                 f"uid '{spec.uid}' is already registered by ManiSkill; its register_agent would "
                 "skip this robot with only a warning",
                 f"use a new uid such as 'rs_{spec.uid}', or set `override: true` to replace "
@@ -226,7 +233,7 @@ def _compile_parts(
             result.diagnostics.append(
                 error(
                     where,
-                    "RS733",
+                    PART_CYCLE,
                     f"part '{name}' mounts a spec that mounts this one: {' -> '.join(ring)}",
                     "a spec cannot be a part of itself",
                 )
@@ -234,7 +241,9 @@ def _compile_parts(
             parts[name] = PartInput(name, None, None, display, display, cycle=True)
             continue
         if not path.is_file():
-            result.diagnostics.append(error(where, "RS050", f"file not found: '{part.spec}'"))
+            result.diagnostics.append(
+                error(where, DESCRIPTION_NOT_FOUND, f"file not found: '{part.spec}'")
+            )
             parts[name] = PartInput(name, None, None, display, display, cycle=True)
             continue
         # its own problems are its file's: validating it reports them; here, RS737 names them
@@ -312,7 +321,7 @@ def _duplicate_uids(compiled: list[CompiledSpec]) -> Iterable[Diagnostic]:
             item.robot = None
             yield error(
                 item.loaded.source.value(("uid",)),
-                "RS306",
+                DUPLICATE_UID,
                 f"uid '{uid}' is also used by {where.file}:{where.line}",
             )
         else:

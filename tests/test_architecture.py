@@ -13,6 +13,8 @@ from pathlib import Path
 
 import robospec
 from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS
+from robospec.diagnostics import codes
+from robospec.diagnostics.codes import CODES
 
 PACKAGE = Path(robospec.__file__).parent
 
@@ -199,6 +201,7 @@ SEMANTIC_CODE = re.compile(r"^RS3\d\d$")
 UID_TAKEN = "RS306"
 # modules that name codes without reporting them
 NAMES_CODES_ONLY = {"robospec.diagnostics.codes", "robospec.docgen.code_examples"}
+CODE_TEXT = re.compile(r"^RS\d{3}$")
 
 
 # a check module may also report a code of the spec's own values that needs the resolved
@@ -207,12 +210,41 @@ CHECK_CODE = re.compile(r"^RS(?:3\d\d|106)$")
 
 
 def _codes_in(path: Path, code: re.Pattern[str] = SEMANTIC_CODE) -> set[str]:
+    """The codes a module names: the constants it imports from robospec.diagnostics.codes."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    return {
-        node.value
+    named = {
+        getattr(codes, alias.name)
         for node in ast.walk(tree)
-        if isinstance(node, ast.Constant) and isinstance(node.value, str) and code.match(node.value)
+        if isinstance(node, ast.ImportFrom) and node.module == "robospec.diagnostics.codes"
+        for alias in node.names
+        if alias.name not in ("CODES", "Code")
     }
+    return {value for value in named if code.match(value)}
+
+
+def test_a_code_is_written_as_text_only_where_it_is_defined() -> None:
+    """Modules name a code by its constant (``UNKNOWN_JOINT``), so a code's one home is
+    robospec/diagnostics/codes.py; prose that mentions a code (a hint, a docstring) is text."""
+    written = sorted(
+        (name, node.lineno, node.value)
+        for name, path in _modules().items()
+        if name != "robospec.diagnostics.codes"
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        if isinstance(node, ast.Constant)
+        and isinstance(node.value, str)
+        and CODE_TEXT.match(node.value)
+    )
+    assert written == []
+
+
+def test_each_code_constant_is_its_code_once() -> None:
+    constants = {
+        name: value
+        for name, value in vars(codes).items()
+        if isinstance(value, str) and CODE_TEXT.match(value)
+    }
+    assert sorted(constants.values()) == sorted(CODES)
+    assert all(name.isupper() for name in constants)
 
 
 def test_semantic_checks_are_reported_by_the_checks_stage_only() -> None:

@@ -13,15 +13,13 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from robospec.pictures.camera_checks import (
-    COVERED_BY_MOUNT,
-    COVERED_BY_ROBOT,
-    LOOKS_AWAY,
-    SEES_NOTHING,
-    Finding,
-    Limits,
-    judge,
+from robospec.diagnostics.codes import (
+    CAMERA_COVERED_BY_MOUNT,
+    CAMERA_COVERED_BY_ROBOT,
+    CAMERA_LOOKS_AWAY,
+    CAMERA_SEES_NOTHING,
 )
+from robospec.pictures.camera_checks import Finding, Limits, judge
 from robospec.pictures.renderer import CUBE, GROUND, NOTHING, TABLE
 from robospec.pictures.views import View
 
@@ -70,24 +68,24 @@ def test_every_shape_label_counts_as_the_robot_and_no_scene_label_does() -> None
     # 60 pixels of the first shape (label 0), on the arm: past max_robot_fraction 0.5
     arm_first = SimpleNamespace(shapes=(SimpleNamespace(link="arm"),))
     (found,) = _judge(_picture(shape0=60), robot=arm_first)
-    assert found.code == COVERED_BY_ROBOT and "covers 60%" in found.message
+    assert found.code == CAMERA_COVERED_BY_ROBOT and "covers 60%" in found.message
     # 40 of the arm's pixels and 60 of ground, table and nothing: the robot covers 40%
     assert _codes(_picture(shape2=40, ground=20, table=20)) == []
-    assert _codes(_picture(shape2=51)) == [COVERED_BY_ROBOT]
+    assert _codes(_picture(shape2=51)) == [CAMERA_COVERED_BY_ROBOT]
     assert _codes(_picture(shape2=50)) == []  # at the limit: not more than it
 
 
 def test_the_mount_and_the_links_fixed_to_it_covering_the_picture_is_rs560_alone() -> None:
     # 30 + 30 pixels of the mount and its bracket: 60% > 0.5, said once (not RS561 too)
-    assert _codes(_picture(shape0=30, shape1=30)) == [COVERED_BY_MOUNT]
+    assert _codes(_picture(shape0=30, shape1=30)) == [CAMERA_COVERED_BY_MOUNT]
     assert _codes(_picture(shape0=25, shape1=25)) == []
     # the mount's 30% and the arm's 30%: the robot covers 60%
-    assert _codes(_picture(shape0=30, shape2=30)) == [COVERED_BY_ROBOT]
+    assert _codes(_picture(shape0=30, shape2=30)) == [CAMERA_COVERED_BY_ROBOT]
 
 
 def test_a_picture_at_the_table_with_too_little_within_far_is_rs562() -> None:
     empty = _picture(shape2=10)
-    assert _codes(empty, _picture(table=19)) == [SEES_NOTHING]
+    assert _codes(empty, _picture(table=19)) == [CAMERA_SEES_NOTHING]
     assert _codes(empty, _picture(table=10, ground=5, cube=5)) == []  # 20%: the limit
     assert _codes(empty, _picture(shape2=20)) == []  # the robot is something seen
 
@@ -106,7 +104,7 @@ def test_a_wrist_camera_that_does_not_see_its_tcp_says_where_it_is(
 ) -> None:
     alone = _picture(shape2=10)
     (found,) = _judge(alone, tcp=("tcp", np.array(point)))
-    assert found.code == LOOKS_AWAY
+    assert found.code == CAMERA_LOOKS_AWAY
     assert where in found.message and "'tcp'" in found.message
     # one metre ahead, in the middle of the picture: seen
     assert _codes(alone, tcp=("tcp", np.array([1.0, 0.0, 0.0]))) == []

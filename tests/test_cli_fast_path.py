@@ -106,7 +106,6 @@ NOT_FOR_A_PLAIN_URDF_SPEC = (
     "robospec.kinematics",
     "robospec.load.syntax_hints",
     "robospec.resolve.python_refs",
-    "robospec.diagnostics.codes",
     "hashlib",
     # nor the simulator: validate reads the uids ManiSkill registers from its source, unimported
     "mani_skill",

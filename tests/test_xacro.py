@@ -15,7 +15,8 @@ from robospec.description.xacro import (
     configured_limits,
     expand_xacro,
 )
-from robospec.description.xacro_content import XACRO_CONTENT, xacro_content
+from robospec.description.xacro_content import xacro_content
+from robospec.diagnostics.codes import XACRO_CONTENT
 
 HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 TAIL = "</robot>\n"

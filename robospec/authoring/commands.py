@@ -13,12 +13,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.diagnostics.codes import CANNOT_WRITE, DUPLICATE_UID, NOTHING_TO_CONTROL, SPEC_EXISTS
 
 if TYPE_CHECKING:
     from robospec.authoring.card import CardPicture, SolvedTask
     from robospec.pipeline import CompiledSpec
-
-CANNOT_WRITE = "RS603"
 
 
 @dataclass(frozen=True)
@@ -156,7 +155,7 @@ def _refused(
         return [
             error(
                 Location(str(out)),
-                "RS601",
+                SPEC_EXISTS,
                 f"{out} already exists; robospec new does not overwrite it",
                 "pass --force to replace it",
             )
@@ -167,7 +166,7 @@ def _refused(
 def _nothing_to_control(description: Path) -> Diagnostic:
     return error(
         Location(str(description)),
-        "RS602",
+        NOTHING_TO_CONTROL,
         f"'{description.name}' has no active joints: there is nothing to control",
         "robospec agents need at least one revolute, continuous or prismatic joint",
     )
@@ -189,7 +188,7 @@ def _uid_problem(uid: str, at: Location) -> Diagnostic | None:
     if uid in registered_uids():
         return error(
             at,
-            "RS306",
+            DUPLICATE_UID,
             f"uid '{uid}' is already registered by ManiSkill",
             f"use a new uid such as 'rs_{uid}'",
         )

@@ -13,6 +13,7 @@ from typing import Any, Literal
 
 from robospec.description import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.diagnostics.codes import NOT_A_DESCRIPTION
 
 FileKind = Literal["urdf", "xacro", "mjcf"]
 
@@ -84,7 +85,7 @@ def read_description_file(
         return None, [
             error(
                 Location(text),
-                "RS600",
+                NOT_A_DESCRIPTION,
                 f"'{path.name}' is not a robot description robospec reads",
                 "give a .urdf, .urdf.xacro/.xacro or MJCF .xml file",
             )

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robospec.description import RobotDescription
+from robospec.diagnostics.codes import MENDED_AXES, MJCF_MASSES
 
 if TYPE_CHECKING:
     from robospec.resolve.description_loading import Loaded
@@ -46,11 +47,11 @@ def why_mujoco(mjcf: bytes, path: Path, maniskill: frozenset[str]) -> str:
         theirs = sum(inertial.mass for inertial in mjcf_inertials(parsed).values())
         if ours > 0 and abs(theirs - ours) > _MASS_TOLERANCE * ours:
             wrong.append(f"weigh it {theirs:.3g} kg from its geoms (MuJoCo: {ours:.3g} kg)")
-    elif "RS075" in maniskill:
+    elif MJCF_MASSES in maniskill:
         wrong.append(
             f"weigh its links by their geoms, not the file's masses (MuJoCo: {ours:.3g} kg)"
         )
-    if "RS724" in maniskill:  # the axes mend wrote MuJoCo's axis on joints that write none
+    if MENDED_AXES in maniskill:  # the axes mend wrote MuJoCo's axis on joints that write none
         wrong.append("turn its joints that write no axis about x, where MuJoCo turns them about z")
     if len(bodies) > MAX_BODIES:
         wrong.append(f"stop at {MAX_BODIES} of its {len(bodies)} bodies")

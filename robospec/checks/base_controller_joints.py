@@ -20,6 +20,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import JOINT_WRONG_FOR_CONTROLLER
 from robospec.model.controller_kinds import controller_kind
 
 
@@ -31,7 +32,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if joints is not None and len(joints) < fewest:
             yield error(
                 context.value(path),
-                "RS315",
+                JOINT_WRONG_FOR_CONTROLLER,
                 f"{config.type} drives x, y and yaw joints: "
                 f"needs at least {fewest} joints, got {len(joints)}",
             )

@@ -17,6 +17,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import CAMERA_FOV_OR_INTRINSIC
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -24,6 +25,6 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if (camera.fov is None) == (camera.intrinsic is None):
             yield error(
                 context.key(("cameras", uid)),
-                "RS314",
+                CAMERA_FOV_OR_INTRINSIC,
                 f"camera '{uid}' needs exactly one of fov and intrinsic",
             )

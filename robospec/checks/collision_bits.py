@@ -19,6 +19,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import RESERVED_COLLISION_BIT
 from robospec.maniskill.scenes import GROUND_BITS
 
 RESERVED = {
@@ -38,7 +39,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if rule.group == 2 and rule.bit in RESERVED:
             yield warning(
                 context.value(("collision_rules", index, "bit")),
-                "RS307",
+                RESERVED_COLLISION_BIT,
                 RESERVED[rule.bit],
                 "intended for a mobile base over the ground; otherwise pick a bit below 29",
             )

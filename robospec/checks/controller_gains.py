@@ -16,6 +16,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import EE_CONTROLLER_TOO_WEAK
 from robospec.model.thresholds import MIN_EE_STIFFNESS
 
 
@@ -30,7 +31,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             continue
         yield warning(
             context.value(("controllers", controller.name, "stiffness")),
-            "RS318",
+            EE_CONTROLLER_TOO_WEAK,
             f"controller '{controller.name}' has stiffness {min(low)}: too weak for an arm to "
             "track an end-effector target",
             "if this came from Python, check the config's positional arguments: "

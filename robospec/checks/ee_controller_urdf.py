@@ -28,6 +28,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import EE_CONTROLLER_WITHOUT_URDF
 from robospec.model.controller_kinds import controller_kind
 
 
@@ -45,7 +46,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             continue
         yield error(
             context.value(("controllers", name, "type")),
-            "RS325",
+            EE_CONTROLLER_WITHOUT_URDF,
             f"{config.type} solves its IK from a URDF (urdf_path), and an MJCF robot has "
             "none: ManiSkill fails to build this controller",
             "add urdf_path: naming a URDF of the same robot, or drive the joints with "

@@ -18,6 +18,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import JOINT_NOT_ACTIVE
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -26,7 +27,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if joint is not None and not joint.is_active:
             yield error(
                 context.value(path),
-                "RS311",
+                JOINT_NOT_ACTIVE,
                 f"joint '{name}' is {joint.type}, not an active joint",
                 "only revolute, continuous and prismatic joints can be selected",
             )

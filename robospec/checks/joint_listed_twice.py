@@ -15,6 +15,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import JOINT_LISTED_TWICE
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -31,7 +32,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             named = ", ".join(f"'{j}'" for j in twice)
             yield error(
                 context.value(path),
-                "RS310",
+                JOINT_LISTED_TWICE,
                 f"joint{'s' if len(twice) > 1 else ''} {named} "
                 f"{'are' if len(twice) > 1 else 'is'} listed twice",
                 "list each joint once: a group already holds its joints",

@@ -20,6 +20,7 @@ from typing import Any
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import KEYFRAME_SETS_JOINT_TWICE
 from robospec.load.source_map import KeyPath
 from robospec.model.controller_kinds import controller_kind
 
@@ -59,5 +60,9 @@ def _twice(
             continue
         for joint in joints:
             if joint in seen and (driven is None or joint in driven):
-                yield error(context.value((*path, key)), "RS313", f"joint '{joint}' {says}")
+                yield error(
+                    context.value((*path, key)),
+                    KEYFRAME_SETS_JOINT_TWICE,
+                    f"joint '{joint}' {says}",
+                )
             seen.add(joint)

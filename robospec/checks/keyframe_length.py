@@ -20,6 +20,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import KEYFRAME_LENGTH
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -34,7 +35,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
                 if len(values) != len(active):
                     yield error(
                         context.value(path),
-                        "RS303",
+                        KEYFRAME_LENGTH,
                         f"expected {len(active)} values, one per active joint "
                         f"({', '.join(active)}), got {len(values)}",
                     )
@@ -55,7 +56,7 @@ def _by_name(
         if isinstance(item, list) and len(item) != len(joints):
             yield error(
                 context.value((*path, key)),
-                "RS303",
+                KEYFRAME_LENGTH,
                 f"'{key}' has {len(joints)} joints but {len(item)} values",
             )
             whole = False
@@ -65,5 +66,7 @@ def _by_name(
     missing = [j for j in active if j not in covered and j not in context.filled_by_parts]
     if missing and whole:
         yield error(
-            context.value(path), "RS303", "no value for active joint(s) " + ", ".join(missing)
+            context.value(path),
+            KEYFRAME_LENGTH,
+            "no value for active joint(s) " + ", ".join(missing),
         )

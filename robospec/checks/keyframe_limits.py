@@ -20,6 +20,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import KEYFRAME_OUTSIDE_LIMITS
 from robospec.load.source_map import KeyPath
 from robospec.model.thresholds import LIMIT_TOLERANCE
 
@@ -38,7 +39,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             if not low - LIMIT_TOLERANCE <= number <= high + LIMIT_TOLERANCE:
                 yield error(
                     context.value(value_path),
-                    "RS304",
+                    KEYFRAME_OUTSIDE_LIMITS,
                     f"{number:g} is outside the limits of '{joint.name}' [{low:g}, {high:g}]",
                 )
 

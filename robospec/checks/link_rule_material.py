@@ -21,6 +21,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import LINK_RULE_WITHOUT_MATERIAL
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -28,7 +29,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if rule.material is None:
             yield error(
                 context.key(("links", pattern)),
-                "RS312",
+                LINK_RULE_WITHOUT_MATERIAL,
                 f"link rule '{pattern}' has no material",
                 "ManiSkill 3 requires a material in every link entry of urdf_config",
             )

@@ -26,6 +26,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import LOOP_BETWEEN_RIGID_LINKS
 from robospec.resolve.mechanisms import tree_path
 
 _HINT = (
@@ -40,7 +41,12 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         first, second = loop.links
         where = context.value(("loops", loop.name, "links"))
         if first == second:
-            yield error(where, "RS340", f"loop '{loop.name}' joins link '{first}' to itself", _HINT)
+            yield error(
+                where,
+                LOOP_BETWEEN_RIGID_LINKS,
+                f"loop '{loop.name}' joins link '{first}' to itself",
+                _HINT,
+            )
             continue
         moving = [
             j
@@ -50,7 +56,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if not moving:
             yield error(
                 where,
-                "RS340",
+                LOOP_BETWEEN_RIGID_LINKS,
                 f"loop '{loop.name}' joins '{first}' and '{second}', which fixed joints weld "
                 "into one rigid body: it closes nothing",
                 _HINT,
@@ -58,7 +64,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         elif len(moving) == 1:
             yield error(
                 where,
-                "RS340",
+                LOOP_BETWEEN_RIGID_LINKS,
                 f"loop '{loop.name}' joins '{first}' and '{second}', which only joint "
                 f"'{moving[0]}' moves against each other: it would lock that joint",
                 _HINT,

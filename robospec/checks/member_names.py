@@ -22,6 +22,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import MEMBER_DEFINED_TWICE
 from robospec.load.source_map import KeyPath
 
 # BaseAgent's own members (mani-skill 3.0.1): a declared helper must not replace one of them.
@@ -43,10 +44,12 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         at = context.key(path)
         if name in BASE_AGENT_MEMBERS and path[0] != "hooks":
             message = f"'{name}' is a member of ManiSkill's BaseAgent; a helper cannot replace it"
-            yield error(at, "RS317", message, "choose another name")
+            yield error(at, MEMBER_DEFINED_TWICE, message, "choose another name")
         elif name in defined:
             first = ".".join(str(p) for p in defined[name])
-            yield error(at, "RS317", f"agent member '{name}' is also defined by {first}")
+            yield error(
+                at, MEMBER_DEFINED_TWICE, f"agent member '{name}' is also defined by {first}"
+            )
         else:
             defined[name] = path
 

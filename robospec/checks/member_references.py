@@ -21,6 +21,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import HELPER_WRONG_KIND
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 
@@ -31,14 +32,14 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if isinstance(spec.named_links.get(name), list):
             yield error(
                 context.value(path),
-                "RS316",
+                HELPER_WRONG_KIND,
                 f"named link '{name}' is a list; one link is needed here",
             )
     for name, state in spec.link_states.items():
         if isinstance(state.links, str) and not isinstance(spec.named_links.get(state.links), list):
             yield error(
                 context.value(("link_states", name, "links")),
-                "RS316",
+                HELPER_WRONG_KIND,
                 f"'{state.links}' is not a list in named_links",
                 "give a list of links, or name a named_links entry holding a list",
             )
@@ -46,7 +47,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if name not in spec.link_states:
             yield error(
                 context.value(("proprioception", index)),
-                "RS316",
+                HELPER_WRONG_KIND,
                 f"'{name}' is not a link_states entry",
                 did_you_mean(name, spec.link_states),
             )

@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from robospec.checks.context import CheckContext
 from robospec.description.facts import Joint
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import URDF_MIMIC_SIMULATED
 
 
 def unguarded_modes(context: CheckContext, joint: Joint) -> list[str]:
@@ -55,7 +56,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         where = f"in mode(s) {', '.join(modes)}" if modes else "(the spec has no control modes)"
         yield warning(
             context.at_description(joint.line),
-            "RS309",
+            URDF_MIMIC_SIMULATED,
             f"joint '{joint.name}' mimics '{joint.mimic.joint}' and no pd_joint_pos_mimic "
             f"controller drives it {where}: "
             "SAPIEN turns URDF <mimic> into a PhysX mimic joint, which alone is unstable on the "

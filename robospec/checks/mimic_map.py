@@ -20,6 +20,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import INCONSISTENT_MIMIC
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -37,25 +38,29 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
                 if joint not in joints and context.description.joint(joint) is not None:
                     yield error(
                         context.value((*path, follower)),
-                        "RS305",
+                        INCONSISTENT_MIMIC,
                         f"mimic joint '{joint}' is not one of this controller's joints",
                     )
             if follower == leader:
                 yield error(
-                    context.value((*path, follower)), "RS305", f"joint '{follower}' mimics itself"
+                    context.value((*path, follower)),
+                    INCONSISTENT_MIMIC,
+                    f"joint '{follower}' mimics itself",
                 )
             followers.add(follower)
             leaders.add(leader)
         if followers & leaders:
             both = ", ".join(sorted(followers & leaders))
             yield error(
-                context.value(path), "RS305", f"joint(s) {both} both mimic and are mimicked"
+                context.value(path),
+                INCONSISTENT_MIMIC,
+                f"joint(s) {both} both mimic and are mimicked",
             )
         uncovered = [j for j in joints if j not in followers | leaders]
         if uncovered:
             yield error(
                 context.value(path),
-                "RS305",
+                INCONSISTENT_MIMIC,
                 "every joint of a mimic controller must appear in the mimic map; missing: "
                 + ", ".join(uncovered),
             )

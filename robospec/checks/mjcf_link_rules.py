@@ -26,6 +26,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import LINK_RULE_ON_MJCF
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -34,7 +35,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
     for pattern in context.spec.links:
         yield error(
             context.key(("links", pattern)),
-            "RS324",
+            LINK_RULE_ON_MJCF,
             f"link rule '{pattern}' on an MJCF robot: ManiSkill's MJCF loader has no "
             "set_link_material (nor patch radius or density setters), so loading fails",
             "set the friction in the MJCF (geom friction=, density=) and remove the rule",

@@ -22,6 +22,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import PLANAR_BASE_NOTHING_DRIVES, PLANAR_BASE_ON_FLOATING_ROOT
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -38,7 +39,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             context.value(("loader", "fix_root_link"))
             if "loader" in context.spec.model_fields_set
             else context.key(("mobile_base",)),
-            "RS342",
+            PLANAR_BASE_ON_FLOATING_ROOT,
             "a planar base starts from a fixed root, and loader.fix_root_link is false",
             "set loader.fix_root_link to true (the base's slides and hinge move the robot)",
         )
@@ -53,7 +54,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
     if rooted and own and not touches_floor:
         yield error(
             context.key(("mobile_base",)),
-            "RS341",
+            PLANAR_BASE_NOTHING_DRIVES,
             f"a planar base under '{base.link}', a robot with no wheel or caster and "
             f"{len(own)} joint(s) of its own: the description fixes it where it stands (an "
             "arm), and nothing of it would drive",

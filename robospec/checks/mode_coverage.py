@@ -20,6 +20,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import JOINT_DRIVEN_TWICE, JOINT_NOT_DRIVEN
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -46,7 +47,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
                 named = ", ".join(f"'{j}'" for j in joints)
                 yield error(
                     context.value(where),
-                    "RS301",
+                    JOINT_DRIVEN_TWICE,
                     f"joint{'s' if len(joints) > 1 else ''} {named} "
                     f"{'are' if len(joints) > 1 else 'is'} driven by both '{other}' and "
                     f"'{name}' in mode '{mode.name}'",
@@ -59,7 +60,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if missing:
             yield error(
                 context.key(path),
-                "RS302",
+                JOINT_NOT_DRIVEN,
                 f"control mode '{mode.name}' drives no controller for "
                 + ", ".join(f"'{j}'" for j in missing),
                 "add a controller for them, or list them in passive_joints",

@@ -26,6 +26,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import NEVER_COLLIDE_OVERREACHES
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -36,7 +37,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         shown = ", ".join(f"{a}/{b}" for a, b in pairs)
         yield warning(
             context.value(("never_collide", index)),
-            "RS321",
+            NEVER_COLLIDE_OVERREACHES,
             f"not enough free collision-group bits ({len(record.available)}): never_collide "
             f"also keeps {len(pairs)} pair(s) it does not list from colliding: {shown}",
             "free bits (fewer scene_collision_bits or collision_rules bits), or list these "

@@ -17,6 +17,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import NEVER_COLLIDE_TOO_FEW_LINKS
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -29,7 +30,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             chosen = f"only '{links[0]}'" if links else "no link"
             yield error(
                 context.value(path),
-                "RS320",
+                NEVER_COLLIDE_TOO_FEW_LINKS,
                 f"never_collide entry selects {chosen}: an entry names two links or more, no "
                 "two of which may collide",
                 "write a pair, e.g. [panda_link5, panda_hand], or a glob matching several links",

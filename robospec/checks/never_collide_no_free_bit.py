@@ -17,6 +17,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import NO_FREE_COLLISION_BIT
 from robospec.resolve.collision_packing import FREE_BITS
 
 
@@ -27,7 +28,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
     taken = ", ".join(str(b) for b in FREE_BITS if b not in record.available)
     yield error(
         context.value(("never_collide",)),
-        "RS323",
+        NO_FREE_COLLISION_BIT,
         f"no collision-group bit is free for never_collide: bits 0-28 of group 2 are all "
         f"used ({taken}); {len(record.uncovered)} listed pair(s) would still collide",
         "list fewer scene_collision_bits or collision_rules bits; bits the robot "

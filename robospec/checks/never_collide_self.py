@@ -20,6 +20,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import NEVER_COLLIDE_WITHOUT_EFFECT
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -28,7 +29,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         return
     yield warning(
         context.key(("never_collide",)),
-        "RS322",
+        NEVER_COLLIDE_WITHOUT_EFFECT,
         "never_collide has no effect: loader.disable_self_collisions already keeps every pair "
         "of the robot's links from colliding",
         "remove never_collide, or set disable_self_collisions to false to choose the pairs",

@@ -19,6 +19,7 @@ from typing import Any
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import OUTSIDE_PHYSICAL_RANGE
 
 # field -> (lowest, highest, whether the lowest itself is allowed, unit and what a value
 # outside means)
@@ -136,7 +137,7 @@ def _error(
     shown = ", ".join(f"{v:g}" for v in bad)
     return error(
         context.value(path),
-        "RS106",
+        OUTSIDE_PHYSICAL_RANGE,
         f"{field} {shown} is out of range: {field} is {_range(*bounds)}",
         meaning,
     )

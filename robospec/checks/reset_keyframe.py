@@ -22,6 +22,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import RESET_WITHOUT_QPOS
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -30,7 +31,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
     if frame is not None and frame.qpos is None:
         yield error(
             context.value(("reset", "keyframe")),
-            "RS326",
+            RESET_WITHOUT_QPOS,
             f"keyframe '{name}' sets no joint positions to reset to",
             f"give keyframe '{name}' a qpos, or name one that has one",
         )

@@ -33,6 +33,7 @@ from typing import Any
 from robospec.checks.context import CheckContext
 from robospec.checks.member_names import defined_members
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import TASK_MEMBER_UNDEFINED, UNKNOWN_TASK
 from robospec.diagnostics.suggest import did_you_mean
 
 # member -> (the spec section that defines it, how)
@@ -86,7 +87,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             suggestion = did_you_mean(name, known)
             yield error(
                 at,
-                "RS331",
+                UNKNOWN_TASK,
                 f"ManiSkill registers no task '{name}'"
                 + (f" ({suggestion})" if suggestion else ""),
                 "name a task id (PickCube-v1) or a folder of tasks: " + ", ".join(scan.families),
@@ -104,7 +105,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
             who = tasks[0] if len(tasks) == 1 else f"{name} tasks ({shown})"
             yield error(
                 at,
-                "RS330",
+                TASK_MEMBER_UNDEFINED,
                 f"{who} call{'s' if len(tasks) == 1 else ''} agent.{member}: {mend(member, spec)}",
                 "without it the task fails at reset with ManiSkill's NotImplementedError or "
                 "AttributeError",

@@ -15,6 +15,7 @@ from collections.abc import Iterator
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import UNBOUNDED_NORMALIZATION
 
 
 def check(context: CheckContext) -> Iterator[Diagnostic]:
@@ -44,7 +45,7 @@ def check(context: CheckContext) -> Iterator[Diagnostic]:
         if unbounded:
             yield warning(
                 context.key(("controllers", controller.name)),
-                "RS319",
+                UNBOUNDED_NORMALIZATION,
                 f"controller '{controller.name}' normalizes actions over the limits of "
                 f"{', '.join(unbounded)}, which are unbounded: every action becomes NaN",
                 "set normalize_action: false, or give lower and upper",

@@ -26,13 +26,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from robospec.compose.model import (
-    CLASH,
-    CYCLE,
-    MIXED_FORMATS,
-    NOT_A_FIXED_TREE,
-    NOTHING_TO_FOLD,
-    PREFIXED,
-    UNKNOWN_MOUNT,
     BaseSource,
     Composed,
     Kind,
@@ -43,15 +36,9 @@ from robospec.compose.model import (
     relocate,
 )
 from robospec.compose.order import mount_order
+from robospec.diagnostics.codes import MIXED_FORMATS
 
 __all__ = [
-    "CLASH",
-    "CYCLE",
-    "MIXED_FORMATS",
-    "NOTHING_TO_FOLD",
-    "NOT_A_FIXED_TREE",
-    "PREFIXED",
-    "UNKNOWN_MOUNT",
     "BaseSource",
     "Composed",
     "Kind",

@@ -27,18 +27,7 @@ from collections.abc import Sequence
 
 from lxml import etree
 
-from robospec.compose.model import (
-    CLASH,
-    MIXED_FORMATS,
-    NOT_A_FIXED_TREE,
-    PREFIXED,
-    BaseSource,
-    Composed,
-    Mounted,
-    Origins,
-    PartSource,
-    Problem,
-)
+from robospec.compose.model import BaseSource, Composed, Mounted, Origins, PartSource, Problem
 from robospec.compose.order import mount_order
 from robospec.compose.xml import (
     Provenance,
@@ -50,6 +39,12 @@ from robospec.compose.xml import (
     written,
 )
 from robospec.description.mjcf_frames import ORIENTATION_ATTRIBUTES, Unparsable, body_pose
+from robospec.diagnostics.codes import (
+    MIXED_FORMATS,
+    NAME_CLASH,
+    PART_NOT_A_FIXED_TREE,
+    PART_PREFIXED,
+)
 from robospec.geometry import IDENTITY_POSE, compose
 
 INDENT = "  "
@@ -130,7 +125,7 @@ def compose_mjcf(base: BaseSource, parts: Sequence[PartSource]) -> Composed:
                 problems.append(
                     Problem(
                         ("parts", part.name),
-                        PREFIXED,
+                        PART_PREFIXED,
                         f"part '{part.name}': names the robot already has are prefixed: {listed}"
                         + (f" (and {more} more)" if more > 0 else ""),
                         "name them so in this spec (the part's own spec keeps its names)",
@@ -304,7 +299,7 @@ def _root_body(tree: etree._Element, part: PartSource) -> etree._Element | Probl
         what = f"{len(bodies)} bodies under <worldbody>" if len(bodies) != 1 else "a free root"
         return Problem(
             ("parts", part.name, part.key),
-            NOT_A_FIXED_TREE,
+            PART_NOT_A_FIXED_TREE,
             f"part '{part.name}' is not one body tree fixed at its root: it has {what}",
             "mount a model of the part with one body tree and no free joint",
         )
@@ -420,7 +415,7 @@ def _renames(
                 problems.append(
                     Problem(
                         ("parts", part.name, "prefix"),
-                        CLASH,
+                        NAME_CLASH,
                         f"part '{part.name}' and the robot both have a {kind} '{name}', and "
                         f"'{new}', the prefixed name, is taken too",
                         "give the part another `prefix:`",
@@ -439,7 +434,7 @@ def _class_name(part: PartSource, names: dict[str, set[str]], problems: list[Pro
         problems.append(
             Problem(
                 ("parts", part.name, "prefix"),
-                CLASH,
+                NAME_CLASH,
                 f"the robot has default classes '{part.name}' and '{name}': the part's defaults "
                 "need a class of their own",
                 "give the part another `prefix:`",

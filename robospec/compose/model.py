@@ -17,13 +17,6 @@ from robospec.load.source_map import KeyPath
 Kind = Literal["urdf", "mjcf"]
 
 # the codes this stage reports (robospec/diagnostics/codes.py)
-UNKNOWN_MOUNT = "RS730"
-NOT_A_FIXED_TREE = "RS731"
-CLASH = "RS732"
-CYCLE = "RS733"
-MIXED_FORMATS = "RS735"
-PREFIXED = "RS736"
-NOTHING_TO_FOLD = "RS741"
 
 
 @dataclass(frozen=True)

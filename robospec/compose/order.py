@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-from robospec.compose.model import CYCLE, UNKNOWN_MOUNT, PartSource, Problem
+from robospec.compose.model import PartSource, Problem
+from robospec.diagnostics.codes import PART_CYCLE, UNKNOWN_MOUNT
 
 
 def mount_order(
@@ -38,7 +39,7 @@ def mount_order(
             problems.append(
                 Problem(
                     ("parts", part.name, "at"),
-                    CYCLE,
+                    PART_CYCLE,
                     f"parts are mounted on each other in a ring: {' -> '.join(ring)}",
                     "mount one of them on a link of this robot",
                 )

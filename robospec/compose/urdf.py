@@ -12,18 +12,7 @@ from dataclasses import dataclass
 
 from lxml import etree
 
-from robospec.compose.model import (
-    CLASH,
-    NOT_A_FIXED_TREE,
-    NOTHING_TO_FOLD,
-    PREFIXED,
-    BaseSource,
-    Composed,
-    Mounted,
-    Origins,
-    PartSource,
-    Problem,
-)
+from robospec.compose.model import BaseSource, Composed, Mounted, Origins, PartSource, Problem
 from robospec.compose.order import mount_order
 from robospec.compose.xml import (
     Provenance,
@@ -33,6 +22,12 @@ from robospec.compose.xml import (
     parse,
     relative_file,
     written,
+)
+from robospec.diagnostics.codes import (
+    NAME_CLASH,
+    NOTHING_TO_FOLD,
+    PART_NOT_A_FIXED_TREE,
+    PART_PREFIXED,
 )
 from robospec.geometry import Pose, compose, quaternion_from_rpy, rpy_from_quaternion
 
@@ -111,7 +106,7 @@ def _part_root(tree: etree._Element, part: PartSource) -> str | Problem:
     )
     return Problem(
         ("parts", part.name, part.key),
-        NOT_A_FIXED_TREE,
+        PART_NOT_A_FIXED_TREE,
         f"part '{part.name}' is not one tree of links: its description has {what}",
         "mount a description whose links hang from one root",
     )
@@ -221,7 +216,7 @@ def _part_names(
         problems.append(
             Problem(
                 ("parts", part.name, "joint"),
-                CLASH,
+                NAME_CLASH,
                 f"the joint that mounts part '{part.name}', '{mount_joint}', has the name of "
                 "a joint the robot already has",
                 "name it with `joint:`",
@@ -307,7 +302,7 @@ def _renames(
             problems.append(
                 Problem(
                     ("parts", part.name, "prefix"),
-                    CLASH,
+                    NAME_CLASH,
                     f"part '{part.name}' and the robot both have a {what} '{name}', and "
                     f"'{new}', the prefixed name, is taken too",
                     "give the part another `prefix:`",
@@ -338,7 +333,7 @@ def _material_renames(
                 problems.append(
                     Problem(
                         ("parts", part.name, "prefix"),
-                        CLASH,
+                        NAME_CLASH,
                         f"part '{part.name}' and the robot both define material '{name}', and "
                         f"'{new}' is taken too",
                         "give the part another `prefix:`",
@@ -509,7 +504,7 @@ def _prefixed_note(part: PartSource, mounted: Mounted) -> Problem:
     more = len(mounted.renamed) - 6
     return Problem(
         ("parts", part.name),
-        PREFIXED,
+        PART_PREFIXED,
         f"part '{part.name}': names the robot already has are prefixed: {listed}"
         + (f" (and {more} more)" if more > 0 else ""),
         "name them so in this spec (the part's own spec keeps its names)",

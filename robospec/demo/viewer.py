@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
+from robospec.diagnostics.codes import NO_VIEWER
 
 
 def _no_screen() -> str | None:
@@ -42,7 +43,7 @@ def run_demo(
         wrong.append(f"the viewer needs a screen: {screen}")
     if wrong:
         hint = "robospec check runs the same robot headless, with numbers"
-        return [error(Location(str(spec)), "RS513", w, hint) for w in wrong]
+        return [error(Location(str(spec)), NO_VIEWER, w, hint) for w in wrong]
 
     from robospec.output.register import register
 
@@ -62,7 +63,7 @@ def run_demo(
     try:
         demo_robot.main(args)
     except RuntimeError as exc:  # SAPIEN: no render device / window
-        return [error(Location(str(spec)), "RS513", f"the viewer cannot open: {exc}")]
+        return [error(Location(str(spec)), NO_VIEWER, f"the viewer cannot open: {exc}")]
     except KeyboardInterrupt:
         pass
     return []

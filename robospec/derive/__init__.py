@@ -35,16 +35,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from robospec.derive.document import Change, Document, Source, fold_changes
-from robospec.derive.mend import CANNOT_MEND, NOT_FOR_KIND, STALE, MendClass, Policy
+from robospec.derive.mend import MendClass, Policy
 from robospec.derive.registry import MENDS, ORDER, SECTIONS, mend_class
 from robospec.diagnostics import Diagnostic, Location, note
 
 __all__ = [
-    "CANNOT_MEND",
     "MENDS",
-    "NOT_FOR_KIND",
     "SECTIONS",
-    "STALE",
     "Derived",
     "Outcome",
     "Source",

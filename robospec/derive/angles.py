@@ -23,12 +23,13 @@ from lxml import etree
 
 from robospec.derive.document import Document
 from robospec.derive.mjcf_tree import classes, effective, in_model, whole
+from robospec.diagnostics.codes import MENDED_ANGLES, MJCF_DEGREES
 
 NAME = "angles"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS728"
-FIXES = ("RS086",)
+CODE = MENDED_ANGLES
+FIXES = (MJCF_DEGREES,)
 WHY = "its hinge ranges are radians, though the model does not say so (MJCF reads degrees)"
 
 # the largest hinge range end (in the file's numbers) that says radians: as degrees, every

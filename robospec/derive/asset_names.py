@@ -18,12 +18,13 @@ from lxml import etree
 from robospec.derive.document import Document
 from robospec.derive.mjcf_files import named_files
 from robospec.derive.mjcf_tree import mujoco_mesh_name, whole
+from robospec.diagnostics.codes import MENDED_ASSET_NAMES, MJCF_REPEATED_ASSET
 
 NAME = "asset_names"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS719"
-FIXES = ("RS094",)
+CODE = MENDED_ASSET_NAMES
+FIXES = (MJCF_REPEATED_ASSET,)
 WHY = "assets are defined twice under one name (MuJoCo refuses it; ManiSkill takes the last)"
 
 NAMED_ASSETS = ("mesh", "texture", "material", "hfield", "skin")

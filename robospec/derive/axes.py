@@ -15,12 +15,13 @@ from robospec.derive.document import Document
 from robospec.derive.mjcf_tree import classes, robot_body, whole
 from robospec.description.mjcf_axes import unaxed_joints
 from robospec.description.mjcf_loaded import loader_classes
+from robospec.diagnostics.codes import MENDED_AXES, MJCF_UNAXED_JOINT
 
 NAME = "axes"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS724"
-FIXES = ("RS095",)
+CODE = MENDED_AXES
+FIXES = (MJCF_UNAXED_JOINT,)
 WHY = "joints write no axis: MuJoCo turns them about z, ManiSkill's loader about x"
 
 

@@ -19,7 +19,6 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
 from robospec.derive.mjcf_tree import childclass, classes, degrees, effective, robot_body, whole
 from robospec.description.mjcf_frames import (
     ORIENTATION_ATTRIBUTES,
@@ -29,6 +28,7 @@ from robospec.description.mjcf_frames import (
     numbers,
 )
 from robospec.description.mjcf_mujoco import Table
+from robospec.diagnostics.codes import CANNOT_MEND, MENDED_BODIES, MJCF_COLLISION_BITS
 from robospec.geometry import (
     IDENTITY,
     IDENTITY_POSE,
@@ -45,8 +45,8 @@ from robospec.maniskill.scenes import GROUND_BITS
 NAME = "bodies"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS720"
-FIXES = ("RS081",)
+CODE = MENDED_BODIES
+FIXES = (MJCF_COLLISION_BITS,)
 WHY = "too many bodies for ManiSkill's loader's collision bits: those without joints are merged"
 
 POSED = ("geom", "site", "camera", "light", "body", "frame")  # moved up, their pose composed

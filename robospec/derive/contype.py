@@ -15,12 +15,13 @@ from typing import Literal
 
 from robospec.derive.document import Document
 from robospec.derive.mjcf_tree import classes, effective, in_model, whole
+from robospec.diagnostics.codes import MENDED_CONTYPE, MJCF_COLLISION_FILTER, MJCF_NO_MASS
 
 NAME = "contype"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS717"
-FIXES = ("RS073", "RS076")
+CODE = MENDED_CONTYPE
+FIXES = (MJCF_COLLISION_FILTER, MJCF_NO_MASS)
 WHY = "geoms with contype 0 collide in MuJoCo but get no collision shape in ManiSkill"
 
 

@@ -16,14 +16,14 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
 from robospec.derive.mjcf_tree import classes, effective, in_model, robot_body, whole
+from robospec.diagnostics.codes import CANNOT_MEND, INVALID_STRUCTURE, MENDED_FREEJOINT
 
 NAME = "freejoint"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS718"
-FIXES = ("RS052",)
+CODE = MENDED_FREEJOINT
+FIXES = (INVALID_STRUCTURE,)
 WHY = 'the robot floats on a <joint type="free">; ManiSkill\'s loader reads only <freejoint>'
 
 

@@ -17,12 +17,13 @@ from robospec.derive.document import Document
 from robospec.derive.mjcf_tree import classes, whole
 from robospec.description.mjcf_class_meshes import lost_meshes
 from robospec.description.mjcf_loaded import loader_classes
+from robospec.diagnostics.codes import MENDED_GEOM_MESHES, MJCF_MESH_UNRESOLVED
 
 NAME = "geom_meshes"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS723"
-FIXES = ("RS085",)
+CODE = MENDED_GEOM_MESHES
+FIXES = (MJCF_MESH_UNRESOLVED,)
 WHY = "geoms take their mesh from a default class ManiSkill's loader does not apply to them"
 
 

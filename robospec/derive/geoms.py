@@ -11,12 +11,13 @@ from __future__ import annotations
 from typing import Literal
 
 from robospec.derive.document import Document
+from robospec.diagnostics.codes import MENDED_GEOMS, MJCF_GEOM_TYPE
 
 NAME = "geoms"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS713"
-FIXES = ("RS079",)
+CODE = MENDED_GEOMS
+FIXES = (MJCF_GEOM_TYPE,)
 WHY = "ManiSkill's loader raises on hfield and sdf geoms (its scenes have their own ground)"
 
 UNLOADABLE = frozenset({"hfield", "sdf"})

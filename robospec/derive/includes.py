@@ -22,18 +22,22 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
+from robospec.diagnostics.codes import (
+    CANNOT_MEND,
+    DESCRIPTION_NOT_FOUND,
+    INVALID_STRUCTURE,
+    MENDED_INCLUDES,
+    MJCF_UNREAD_INCLUDE,
+)
 
 NAME = "includes"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS712"
-FIXES = ("RS082",)
+CODE = MENDED_INCLUDES
+FIXES = (MJCF_UNREAD_INCLUDE,)
 WHY = "ManiSkill's loader reads an <include> only directly under <mujoco>"
 
 # carrying the model elsewhere (MuJoCo compiling it), as the description's own reading says it
-UNREADABLE_INCLUDE = "RS050"
-INCLUDE_CYCLE = "RS052"
 _DEPTH = 16  # nested includes followed this deep (a cycle stops there, refused)
 
 
@@ -58,7 +62,7 @@ def inline_all(document: Document, *, note: bool) -> None:
                 include, CANNOT_MEND, "mend 'includes' stopped: the includes nest in a cycle", ""
             )
         else:
-            document.refuse(include, INCLUDE_CYCLE, "the includes nest in a cycle", "")
+            document.refuse(include, INVALID_STRUCTURE, "the includes nest in a cycle", "")
 
 
 def _inline(
@@ -86,7 +90,7 @@ def _inline(
         else:  # carrying the model elsewhere (MuJoCo compiling it): the file itself is missing
             document.refuse(
                 include,
-                UNREADABLE_INCLUDE,
+                DESCRIPTION_NOT_FOUND,
                 f"cannot read included file '{file}': {exc}",
                 "the file must be beside the model, as MuJoCo looks for it",
             )

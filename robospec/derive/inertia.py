@@ -30,7 +30,6 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
 from robospec.description.inertia import (
     INERTIA_ATTRIBUTES,
     from_axes,
@@ -40,12 +39,18 @@ from robospec.description.inertia import (
     rejected,
 )
 from robospec.description.shapes import Box, box_inertia, collision_box
+from robospec.diagnostics.codes import (
+    CANNOT_MEND,
+    INVALID_INERTIA,
+    MENDED_INERTIAS,
+    TRIANGLE_INEQUALITY,
+)
 
 NAME = "inertia"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS706"
-FIXES = ("RS059", "RS062")
+CODE = MENDED_INERTIAS
+FIXES = (INVALID_INERTIA, TRIANGLE_INEQUALITY)
 WHY = "SAPIEN rejects these inertias ('invalid moment of inertia'), or they are far too small"
 
 _GYRATION = 0.002  # m: the bound's radius of gyration about each principal axis

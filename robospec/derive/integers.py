@@ -12,12 +12,13 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
+from robospec.diagnostics.codes import INVALID_STRUCTURE, MENDED_INTEGERS
 
 NAME = "integers"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS708"
-FIXES = ("RS052",)
+CODE = MENDED_INTEGERS
+FIXES = (INVALID_STRUCTURE,)
 WHY = "sizes SAPIEN reads as integers are written as decimals"
 
 

@@ -15,13 +15,13 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
+from robospec.diagnostics.codes import CANNOT_MEND, INVALID_STRUCTURE, MENDED_LIMITS
 
 NAME = "limits"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS709"
-FIXES = ("RS052",)
+CODE = MENDED_LIMITS
+FIXES = (INVALID_STRUCTURE,)
 WHY = "revolute joints have no lower/upper limit (SAPIEN would make the limit NaN)"
 
 

@@ -15,12 +15,13 @@ from typing import Literal
 from robospec.derive.document import Document
 from robospec.description.inertia import INERTIA_ATTRIBUTES
 from robospec.description.sanity import TINY
+from robospec.diagnostics.codes import IGNORED_INERTIAL, MENDED_MASSES, NEGATIVE_MASS
 
 NAME = "mass"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS707"
-FIXES = ("RS060", "RS061")
+CODE = MENDED_MASSES
+FIXES = (NEGATIVE_MASS, IGNORED_INERTIAL)
 WHY = "links have masses PhysX replaces or SAPIEN ignores"
 
 MINIMUM = TINY  # kg: a gram, under which robospec validate calls a mass tiny (RS090)

@@ -37,6 +37,3 @@ class MendClass(Protocol):
 
 
 # codes shared by every mend class: said of the spec's `description.mend` entry
-STALE = "RS725"  # a declared mend that changes nothing (warning)
-NOT_FOR_KIND = "RS726"  # a mend for another kind of description (error)
-CANNOT_MEND = "RS727"  # an element the policy cannot mend (error, in the description)

@@ -14,12 +14,13 @@ from typing import Literal
 
 from robospec.derive.document import Document
 from robospec.derive.mjcf_tree import assets, mujoco_mesh_name, whole
+from robospec.diagnostics.codes import MENDED_MESH_NAMES, MJCF_MESH_UNRESOLVED
 
 NAME = "mesh_names"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS715"
-FIXES = ("RS085",)
+CODE = MENDED_MESH_NAMES
+FIXES = (MJCF_MESH_UNRESOLVED,)
 WHY = "unnamed meshes in folders: ManiSkill's loader names them with the folder, MuJoCo without"
 
 

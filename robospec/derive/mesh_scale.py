@@ -13,12 +13,13 @@ from typing import Literal
 
 from robospec.derive.document import Document
 from robospec.derive.mjcf_tree import assets, classes, effective, mujoco_mesh_name, whole
+from robospec.diagnostics.codes import MENDED_MESH_SCALES, MJCF_MESH_SCALE
 
 NAME = "mesh_scale"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS716"
-FIXES = ("RS074",)
+CODE = MENDED_MESH_SCALES
+FIXES = (MJCF_MESH_SCALE,)
 WHY = "mesh scales come from <default>, which ManiSkill's loader does not read for meshes"
 
 

@@ -12,11 +12,12 @@ from __future__ import annotations
 from typing import Literal
 
 from robospec.derive.document import Document
+from robospec.diagnostics.codes import MENDED_MIMIC
 
 NAME = "mimic"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS710"
+CODE = MENDED_MIMIC
 FIXES: tuple[str, ...] = ()  # RS309 (a check) names this mend in its hint
 WHY = "PhysX's mimic couplings go NaN or fight the drives: the mimic controller couples them"
 

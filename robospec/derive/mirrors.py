@@ -18,16 +18,16 @@ import struct
 from typing import Literal
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
 from robospec.description.mesh_data import MeshData, read_mesh
 from robospec.description.meshes import locate
 from robospec.description.packages import PackageFinder, find_up
+from robospec.diagnostics.codes import CANNOT_MEND, MENDED_MIRRORS, MIRRORED_MESH
 
 NAME = "mirrors"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS714"
-FIXES = ("RS087",)
+CODE = MENDED_MIRRORS
+FIXES = (MIRRORED_MESH,)
 WHY = "collision meshes are mirrored by a negative scale, which crashes PhysX on contact"
 
 DERIVED_FOLDER = "derived"

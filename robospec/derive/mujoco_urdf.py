@@ -50,11 +50,14 @@ from lxml import etree
 
 from robospec.derive.document import Source
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics.codes import (
+    INVALID_STRUCTURE,
+    MUJOCO_COMPILE_ERROR,
+    MUJOCO_COMPILE_WARNING,
+    MUJOCO_NOT_CARRIED,
+)
 from robospec.geometry import IDENTITY, ZERO, Pose, Vector, compose, rpy_from_quaternion
 
-COMPILE_ERROR = "RS790"
-NOT_CARRIED = "RS791"
-COMPILE_WARNING = "RS792"
 DERIVED_FOLDER = "derived"  # robospec's cache folder for the files derived copies name
 WORLD = "world"  # MuJoCo's name of body 0: the root link of a robot whose root body moves
 # an intermediate link's mass and inertia (it holds a joint, no body): the bound of
@@ -226,7 +229,7 @@ def _compile_error(
         where = _named_element(lines, text) or entry or Location(source.shown, 1, 1)
     return error(
         where,
-        COMPILE_ERROR,
+        MUJOCO_COMPILE_ERROR,
         f"MuJoCo cannot compile '{source.shown}': {text}",
         "fix the file as MuJoCo's message says (`python -m mujoco.viewer` shows the same)",
     )
@@ -241,7 +244,7 @@ def _compile_warning(
     where = _named_element(lines, text) or entry or Location(source.shown, 1, 1)
     return warning(
         where,
-        COMPILE_WARNING,
+        MUJOCO_COMPILE_WARNING,
         f"MuJoCo warns while compiling '{source.shown}': {text}",
         "MuJoCo compiles the file anyway; fix it as the message says, or the robot may not "
         "be the one the file meant",
@@ -313,7 +316,7 @@ class _Writer:
                     found.append(
                         error(
                             self.lines.location(self.lines.of(tag, name), tag),
-                            "RS052",
+                            INVALID_STRUCTURE,
                             f"{tag} '{name}' compiles to values that are not numbers "
                             f"({', '.join(a.split('_', 1)[1] for a in bad)}: NaN or infinite)",
                             "write each of the element's numbers as a finite number",
@@ -351,7 +354,7 @@ class _Writer:
             self.diagnostics.append(
                 error(
                     self.lines.location(self.lines.of("worldbody"), "worldbody"),
-                    COMPILE_ERROR,
+                    MUJOCO_COMPILE_ERROR,
                     f"'{self.source.shown}' has no body below <worldbody>: no robot to load",
                     "give the robot's bodies in <worldbody>",
                 )
@@ -667,7 +670,7 @@ class _Writer:
             self.diagnostics.append(
                 warning(
                     self.lines.location(at, tag),
-                    NOT_CARRIED,
+                    MUJOCO_NOT_CARRIED,
                     f"the URDF written from MuJoCo's model carries no {kind}: {what}",
                     "ManiSkill's URDF loader has nothing for them; give what matters as the "
                     "spec's sections (controllers, mimic, loops)",

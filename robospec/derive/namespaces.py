@@ -12,12 +12,13 @@ import re
 from typing import Literal
 
 from robospec.derive.document import Document
+from robospec.diagnostics.codes import MALFORMED_XML, MENDED_NAMESPACES
 
 NAME = "namespaces"
 KINDS = frozenset({"urdf", "mjcf"})
 STAGE: Literal["text", "tree"] = "text"
-CODE = "RS701"
-FIXES = ("RS051",)
+CODE = MENDED_NAMESPACES
+FIXES = (MALFORMED_XML,)
 WHY = "the file uses XML namespace prefixes it never declares"
 
 _KNOWN = {

@@ -22,12 +22,13 @@ from robospec.description.mjcf_frames import (
     orientation_attribute,
     same_rotation,
 )
+from robospec.diagnostics.codes import MENDED_ORIENTATIONS, MJCF_ORIENTATION
 
 NAME = "orientations"
 KINDS = frozenset({"mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS721"
-FIXES = ("RS080",)
+CODE = MENDED_ORIENTATIONS
+FIXES = (MJCF_ORIENTATION,)
 WHY = "ManiSkill's loader reads euler, xyaxes or zaxis frames turned otherwise than MuJoCo"
 
 

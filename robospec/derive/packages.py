@@ -14,7 +14,6 @@ import os
 from typing import Literal
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
 from robospec.description.meshes import file_references
 from robospec.description.packages import (
     FILE_SCHEME,
@@ -23,12 +22,18 @@ from robospec.description.packages import (
     find_up,
     sapien_mesh_path,
 )
+from robospec.diagnostics.codes import (
+    CANNOT_MEND,
+    MENDED_MESH_URIS,
+    MESH_NOT_FOUND,
+    PACKAGE_NOT_FOUND,
+)
 
 NAME = "packages"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS703"
-FIXES = ("RS058", "RS056")
+CODE = MENDED_MESH_URIS
+FIXES = (PACKAGE_NOT_FOUND, MESH_NOT_FOUND)
 WHY = "mesh URIs name no package (package:///...) or a file SAPIEN would not find"
 
 

@@ -36,12 +36,12 @@ from lxml import etree
 
 from robospec.derive.document import Document, insert_after
 from robospec.derive.mjcf_tree import classes, effective, robot_body, whole
+from robospec.diagnostics.codes import DERIVED_PLANAR_BASE, PLANAR_BASE_REFUSED
 
 NAME = "planar_base"
 KINDS = frozenset({"urdf", "mjcf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS780"
-REFUSED = "RS781"
+CODE = DERIVED_PLANAR_BASE
 FIXES: tuple[str, ...] = ()
 WHY = "a drivable planar base: x and y slides and a z hinge above the base link"
 
@@ -83,7 +83,7 @@ def _apply_urdf(document: Document, policy: Mapping[str, Any]) -> None:
     if hanging is not None and hanging.get("type") not in _REPLACED:
         document.refuse(
             hanging,
-            REFUSED,
+            PLANAR_BASE_REFUSED,
             f"a planar base cannot be added above link '{base}': it hangs from joint "
             f"'{hanging.get('name')}', which moves ({hanging.get('type')})",
             "name the robot's base link in mobile_base.link (the root, or a link fixed to it)",
@@ -229,7 +229,7 @@ def _apply_mjcf(document: Document, policy: Mapping[str, Any]) -> None:
     if body is not robot:
         document.refuse(
             body,
-            REFUSED,
+            PLANAR_BASE_REFUSED,
             f"a planar base cannot be added above body '{wanted}': only the robot's top body "
             f"('{robot.get('name', '')}') may carry it",
             "leave mobile_base.link out, or name the robot's top body",

@@ -18,12 +18,13 @@ from lxml import etree
 
 from robospec.derive.document import Document
 from robospec.description.urdf_values import NUMBER_LISTS, comma_separated
+from robospec.diagnostics.codes import INVALID_STRUCTURE, MENDED_SEPARATORS
 
 NAME = "separators"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS722"
-FIXES = ("RS052",)
+CODE = MENDED_SEPARATORS
+FIXES = (INVALID_STRUCTURE,)
 WHY = "number lists are written with commas, which SAPIEN's URDF parser refuses"
 
 

@@ -16,12 +16,13 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document, insert_after
+from robospec.diagnostics.codes import INVALID_STRUCTURE, MENDED_SPHERICAL
 
 NAME = "spherical"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS711"
-FIXES = ("RS052",)
+CODE = MENDED_SPHERICAL
+FIXES = (INVALID_STRUCTURE,)
 WHY = "SAPIEN has no spherical joint: each is three continuous joints (x, y, z)"
 
 BALL_TYPES = frozenset({"spherical", "ball"})

@@ -16,13 +16,13 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
-from robospec.derive.mend import CANNOT_MEND
+from robospec.diagnostics.codes import CANNOT_MEND, LEFTOVER_SUBSTITUTION, MENDED_SUBSTITUTIONS
 
 NAME = "substitutions"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS702"
-FIXES = ("RS063",)
+CODE = MENDED_SUBSTITUTIONS
+FIXES = (LEFTOVER_SUBSTITUTION,)
 WHY = "the file holds $(...) substitutions nobody expanded, which have defaults"
 
 _OPTENV = re.compile(r"\$\(optenv\s+\S+\s+([^)]*?)\s*\)")

@@ -9,12 +9,13 @@ from __future__ import annotations
 from typing import Literal
 
 from robospec.derive.document import Document
+from robospec.diagnostics.codes import INVALID_STRUCTURE, MENDED_TEXTURES
 
 NAME = "textures"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS704"
-FIXES = ("RS052",)
+CODE = MENDED_TEXTURES
+FIXES = (INVALID_STRUCTURE,)
 WHY = "materials hold empty <texture/> elements, at which SAPIEN's parser stops"
 
 

@@ -12,12 +12,13 @@ from typing import Literal
 
 from robospec.derive.document import Document
 from robospec.description.urdf_loader_rules import unreadable_transmissions
+from robospec.diagnostics.codes import BAD_TRANSMISSION, MENDED_TRANSMISSIONS
 
 NAME = "transmissions"
 KINDS = frozenset({"urdf"})
 STAGE: Literal["text", "tree"] = "tree"
-CODE = "RS705"
-FIXES = ("RS064",)
+CODE = MENDED_TRANSMISSIONS
+FIXES = (BAD_TRANSMISSION,)
 WHY = "SAPIEN's parser stops at transmissions it cannot read, and never uses one it can"
 
 

@@ -15,12 +15,13 @@ from typing import Literal
 from lxml import etree
 
 from robospec.derive.document import Document
+from robospec.diagnostics.codes import MALFORMED_XML, MENDED_XML
 
 NAME = "xml"
 KINDS = frozenset({"urdf", "mjcf"})
 STAGE: Literal["text", "tree"] = "text"
-CODE = "RS700"
-FIXES = ("RS051",)
+CODE = MENDED_XML
+FIXES = (MALFORMED_XML,)
 WHY = "the file has an XML declaration or trailing bytes no XML parser accepts"
 
 _DECLARATION = re.compile(rb"^(\xef\xbb\xbf)?\s*<\?xml\b[^?]*\?>")

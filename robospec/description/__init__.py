@@ -11,6 +11,7 @@ from typing import Literal
 
 from robospec.description.facts import Joint, Link, Mimic, RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import DESCRIPTION_NOT_FOUND, INTERNAL_ERROR
 
 __all__ = [
     "Joint",
@@ -76,7 +77,7 @@ def _load_description(
             return None, [
                 error(
                     Location(path, 1, 1),
-                    "RS050",
+                    DESCRIPTION_NOT_FOUND,
                     f"cannot read robot description '{path}': {reason}",
                 )
             ]
@@ -97,4 +98,4 @@ def _load_description(
         from robospec.description.mjcf import parse_mjcf
 
         return parse_mjcf(text, path)
-    return None, [error(Location(path, 1, 1), "RS900", f"unknown description kind {kind!r}")]
+    return None, [error(Location(path, 1, 1), INTERNAL_ERROR, f"unknown description kind {kind!r}")]

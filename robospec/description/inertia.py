@@ -28,14 +28,16 @@ from dataclasses import dataclass
 
 from lxml import etree
 
-from robospec.description.urdf_values import INVALID_STRUCTURE, Findings, at, read_floats
+from robospec.description.urdf_values import Findings, at, read_floats
 from robospec.diagnostics import Diagnostic, error, warning
+from robospec.diagnostics.codes import (
+    IGNORED_INERTIAL,
+    INVALID_INERTIA,
+    INVALID_STRUCTURE,
+    NEGATIVE_MASS,
+    TRIANGLE_INEQUALITY,
+)
 from robospec.geometry import Matrix, turned
-
-INVALID_INERTIA = "RS059"
-NEGATIVE_MASS = "RS060"
-IGNORED_INERTIAL = "RS061"
-TRIANGLE_INEQUALITY = "RS062"
 
 INERTIA_ATTRIBUTES = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")  # URDF's <inertia>, in this order
 # What PhysX makes of a link SAPIEN takes no <inertial> of: its collision shapes at this density

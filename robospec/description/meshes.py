@@ -34,11 +34,12 @@ from robospec.description.packages import (
 from robospec.description.source_columns import element_at
 from robospec.description.urdf_values import Findings
 from robospec.diagnostics import Diagnostic, error, warning
-
-MESH_NOT_FOUND = "RS056"
-MESH_UNREADABLE = "RS057"
-PACKAGE_NOT_FOUND = "RS058"
-MIRRORED = "RS087"
+from robospec.diagnostics.codes import (
+    MESH_NOT_FOUND,
+    MESH_UNREADABLE,
+    MIRRORED_MESH,
+    PACKAGE_NOT_FOUND,
+)
 
 Role = Literal["collision", "visual", "texture"]
 
@@ -73,7 +74,7 @@ def check_mesh_files(
             found_all.add(
                 error(
                     element_at(path, named.element),
-                    MIRRORED,
+                    MIRRORED_MESH,
                     f"collision mesh '{named.uri}' of {named.owner} is mirrored "
                     f'(scale="{named.element.get("scale")}"): PhysX cannot build a mirrored '
                     "convex mesh, and SAPIEN's process dies in native code at its first "

@@ -66,8 +66,6 @@ from robospec.description.mjcf_loaded import (
 from robospec.description.mjcf_mujoco import Includes, read_classes
 from robospec.description.mjcf_structure import unread_includes
 from robospec.description.urdf import (
-    FILE_NOT_FOUND,
-    INVALID_STRUCTURE,
     at,
     bfs_order,
     did_you_mean,
@@ -77,6 +75,7 @@ from robospec.description.urdf import (
     read_file_bytes,
 )
 from robospec.diagnostics import Diagnostic, Location, error, note, warning
+from robospec.diagnostics.codes import DESCRIPTION_NOT_FOUND, INVALID_STRUCTURE, MJCF_DEGREES
 from robospec.geometry import IDENTITY_POSE
 
 ReadFile = Callable[[str], bytes]
@@ -388,7 +387,9 @@ def _read_include(
         reason = exc.strerror or type(exc).__name__
         diagnostics.append(
             error(
-                at(path, include), FILE_NOT_FOUND, f"cannot read included file '{file}': {reason}"
+                at(path, include),
+                DESCRIPTION_NOT_FOUND,
+                f"cannot read included file '{file}': {reason}",
             )
         )
         return None
@@ -644,9 +645,6 @@ def _make_joint(
     )
 
 
-DEGREES = "RS086"
-
-
 def _degrees_note(
     top: list[etree._Element],
     compiler: etree._Element | None,
@@ -679,7 +677,7 @@ def _degrees_note(
     return [
         note(
             where,
-            DEGREES,
+            MJCF_DEGREES,
             f"no <compiler angle=...>: MJCF's default holds, and the model's {len(angles)} "
             f"angle(s) (euler=, axisangle=, hinge range=; the first at line {first.line}) are "
             "read as degrees by MuJoCo and ManiSkill alike",

@@ -23,8 +23,8 @@ from robospec.description.mjcf_mujoco import Table, childclass, effective
 from robospec.description.mjcf_structure import names
 from robospec.description.numbers import finite_numbers
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import MJCF_UNAXED_JOINT
 
-UNAXED_JOINT = "RS095"
 MUJOCO_AXIS = "0 0 1"  # MuJoCo's default joint axis
 _MOVING = ("hinge", "slide")
 
@@ -78,7 +78,7 @@ def unaxed(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     source = f"from class '{first.holder}'" if first.holder else "MuJoCo's default"
     yield error(
         loaded.where(first.joint),
-        UNAXED_JOINT,
+        MJCF_UNAXED_JOINT,
         f"joint '{first.joint.get('name', '')}' writes no axis= and ManiSkill's MJCF loader "
         f'finds none in its defaults: it turns the joint about x ("1 0 0"), where MuJoCo '
         f'turns it about "{first.axis}" ({source})'

@@ -23,11 +23,7 @@ from robospec.description.facts import Closure, Coupling, Mimic
 from robospec.description.mjcf_loaded import LoadedMjcf
 from robospec.description.mjcf_structure import names
 from robospec.diagnostics import Diagnostic, warning
-
-EQUALITY = "RS070"
-TENDON = "RS071"
-CONTACT = "RS072"
-ACTUATOR = "RS077"
+from robospec.diagnostics.codes import MJCF_ACTUATOR, MJCF_CONTACT, MJCF_EQUALITY, MJCF_TENDON
 
 
 @dataclass(frozen=True)
@@ -231,7 +227,7 @@ def equalities(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
         )
         yield warning(
             loaded.where(couplings[0][0]),
-            EQUALITY,
+            MJCF_EQUALITY,
             f"ManiSkill's MJCF loader does not load <equality> constraints: "
             f"{len(couplings)} joint coupling(s) are lost ("
             + "; ".join(what for _, what, _ in couplings[:6])
@@ -242,7 +238,7 @@ def equalities(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
     if loops:
         yield warning(
             loaded.where(loops[0][0]),
-            EQUALITY,
+            MJCF_EQUALITY,
             f"ManiSkill's MJCF loader does not load <equality> constraints: {len(loops)} closed "
             "loop(s) are open in ManiSkill ("
             + "; ".join(what for _, what in loops[:6])
@@ -332,7 +328,7 @@ def tendons(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
     if found:
         yield warning(
             loaded.where(found[0][0]),
-            TENDON,
+            MJCF_TENDON,
             f"ManiSkill's MJCF loader does not load tendons: {len(found)} of the robot's are "
             f"lost ({names([what for _, what in found])}), with their ranges, springs and the "
             "couplings they make",
@@ -365,7 +361,7 @@ def contacts(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
         listed = ", ".join(f"[{a}, {b}]" for _, (a, b) in excluded)
         yield warning(
             loaded.where(excluded[0][0]),
-            CONTACT,
+            MJCF_CONTACT,
             f"ManiSkill's MJCF loader does not load <contact><exclude>: {len(excluded)} "
             "excluded body pair(s) collide in ManiSkill",
             f"never_collide: [{listed}]",
@@ -373,7 +369,7 @@ def contacts(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
     if pairs:
         yield warning(
             loaded.where(pairs[0][0]),
-            CONTACT,
+            MJCF_CONTACT,
             f"ManiSkill's MJCF loader does not load <contact><pair>: {len(pairs)} contact "
             f"pair(s) between geoms it gives no collision shape (contype 0) are lost "
             f"({names([what for _, what in pairs])})",
@@ -406,7 +402,7 @@ def actuators(loaded: LoadedMjcf, robot: Robot) -> Iterator[Diagnostic]:
         moved = sorted({j for _, _, joints in found for j in joints if j in robot.joints})
         yield warning(
             loaded.where(found[0][0]),
-            ACTUATOR,
+            MJCF_ACTUATOR,
             f"{len(found)} actuator(s) drive tendons, sites or bodies "
             f"({names([label for _, label, _ in found])}): ManiSkill loads no actuators, "
             "and a spec's controllers drive joints one by one"

@@ -54,21 +54,23 @@ from robospec.description.mjcf_mujoco import MAIN_CLASS, attributes
 from robospec.description.mjcf_structure import names
 from robospec.description.numbers import finite_numbers
 from robospec.diagnostics import Diagnostic, error, warning
+from robospec.diagnostics.codes import (
+    MESH_NOT_FOUND,
+    MJCF_COLLISION_FILTER,
+    MJCF_GEOM_TYPE,
+    MJCF_MASSES,
+    MJCF_MESH_SCALE,
+    MJCF_MESH_UNRESOLVED,
+    MJCF_NO_MASS,
+    MJCF_ORIENTATION,
+    MJCF_VISUAL_GROUP,
+)
 
-COLLISION_FILTER = "RS073"
-MESH_SCALE = "RS074"
-MASSES = "RS075"
 # the route that loads an MJCF as MuJoCo compiles it (robospec.derive.mujoco_urdf)
 MUJOCO_ROUTE = (
     "`description: {mjcf: ..., loader: mujoco}` loads the robot as MuJoCo compiles it, "
     "with the file's masses"
 )
-NO_MASS = "RS076"
-VISUAL_GROUP = "RS078"
-GEOM_TYPE = "RS079"
-ORIENTATION = "RS080"
-MESH_UNRESOLVED = "RS085"
-MESH_NOT_FOUND = "RS056"
 
 CERTAINLY_WRONG = 10.0  # a mesh this many times too large or small is an error
 MANISKILL_VISUAL_GROUPS = (0, 2)
@@ -131,7 +133,7 @@ def _class_meshes(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     more = f" (and {len(others)} more geom{plural}: line{plural} {lines})" if others else ""
     yield error(
         loaded.where(first.geom),
-        MESH_UNRESOLVED,
+        MJCF_MESH_UNRESOLVED,
         f"geom takes mesh '{first.mesh}' from default class '{first.holder}' in MuJoCo, and "
         f"ManiSkill's MJCF loader reads it as {read}{why}{more}",
         f'write mesh="{first.mesh}" on the geom: `description: {{mend: {{geom_meshes: '
@@ -147,7 +149,7 @@ def mesh_files(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             if mesh.get("file") is None:
                 yield error(
                     loaded.where(mesh),
-                    MESH_UNRESOLVED,
+                    MJCF_MESH_UNRESOLVED,
                     f"mesh '{mesh.get('name', '')}' has no file=: ManiSkill's MJCF loader "
                     "asserts that every mesh has one (vertex= meshes are not supported)",
                     "save the mesh to a file (.stl or .obj) and name it with file=",
@@ -178,7 +180,7 @@ def mesh_files(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         more = f" (and {others} more: {names(list(unknown)[1:])})" if others else ""
         yield error(
             loaded.where(element),
-            MESH_UNRESOLVED,
+            MJCF_MESH_UNRESOLVED,
             f"geom uses mesh '{name}'{more}, which ManiSkill's MJCF loader does not know: "
             "loading fails (KeyError)",
             hint,
@@ -255,7 +257,7 @@ def mesh_scale(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
             message += ", collision shapes and masses with it"
         hint = f'write scale="{" ".join(f"{v:g}" for v in meant)}" on each <mesh> element'
         report = error if severe and collides else warning
-        yield report(loaded.where(_scale_source(loaded, mesh)), MESH_SCALE, message, hint)
+        yield report(loaded.where(_scale_source(loaded, mesh)), MJCF_MESH_SCALE, message, hint)
 
 
 def _mesh_name(mesh: etree._Element) -> str:
@@ -290,7 +292,7 @@ def geom_types(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         kinds = sorted({str(element.get("type")) for element in failing})
         yield error(
             loaded.where(failing[0]),
-            GEOM_TYPE,
+            MJCF_GEOM_TYPE,
             f"ManiSkill's MJCF loader cannot load {' or '.join(kinds)} geoms and raises "
             f"NotImplementedError{_elsewhere(failing)}: the file cannot be loaded at all (it "
             "parses every geom, robot or not)",
@@ -308,7 +310,7 @@ def geom_types(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         links = sorted({geom.body.name for geom in skipped})
         yield warning(
             loaded.where(skipped[0].element),
-            GEOM_TYPE,
+            MJCF_GEOM_TYPE,
             f"ManiSkill's MJCF loader skips ellipsoid and plane geoms: {len(skipped)} of the "
             f"robot's are not loaded, and link(s) {names(links)} lack their collision shapes "
             "and the mass they give",
@@ -329,7 +331,7 @@ def visual_groups(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         links = sorted({geom.body.name for geom in hidden})
         yield warning(
             loaded.where(hidden[0].element),
-            VISUAL_GROUP,
+            MJCF_VISUAL_GROUP,
             f"{len(hidden)} geom(s) of group 1, which MuJoCo draws, get no visual body in "
             f"ManiSkill (its MJCF loader draws groups 0 and 2 only): link(s) {names(links)} "
             "are drawn without them",
@@ -358,7 +360,7 @@ def collision_filters(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         links = sorted({geom.body.name for geom in lost})
         yield warning(
             loaded.where(lost[0].element),
-            COLLISION_FILTER,
+            MJCF_COLLISION_FILTER,
             f"{len(lost)} geom(s) with contype=0 but conaffinity set collide in MuJoCo with "
             "geoms whose contype matches (a floor, say), but get no collision shape in "
             f"ManiSkill, which reads contype only: link(s) {names(links)} lose those contacts",
@@ -377,7 +379,7 @@ def collision_filters(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         first = next(geom for geom in geoms if geom.body.name in added[0] and geom.collides)
         yield warning(
             loaded.where(first.element),
-            COLLISION_FILTER,
+            MJCF_COLLISION_FILTER,
             f"{len(added)} pair(s) of links never collide in MuJoCo (their geoms' contype and "
             "conaffinity share no bit) but do in ManiSkill, which collides every geom whose "
             f"contype is not 0: {', '.join(f'{a} + {b}' for a, b in added[:6])}"
@@ -525,7 +527,7 @@ def masses(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     shown = "; ".join(text for _, text in rows[:4]) + ("; ..." if len(rows) > 4 else "")
     yield warning(
         loaded.where(first),
-        MASSES,
+        MJCF_MASSES,
         "ManiSkill's MJCF loader reads neither <inertial> nor geom mass=: each link weighs "
         f"what its collision geoms do at their density ({DENSITY:g} kg/m³ unless density= "
         f"says otherwise), so the file's masses of {count} bodies are not used"
@@ -569,7 +571,7 @@ def massless_links(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     what = " and ".join(f"'{body.name}'" for body in found[:6]) + (" ..." if len(found) > 6 else "")
     yield error(
         loaded.where(found[0].element),
-        NO_MASS,
+        MJCF_NO_MASS,
         f"ManiSkill's MJCF loader gives {what} and what hangs below no collision shape"
         + (f" ({'; '.join(reasons)})" if reasons else " (there are no geoms)")
         + f": a weightless ghost of SAPIEN's minimum mass, {EMPTY_LINK_MASS:g} kg, moves on "
@@ -612,7 +614,7 @@ def orientations(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         mend = _quat_mend(loaded, failing)
         yield error(
             loaded.where(failing[0]),
-            ORIENTATION,
+            MJCF_ORIENTATION,
             "zaxis along ±z makes ManiSkill's MJCF loader divide by zero (LinAlgError: "
             f"Eigenvalues did not converge){_elsewhere(failing)}: the file cannot be loaded at all",
             "write the same rotation as quat= in a copy of the model (`description: {mend: "
@@ -634,7 +636,7 @@ def orientations(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     if differing:
         yield error(
             loaded.where(differing[0][0]),
-            ORIENTATION,
+            MJCF_ORIENTATION,
             f"ManiSkill's MJCF loader reads {len(differing)} frame(s) of the robot turned "
             f"otherwise than MuJoCo ({names([what for _, what in differing])}): it "
             + ", ".join(sorted(reasons)),

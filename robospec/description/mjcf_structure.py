@@ -27,14 +27,16 @@ from robospec.description.mjcf_frames import Unparsable, body_pose, same_rotatio
 from robospec.description.mjcf_loaded import LoadedBody, LoadedMjcf
 from robospec.description.mjcf_mujoco import MAIN_CLASS, Includes
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics.codes import (
+    MJCF_COLLISION_BITS,
+    MJCF_JOINT_ATTRIBUTES,
+    MJCF_REPEATED_ASSET,
+    MJCF_SKIPPED_WRAPPER,
+    MJCF_UNREAD_INCLUDE,
+)
 from robospec.geometry import IDENTITY
 from robospec.maniskill.scenes import GROUND_BITS
 
-UNREAD_INCLUDE = "RS082"
-COLLISION_BITS = "RS081"
-SKIPPED_WRAPPER = "RS083"
-JOINT_ATTRIBUTES = "RS084"
-REPEATED_ASSET = "RS094"
 NAMED_ASSETS = ("mesh", "texture", "material", "hfield", "skin")
 
 GROUND_BIT = GROUND_BITS[0]  # the loader gives the 31st body the first of the ground's bits
@@ -78,11 +80,11 @@ def unread_includes(
                 message += ", and no body with a joint is left for ManiSkill to load"
             elif not _inside(include, chosen):
                 message += f"; the robot ManiSkill loads is body '{chosen.get('name', '')}'"
-            yield error(where(include), UNREAD_INCLUDE, message, hint)
+            yield error(where(include), MJCF_UNREAD_INCLUDE, message, hint)
         else:
             what = {child.tag for child in included if isinstance(child.tag, str)}
             held = ", ".join(f"<{tag}>" for tag in sorted(what)) or "nothing"
-            yield warning(where(include), UNREAD_INCLUDE, f"{message}: it holds {held}", hint)
+            yield warning(where(include), MJCF_UNREAD_INCLUDE, f"{message}: it holds {held}", hint)
 
 
 def _inside(element: etree._Element, ancestor: etree._Element) -> bool:
@@ -110,7 +112,7 @@ def collision_bits(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         first = too_many[0]
         yield error(
             loaded.where(first.element),
-            COLLISION_BITS,
+            MJCF_COLLISION_BITS,
             f"the robot has {count} bodies: ManiSkill's MJCF loader gives the k-th body bit k "
             f"of collision group 2, and from body '{first.name}' on (the "
             f"{GROUP_BITS + 1}rd) the bit does not fit SAPIEN's {GROUP_BITS}-bit groups: "
@@ -121,7 +123,7 @@ def collision_bits(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     if ground is not None and not too_many:
         yield warning(
             loaded.where(ground.element),
-            COLLISION_BITS,
+            MJCF_COLLISION_BITS,
             f"ManiSkill's MJCF loader gives body '{ground.name}' (the {GROUND_BIT + 1}st) and "
             f"its parent '{ground.parent_link}' bit {GROUND_BIT} of collision group 2, which "
             "ManiSkill's scenes set on the ground: these two links do not collide with the floor",
@@ -144,7 +146,7 @@ def skipped_wrapper(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     inner = loaded.robot[0].name
     yield warning(
         loaded.where(wrapper),
-        SKIPPED_WRAPPER,
+        MJCF_SKIPPED_WRAPPER,
         f"ManiSkill's MJCF loader skips body '{wrapper.get('name', '')}', which holds only "
         f"body '{inner}', and with it its pos/orientation: '{inner}' is loaded relative to "
         "the robot's root pose as if the wrapper were not there",
@@ -182,7 +184,7 @@ def joint_attributes(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
         listed = names([joint.get("name", "") for _, joint in joints])
         yield warning(
             loaded.where(joints[0][1]),
-            JOINT_ATTRIBUTES,
+            MJCF_JOINT_ATTRIBUTES,
             f"ManiSkill's MJCF loader ignores joint {name}=, set on {len(joints)} joint(s) "
             f"({listed}): {lack}",
         )
@@ -225,7 +227,7 @@ def repeated_assets(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
     listed = names([f"{t} {n}" for (t, n), _ in repeated])
     yield error(
         loaded.where(elements[1]),
-        REPEATED_ASSET,
+        MJCF_REPEATED_ASSET,
         f"{tag} '{name}' is defined again (first at line {first.line})"
         + (f", and {len(repeated) - 1} more name(s) too ({listed})" if len(repeated) > 1 else "")
         + ": MuJoCo refuses the model (repeated name), and ManiSkill's MJCF loader keeps the "

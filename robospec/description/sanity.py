@@ -27,12 +27,13 @@ from robospec.description.mesh_data import read_mesh
 from robospec.description.shapes import collision_box
 from robospec.description.urdf_values import Findings, at
 from robospec.diagnostics import Diagnostic, Location, warning
-
-MILLIMETRES = "RS088"
-INERTIA_FOR_SIZE = "RS089"
-TINY_MASS = "RS090"
-NO_RATE_LIMIT = "RS091"
-MESH_CONTENTS = "RS093"
+from robospec.diagnostics.codes import (
+    INERTIA_FOR_SIZE,
+    MESH_CONTENTS,
+    MILLIMETRES,
+    NO_RATE_LIMIT,
+    TINY_MASS,
+)
 
 SANITY_CODES = frozenset({MILLIMETRES, INERTIA_FOR_SIZE, TINY_MASS, NO_RATE_LIMIT, MESH_CONTENTS})
 

@@ -16,8 +16,9 @@ from __future__ import annotations
 import os
 
 from robospec.description.facts import RobotDescription
-from robospec.description.urdf import INVALID_STRUCTURE, at, parse_xml
+from robospec.description.urdf import at, parse_xml
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import DESCRIPTION_NOT_FOUND, INVALID_STRUCTURE
 from robospec.diagnostics.suggest import did_you_mean
 
 MAX_SRDF_BITS = 31  # SAPIEN raises "Too many collision groups" at the 32nd pair
@@ -105,5 +106,9 @@ def read_srdf_bits(
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
         # SAPIEN checks isfile, then opens: it fails the same way
-        return (), [error(Location(path, 1, 1), "RS050", f"cannot read SRDF '{path}': {reason}")]
+        return (), [
+            error(
+                Location(path, 1, 1), DESCRIPTION_NOT_FOUND, f"cannot read SRDF '{path}': {reason}"
+            )
+        ]
     return srdf_collision_bits(path, text, description)

@@ -39,11 +39,8 @@ from robospec.description.source_columns import element_at
 from robospec.description.urdf_loader_rules import check_loader_rules
 from robospec.description.urdf_values import read_floats
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics.codes import INVALID_STRUCTURE, MALFORMED_XML
 from robospec.diagnostics.suggest import did_you_mean
-
-FILE_NOT_FOUND = "RS050"
-MALFORMED_XML = "RS051"
-INVALID_STRUCTURE = "RS052"
 
 # Joint types urchin (SAPIEN's URDF reader) accepts; anything else fails the load.
 URDF_JOINT_TYPES: frozenset[str] = frozenset(

@@ -21,16 +21,9 @@ from __future__ import annotations
 
 from lxml import etree
 
-from robospec.description.urdf_values import (
-    INVALID_STRUCTURE,
-    Findings,
-    at,
-    read_floats,
-    read_text_float,
-)
+from robospec.description.urdf_values import Findings, at, read_floats, read_text_float
 from robospec.diagnostics import Diagnostic, error
-
-BAD_TRANSMISSION = "RS064"
+from robospec.diagnostics.codes import BAD_TRANSMISSION, INVALID_STRUCTURE
 
 # urchin's geometry elements and the attributes each needs (numbers, and how many).
 _SHAPES: dict[str, tuple[tuple[str, int], ...]] = {

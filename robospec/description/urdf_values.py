@@ -17,9 +17,7 @@ from lxml import etree
 
 from robospec.description.source_columns import element_at
 from robospec.diagnostics import Diagnostic, Location, error
-
-INVALID_STRUCTURE = "RS052"
-LEFTOVER_SUBSTITUTION = "RS063"
+from robospec.diagnostics.codes import INVALID_STRUCTURE, LEFTOVER_SUBSTITUTION
 
 # The URDF attributes urchin reads as a list of numbers (element tag -> attribute -> how many):
 # where a stray comma stops the load, and the `separators` mend writes spaces.

@@ -36,6 +36,7 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error, line_column
+from robospec.diagnostics.codes import PACKAGE_NOT_FOUND, XACRO_FAILED, XACRO_OVER_LIMIT
 
 _CHILD = Path(__file__).with_name("_xacro_child.py")
 # The child answers $(find NAME) with this module, loaded by its path (it imports no robospec).
@@ -111,19 +112,19 @@ def expand_xacro(
     where = Location(path)
     abs_path = os.path.abspath(path)
     if not os.path.isfile(abs_path):
-        return None, [error(where, "RS053", f"xacro expansion failed: no such file '{path}'")]
+        return None, [error(where, XACRO_FAILED, f"xacro expansion failed: no such file '{path}'")]
     try:
         mappings = {str(k): str(v) for k, v in args.items()}
         folders = {str(k): str(v) for k, v in (packages or {}).items()}
         result, stderr, killed = _run_child(abs_path, mappings, folders, timeout_s, memory_bytes)
     except OSError as e:  # e.g. the interpreter cannot be started
-        return None, [error(where, "RS053", f"xacro expansion failed: cannot start it ({e})")]
+        return None, [error(where, XACRO_FAILED, f"xacro expansion failed: cannot start it ({e})")]
 
     if killed:
         return None, [
             error(
                 where,
-                "RS054",
+                XACRO_OVER_LIMIT,
                 f"xacro expansion exceeded the time limit of {_seconds(timeout_s)} and was stopped",
                 _TIME_HINT,
             )
@@ -140,7 +141,7 @@ def expand_xacro(
         return None, [
             error(
                 where,
-                "RS054",
+                XACRO_OVER_LIMIT,
                 f"xacro expansion printed more than {_bytes(OUTPUT_LIMIT_BYTES)} and was stopped",
                 "expanding a xacro file runs it: look for messages printed in a loop",
             )
@@ -291,7 +292,7 @@ def _bytes(n: int) -> str:
 def _memory_error(where: Location, memory_bytes: int) -> Diagnostic:
     return error(
         where,
-        "RS054",
+        XACRO_OVER_LIMIT,
         f"xacro expansion exceeded the memory limit of {_bytes(memory_bytes)} and was stopped",
         _MEMORY_HINT,
     )
@@ -304,7 +305,7 @@ def _no_answer(where: Location, stderr: str, memory_bytes: int) -> Diagnostic:
     if any(s in lowered for s in ("memoryerror", "cannot allocate memory", "out of memory")):
         return _memory_error(where, memory_bytes)
     last = stderr.strip().splitlines()[-1] if stderr.strip() else "no output"
-    return error(where, "RS053", f"xacro expansion failed: the xacro process crashed ({last})")
+    return error(where, XACRO_FAILED, f"xacro expansion failed: the xacro process crashed ({last})")
 
 
 # xacro appends one "when evaluating expression '...'" line per nesting level, innermost first.
@@ -333,7 +334,7 @@ def _xacro_error(path: str, abs_path: str, result: Mapping[str, Any]) -> Diagnos
         hint = f"included as {' <- '.join(shown_files)}"
     return error(
         Location(shown, max(1, line or 1), max(1, column if isinstance(column, int) else 1)),
-        "RS053",
+        XACRO_FAILED,
         f"xacro expansion failed: {_tidy(message)}",
         hint,
     )
@@ -348,7 +349,7 @@ def _package_error(path: str, abs_path: str, result: Mapping[str, Any]) -> Diagn
         line, column = _find_text(file, r"find\(\s*['\"]" + re.escape(name) + r"['\"]\s*\)")
     return error(
         Location(_display_path(path, abs_path, file), line or 1, column or 1),
-        "RS058",
+        PACKAGE_NOT_FOUND,
         f"ROS package '{name}' not found for $(find {name})",
         f"say where it is in the spec: `description: {{packages: {{{name}: FOLDER}}}}` (no "
         f"package.xml names it, and no folder '{name}' is beside the xacro file's folder or "

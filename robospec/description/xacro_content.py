@@ -7,8 +7,8 @@ every URDF through this check, and a plain URDF's spec imports nothing of the ex
 from __future__ import annotations
 
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import XACRO_CONTENT
 
-XACRO_CONTENT = "RS092"
 _XACRO_NAMESPACE = "http://www.ros.org/wiki/xacro"
 
 

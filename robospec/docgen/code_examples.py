@@ -29,6 +29,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location
+from robospec.diagnostics.codes import (
+    BAD_ATTACH,
+    CONTROLLER_FIELD_MISSING,
+    OPTIMIZE_WITH_PARTS,
+    PART_INSIDE_ROBOT,
+    UNKNOWN_GROUP,
+)
 from robospec.pipeline import compile_spec
 from robospec.reporting import render
 
@@ -47,9 +54,9 @@ NO_DOWNLOADS = ".no-maniskill-downloads"
 DOCUMENTED_PREFIXES = ("RS4", "RS5", "RS6", "RS9")
 # codes outside those ranges that only a command reports on files named on its command line:
 # `robospec check` (a part inside the robot), `robospec new --attach`, `robospec optimize`
-COMMAND_CODES = frozenset({"RS734", "RS742", "RS743"})
+COMMAND_CODES = frozenset({PART_INSIDE_ROBOT, BAD_ATTACH, OPTIMIZE_WITH_PARTS})
 # in the code table, but no code path of this version reports them (a test keeps that true)
-RESERVED_CODES = frozenset({"RS203", "RS308"})
+RESERVED_CODES = frozenset({UNKNOWN_GROUP, CONTROLLER_FIELD_MISSING})
 
 
 def is_documented_only(code: str) -> bool:

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from robospec.checks import BINDING_CHECKS, ROBOT_CHECKS
-from robospec.diagnostics.codes import CODES, Code
+from robospec.diagnostics.codes import CODES, UNKNOWN_MOUNT, Code
 from robospec.docgen.code_examples import (
     RESERVED_CODES,
     CodeExamples,
@@ -187,7 +187,7 @@ def _run_sections(examples: CodeExamples) -> list[str]:
     assert examples.failing and examples.passing
     shown: set[Path] = set()
     notes = _severity(examples) == "note"  # robospec said what it did: nothing failed
-    mend = examples.code < "RS730"  # RS700-RS729: mends (RS730 on: parts)
+    mend = examples.code < UNKNOWN_MOUNT  # RS700-RS729: mends (RS730 on: parts)
     first, second = (
         ("the mend applied", "nothing to mend") if mend else ("what robospec did", "nothing to do")
     )

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import IMPORT_MODULE_UNIMPORTABLE, INTERNAL_ERROR
 
 SCHEMA_FILE = Path(__file__).resolve().parent.parent.parent / "schemas" / "robospec.schema.json"
 
@@ -67,7 +68,7 @@ def import_agent(target: str, uid: str | None = None, out_dir: Path | None = Non
             [
                 error(
                     Location("<module:Class>"),
-                    "RS401",
+                    IMPORT_MODULE_UNIMPORTABLE,
                     f"cannot import ManiSkill: {exc}",
                     "pip install 'robospec[maniskill]'",
                 )
@@ -79,7 +80,7 @@ def import_agent(target: str, uid: str | None = None, out_dir: Path | None = Non
             [
                 error(
                     Location("<module:Class>"),
-                    "RS900",
+                    INTERNAL_ERROR,
                     f"internal error: {type(exc).__name__}: {exc}",
                     "please report this with the class that caused it",
                 )

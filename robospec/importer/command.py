@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import IMPORT_OUTPUT_EXISTS
 from robospec.files import write_atomically
 
 
@@ -21,7 +22,7 @@ def run_import(
         return None, [
             error(
                 Location(str(out)),
-                "RS412",
+                IMPORT_OUTPUT_EXISTS,
                 f"{out} already exists; robospec import does not overwrite it",
                 "pass --force to replace it",
             )

@@ -20,6 +20,7 @@ from typing import Any, ClassVar, Literal, Protocol
 
 from robospec.description.facts import RobotDescription
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics.codes import AGENT_DATA_UNREADABLE, UPSTREAM_INEXPRESSIBLE
 from robospec.geometry import Quaternion, Vector
 from robospec.importer.records import (
     ALL_JOINTS,
@@ -384,7 +385,11 @@ def read_agent(
         controllers_at=controllers_at,
         urdf_config_at=_defined_at(cls, "urdf_config"),
         sources=_sources(cls),
-        not_imported=tuple(d.message for d in diagnostics if d.code in ("RS404", "RS413")),
+        not_imported=tuple(
+            d.message
+            for d in diagnostics
+            if d.code in (AGENT_DATA_UNREADABLE, UPSTREAM_INEXPRESSIBLE)
+        ),
         hooks=hooks,
     )
     return record, diagnostics
@@ -407,7 +412,7 @@ def _instance(
         diagnostics.append(
             error(
                 _location(class_at, class_at),
-                "RS413",
+                UPSTREAM_INEXPRESSIBLE,
                 f"{cls.__name__} has neither urdf_path nor mjcf_path; write the spec's "
                 "description by hand",
             )
@@ -418,7 +423,7 @@ def _instance(
         diagnostics.append(
             warning(
                 _location(_defined_at(cls, "__init__"), class_at),
-                "RS404",
+                AGENT_DATA_UNREADABLE,
                 f"{cls.__name__}.__init__ raised {type(failure).__name__}: {failure}; "
                 "reading the class attributes only",
             )
@@ -436,7 +441,7 @@ def _read_modes(
         diagnostics.append(
             error(
                 location,
-                "RS404",
+                AGENT_DATA_UNREADABLE,
                 f"{cls.__name__}._controller_configs raised {type(exc).__name__}: {exc}",
                 "the spec has no control modes; write them by hand",
             )
@@ -461,7 +466,7 @@ def _read_cameras(
         diagnostics.append(
             error(
                 location,
-                "RS404",
+                AGENT_DATA_UNREADABLE,
                 f"{cls.__name__}._sensor_configs raised {type(exc).__name__}: {exc}",
                 "the spec has no cameras; write them by hand",
             )
@@ -514,7 +519,7 @@ def _controller(
         diagnostics.append(
             error(
                 location,
-                "RS413",
+                UPSTREAM_INEXPRESSIBLE,
                 f"control mode '{where}' uses {type(config).__name__}, which is not one of "
                 "ManiSkill's controller configs; the mode is left out",
             )
@@ -557,7 +562,7 @@ def _camera(sensor: Any, location: Location, diagnostics: list[Diagnostic]) -> C
         diagnostics.append(
             error(
                 location,
-                "RS413",
+                UPSTREAM_INEXPRESSIBLE,
                 f"sensor {getattr(sensor, 'uid', '?')!r} is a {type(sensor).__name__}; "
                 "a spec has cameras only, so it is left out",
             )
@@ -569,7 +574,7 @@ def _camera(sensor: Any, location: Location, diagnostics: list[Diagnostic]) -> C
         diagnostics.append(
             error(
                 location,
-                "RS413",
+                UPSTREAM_INEXPRESSIBLE,
                 f"camera {sensor.uid!r} is mounted on no link; a spec's cameras are mounted on "
                 "links of the robot, so it is left out",
             )
@@ -618,7 +623,7 @@ def _urdf_config(
         diagnostics.append(
             error(
                 location,
-                "RS413",
+                UPSTREAM_INEXPRESSIBLE,
                 "urdf_config is given as a file; import the materials by hand",
             )
         )
@@ -628,7 +633,7 @@ def _urdf_config(
             diagnostics.append(
                 error(
                     location,
-                    "RS413",
+                    UPSTREAM_INEXPRESSIBLE,
                     f"urdf_config key {key!r} has no spec equivalent; it is left out",
                 )
             )

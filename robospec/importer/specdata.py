@@ -10,6 +10,11 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.diagnostics.codes import (
+    AGENT_CODE_NOT_REPRODUCED,
+    DESCRIPTION_NOT_INSTALLED,
+    IMPORTED_UID_IS_MANISKILLS,
+)
 from robospec.geometry import IDENTITY
 from robospec.importer.controllers import ControllerPlan, listify, plan_controllers
 from robospec.importer.groups import (
@@ -229,7 +234,7 @@ def _class_warnings(
         diagnostics.append(
             warning(
                 at_class,
-                "RS409",
+                AGENT_CODE_NOT_REPRODUCED,
                 f"{record.class_name} defines {len(record.unreproduced)} member(s) that are code "
                 "the spec does not reproduce: " + ", ".join(record.unreproduced),
                 "keep them in a subclass of the generated agent, or port them by hand",
@@ -246,7 +251,7 @@ def _class_warnings(
         diagnostics.append(
             warning(
                 at_class,
-                "RS410",
+                DESCRIPTION_NOT_INSTALLED,
                 f"robot description '{paths.description}' is not installed: joint and link "
                 "names are not checked, no globs, keyframes as ordered lists"
                 + (
@@ -262,7 +267,7 @@ def _class_warnings(
         diagnostics.append(
             warning(
                 Location("<uid>", 1, 1),
-                "RS411",
+                IMPORTED_UID_IS_MANISKILLS,
                 f"uid '{uid}' is ManiSkill's own agent; registering the spec under it would be "
                 "skipped",
                 f"pass --uid rs_{uid}",

@@ -12,6 +12,12 @@ import re
 from dataclasses import dataclass
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import (
+    IMPORT_CLASS_NOT_FOUND,
+    IMPORT_MODULE_UNIMPORTABLE,
+    IMPORT_NOT_AN_AGENT,
+    IMPORT_TARGET_FORM,
+)
 
 ARGUMENT = "<module:Class>"
 _DOTTED = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
@@ -29,7 +35,7 @@ def parse_target(text: str) -> tuple[Target | None, list[Diagnostic]]:
         return None, [
             error(
                 Location(ARGUMENT, 1, 1),
-                "RS400",
+                IMPORT_TARGET_FORM,
                 f"expected module:Class, got {text!r}",
                 "for example: mani_skill.agents.robots.panda.panda:Panda",
             )
@@ -40,7 +46,7 @@ def parse_target(text: str) -> tuple[Target | None, list[Diagnostic]]:
             return None, [
                 error(
                     Location(ARGUMENT, 1, column),
-                    "RS400",
+                    IMPORT_TARGET_FORM,
                     f"{what} name {part!r} is not a dotted Python name",
                     "for example: mani_skill.agents.robots.panda.panda:Panda",
                 )
@@ -60,7 +66,7 @@ def load_target(text: str) -> tuple[type | None, list[Diagnostic]]:
         return None, [
             error(
                 Location(ARGUMENT, 1, 1),
-                "RS401",
+                IMPORT_MODULE_UNIMPORTABLE,
                 f"no module named {missing!r}",
                 "check the spelling, and that the package is installed in this environment",
             )
@@ -71,7 +77,7 @@ def load_target(text: str) -> tuple[type | None, list[Diagnostic]]:
         return None, [
             error(
                 Location(ARGUMENT, 1, 1),
-                "RS401",
+                IMPORT_MODULE_UNIMPORTABLE,
                 f"importing {target.module!r} failed: {type(exc).__name__}: {exc}",
             )
         ]
@@ -85,7 +91,7 @@ def load_target(text: str) -> tuple[type | None, list[Diagnostic]]:
             return None, [
                 error(
                     Location(ARGUMENT, 1, column),
-                    "RS402",
+                    IMPORT_CLASS_NOT_FOUND,
                     f"{target.module!r} has no class {target.qualname!r}",
                     did_you_mean(name, candidates),
                 )
@@ -98,7 +104,7 @@ def load_target(text: str) -> tuple[type | None, list[Diagnostic]]:
         return None, [
             error(
                 Location(ARGUMENT, 1, column),
-                "RS403",
+                IMPORT_NOT_AN_AGENT,
                 f"{target.qualname!r} is a {kind}, not a subclass of ManiSkill's BaseAgent",
                 "name an agent class, such as mani_skill.agents.robots.panda.panda:Panda",
             )

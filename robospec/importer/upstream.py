@@ -20,6 +20,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics.codes import (
+    UPSTREAM_CONFIG_REJECTED,
+    UPSTREAM_JOINT_DRIVEN_TWICE,
+    UPSTREAM_KEYFRAME_MISFIT,
+    UPSTREAM_POSITIONAL_GAINS,
+    UPSTREAM_UNBOUNDED_NORMALIZATION,
+    UPSTREAM_UNKNOWN_LINK,
+)
 from robospec.importer.controllers import written_fields
 from robospec.importer.records import (
     ALL_JOINTS,
@@ -98,7 +106,7 @@ def _controller_mistakes(
                         if isinstance(value, str)
                         else controllers_at
                     ),
-                    "RS405",
+                    UPSTREAM_CONFIG_REJECTED,
                     f"{_config_name(controller)} {name}={value!r} is not accepted ({reason}); "
                     f"ManiSkill fails when the mode is selected, so mode(s) {where} are left out",
                 )
@@ -112,7 +120,7 @@ def _controller_mistakes(
                 found.diagnostics.append(
                     error(
                         _at(record.locate(value, controllers_at)),
-                        "RS406",
+                        UPSTREAM_UNKNOWN_LINK,
                         f"{name} {value!r} is no link of the robot description; ManiSkill fails "
                         f"when the mode is selected, so mode(s) {where} are left out",
                         _did_you_mean(value, links),
@@ -138,7 +146,7 @@ def _unknown_rule_and_mount_links(record: AgentRecord, links: set[str], found: F
             found.diagnostics.append(
                 error(
                     _at(record.locate(link, at)),
-                    "RS406",
+                    UPSTREAM_UNKNOWN_LINK,
                     f"urdf_config names link {link!r}, which the robot description does not "
                     "have; ManiSkill ignores it silently, and the spec leaves the rule out",
                     _did_you_mean(link, links),
@@ -150,7 +158,7 @@ def _unknown_rule_and_mount_links(record: AgentRecord, links: set[str], found: F
             found.diagnostics.append(
                 error(
                     _at(record.locate(camera.mount)),
-                    "RS406",
+                    UPSTREAM_UNKNOWN_LINK,
                     f"camera {camera.uid!r} is mounted on {camera.mount!r}, which is no link "
                     "of the robot description; the camera is left out",
                     _did_you_mean(camera.mount, links),
@@ -177,7 +185,7 @@ def _driven_twice(record: AgentRecord, at: SourceRef, found: Findings) -> None:
         found.diagnostics.append(
             warning(
                 _at(at),
-                "RS415",
+                UPSTREAM_JOINT_DRIVEN_TWICE,
                 f"mode(s) {', '.join(modes)} drive joint {detail} with two controllers",
                 "drive each joint from one controller upstream; the spec keeps it as it is and "
                 "`robospec validate` reports it",
@@ -208,7 +216,7 @@ def _keyframes(record: AgentRecord, found: Findings) -> None:
                 found.diagnostics.append(
                     error(
                         at,
-                        "RS414",
+                        UPSTREAM_KEYFRAME_MISFIT,
                         f"keyframe {frame.name!r} has {len(values)} {name} values for "
                         f"{len(joints)} {counted}; ManiSkill fails when it is used, so it is "
                         "left out",
@@ -228,7 +236,7 @@ def _keyframes(record: AgentRecord, found: Findings) -> None:
                 found.diagnostics.append(
                     warning(
                         at,
-                        "RS414",
+                        UPSTREAM_KEYFRAME_MISFIT,
                         f"keyframe {frame.name!r} sets joints outside their limits: "
                         + ", ".join(outside),
                         "the spec keeps upstream's values; `robospec validate` reports them "
@@ -300,7 +308,7 @@ def _unbounded_normalize(
     if unbounded and controller.joints != (ALL_JOINTS,):
         _note(
             pending,
-            "RS407",
+            UPSTREAM_UNBOUNDED_NORMALIZATION,
             modes,
             f"{_config_name(controller)} normalizes actions to the joint limits, but "
             f"{', '.join(unbounded)} have none: the actions become NaN",
@@ -327,7 +335,7 @@ def _positional_gains(
         if isinstance(bound, (int, float)) and float(bound) == float(stiffness):
             _note(
                 pending,
-                "RS408",
+                UPSTREAM_POSITIONAL_GAINS,
                 modes,
                 f"{_config_name(controller)} stiffness is {stiffness!r}, the same as {name}: "
                 "the arguments look passed by position and shifted (after pos_upper come "

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from robospec.diagnostics import line_column as position_of
+from robospec.diagnostics.codes import SPEC_SYNTAX, UNBALANCED_BRACKET
 from robospec.load.explained import Explained, content, last_word, offset_of
 
-CODE = "RS015"
 _CLOSER = {"[": "]", "{": "}"}
 _OPENER = {"]": "[", "}": "{"}
 _YAML_KIND = {"[": "list", "{": "mapping"}
@@ -44,7 +44,7 @@ def explain_yaml(
     if opened is not None and context == "while scanning a quoted scalar":
         quote = repr(_char(lines, opened))
         return Explained(
-            CODE,
+            UNBALANCED_BRACKET,
             *opened,
             f"the text opened with {quote} is never closed: YAML reads the rest of the file "
             "as part of it",
@@ -54,7 +54,7 @@ def explain_yaml(
     if stray:
         closer = stray.group(1)
         return Explained(
-            CODE,
+            UNBALANCED_BRACKET,
             *at,
             f"this '{closer}' closes no {_YAML_KIND[_OPENER[closer]]}: every "
             f"'{_OPENER[closer]}' before it is closed",
@@ -75,7 +75,7 @@ def _yaml_flow(text: str, problem: str, opened: Position, at: Position) -> Expla
     if wrong is not None and wrong != closer:
         return _wrong_closer(kind, closer, wrong, at, _enclosing_yaml(text, opened, wrong), opened)
     return Explained(
-        CODE,
+        UNBALANCED_BRACKET,
         *opened,
         f"the {kind} opened with '{bracket}' is never closed: YAML reads what follows, "
         f"{_up_to(text, offset_of(text, *at))}, as more of the {kind}",
@@ -133,7 +133,7 @@ def _quoted_runs_on(text: str, at: Position) -> Explained | None:
     quote = repr(last.style)
     lines = text.split("\n")
     return Explained(
-        CODE,
+        UNBALANCED_BRACKET,
         *opened,
         f"the text opened with {quote} is not closed on its line: YAML reads on to the "
         f"{quote} on line {closed[0]}, column {closed[1]}, and takes the lines between as part "
@@ -246,7 +246,7 @@ def _toml_unclosed_string(string: _Open, text: str, lines: list[str]) -> Explain
     where = position_of(text, string.offset)
     quote = repr(string.char)
     return Explained(
-        CODE,
+        UNBALANCED_BRACKET,
         *where,
         f"the string opened with {quote} is not closed on its line: a TOML string ends "
         f'on the line it starts (one in """ may span lines)',
@@ -262,7 +262,7 @@ def _toml_stray_closer(
     if closer in _OPENER and "Expected newline" in message:
         kind = _TOML_KIND[_OPENER[closer]]
         return Explained(
-            CODE,
+            UNBALANCED_BRACKET,
             line,
             column,
             f"this '{closer}' closes no {kind}: every '{_OPENER[closer]}' before it is closed",
@@ -277,7 +277,7 @@ def _toml_unclosed_header(header_open: _Open, text: str, lines: list[str]) -> Ex
     if header.count("]") >= header.count("["):
         return None  # closed: tomllib stopped at it for another reason
     return Explained(
-        CODE,
+        UNBALANCED_BRACKET,
         *opened,
         "the table header opened with '[' is not closed on its line",
         f"write {header}]" if header.count("[") == 1 else f"write {header}]]",
@@ -305,14 +305,14 @@ def _toml_unclosed_bracket(
     if scan.closes(innermost):
         if innermost.char == "{":
             return Explained(
-                "RS002",
+                SPEC_SYNTAX,
                 *opened,
                 f"the inline table opened with '{{' runs on past line {opened[0]}: TOML writes "
                 "an inline table on one line",
                 "write it on one line, or as a [table] of its own with one key per line",
             )
         return Explained(
-            "RS002",
+            SPEC_SYNTAX,
             *stopped,
             f"a ',' is missing before this value of the array opened on line {opened[0]}",
             f"write ',' after {last_word(text[:at])}",
@@ -320,14 +320,14 @@ def _toml_unclosed_bracket(
     if innermost.char == "{":
         hint = f"close it with '}}' after {last_word(lines[opened[0] - 1])} on line {opened[0]}"
         return Explained(
-            CODE,
+            UNBALANCED_BRACKET,
             *opened,
             "the inline table opened with '{' is never closed: TOML writes an inline table "
             "on one line",
             hint,
         )
     return Explained(
-        CODE,
+        UNBALANCED_BRACKET,
         *opened,
         f"the {kind} opened with '[' is never closed: TOML reads what follows, "
         f"{_up_to(text, at)}, as more of its values",
@@ -382,7 +382,7 @@ def _wrong_closer(
     else:
         hint = f"write '{closer}' for that '{wrong}'"
     return Explained(
-        CODE,
+        UNBALANCED_BRACKET,
         *opened,
         f"the {kind} opened with '{_OPENER[closer]}' is closed with '{wrong}' on line {at[0]}, "
         f"column {at[1]}",

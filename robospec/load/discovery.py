@@ -8,6 +8,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import SPEC_UNREADABLE
 from robospec.load.reader import SPEC_SUFFIXES
 
 
@@ -20,7 +21,9 @@ def discover(paths: Iterable[Path]) -> tuple[list[Path], list[Diagnostic]]:
             found.extend(_specs_at(path, diagnostics))
         except OSError as exc:  # a name too long for the file system, a loop of links, ...
             reason = exc.strerror or type(exc).__name__
-            diagnostics.append(error(Location(str(path)), "RS001", f"cannot read: {reason}"))
+            diagnostics.append(
+                error(Location(str(path)), SPEC_UNREADABLE, f"cannot read: {reason}")
+            )
     unique: list[Path] = []
     for p in found:
         if p not in unique:
@@ -39,12 +42,12 @@ def _specs_at(path: Path, diagnostics: list[Diagnostic]) -> list[Path]:
             diagnostics.append(
                 error(
                     Location(str(path)),
-                    "RS001",
+                    SPEC_UNREADABLE,
                     "no spec files (.yaml, .yml, .toml) in this folder",
                 )
             )
         return inside
     if path.exists():
         return [path]
-    diagnostics.append(error(Location(str(path)), "RS001", "no such file or folder"))
+    diagnostics.append(error(Location(str(path)), SPEC_UNREADABLE, "no such file or folder"))
     return []

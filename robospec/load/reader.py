@@ -11,6 +11,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error, line_column
+from robospec.diagnostics.codes import (
+    SPEC_FILE_TYPE,
+    SPEC_NOT_A_MAPPING,
+    SPEC_SYNTAX,
+    SPEC_TOO_LARGE,
+    SPEC_UNREADABLE,
+)
 from robospec.load.prescan import prescan
 from robospec.load.source_map import KeyPath, LoadedSpec, SourceMap, WrittenNumber
 
@@ -25,7 +32,7 @@ MAX_DEPTH = 64
 
 
 class _TooBig(Exception):
-    def __init__(self, message: str, path: KeyPath, code: str = "RS006") -> None:
+    def __init__(self, message: str, path: KeyPath, code: str = SPEC_TOO_LARGE) -> None:
         super().__init__(message)
         self.path = path
         self.code = code
@@ -38,7 +45,7 @@ def read_spec(path: Path, display: str | None = None) -> tuple[LoadedSpec | None
         return None, [
             error(
                 Location(display),
-                "RS005",
+                SPEC_FILE_TYPE,
                 f"unsupported spec file type '{path.suffix}'",
                 "use .yaml, .yml or .toml",
             )
@@ -56,7 +63,9 @@ def read_spec_file_bytes(path: Path, display: str) -> tuple[bytes | None, Diagno
         status = path.stat()
         if not stat.S_ISREG(status.st_mode):
             what = "a folder" if stat.S_ISDIR(status.st_mode) else "not a regular file"
-            return None, error(Location(display), "RS001", f"cannot read spec: it is {what}")
+            return None, error(
+                Location(display), SPEC_UNREADABLE, f"cannot read spec: it is {what}"
+            )
         if status.st_size > MAX_BYTES:
             return None, _too_large(display)
         # O_NONBLOCK: should the path become a FIFO after the check, opening it cannot hang
@@ -65,14 +74,14 @@ def read_spec_file_bytes(path: Path, display: str) -> tuple[bytes | None, Diagno
             raw = handle.read(MAX_BYTES + 1)
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
-        return None, error(Location(display), "RS001", f"cannot read spec: {reason}")
+        return None, error(Location(display), SPEC_UNREADABLE, f"cannot read spec: {reason}")
     return raw, None
 
 
 def _too_large(display: str) -> Diagnostic:
     return error(
         Location(display),
-        "RS006",
+        SPEC_TOO_LARGE,
         f"spec is larger than {MAX_BYTES // 1024} KiB",
         "a spec is a few KiB; is this the right file?",
     )
@@ -89,17 +98,19 @@ def parse_spec_bytes(
         line = raw[: exc.start].count(b"\n") + 1
         column = exc.start - (raw.rfind(b"\n", 0, exc.start) + 1) + 1
         return None, [
-            error(Location(display, line, column), "RS001", "spec is not valid UTF-8 text")
+            error(Location(display, line, column), SPEC_UNREADABLE, "spec is not valid UTF-8 text")
         ]
     if text.startswith("\ufeff"):
         text = text[1:]
     if not text.strip():
         # YAML rejects a tab that starts a line even when nothing follows: still just empty
-        return None, [error(Location(display), "RS004", "spec is empty")]
+        return None, [error(Location(display), SPEC_NOT_A_MAPPING, "spec is empty")]
     source = SourceMap(display)
     limit = prescan(text, indentation_nests=fmt == "yaml")
     if limit is not None:
-        return None, [error(Location(display, limit.line, limit.column), "RS006", limit.message)]
+        return None, [
+            error(Location(display, limit.line, limit.column), SPEC_TOO_LARGE, limit.message)
+        ]
     if fmt == "yaml":
         data, diagnostics = _load_yaml(text, source)
     else:
@@ -107,10 +118,12 @@ def parse_spec_bytes(
     if diagnostics:
         return None, diagnostics
     if data is None or (isinstance(data, dict) and not data):
-        return None, [error(Location(display), "RS004", "spec is empty")]
+        return None, [error(Location(display), SPEC_NOT_A_MAPPING, "spec is empty")]
     if not isinstance(data, dict):
         return None, [
-            error(source.value(()), "RS004", "a spec must be a mapping of keys to values")
+            error(
+                source.value(()), SPEC_NOT_A_MAPPING, "a spec must be a mapping of keys to values"
+            )
         ]
     return LoadedSpec(display, data, source, raw, fmt), []
 
@@ -139,7 +152,7 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         if explained is not None:
             return None, [_explained(explained, source)]
         message = " ".join(p for p in (exc.context, exc.problem) if p) or "YAML syntax error"
-        return None, [_marked(exc, text, source, "RS002", message)]
+        return None, [_marked(exc, text, source, SPEC_SYNTAX, message)]
     except ReaderError as exc:
         return None, [_unreadable_character(exc, text, source)]
     except ValueError as exc:
@@ -151,12 +164,12 @@ def _load_yaml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
         return None, [
             error(
                 Location(source.file, line, column),
-                "RS002",
+                SPEC_SYNTAX,
                 "YAML: keys must be plain scalars, not lists or mappings",
             )
         ]
     except (YAMLError, RecursionError) as exc:
-        return None, [error(Location(source.file), "RS002", f"YAML error: {exc}")]
+        return None, [error(Location(source.file), SPEC_SYNTAX, f"YAML error: {exc}")]
     too_big = _alias_expansion(document, source)
     if too_big is not None:
         return None, [too_big]
@@ -211,7 +224,7 @@ def _alias_expansion(document: Any, source: SourceMap) -> Diagnostic | None:
                 break
     return error(
         Location(source.file, line, column),
-        "RS006",
+        SPEC_TOO_LARGE,
         f"spec expands to more than {MAX_NODES} values (alias bomb?)",
         "an alias (*name) repeats its anchor's whole value each time it is used",
     )
@@ -260,7 +273,7 @@ def _comment_overlap(exc: NotImplementedError, text: str, source: SourceMap) -> 
     line, column = _within_text(text, line, column)
     return error(
         Location(source.file, line, column),
-        "RS002",
+        SPEC_SYNTAX,
         "YAML: this comment cannot be read where it is (ruamel.yaml gives up on it)",
         "move the comment onto a line of its own",
     )
@@ -273,11 +286,11 @@ def _value_error(exc: ValueError, text: str, source: SourceMap, language: str) -
     long_number = re.compile("[0-9][0-9_]{" + str(max(limit, 1)) + ",}")
     found = long_number.search(text)
     if found is None:
-        return error(Location(source.file), "RS002", f"{language}: {exc}")
+        return error(Location(source.file), SPEC_SYNTAX, f"{language}: {exc}")
     line, column = line_column(text, found.start())
     return error(
         Location(source.file, line, column),
-        "RS002",
+        SPEC_SYNTAX,
         f"{language}: a number with more than {limit} digits",
         "no value in a spec needs that many digits",
     )
@@ -293,7 +306,7 @@ def _unreadable_character(exc: Any, text: str, source: SourceMap) -> Diagnostic:
     shown = f"U+{code_point:04X}"
     return error(
         Location(source.file, line, column),
-        "RS002",
+        SPEC_SYNTAX,
         f"YAML does not allow the character {shown} here",
         "control characters (other than tab and line breaks) must be escaped in a quoted string",
     )
@@ -368,7 +381,9 @@ def _walk_yaml(
         result: dict[str, Any] = {}
         for key in node:
             if not isinstance(key, (str, int, float, bool)) and key is not None:
-                raise _TooBig("keys must be plain scalars, not lists or mappings", path, "RS002")
+                raise _TooBig(
+                    "keys must be plain scalars, not lists or mappings", path, SPEC_SYNTAX
+                )
             name = str(key) if key is not None else "null"
             child = (*path, name)
             position = (node.lc.data or {}).get(key)
@@ -446,11 +461,11 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
             return None, [_explained(explained, source)]
         # "end of document" after a final newline is a line the file does not show
         location = Location(source.file, *_within_text(text, line, column))
-        return None, [error(location, "RS002", f"TOML: {message}")]
+        return None, [error(location, SPEC_SYNTAX, f"TOML: {message}")]
     except ValueError as exc:  # an integer longer than Python converts
         return None, [_value_error(exc, text, source, "TOML")]
     except RecursionError:
-        return None, [error(Location(source.file), "RS006", "TOML nested too deeply")]
+        return None, [error(Location(source.file), SPEC_TOO_LARGE, "TOML nested too deeply")]
     from robospec.load.toml_positions import toml_positions
 
     for path, (key_pos, value_pos) in toml_positions(text).items():
@@ -459,7 +474,7 @@ def _load_toml(text: str, source: SourceMap) -> tuple[Any, list[Diagnostic]]:
     try:
         _check_toml_size(data, (), [0])
     except _TooBig as exc:
-        return None, [error(source.key(exc.path), "RS006", str(exc))]
+        return None, [error(source.key(exc.path), SPEC_TOO_LARGE, str(exc))]
     return _plain_toml(data, (), source, text.split("\n")), []
 
 

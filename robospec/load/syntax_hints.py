@@ -14,6 +14,14 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from robospec.diagnostics.codes import (
+    COLON_IN_PLAIN_VALUE,
+    DUPLICATE_KEY,
+    SPEC_SYNTAX,
+    STRAY_INDENTATION,
+    TAB_INDENTATION,
+    UNQUOTED_TOML_TEXT,
+)
 from robospec.load import brackets
 from robospec.load.explained import Explained
 
@@ -108,7 +116,7 @@ def explain_yaml(
             # `key: a: b` read as one value: a plain value cannot hold ": "
             value = here[match.end() :].strip()
             return Explained(
-                "RS014",
+                COLON_IN_PLAIN_VALUE,
                 line,
                 column,
                 f"the value of '{match['key']}' holds ': ', which YAML reads as a second "
@@ -124,7 +132,7 @@ def explain_yaml(
         if indent in {level[0] for level in levels}:
             return None
         return Explained(
-            "RS011",
+            STRAY_INDENTATION,
             line,
             indent + 1,
             f"'{match['key']}' is indented to column {indent + 1}, which lines up with no key "
@@ -143,7 +151,7 @@ def _glob_read_as_alias(name: str, here: str, line: int, column: int) -> Explain
     ):
         pattern = pattern[:-1]  # the end of the flow collection it stands in
     return Explained(
-        "RS002",
+        SPEC_SYNTAX,
         line,
         column,
         f"'{pattern}' starts with '*', which YAML reads as an alias: a reference to an "
@@ -160,7 +168,7 @@ def _more_indented(
         return None
     previous = above[0]
     return Explained(
-        "RS011",
+        STRAY_INDENTATION,
         line,
         indent + 1,
         f"'{match['key']}' is indented more than '{previous.key}' on line {previous.number}, "
@@ -185,7 +193,7 @@ def duplicate_key(text: str, key: str | None, line: int, column: int, language: 
             (n for n in range(1, line) if lines[n - 1].split("#", 1)[0].strip() == header), None
         )
         return Explained(
-            "RS003",
+            DUPLICATE_KEY,
             line,
             len(here) - len(here.lstrip()) + 1,
             f"the table {header} is declared twice"
@@ -200,7 +208,7 @@ def duplicate_key(text: str, key: str | None, line: int, column: int, language: 
     before = f" (first on line {first})" if first is not None else ""
     shown = f"'{key}'" if key else "a key"
     return Explained(
-        "RS003",
+        DUPLICATE_KEY,
         line,
         column,
         f"{shown} is given twice in the same {'mapping' if language == 'yaml' else 'table'}"
@@ -246,7 +254,7 @@ def _tab(lines: list[str], line: int) -> Explained:
         else ""
     )
     return Explained(
-        "RS012",
+        TAB_INDENTATION,
         line,
         column,
         f"a tab indents this line{also}: YAML indents with spaces only",
@@ -273,7 +281,7 @@ def _colon_for_equals(message: str, text: str, line: int, column: int) -> Explai
         return None
     key, value = here[: column - 1].strip(), here[column:].strip()
     return Explained(
-        "RS002",
+        SPEC_SYNTAX,
         line,
         column,
         f"'{key}' is followed by ':', as in YAML: TOML writes a key and its value with '='",
@@ -299,7 +307,7 @@ def _unquoted_text(message: str, text: str, line: int, column: int) -> Explained
         part if index % 2 else _BARE.sub(_quote, part) for index, part in enumerate(parts)
     )
     return Explained(
-        "RS013",
+        UNQUOTED_TOML_TEXT,
         line,
         column,
         f"the value of '{key.strip()}' is text without quotes: TOML needs quotes around '{bare}'",

@@ -24,6 +24,7 @@ from functools import cache
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.diagnostics.codes import MANISKILL_INSTALLED_TWICE
 from robospec.files import cache_root, write_atomically
 
 # the distributions that install the ``mani_skill`` package
@@ -127,7 +128,7 @@ def mixed_install_problem(found: Installed | None) -> Diagnostic | None:
     others = [name for name in found.mixed if name != found.distribution]
     return warning(
         Location(str(found.package_dir)),
-        "RS520",
+        MANISKILL_INSTALLED_TWICE,
         f"both {' and '.join(found.mixed)} are installed; mani_skill/ holds the files of "
         f"{found.distribution} {found.version}, installed over {', '.join(others)}'s (files "
         "only the other one has stay behind, and uninstalling either removes the other's)",

@@ -16,9 +16,9 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
+from robospec.diagnostics.codes import LOAD_FAILURE
 from robospec.maniskill.crash import Element, from_exception
 
-LOAD_FAILURE = "RS514"
 # set on a guarded _load_articulation: a class guarded twice (register() again) is guarded once
 _GUARDED = "_robospec_load_guard"
 

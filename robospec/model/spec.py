@@ -10,6 +10,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, StrictBool, model_validator
 
+from robospec.diagnostics.codes import MJCF_JOINT_ATTRIBUTES
 from robospec.model import rules
 from robospec.model.check_settings import Checks
 from robospec.model.common import (
@@ -747,7 +748,7 @@ class Spec(StrictModel):
         description="Warning codes not to report for this spec, where the warned-of thing is "
         "meant (the ground's collision bits on a mobile base, say), by validate and the other "
         "commands, check's simulation included; an error cannot be silenced.",
-        examples=[["RS084"]],
+        examples=[[MJCF_JOINT_ATTRIBUTES]],
     )
 
     _description_or_base = model_validator(mode="after")(rules.description_or_base)

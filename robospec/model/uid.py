@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import INVALID_IDENTIFIER
 from robospec.model.names import UID_PATTERN
 
 
@@ -16,7 +17,7 @@ def invalid_uid(uid: str, at: Location | None = None) -> Diagnostic | None:
         return None
     return error(
         at or Location("<uid>"),
-        "RS105",
+        INVALID_IDENTIFIER,
         f"invalid uid {uid!r}",
         "use letters, digits, '_', '-' and '.', starting with a letter or digit",
     )

@@ -15,18 +15,28 @@ from pydantic_core import ValidationError
 
 import robospec.model.frozen as frozen
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import (
+    BAD_EXPRESSION,
+    CIRCULAR_INHERITANCE,
+    INVALID_IDENTIFIER,
+    INVALID_VALUE,
+    MISSING_FIELD,
+    SPEC_VERSION,
+    UNKNOWN_CONTROLLER,
+    UNKNOWN_KEY,
+)
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath, LoadedSpec
 from robospec.model.frozen import Spec
 from robospec.model.schema_info import fields_for
 
 _ERROR_CODES = {
-    "expression": "RS010",
-    "number": "RS102",
-    "missing": "RS103",
-    "union_tag_not_found": "RS103",
-    "extra_forbidden": "RS101",
-    "python_keyword": "RS105",
+    "expression": BAD_EXPRESSION,
+    "number": INVALID_VALUE,
+    "missing": MISSING_FIELD,
+    "union_tag_not_found": MISSING_FIELD,
+    "extra_forbidden": UNKNOWN_KEY,
+    "python_keyword": INVALID_IDENTIFIER,
 }
 
 
@@ -65,7 +75,7 @@ def build_spec(loaded: LoadedSpec) -> SpecModelResult:
         diagnostics.append(
             error(
                 loaded.source.key(()),
-                "RS103",
+                MISSING_FIELD,
                 "missing 'robospec: 1' (the spec format version)",
                 "add `robospec: 1` as the first key",
             )
@@ -75,7 +85,7 @@ def build_spec(loaded: LoadedSpec) -> SpecModelResult:
         diagnostics.append(
             error(
                 loaded.source.value(("robospec",)),
-                "RS104",
+                SPEC_VERSION,
                 f"unsupported spec version {version!r}; this robospec reads version 1",
             )
         )
@@ -113,7 +123,7 @@ def _merge_extends(
             result.diagnostics.append(
                 error(
                     loaded.source.value(extends_path),
-                    "RS204",
+                    UNKNOWN_CONTROLLER,
                     f"'{name}' extends unknown controller {base_name!r}",
                     did_you_mean(str(base_name), [c for c in controllers if c != name]),
                 )
@@ -125,7 +135,7 @@ def _merge_extends(
             result.diagnostics.append(
                 error(
                     loaded.source.value(extends_path),
-                    "RS208",
+                    CIRCULAR_INHERITANCE,
                     f"controller inheritance is circular: {cycle}",
                 )
             )
@@ -169,7 +179,7 @@ def _diagnostics_from(
             path = result.first_lacking((*path, err["loc"][-1]))[:-1]
         if kind == "union_tag_invalid" and isinstance(_node(data, path), dict):
             path = (*path, "type")
-        code = _ERROR_CODES.get(kind, "RS102")
+        code = _ERROR_CODES.get(kind, INVALID_VALUE)
         source_path = result.origin(path)
         message, hint = _message(kind, err, path, data)
         if kind in ("missing", "extra_forbidden") or err["loc"][-1:] == ("[key]",):
@@ -198,7 +208,7 @@ def _said_by_another(
     unknown: list[tuple[KeyPath, str]],
 ) -> bool:
     """Whether ``diagnostic`` only repeats what another error at the same place says."""
-    if diagnostic.code == "RS102":
+    if diagnostic.code == INVALID_VALUE:
         # A union (number | list | mapping) that fails deep inside one member also reports
         # "not a mapping" for the others at the outer place: the deeper error is the real one.
         return any(len(o) > len(path) and o[: len(path)] == path for o, _ in diagnostics)

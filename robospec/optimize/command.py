@@ -29,6 +29,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
+from robospec.diagnostics.codes import (
+    CANNOT_OPTIMIZE,
+    CANNOT_WRITE,
+    INTERNAL_ERROR,
+    NO_PRIMITIVE_FITS,
+    OPTIMIZE_WITH_PARTS,
+    PYTHON_NAMED_LINK_MERGED,
+)
 from robospec.optimize.options import COMMAND_LINE, OptimizeOptions, ShapeMethod, option_problems
 from robospec.optimize.outputs import (
     FINAL_URDF,
@@ -57,7 +65,7 @@ def run_optimize(spec: Path, out: Path, options: OptimizeOptions | None = None) 
             [
                 error(
                     Location(str(spec)),
-                    "RS900",
+                    INTERNAL_ERROR,
                     f"internal error: {type(exc).__name__}: {exc}",
                     "please report this with the spec that caused it",
                 )
@@ -89,7 +97,7 @@ def _run_optimize(spec: Path, out: Path, options: OptimizeOptions) -> OptimizeRe
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         return OptimizeResult(
-            None, [error(COMMAND_LINE, "RS603", f"cannot make {out.parent}: {exc.strerror}")]
+            None, [error(COMMAND_LINE, CANNOT_WRITE, f"cannot make {out.parent}: {exc.strerror}")]
         )
     # absolute: the meshes written there are named from it, and -o may be a relative path
     with tempfile.TemporaryDirectory(
@@ -111,7 +119,7 @@ def _refused(spec: Path, compiled: CompiledSpec) -> list[Diagnostic]:
     description is not URDF; nothing when it can."""
     if not compiled.ok or compiled.robot is None or compiled.context is None:
         return list(compiled.diagnostics) or [
-            error(Location(str(spec)), "RS607", "the spec does not compile")
+            error(Location(str(spec)), CANNOT_OPTIMIZE, "the spec does not compile")
         ]
     robot = compiled.robot
     if robot.parts:
@@ -120,7 +128,7 @@ def _refused(spec: Path, compiled: CompiledSpec) -> list[Diagnostic]:
         return [
             error(
                 compiled.loaded.source.key(("parts",)) if compiled.loaded else Location(str(spec)),
-                "RS743",
+                OPTIMIZE_WITH_PARTS,
                 "robospec optimize condenses one description, and this robot is composed of "
                 f"{len(robot.parts) + 1} (parts: " + ", ".join(p.name for p in robot.parts) + ")",
                 "optimize the robot's description and each part's spec on their own, and mount "
@@ -131,7 +139,7 @@ def _refused(spec: Path, compiled: CompiledSpec) -> list[Diagnostic]:
         return [
             error(
                 Location(str(spec)),
-                "RS607",
+                CANNOT_OPTIMIZE,
                 "robospec optimize condenses URDF and xacro descriptions; this robot's is "
                 f"{robot.description_kind.upper()}",
                 'MuJoCo\'s compiler fuses static bodies itself (<compiler fusestatic="true"/>)',
@@ -148,7 +156,7 @@ def _named_by_python(spec: Path, robot: Any) -> list[Diagnostic]:
     return [
         warning(
             Location(str(spec)),
-            "RS608",
+            PYTHON_NAMED_LINK_MERGED,
             "links named by Python code (extends, hooks) are not known to robospec optimize",
             "pin each with --keep LINK",
         )
@@ -242,7 +250,7 @@ def _shaped(
             max_error=options.bound,
         )
     except MissingDependency as exc:
-        return None, [error(COMMAND_LINE, "RS607", str(exc), exc.hint)]
+        return None, [error(COMMAND_LINE, CANNOT_OPTIMIZE, str(exc), exc.hint)]
     report.shapes = [shape_json(c) for c in changes]
     if method == ShapeMethod.primitives:
         report.diagnostics.extend(_unfitted(compiled, changes, options.bound))
@@ -260,7 +268,7 @@ def _unfitted(compiled: CompiledSpec, changes: Sequence[Any], bound: float) -> l
     fitted = sum(c.primitives for c in changes)
     found = warning(
         Location(str(compiled.path)),
-        "RS674",
+        NO_PRIMITIVE_FITS,
         f"{len(missed)} collision mesh(es) fit no primitive within {bound * 1000:g} mm and keep "
         f"the shapes SAPIEN makes of them ({fitted} became primitives); the nearest miss: "
         f"{nearest.link}'s {nearest.fit}, {nearest.fit_error * 1000:.1f} mm off",

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import NAMED_LINK_MERGED, UNKNOWN_LINK
 
 if TYPE_CHECKING:
     from lxml import etree
@@ -69,7 +70,7 @@ def links_to_keep(compiled: CompiledSpec, keep: Sequence[str]) -> set[str]:
 def unknown_keep(description: RobotDescription, keep: Sequence[str]) -> list[Diagnostic]:
     """RS202 for each ``--keep`` link the description lacks."""
     return [
-        error(Location("<command line>"), "RS202", f"--keep: unknown link '{name}'")
+        error(Location("<command line>"), UNKNOWN_LINK, f"--keep: unknown link '{name}'")
         for name in keep
         if description.link(name) is None
     ]
@@ -90,7 +91,7 @@ def named_links_merged_away(compiled: CompiledSpec, condensed: Any) -> list[Diag
         problems.append(
             error(
                 compiled.context.value(path),
-                "RS673",
+                NAMED_LINK_MERGED,
                 f"link '{name}' would be merged away by robospec optimize, and the spec names it",
                 f"keep it with --keep {name}",
             )

@@ -15,6 +15,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import (
+    CONTACT_OFFSET_OUT_OF_RANGE,
+    MAX_ERROR_OUT_OF_RANGE,
+    OPTION_FOR_OTHER_PROFILE,
+    UNKNOWN_CATEGORY,
+    UNKNOWN_PROFILE,
+)
 from robospec.maniskill.scenes import CONTACT_OFFSET
 
 
@@ -100,7 +107,7 @@ def _name_problems(options: OptimizeOptions) -> list[Diagnostic]:
         problems.append(
             error(
                 options.where("--profile", options.profile),
-                "RS670",
+                UNKNOWN_PROFILE,
                 f"unknown profile {options.profile!r}",
                 did_you_mean(options.profile, PROFILES) or "profiles: " + ", ".join(PROFILES),
             )
@@ -109,7 +116,7 @@ def _name_problems(options: OptimizeOptions) -> list[Diagnostic]:
         problems.append(
             error(
                 options.where("--category", options.category),
-                "RS675",
+                UNKNOWN_CATEGORY,
                 f"unknown category {options.category!r}",
                 did_you_mean(options.category, CATEGORIES)
                 or "categories: " + ", ".join(CATEGORIES),
@@ -127,7 +134,7 @@ def _range_problems(options: OptimizeOptions) -> list[Diagnostic]:
         problems.append(
             error(
                 options.where("--max-error", options.max_error),
-                "RS671",
+                MAX_ERROR_OUT_OF_RANGE,
                 f"--max-error {options.max_error:g} is out of range: a primitive may stand "
                 f"off the mesh by more than 0 and at most {high:g} m",
                 f"the fast profile's default is {DEFAULT_MAX_ERROR:g} m (5 mm)",
@@ -140,7 +147,7 @@ def _range_problems(options: OptimizeOptions) -> list[Diagnostic]:
         problems.append(
             error(
                 options.where("--contact-offset", options.contact_offset),
-                "RS672",
+                CONTACT_OFFSET_OUT_OF_RANGE,
                 f"--contact-offset {options.contact_offset:g} is out of range: from {low:g} "
                 f"to {high:g} m (ManiSkill's own offset)",
                 "leave it out and the fast profile measures one",
@@ -165,7 +172,7 @@ def _ineffective(options: OptimizeOptions) -> list[Diagnostic]:
     return [
         error(
             options.where(name, value),
-            "RS676",
+            OPTION_FOR_OTHER_PROFILE,
             f"{name} applies only to "
             + (
                 "primitive collision shapes (--shapes primitives, or --profile fast)"

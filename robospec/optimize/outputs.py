@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import WOULD_OVERWRITE
 
 # the first line of every file robospec optimize writes: what it may overwrite
 MARK = "written by robospec optimize"
@@ -65,7 +66,7 @@ def _not_ours(path: Path, out: Path) -> Diagnostic | None:
         return None
     return error(
         Location(str(path)),
-        "RS604",
+        WOULD_OVERWRITE,
         f"{path} exists and robospec optimize did not write it; it is not overwritten",
         f"move it away, or write the optimized spec elsewhere than {out}",
     )

@@ -17,8 +17,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import LOAD_FAILURE
 from robospec.maniskill.crash import Crash, Element, from_exception
-from robospec.maniskill.load_guard import LOAD_FAILURE, guard_loading, line_in
+from robospec.maniskill.load_guard import guard_loading, line_in
 
 if TYPE_CHECKING:  # register() imports this module on its warm path: no spec model there
     from robospec.checks.context import CheckContext

@@ -12,6 +12,7 @@ import re
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import INVALID_IDENTIFIER
 from robospec.emit.generate import UnsafeIdentifier, emit_module
 from robospec.emit.package import GENERATED_MARKER, emit_package_init
 from robospec.resolve.resolved import FileRef, ResolvedRobot
@@ -72,7 +73,7 @@ def checked_robot_files(
     except UnsafeIdentifier as exc:
         return error(
             Location(spec_display),
-            "RS105",
+            INVALID_IDENTIFIER,
             f"{exc}: robospec names a generated class member after it",
             "rename it (Python keywords such as 'class' or 'None' cannot be member names)",
         )

@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import CANNOT_WRITE, INVALID_IDENTIFIER, WOULD_OVERWRITE
 from robospec.emit.package import GENERATED_MARKER, HEADLESS_MODULE, headless_module_source
 from robospec.output.atomic import exchange
 from robospec.output.modules import checked_robot_files, module_name_for, package_init
@@ -84,7 +85,7 @@ def _plan(
             problems.append(
                 error(
                     Location(item.display),
-                    "RS105",
+                    INVALID_IDENTIFIER,
                     f"'{clash[0]}' would be written twice into the package",
                     "build this spec into another package",
                 )
@@ -137,7 +138,7 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
         result.diagnostics.append(
             error(
                 Location(str(out_dir)),
-                "RS105",
+                INVALID_IDENTIFIER,
                 f"'{out_dir.name}' is not a valid Python package name",
             )
         )
@@ -162,7 +163,7 @@ def build_package(compiled: list[CompiledSpec], out_dir: Path, *, check: bool) -
     except OSError as exc:  # a file in the way, no permission, a full disk: nothing is lost
         reason = exc.strerror or str(exc)
         result.diagnostics.append(
-            error(Location(str(out_dir)), "RS603", f"cannot write {out_dir}: {reason}")
+            error(Location(str(out_dir)), CANNOT_WRITE, f"cannot write {out_dir}: {reason}")
         )
     return result
 
@@ -179,7 +180,7 @@ def _compare(out_dir: Path, files: dict[str, str | bytes], result: BuildResult) 
             result.diagnostics.append(
                 error(
                     Location(str(current)),
-                    "RS604",
+                    WOULD_OVERWRITE,
                     "refusing to overwrite a file robospec did not generate",
                     "move it away or pick another -o folder",
                 )

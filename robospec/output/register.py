@@ -23,6 +23,7 @@ from types import ModuleType
 from typing import TYPE_CHECKING
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
+from robospec.diagnostics.codes import DUPLICATE_UID, INTERNAL_ERROR
 from robospec.files import cache_root
 from robospec.maniskill.builtin_uids import Overrides, override_allowed
 from robospec.output.load_errors import guard
@@ -318,7 +319,7 @@ def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dic
                     [
                         error(
                             Location(str(file)),
-                            "RS306",
+                            DUPLICATE_UID,
                             f"uid '{uid}' is already registered by "
                             f"{existing.agent_cls.__module__}."
                             f"{existing.agent_cls.__name__}",
@@ -330,7 +331,13 @@ def _load_entries(entries: list[tuple[Path, Path]], overrides: Overrides) -> dic
         module_file = _module_file(entry, manifest)
         if module_file is None:  # checked fresh a moment ago: someone broke it since
             raise SpecError(
-                [error(Location(str(entry)), "RS900", "the cache entry changed while loading")]
+                [
+                    error(
+                        Location(str(entry)),
+                        INTERNAL_ERROR,
+                        "the cache entry changed while loading",
+                    )
+                ]
             )
         module = _exec_module(module_name, module_file)
         loaded[uid] = getattr(module, manifest["class_name"])

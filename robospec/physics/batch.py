@@ -18,6 +18,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error, without_codes
+from robospec.diagnostics.codes import ROBOT_NOT_LOADABLE
 from robospec.maniskill.crash import Crash, from_exception
 from robospec.model.frozen import Checks
 from robospec.physics import (
@@ -125,7 +126,7 @@ def precheck(item: CompiledSpec) -> RobotReport | None:
         report.diagnostics.append(
             error(
                 Location(item.display),
-                "RS510",
+                ROBOT_NOT_LOADABLE,
                 f"'{robot.uid}' cannot be checked: its robot description is not downloaded yet",
                 "download it (python -m mani_skill.utils.download_asset "
                 + " ".join(robot.download_ids or ("<id>",))

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.diagnostics.codes import NO_CUDA_DEVICE, NO_RENDER_DEVICE, TASK_NOT_REGISTERED
 from robospec.physics.batch import Options, RobotReport, check_paths
 from robospec.physics.report import ProgressLine, render_json, render_text
 from robospec.physics.sim import CPU, Backend
@@ -86,7 +87,7 @@ def task_requests(
             problems.append(
                 error(
                     at,
-                    "RS524",
+                    TASK_NOT_REGISTERED,
                     f"--task {name}: ManiSkill registers no such task"
                     + (f" ({suggestion})" if suggestion else ""),
                     "name a task id (PickCube-v1) or a folder of tasks: "
@@ -114,7 +115,7 @@ def _unavailable(gpu: bool, render_dir: Path | None) -> list[Diagnostic]:
             problems.append(
                 error(
                     Location(COMMAND_LINE),
-                    "RS511",
+                    NO_CUDA_DEVICE,
                     "--gpu needs a CUDA device and this machine has none",
                     "run without --gpu: every check also runs on physx_cpu",
                 )
@@ -127,7 +128,7 @@ def _unavailable(gpu: bool, render_dir: Path | None) -> list[Diagnostic]:
             problems.append(
                 error(
                     Location(COMMAND_LINE),
-                    "RS512",
+                    NO_RENDER_DEVICE,
                     f"--render needs a render device: {reason}",
                     "render on a machine with a GPU; the other checks need none",
                 )

@@ -24,6 +24,7 @@ from collections.abc import Sequence
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import CHECK_CRASH, CHECK_KILLED, CONTROL_MODE_CRASH
 from robospec.maniskill.crash import USER, Crash
 from robospec.maniskill.upstream_output import UpstreamMessage
 from robospec.output.load_errors import load_failure as _load_failure
@@ -57,7 +58,7 @@ def process_died(
     last_words = _last_words(said)
     return error(
         context.key(("description",)),
-        "RS515",
+        CHECK_KILLED,
         f"checking '{uid}' killed the check process: {crash.what} while {doing}, {where}"
         + (f"; before it: {last_words}" if last_words else ""),
         "what SAPIEN said before the crash often names its cause (a missing mesh, an invalid "
@@ -84,7 +85,7 @@ def _last_words(said: Sequence[UpstreamMessage]) -> str:
 def mode_failure(context: CheckContext, mode: str, crash: Crash) -> Diagnostic:
     return error(
         context.key(("control_modes", mode)),
-        "RS516",
+        CONTROL_MODE_CRASH,
         f"control mode '{mode}' cannot be made: {crash.what} ({crash.where()})",
         "ManiSkill crashes building this mode's controllers; the other modes were checked",
     )
@@ -95,7 +96,7 @@ def check_failure(context: CheckContext, check: str, mode: str | None, crash: Cr
     in_mode = f" in mode {mode}" if mode else ""
     return error(
         where,
-        "RS517",
+        CHECK_CRASH,
         f"the {check} check crashed{in_mode}: {crash.what} ({crash.where()})",
         "ManiSkill or SAPIEN raised while stepping the robot; the other checks were run",
     )

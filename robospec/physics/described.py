@@ -40,13 +40,12 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, Location, error, warning
+from robospec.diagnostics.codes import LINK_MISPLACED, LOADED_MASS_DIFFERS
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import Sim
 
 NAME = "described"
-MASS = "RS532"
-FRAME = "RS533"
 TOTAL_FACTOR = 2.0  # loaded total / described (or its inverse): a different robot
 LINK_FACTOR = 10.0  # one link's loaded / described mass (or its inverse)
 HEAVY_SHARE = 0.01  # of the described total: a link that matters to the robot's dynamics
@@ -167,7 +166,7 @@ def _masses(run: CheckRun, described: dict[str, float], loaded: dict[str, float]
         diagnostics.append(
             error(
                 _at(run, worst.link),
-                MASS,
+                LOADED_MASS_DIFFERS,
                 f"the robot ManiSkill loaded is not the one described: {total_loaded:.4g} kg "
                 f"loaded where the description says {total_described:.4g} kg; "
                 f"{_listed([worst, *(r for r in off if r is not worst)])}",
@@ -178,7 +177,7 @@ def _masses(run: CheckRun, described: dict[str, float], loaded: dict[str, float]
         diagnostics.append(
             warning(
                 _at(run, off[0].link),
-                MASS,
+                LOADED_MASS_DIFFERS,
                 f"ManiSkill loaded {len(off)} link(s) at other masses than the description "
                 f"says ({total_loaded:.4g} kg in all, {total_described:.4g} kg described): "
                 f"{_listed(off)}",
@@ -247,7 +246,7 @@ def _frames(run: CheckRun, sim: Sim) -> Finding | None:
         return Finding(NAME, None, "frames", Status.PASS, summary, found)
     diagnostic = error(
         _at(run, name),
-        FRAME,
+        LINK_MISPLACED,
         f"the robot ManiSkill loaded is not the one described: link '{name}' stands "
         f"{distance * 1000:.4g} mm and {math.degrees(turn):.3g}° away from where the "
         "description's forward kinematics puts it, with the joints where SAPIEN loaded them",

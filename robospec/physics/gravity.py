@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from robospec.diagnostics import Location, Severity, error, warning
+from robospec.diagnostics.codes import HOVERS, WRONG_ROOT
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import Sim
@@ -63,7 +64,7 @@ def _root_mismatch(run: CheckRun, loaded_fixed: bool) -> Finding:
     )
     diagnostic = error(
         key if written else run.at(("description",)),
-        "RS519",
+        WRONG_ROOT,
         f"the spec says {said}, but ManiSkill loads the root link "
         f"'{run.context.description.root_link}' {loaded}{why}",
         f"say fix_root_link: {'true' if loaded_fixed else 'false'} to describe the robot tasks "
@@ -120,6 +121,6 @@ def _fall(run: CheckRun, sim: Sim) -> Finding:
         + ", or fix its root (loader: {fix_root_link: true}) if it is mounted"
     )
     at: Location = run.at(path)
-    diagnostic = (warning if written else error)(at, "RS518", message, hint)
+    diagnostic = (warning if written else error)(at, HOVERS, message, hint)
     status = Status.FAIL if diagnostic.severity is Severity.ERROR else Status.INFO
     return Finding(NAME, sim.mode, "fall", status, summary, values, (diagnostic,))

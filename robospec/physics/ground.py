@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robospec.diagnostics import Severity, error, warning
+from robospec.diagnostics.codes import STARTS_IN_GROUND
 from robospec.physics import statics
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
@@ -35,7 +36,6 @@ from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe
 
 NAME = "ground"
-CODE = "RS521"
 DEPTH = 0.005  # m below the ground that counts as inside it (contacts settle by millimetres)
 LIFT_MARGIN = 0.01  # m: a pose suggested to clear the ground clears it by this much
 
@@ -123,7 +123,8 @@ def note(run: CheckRun, start: ResolvedKeyframe | None) -> str:
     found = clearance(run, start)
     if not found.inside:
         return ""
-    return f"; it starts with {found.links()} {found.depth * 100:.3g} cm inside the ground ({CODE})"
+    depth = f"{found.depth * 100:.3g} cm"
+    return f"; it starts with {found.links()} {depth} inside the ground ({STARTS_IN_GROUND})"
 
 
 def load_contacts(run: CheckRun) -> dict[tuple[str, str], float]:
@@ -185,7 +186,7 @@ def _start(run: CheckRun, start: ResolvedKeyframe | None) -> Finding:
             f"raise the keyframe's pose to clear the ground: pose: {{p: [{p[0]:g}, {p[1]:g}, "
             f"{lift:.3g}]}} (or mount the robot where its task puts it)"
         )
-        diagnostic = error(run.at(path), CODE, message, hint)
+        diagnostic = error(run.at(path), STARTS_IN_GROUND, message, hint)
     else:
         path = ("keyframes",) if run.robot.keyframes else ("uid",)
         hint = (
@@ -199,9 +200,9 @@ def _start(run: CheckRun, start: ResolvedKeyframe | None) -> Finding:
                 "nothing to change if the robot is always placed at a keyframe; a task that "
                 "loads it at the origin gets it inside the ground"
             )
-            diagnostic = warning(run.at(path), CODE, message, hint)
+            diagnostic = warning(run.at(path), STARTS_IN_GROUND, message, hint)
         else:
-            diagnostic = error(run.at(path), CODE, message, hint)
+            diagnostic = error(run.at(path), STARTS_IN_GROUND, message, hint)
     status = Status.FAIL if diagnostic.severity is Severity.ERROR else Status.INFO
     summary = f"{found.links()} {found.depth * 100:.3g} cm inside the ground"
     return Finding(NAME, None, subject, status, summary, values, (diagnostic,))

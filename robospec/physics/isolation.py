@@ -27,6 +27,7 @@ from pathlib import Path
 from types import TracebackType
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import ROBOT_NOT_LOADABLE
 from robospec.maniskill.crash import from_fault_log
 from robospec.maniskill.upstream_output import UpstreamLog
 from robospec.physics.crash_diagnostics import process_died
@@ -226,7 +227,7 @@ class WorkerPool:
         assert item.robot is not None
         diagnostic: Diagnostic = error(
             Location(item.display),
-            "RS510",
+            ROBOT_NOT_LOADABLE,
             f"'{item.robot.uid}' cannot be checked: the check process did not start ({why})",
             "it imports ManiSkill: install the maniskill extra (pip install -e "
             "'.[maniskill]'), then run robospec check again",

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robospec.diagnostics import warning
+from robospec.diagnostics.codes import CANNOT_STAND, KEYFRAME_DRIFTS
 from robospec.physics import ground, mimic_limits, mujoco_hold
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
@@ -59,7 +60,7 @@ def check(run: CheckRun) -> list[Finding]:
     if settings.mode is not None and settings.mode not in run.modes:
         diagnostic = run.fail(
             ("checks", "keyframe_hold", "mode"),
-            "RS501",
+            KEYFRAME_DRIFTS,
             f"checks.keyframe_hold.mode '{settings.mode}' is not a control mode of this robot",
             "name one of: " + ", ".join(run.modes),
         )
@@ -215,7 +216,7 @@ def _hold(
     )
     diagnostic = run.fail(
         run.keyframe_path(keyframe),
-        "RS501",
+        KEYFRAME_DRIFTS,
         f"keyframe '{label}' held with {sim.mode} ({found.how}) for {settings.steps} steps"
         + (f" {where}" if where else "")
         + ": "
@@ -282,7 +283,7 @@ def _standing(
         )
     diagnostic = warning(
         run.at(run.keyframe_path(keyframe)),
-        "RS523",
+        CANNOT_STAND,
         f"keyframe '{label}': the floating robot cannot stand there on any drives: {why}; "
         "it falls without a balance controller",
         "nothing to fix for a robot that balances actively (a humanoid): its drives were held "

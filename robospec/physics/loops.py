@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import LOOP_APART_AT_REST, LOOP_PULLS_APART
 from robospec.geometry import Vector, rotate
 from robospec.physics import ground
 from robospec.physics.check_run import CheckRun, keyframe_label
@@ -92,7 +93,7 @@ def _at_rest(run: CheckRun, sim: Sim, start: ResolvedKeyframe | None) -> Finding
         diagnostics.append(
             run.fail(
                 ("loops", loop.name, "at"),
-                "RS530",
+                LOOP_APART_AT_REST,
                 f"loop '{loop.name}': at {'keyframe ' + repr(label) if start else 'the load'} "
                 f"its point on '{first}' and its point on '{second}' are {gap * 1000:.1f} mm "
                 f"apart (more than max_gap_at_rest {limit * 1000:g} mm): they are not where "
@@ -192,7 +193,7 @@ def _pulled_apart(
     if floor:
         return warning(
             run.at(("loops", loop.name)),
-            "RS531",
+            LOOP_PULLS_APART,
             what + " while a link it moves, not one the robot stands on, pressed on the "
             "ground: random actions toppled the free robot onto it; held clear of the floor "
             "on a test stand, the same actions do not",
@@ -200,7 +201,7 @@ def _pulled_apart(
         )
     return run.fail(
         ("loops", loop.name),
-        "RS531",
+        LOOP_PULLS_APART,
         what,
         "drive the linkage more gently (a lower force_limit on its driver), or give the "
         "solver more iterations (simulation.solver_position_iterations)",

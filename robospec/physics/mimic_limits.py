@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from robospec.diagnostics import error
+from robospec.diagnostics.codes import MIMIC_OUTSIDE_LIMITS
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status
 
@@ -90,7 +91,7 @@ def contradiction_words(run: CheckRun, joint: str) -> str | None:
     """'; <the contradiction> (RS545)' when ``joint`` is one: the cause, for another check's
     message about it."""
     found = contradictions(run).get(joint)
-    return None if found is None else f"; {found.words()} (RS545)"
+    return None if found is None else f"; {found.words()} ({MIMIC_OUTSIDE_LIMITS})"
 
 
 def check(run: CheckRun) -> list[Finding]:
@@ -99,7 +100,7 @@ def check(run: CheckRun) -> list[Finding]:
     for name, found in sorted(contradictions(run).items()):
         diagnostic = error(
             run.context.at_description(lines[name]),
-            "RS545",
+            MIMIC_OUTSIDE_LIMITS,
             f"{found.words()}: it cannot follow, and stays pressed against its "
             "limit whatever the gains",
             HINT,

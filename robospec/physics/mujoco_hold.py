@@ -36,10 +36,10 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import MJCF_KEYFRAME_UNHELD
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Metric, metrics
 
-CODE = "RS535"
 MUJOCO_HINT = (
     "the file's own actuators hold it in MuJoCo: give the spec's drives MuJoCo's gains "
     "(robospec tune --reference mujoco fits them), or "
@@ -208,7 +208,7 @@ def cannot_hold(
     )
     return warning(
         at,
-        CODE,
+        MJCF_KEYFRAME_UNHELD,
         f"keyframe '{label}' cannot be held by the description either: under the file's own "
         f"actuators MuJoCo lets joint '{found.joint}' drift {found.drift:.3g} {found.unit} "
         f"over the same hold, where ManiSkill ({mode}) lets {maniskill}; no gains in the "

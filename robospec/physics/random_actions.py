@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import JOINT_LIMIT_VIOLATED, NAN_STATE, RUNAWAY_VELOCITY
 from robospec.physics import ground
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
@@ -180,21 +181,21 @@ class Runaway:
         if self.joint is None:
             return "m/s"
         length = "m" if prismatic[self.joint] else "rad"
-        return length if self.code == "RS503" else f"{length}/s"
+        return length if self.code == JOINT_LIMIT_VIOLATED else f"{length}/s"
 
     def brief(self, names: Sequence[str], prismatic: Sequence[bool]) -> str:
         """``joint_14.0 at 3.48e+04 rad/s``, ``joint_15.0 1.62e+03 rad past its limit``."""
         unit = self.unit(prismatic)
         if self.joint is None:
             return f"centre of mass at {self.value:.3g} {unit}"
-        if self.code == "RS503":
+        if self.code == JOINT_LIMIT_VIOLATED:
             return f"{names[self.joint]} {self.value:.3g} {unit} past its limit"
         return f"{names[self.joint]} at {self.value:.3g} {unit}"
 
     def said(self, names: Sequence[str], prismatic: Sequence[bool]) -> str:
         """:meth:`brief`, with the bound it broke: ``... (max_joint_speed 200 rad/s)``."""
         unit = self.unit(prismatic)
-        setting = {"RS503": "joint_limit_tolerance"}.get(self.code, "max_joint_speed")
+        setting = {JOINT_LIMIT_VIOLATED: "joint_limit_tolerance"}.get(self.code, "max_joint_speed")
         if self.joint is None:
             setting = "max_root_speed"
         return f"{self.brief(names, prismatic)} ({setting} {self.bound:g} {unit})"
@@ -217,13 +218,17 @@ def runaways(
     found = []
     worst = _worst(past_limit, none if excused_limit is None else excused_limit, 0.0)
     if len(past_limit) and past_limit[worst] > 0:
-        found.append(Runaway("RS503", worst, float(past_limit[worst]) + tolerance, tolerance))
+        found.append(
+            Runaway(JOINT_LIMIT_VIOLATED, worst, float(past_limit[worst]) + tolerance, tolerance)
+        )
     bound = settings.max_joint_speed
     fastest = _worst(top_speed, none if excused_speed is None else excused_speed, bound)
     if len(top_speed) and top_speed[fastest] > bound:
-        found.append(Runaway("RS504", fastest, float(top_speed[fastest]), bound))
+        found.append(Runaway(RUNAWAY_VELOCITY, fastest, float(top_speed[fastest]), bound))
     if top_root_speed > settings.max_root_speed:
-        found.append(Runaway("RS504", None, float(top_root_speed), settings.max_root_speed))
+        found.append(
+            Runaway(RUNAWAY_VELOCITY, None, float(top_root_speed), settings.max_root_speed)
+        )
     return found
 
 
@@ -310,7 +315,7 @@ def _problems(
     ):
         if runaway.joint is None:
             found.append(_root_ran_away(judging, runaway))
-        elif runaway.code == "RS503":
+        elif runaway.code == JOINT_LIMIT_VIOLATED:
             found.append(_past_limit(judging, runaway, runaway.joint))
         else:
             found.append(_joint_ran_away(judging, runaway, runaway.joint))
@@ -331,7 +336,7 @@ def _went_nan(run: CheckRun, sim: Sim, origin: str, trace: _Trace, buried: str) 
     joints = ", ".join(trace.nan_joints) if trace.nan_joints else "the root pose"
     return run.fail(
         ("control_modes", sim.mode),
-        "RS502",
+        NAN_STATE,
         f"mode {sim.mode} ({origin}): random actions made the state NaN at step "
         f"{trace.nan_step} (joints: {joints}){cause}{buried}",
         hint,
@@ -343,7 +348,7 @@ def _root_ran_away(judging: _Judging, runaway: Runaway) -> Diagnostic:
     j = judging
     return j.run.fail(
         j.where,
-        "RS504",
+        RUNAWAY_VELOCITY,
         f"mode {j.sim.mode} ({j.origin}): the robot ran away: its centre of mass reached "
         f"{runaway.value:.3g} m/s (max_root_speed {runaway.bound:g}){j.buried}",
         "check the root's mass and the forces the controllers can apply",
@@ -359,7 +364,9 @@ def _past_limit(judging: _Judging, runaway: Runaway, joint: int) -> Diagnostic:
         f"{runaway.value:.3g} past its limit (tolerance {tolerance:g})"
     )
     if j.floor_limit[joint]:
-        return _floor_warning(j.run, j.sim, "RS503", went, "pushed the joint through its limit")
+        return _floor_warning(
+            j.run, j.sim, JOINT_LIMIT_VIOLATED, went, "pushed the joint through its limit"
+        )
     if j.held is not None and j.held.past_limit[joint] > 0:
         went += (
             "; held clear of the floor on a test stand, the same actions still take it "
@@ -367,7 +374,7 @@ def _past_limit(judging: _Judging, runaway: Runaway, joint: int) -> Diagnostic:
         )
     return j.run.fail(
         j.where,
-        "RS503",
+        JOINT_LIMIT_VIOLATED,
         went + j.buried,
         "the joint is carried past its limit: add damping to its controller (a "
         "random target across its range flings it), lower its force_limit, or "
@@ -383,7 +390,7 @@ def _joint_ran_away(judging: _Judging, runaway: Runaway, joint: int) -> Diagnost
         f"{runaway.value:.3g}/s (max_joint_speed {runaway.bound:g})"
     )
     if j.floor_speed[joint]:
-        return _floor_warning(j.run, j.sim, "RS504", ran_away, "flung the joint")
+        return _floor_warning(j.run, j.sim, RUNAWAY_VELOCITY, ran_away, "flung the joint")
     if (
         j.held is not None
         and j.held.top_speed[joint] > j.run.settings.random_actions.max_joint_speed
@@ -394,7 +401,7 @@ def _joint_ran_away(judging: _Judging, runaway: Runaway, joint: int) -> Diagnost
         )
     return j.run.fail(
         j.where,
-        "RS504",
+        RUNAWAY_VELOCITY,
         ran_away + j.buried,
         "add damping to the joint's controller, or lower its force_limit",
     )

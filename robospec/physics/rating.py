@@ -22,12 +22,12 @@ from typing import TYPE_CHECKING
 
 from robospec.description.ratings import joint_ratings
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import RATING_BELOW_GRAVITY
 
 if TYPE_CHECKING:  # robospec new reads GRAVITY_SHARE without loading the simulation's modules
     from robospec.physics.check_run import CheckRun
     from robospec.physics.sim import Sim
 
-CODE = "RS534"
 # gravity's share of the rating at which the rating, not the gains, is what the step meets
 GRAVITY_SHARE = 0.9
 SATURATED_SHARE = 0.5  # of the step: held at its force limit that long, the drive is at its end
@@ -56,7 +56,7 @@ def gravity_bound(
     unit = "N" if prismatic else "N m"
     return warning(
         run.context.at_description(rating.line),
-        CODE,
+        RATING_BELOW_GRAVITY,
         f"joint '{joint}' is rated {rating.value:g} {unit} ({rating.what}), and gravity alone "
         f"puts {load:.3g} {unit} on it where controller '{controller}' ({sim.mode}) steps it: "
         f"its drive was held at that rating for {saturated:.0%} of the step. The robot as "

@@ -20,11 +20,11 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import warning
+from robospec.diagnostics.codes import CAMERA_PREVIEW_DISAGREES
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 
 NAME = "render"
-DISAGREE = "RS564"
 TOLERANCE_PX = 3.0
 
 
@@ -189,7 +189,7 @@ def check(run: CheckRun, out_dir: Path) -> list[Finding]:
             found = (
                 warning(
                     run.at(("cameras", shot.camera)),
-                    DISAGREE,
+                    CAMERA_PREVIEW_DISAGREES,
                     f"camera '{shot.camera}' at keyframe '{shot.keyframe}': SAPIEN puts the "
                     f"tcp at pixel ({shot.tcp_pixel[0]:.1f}, {shot.tcp_pixel[1]:.1f}), the CPU "
                     f"preview at ({expected[0]:.1f}, {expected[1]:.1f}): {apart:.1f} px apart",

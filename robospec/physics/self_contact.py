@@ -28,6 +28,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from robospec.diagnostics import Diagnostic, warning
+from robospec.diagnostics.codes import LINKS_TOUCH_AT_KEYFRAME, PART_INSIDE_ROBOT
 from robospec.physics import ground
 from robospec.physics.check_run import CheckRun, keyframe_label
 from robospec.physics.findings import Finding, Status, metrics
@@ -84,7 +85,7 @@ def check(run: CheckRun) -> list[Finding]:
         rule = ", ".join(f"[{a}, {b}]" for a, b in touching)
         diagnostic = run.fail(
             run.keyframe_path(keyframe),
-            "RS508",
+            LINKS_TOUCH_AT_KEYFRAME,
             f"at keyframe '{label}' these links of the robot touch: {listed}",
             f"if they are meant to touch, add `never_collide: [{rule}]`; otherwise move the "
             "keyframe apart",
@@ -118,7 +119,7 @@ def _load(run: CheckRun) -> Finding:
     rule = ", ".join(f"[{a}, {b}]" for a, b in touching)
     diagnostic = warning(
         run.at(("keyframes",)),
-        "RS508",
+        LINKS_TOUCH_AT_KEYFRAME,
         f"as ManiSkill loads the robot (every joint at 0, within its limits) these links touch: "
         f"{listed}; the checks start from the keyframes instead",
         f"a task that loads it this way gets them pushed apart; if they are meant to touch, "
@@ -165,7 +166,7 @@ def _inside_parts(
         rule = ", ".join(f"[{o}, {i}]" for i, o, _ in pairs)
         yield run.fail(
             ("parts", part, "pose"),
-            "RS734",
+            PART_INSIDE_ROBOT,
             f"part '{part}' is inside the robot at keyframe '{label}': its link '{inside}' is "
             f"{depth * 1000:.1f} mm into '{outside}'"
             + (f" (and {len(pairs) - 1} more pair(s))" if len(pairs) > 1 else ""),

@@ -31,6 +31,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from robospec.diagnostics import Diagnostic
+from robospec.diagnostics.codes import SETTLES_OFF_TARGET, TRACKS_TOO_SLOWLY, UNDERDAMPED
 from robospec.physics import mimic_limits, rating
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Metric, Status, metrics
@@ -443,7 +444,7 @@ def _nan_finding(verdict: _Verdict, subject: str, broken: list[str]) -> Finding:
     v = verdict
     diagnostic = v.run.fail(
         v.where,
-        "RS506",
+        UNDERDAMPED,
         f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is unstable: given a "
         f"{v.kind} step, the state went NaN (joints: {', '.join(broken)})",
         "see the random_actions findings of this robot for the cause",
@@ -503,7 +504,7 @@ def _too_slow(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagnost
         cause, hint = contradicted, mimic_limits.HINT
     return v.run.fail(
         v.where,
-        "RS505",
+        TRACKS_TOO_SLOWLY,
         f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is too slow: given a "
         f"{v.kind} step, joint '{slowest.joint}' {took} (max_rise_time "
         f"{settings.max_rise_time:g} s){cause}",
@@ -539,7 +540,7 @@ def _underdamped(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagn
         )
     return v.run.fail(
         v.where,
-        "RS506",
+        UNDERDAMPED,
         f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}) is unstable or "
         f"underdamped: joint '{wildest.joint}' {what}",
         "raise its damping relative to its stiffness"
@@ -562,7 +563,7 @@ def _off_target(verdict: _Verdict, extremes: _Extremes, bound: _Bound) -> Diagno
         return None
     return v.run.fail(
         v.where,
-        "RS507",
+        SETTLES_OFF_TARGET,
         f"controller '{v.controller}' ({v.sim.mode}/{v.group.name}): joint '{furthest.joint}' "
         f"settles {furthest.steady_state_error:.0%} of a {v.kind} step away from its "
         f"target (max_steady_state_error {settings.max_steady_state_error:.0%})",

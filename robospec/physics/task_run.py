@@ -32,6 +32,12 @@ from typing import Any
 import numpy as np
 
 from robospec.diagnostics import Location, error
+from robospec.diagnostics.codes import (
+    BEYOND_REACH,
+    TASK_CANNOT_RUN,
+    TASK_CRASH,
+    TASK_MEMBER_MISSING,
+)
 from robospec.maniskill.crash import USER, from_exception, root_cause
 from robospec.maniskill.reach import chain_reach
 from robospec.physics.check_run import CheckRun
@@ -124,7 +130,7 @@ def _task(run: CheckRun, request: TaskRequest, scan: Any) -> Finding:
             diagnostics = tuple(
                 error(
                     _where(run, task),
-                    "RS528",
+                    TASK_MEMBER_MISSING,
                     f"{task} calls agent.{member}: {mend(member, run.context.spec)}",
                     f"without it {task} fails at reset with ManiSkill's NotImplementedError or "
                     "AttributeError (robospec check did not run it)",
@@ -141,7 +147,7 @@ def _cannot(run: CheckRun, request: TaskRequest, why: str, hint: str | None = No
         return Finding(NAME, None, request.id, Status.SKIP, f"not run: {why}")
     diagnostic = error(
         request.at,
-        "RS525",
+        TASK_CANNOT_RUN,
         f"--task {request.id}: {why}",
         hint or "run the robot in a task for one robot (--task tabletop runs those of the folder)",
     )
@@ -231,7 +237,7 @@ def _run(run: CheckRun, request: TaskRequest) -> Finding:
             if not np.isfinite(qpos).all():
                 diagnostic = error(
                     _where(run, task),
-                    "RS527",
+                    TASK_CRASH,
                     f"{task}: random actions made the robot's state NaN at step {step + 1}",
                     "run robospec check without --task: its random_actions findings name the cause",
                 )
@@ -260,7 +266,7 @@ def _crashed(run: CheckRun, task: str, stage: str, exc: Exception) -> Finding:
     if member is not None:
         diagnostic = error(
             _where(run, task),
-            "RS528",
+            TASK_MEMBER_MISSING,
             f"{task} calls agent.{member}: {mend(member, run.context.spec)} (at {stage} it raised "
             f"{type(exc).__name__})",
             f"raised {crash.where()}" if crash.frame else None,
@@ -270,7 +276,7 @@ def _crashed(run: CheckRun, task: str, stage: str, exc: Exception) -> Finding:
         own = crash.frame is not None and crash.frame.owner == USER
         diagnostic = error(
             _where(run, task),
-            "RS527",
+            TASK_CRASH,
             f"{task} crashed at {stage} with this robot: {crash.what}, {crash.where()}",
             "mend the hook named: the task called it"
             if own
@@ -325,7 +331,7 @@ def _reach(run: CheckRun, env: Any, request: TaskRequest) -> Finding | None:
         return None
     diagnostic = error(
         request.at,
-        "RS526",
+        BEYOND_REACH,
         f"--task {request.id}: its nearest object, '{nearest[0]}', lies {nearest[1]:.2f} m from "
         f"the robot's root where the task places it, beyond its reach ({reach:.2f} m: its "
         "links end to end)",

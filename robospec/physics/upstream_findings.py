@@ -19,6 +19,7 @@ from pathlib import PurePath
 
 from robospec.checks.context import CheckContext
 from robospec.diagnostics import Location, error
+from robospec.diagnostics.codes import SIMULATOR_ERROR
 from robospec.maniskill.upstream_output import UpstreamMessage
 from robospec.physics.findings import Finding, Status
 
@@ -37,7 +38,7 @@ def findings(context: CheckContext, messages: Sequence[UpstreamMessage]) -> list
         times = f" ({message.count} times)" if message.count > 1 else ""
         diagnostic = error(
             at,
-            "RS522",
+            SIMULATOR_ERROR,
             f"{message.source} reported an {message.level.lower()} while the robot ran: "
             f"{said}{times}",
             message.meaning

@@ -23,14 +23,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from robospec.description.facts import RobotDescription
+from robospec.diagnostics.codes import (
+    CAMERA_COVERED_BY_MOUNT,
+    CAMERA_COVERED_BY_ROBOT,
+    CAMERA_LOOKS_AWAY,
+    CAMERA_SEES_NOTHING,
+)
 from robospec.pictures.posed import PosedRobot
 from robospec.pictures.renderer import NOTHING
 from robospec.pictures.views import View
-
-COVERED_BY_MOUNT = "RS560"
-COVERED_BY_ROBOT = "RS561"
-SEES_NOTHING = "RS562"
-LOOKS_AWAY = "RS563"
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,7 @@ def judge(
     if mount > limits.max_mount_fraction:
         findings.append(
             Finding(
-                COVERED_BY_MOUNT,
+                CAMERA_COVERED_BY_MOUNT,
                 f"its own mount covers {mount:.0%} of the picture (more than "
                 f"{limits.max_mount_fraction:.0%}): {picture}",
                 "move the camera out of its housing (pose.p) or turn it outward (pose.q); "
@@ -102,7 +103,7 @@ def judge(
     elif robot_share > limits.max_robot_fraction:
         findings.append(
             Finding(
-                COVERED_BY_ROBOT,
+                CAMERA_COVERED_BY_ROBOT,
                 f"the robot covers {robot_share:.0%} of the picture (more than "
                 f"{limits.max_robot_fraction:.0%}): {picture}",
                 "turn the camera away from the robot (pose.q); "
@@ -113,7 +114,7 @@ def judge(
     if seen < limits.min_seen_fraction:
         findings.append(
             Finding(
-                SEES_NOTHING,
+                CAMERA_SEES_NOTHING,
                 f"sees nothing within far ({view.far:g} m) in {1 - seen:.0%} of the picture "
                 f"at the table: {table_picture}",
                 "turn the camera toward the scene (pose.q) or raise far; "
@@ -136,7 +137,7 @@ def judge(
             )
             findings.append(
                 Finding(
-                    LOOKS_AWAY,
+                    CAMERA_LOOKS_AWAY,
                     f"moves with the tcp '{name}' but looks away from it ({where}): {picture}",
                     "turn the camera toward the tcp (pose.q: the camera looks along its x "
                     "axis, z up); checks.camera_views.tcp_in_view: false if it is meant",

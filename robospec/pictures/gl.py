@@ -14,6 +14,8 @@ import importlib.util
 import os
 from typing import Any
 
+from robospec.diagnostics.codes import NO_RENDER_EXTRA
+
 PLATFORMS = ("egl", "osmesa", "glfw")  # MUJOCO_GL's values, each mujoco.<value>.GLContext
 
 
@@ -39,7 +41,7 @@ def import_mujoco() -> Any:
             raise ImportError("No module named 'trimesh'")
     except ImportError as exc:
         raise RenderUnavailable(
-            "RS660",
+            NO_RENDER_EXTRA,
             f"pictures need the render extra: {exc}",
             "pip install 'robospec[render]' (mujoco, trimesh, pycollada, fast-simplification)",
         ) from exc

@@ -32,6 +32,7 @@ from robospec.description.facts import RobotDescription
 from robospec.description.numbers import finite_numbers
 from robospec.description.urdf import parse_xml
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.diagnostics.codes import PICTURE_MESH_UNREADABLE, PICTURE_MJCF_UNLOADABLE
 from robospec.geometry import quaternion_from_rpy
 from robospec.kinematics.forward import kinematics_of
 from robospec.kinematics.mjcf_poses import MjcfPoser
@@ -39,9 +40,6 @@ from robospec.kinematics.placement import pose_matrix
 from robospec.pictures.gl import import_mujoco
 from robospec.pictures.meshes import MeshError, MeshPart, load_mesh
 from robospec.resolve.resolved import ResolvedRobot
-
-MESH_UNREADABLE = "RS662"
-MJCF_UNLOADABLE = "RS663"
 
 Layer = Literal["visual", "collision"]
 Kind = Literal["mesh", "box", "sphere", "cylinder", "capsule"]
@@ -268,7 +266,7 @@ class UrdfShapes:
             self.problems.append(
                 warning(
                     Location(description_path, line, 1),
-                    MESH_UNREADABLE,
+                    PICTURE_MESH_UNREADABLE,
                     f"{layer} mesh '{uri}' of link '{link}' cannot be drawn: {exc}",
                     "the pictures are drawn without it",
                 )
@@ -353,7 +351,7 @@ class MjcfShapes:
 
     def _cannot(self, path: str, message: str) -> None:
         self.problems.append(
-            warning(Location(path), MJCF_UNLOADABLE, message, "the pictures show no robot")
+            warning(Location(path), PICTURE_MJCF_UNLOADABLE, message, "the pictures show no robot")
         )
 
     def posed(self, keyframe: KeyframePose) -> PosedRobot:

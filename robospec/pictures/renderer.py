@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from robospec.diagnostics.codes import NO_OPENGL, PICTURE_SCENE_FAILED
 from robospec.pictures.gl import RenderUnavailable, gl_context, import_mujoco
 from robospec.pictures.posed import DEFAULT_RGBA, PosedRobot, Shape
 from robospec.pictures.stage import Box, Stage
@@ -119,7 +120,7 @@ class Renderer:
             self.model = spec.compile()
         except ValueError as exc:  # a mesh MuJoCo refuses: the message names it
             raise RenderUnavailable(
-                "RS664",
+                PICTURE_SCENE_FAILED,
                 f"MuJoCo cannot build the pictures' scene: {exc}",
                 "a mesh MuJoCo refuses; the other commands do not need the pictures",
             ) from exc
@@ -207,7 +208,7 @@ class Renderer:
             self._mjr = mujoco.MjrContext(self.model, mujoco.mjtFontScale.mjFONTSCALE_100)
         except Exception as exc:  # PyOpenGL, EGL and MuJoCo each raise their own
             raise RenderUnavailable(
-                "RS661",
+                NO_OPENGL,
                 f"no OpenGL to draw with (MUJOCO_GL={os.environ.get('MUJOCO_GL')}): "
                 f"{type(exc).__name__}: {exc}",
                 _GL_HINT,

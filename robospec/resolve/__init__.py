@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
 from robospec.diagnostics import error
+from robospec.diagnostics.codes import GROUP_NAMED_AS_JOINT
 from robospec.load.source_map import LoadedSpec
 from robospec.model.validate import SpecModelResult
 from robospec.resolve import carried, mechanisms, members
@@ -166,7 +167,7 @@ def _resolve_groups(context: ResolveContext) -> None:
             context.diagnostics.append(
                 error(
                     context.at_key(("groups", name)),
-                    "RS210",
+                    GROUP_NAMED_AS_JOINT,
                     f"group '{name}' has the name of a joint",
                     f"rename the group (e.g. '{name}_group')",
                 )

@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from robospec.diagnostics.codes import INVALID_VALUE, UNKNOWN_JOINT
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 from robospec.model.controller_kinds import FIELD_ORDER, controller_kind
@@ -76,7 +77,9 @@ def per_joint_values(
     if isinstance(value, list):
         if len(value) != len(joints):
             context.err(
-                path, "RS102", f"expected {len(joints)} values (one per joint), got {len(value)}"
+                path,
+                INVALID_VALUE,
+                f"expected {len(joints)} values (one per joint), got {len(value)}",
             )
         return list(value)
     if not isinstance(value, dict):
@@ -86,13 +89,13 @@ def per_joint_values(
         for joint in select_joints(context, key, (*path, key)):
             if joint not in joints and whole:
                 context.err(
-                    (*path, key), "RS201", f"joint '{joint}' is not driven by this controller"
+                    (*path, key), UNKNOWN_JOINT, f"joint '{joint}' is not driven by this controller"
                 )
             by_joint[joint] = item
     missing = [j for j in joints if j not in by_joint]
     # a name that did not bind is reported already: the joints it meant are not "missing" too
     if missing and all(bound_joints(context, (*path, key)) is not None for key in value):
-        context.err(path, "RS102", "no value for joint(s) " + ", ".join(missing))
+        context.err(path, INVALID_VALUE, "no value for joint(s) " + ", ".join(missing))
     return [by_joint.get(j) for j in joints]
 
 
@@ -116,7 +119,7 @@ def mimic_map(
             if joint not in joints and context.description.joint(joint) is None:
                 context.err(
                     (*path, follower),
-                    "RS201",
+                    UNKNOWN_JOINT,
                     f"unknown joint '{joint}'",
                     did_you_mean(joint, joints),
                 )

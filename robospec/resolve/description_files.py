@@ -16,6 +16,11 @@ from pathlib import Path
 from typing import Any, Literal
 
 from robospec.description.facts import RobotDescription
+from robospec.diagnostics.codes import (
+    DESCRIPTION_NOT_FOUND,
+    NOT_DOWNLOADED,
+    UNUSABLE_PYTHON_REFERENCE,
+)
 from robospec.load.source_map import KeyPath
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.description_loading import (
@@ -71,7 +76,7 @@ def load_spec_description(context: ResolveContext, mount: Mount | None = None) -
 
         context.warn(
             ("description", desc.kind),
-            "RS055",
+            NOT_DOWNLOADED,
             f"'{desc.path}' is not downloaded: joint and link names are not checked",
             "python -m mani_skill.utils.download_asset " + " ".join(desc.download),
         )
@@ -101,7 +106,7 @@ def load_part_description(
     if isinstance(prepared, FileRef):  # not downloaded: nothing to mount yet
         context.err(
             (*where, desc.kind),
-            "RS055",
+            NOT_DOWNLOADED,
             f"'{desc.path}' is not downloaded: the part cannot be mounted",
             "python -m mani_skill.utils.download_asset " + " ".join(desc.download),
         )
@@ -122,7 +127,7 @@ def load_inherited_description(
     if not isinstance(text, str):
         context.err(
             ("extends",),
-            "RS220",
+            UNUSABLE_PYTHON_REFERENCE,
             "the extended class names no urdf_path or mjcf_path",
             "add a description to the spec",
         )
@@ -134,7 +139,11 @@ def load_inherited_description(
     else:
         ref = FileRef("file", text, path)
     if not path.is_file():
-        context.err(("extends",), "RS050", f"the extended class's description is missing: {text}")
+        context.err(
+            ("extends",),
+            DESCRIPTION_NOT_FOUND,
+            f"the extended class's description is missing: {text}",
+        )
         return None, kind
     read = reader(context)
     description, _ = parse(read, Prepared(ref, kind, read.shown(ref)))

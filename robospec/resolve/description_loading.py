@@ -29,6 +29,13 @@ from typing import TYPE_CHECKING, Any, Literal
 from robospec.description.facts import RobotDescription
 from robospec.description.sanity import SANITY_CODES
 from robospec.diagnostics import Diagnostic, Location, error, warning, without_codes
+from robospec.diagnostics.codes import (
+    DESCRIPTION_NOT_FOUND,
+    IGNORED_INERTIAL,
+    NO_RATE_LIMIT,
+    PACKAGE_NOT_FOUND,
+    TRIANGLE_INEQUALITY,
+)
 from robospec.load.source_map import KeyPath
 from robospec.resolve.paths import in_maniskill
 from robospec.resolve.resolved import FileRef
@@ -179,7 +186,7 @@ def find_file(
         if absolute is None:
             reader.err(
                 where,
-                "RS050",
+                DESCRIPTION_NOT_FOUND,
                 f"'{text}' names ManiSkill's assets, but ManiSkill is not installed",
                 "pip install 'robospec[maniskill]'",
             )
@@ -189,11 +196,11 @@ def find_file(
         try:  # realpath, not Path.resolve: that raises RuntimeError on a loop of links (< 3.13)
             ref = FileRef("file", text, Path(os.path.realpath(reader.folder / text)))
         except (OSError, ValueError) as exc:  # a NUL byte in the name
-            reader.err(where, "RS050", f"cannot use '{text}' as a file: {exc}")
+            reader.err(where, DESCRIPTION_NOT_FOUND, f"cannot use '{text}' as a file: {exc}")
             return None
     problem = None if reader.entry_is_file else _not_a_file(ref, text, may_be_missing)
     if problem is not None:
-        reader.err(where, "RS050", *problem)
+        reader.err(where, DESCRIPTION_NOT_FOUND, *problem)
         return None
     return ref
 
@@ -224,7 +231,7 @@ def package_folders(reader: Reader, packages: Mapping[str, str]) -> dict[str, st
         if found is not None and found[2] is None:
             reader.err(
                 where,
-                "RS050",
+                DESCRIPTION_NOT_FOUND,
                 f"'{text}' names ManiSkill's assets, but ManiSkill is not installed",
                 "pip install 'robospec[maniskill]'",
             )
@@ -235,7 +242,9 @@ def package_folders(reader: Reader, packages: Mapping[str, str]) -> dict[str, st
             try:  # realpath, as find_file: a NUL byte or a loop of links is not a folder
                 folder = Path(os.path.realpath(reader.folder / text))
             except (OSError, ValueError) as exc:
-                reader.err(where, "RS058", f"package '{name}': cannot use '{text}': {exc}")
+                reader.err(
+                    where, PACKAGE_NOT_FOUND, f"package '{name}': cannot use '{text}': {exc}"
+                )
                 continue
         try:
             is_folder = folder is not None and folder.is_dir()
@@ -244,7 +253,7 @@ def package_folders(reader: Reader, packages: Mapping[str, str]) -> dict[str, st
         if not is_folder:
             reader.err(
                 where,
-                "RS058",
+                PACKAGE_NOT_FOUND,
                 f"package '{name}': no folder '{text}'",
                 f"looked for {folder}" if found is None else None,
             )
@@ -298,7 +307,9 @@ def _compiled(reader: Reader, prepared: Prepared, where: KeyPath) -> Prepared | 
         data = ref.read_bytes()
     except OSError as exc:
         reader.err(
-            where, "RS050", f"cannot read robot description '{shown}': {exc.strerror or exc}"
+            where,
+            DESCRIPTION_NOT_FOUND,
+            f"cannot read robot description '{shown}': {exc.strerror or exc}",
         )
         return None
     source = Source(str(ref.absolute), shown, "mjcf", data, prepared.packages)
@@ -358,7 +369,7 @@ def _mended(
     except OSError as exc:
         reader.err(
             where,
-            "RS050",
+            DESCRIPTION_NOT_FOUND,
             f"cannot read robot description '{shown}': {exc.strerror or exc}",
         )
         return None
@@ -384,7 +395,8 @@ def _report_outcomes(
 ) -> None:
     """A declared mend that changes nothing (a warning), or is for the other kind of
     description (an error), at its entry."""
-    from robospec.derive import MENDS, NOT_FOR_KIND, STALE, mend_class
+    from robospec.derive import MENDS, mend_class
+    from robospec.diagnostics.codes import MEND_FOR_OTHER_KIND, STALE_MEND
     from robospec.diagnostics.suggest import did_you_mean
 
     kind, shown = prepared.kind, prepared.shown
@@ -393,7 +405,7 @@ def _report_outcomes(
         if outcome.status == "stale":
             reader.warn(
                 at,
-                STALE,
+                STALE_MEND,
                 f"mend '{outcome.name}: {_policy_text(mends[outcome.name])}' changes nothing "
                 f"in '{shown}'",
                 "remove it (robospec new writes only the mends a robot needs)",
@@ -404,7 +416,7 @@ def _report_outcomes(
             fitting = [m.NAME for m in MENDS if kind in m.KINDS]
             reader.err(
                 at,
-                NOT_FOR_KIND,
+                MEND_FOR_OTHER_KIND,
                 f"mend '{outcome.name}' is for {kinds} descriptions, and '{shown}' is "
                 f"{kind.upper()}",
                 did_you_mean(outcome.name, fitting)
@@ -481,7 +493,7 @@ def _carried_mesh_paths(
 # SAPIEN ignores, an impossible inertia): not said of the descriptions ManiSkill ships, which a
 # spec cannot change and ManiSkill's own agents load as they are (Fetch's fingers, the Allegro
 # hand). Errors are said of every description.
-_WARNINGS_NOT_FOR_SHIPPED = frozenset({"RS061", "RS062"}) | SANITY_CODES
+_WARNINGS_NOT_FOR_SHIPPED = frozenset({IGNORED_INERTIAL, TRIANGLE_INEQUALITY}) | SANITY_CODES
 
 
 def _with_facts(
@@ -520,7 +532,7 @@ def _with_facts(
 
 
 # Warnings about a compiled MJCF's URDF that say what the MJCF cannot say (rate limits)
-_NOT_FOR_COMPILED = frozenset({"RS091"})
+_NOT_FOR_COMPILED = frozenset({NO_RATE_LIMIT})
 
 
 def _unless_shipped(diagnostics: list[Diagnostic], ref: FileRef) -> list[Diagnostic]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from robospec.diagnostics.codes import NOT_DOWNLOADED
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import Keyframe
 from robospec.resolve.carried import keyframe_values
@@ -47,7 +48,7 @@ def joint_values(context: ResolveContext, values: Any, path: KeyPath) -> tuple[f
         # the joint order is the description's, which is not here: only a full list works
         if isinstance(values, list):
             return tuple(values)
-        context.err(path, "RS055", *NEEDS_DOWNLOAD)
+        context.err(path, NOT_DOWNLOADED, *NEEDS_DOWNLOAD)
         return None
     if isinstance(values, list):
         return tuple(values) if len(values) == len(active) else None

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from robospec.diagnostics.codes import NOT_DOWNLOADED, UNKNOWN_LINK, UNUSABLE_PYTHON_REFERENCE
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import HeightBand
@@ -46,7 +47,7 @@ def link_or_named(context: ResolveContext, name: str, path: KeyPath) -> str:
         return name
     if context.description.link(name) is None:
         candidates = [*context.description.link_names, *context.spec.named_links]
-        context.err(path, "RS202", f"unknown link '{name}'", did_you_mean(name, candidates))
+        context.err(path, UNKNOWN_LINK, f"unknown link '{name}'", did_you_mean(name, candidates))
     else:
         context.bindings.link_names.append((path, name))
     return name
@@ -110,7 +111,7 @@ def is_static(context: ResolveContext) -> ResolvedStatic | None:
     if rule is None:
         return None
     if context.assumed:  # qvel columns follow the description's joint order
-        context.err(("is_static",), "RS055", *NEEDS_DOWNLOAD)
+        context.err(("is_static",), NOT_DOWNLOADED, *NEEDS_DOWNLOAD)
         return None
     columns = _qvel_columns(context, rule.joints, ("is_static", "joints"))
     base = None
@@ -218,7 +219,7 @@ def python_ref(
 
     checked = check_ref(text, kind)
     if checked.problem is not None:
-        context.err(path, "RS220", checked.problem, checked.hint)
+        context.err(path, UNUSABLE_PYTHON_REFERENCE, checked.problem, checked.hint)
     return checked.ref
 
 
@@ -230,7 +231,7 @@ def base_class(context: ResolveContext) -> tuple[PythonRef | None, Any]:
 
     checked = check_ref(context.spec.extends, "agent_class")
     if checked.problem is not None:
-        context.err(("extends",), "RS220", checked.problem, checked.hint)
+        context.err(("extends",), UNUSABLE_PYTHON_REFERENCE, checked.problem, checked.hint)
     return checked.ref, checked.value if checked.ref is not None else None
 
 

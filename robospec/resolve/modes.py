@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from robospec.diagnostics.codes import INVALID_VALUE, MISSING_FIELD, UNKNOWN_CONTROLLER
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 from robospec.resolve.carried import part_controllers
@@ -23,18 +24,18 @@ def resolve_modes(context: ResolveContext) -> list[ResolvedMode]:
             if key == "balance_passive_force":
                 if not isinstance(value, bool):
                     context.err(
-                        (*path, key), "RS102", "balance_passive_force must be true or false"
+                        (*path, key), INVALID_VALUE, "balance_passive_force must be true or false"
                     )
                 else:
                     balance = value
                 continue
             if not isinstance(value, str):
-                context.err((*path, key), "RS102", f"'{key}' must name a controller")
+                context.err((*path, key), INVALID_VALUE, f"'{key}' must name a controller")
                 continue
             _known_controller(context, value, (*path, key))
             groups.append((key, value))
         if not groups:
-            context.err(path, "RS103", f"control mode '{mode_name}' has no controllers")
+            context.err(path, MISSING_FIELD, f"control mode '{mode_name}' has no controllers")
         modes.append(ResolvedMode(mode_name, tuple(groups), balance_passive_force=balance))
     return modes
 
@@ -43,4 +44,6 @@ def _known_controller(context: ResolveContext, name: str, path: KeyPath) -> None
     """A controller of the spec's, or one a part brings (robospec.resolve.carried)."""
     known = [*context.spec.controllers, *part_controllers(context)]
     if name not in known:
-        context.err(path, "RS204", f"unknown controller '{name}'", did_you_mean(name, known))
+        context.err(
+            path, UNKNOWN_CONTROLLER, f"unknown controller '{name}'", did_you_mean(name, known)
+        )

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from robospec.diagnostics.codes import PART_NOT_CARRIED, UNKNOWN_PART_MODE
 from robospec.model.frozen import Spec
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.part_types import CarriedPart, PartInput
@@ -22,8 +23,6 @@ if TYPE_CHECKING:
     from robospec.compose.model import Mounted
 
 # the codes of this module (robospec/diagnostics/codes.py)
-NOT_CARRIED = "RS738"
-UNKNOWN_PART_MODE = "RS739"
 
 
 class _Taken:
@@ -173,7 +172,7 @@ def _warn_not_carried(context: ResolveContext, name: str, given: PartInput) -> N
     for what in given.carried_not:
         context.warn(
             ("parts", name, "spec"),
-            NOT_CARRIED,
+            PART_NOT_CARRIED,
             f"part '{name}': its spec's {what} do not come along",
             "declare what the robot needs in this spec",
         )

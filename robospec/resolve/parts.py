@@ -17,6 +17,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import error, note, warning
+from robospec.diagnostics.codes import PART_HAS_ERRORS, PARTS_WITHOUT_DESCRIPTION
 from robospec.load.source_map import KeyPath
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.part_types import PartInput
@@ -26,8 +27,6 @@ if TYPE_CHECKING:
     from robospec.compose import PartSource, Problem
 
 # the codes of this module (robospec/diagnostics/codes.py)
-PART_HAS_ERRORS = "RS737"
-NO_DESCRIPTION = "RS740"
 
 
 # -- composing -------------------------------------------------------------------------------
@@ -142,7 +141,8 @@ def _part_source(
 def _spec_part(context: ResolveContext, name: str, base_kind: str) -> PartInput | None:
     """A part given as a spec, as its own compilation left it: None (and why) when it has
     errors, is of the other kind or moves freely."""
-    from robospec.compose import NOT_A_FIXED_TREE, mixed_formats
+    from robospec.compose import mixed_formats
+    from robospec.diagnostics.codes import PART_NOT_A_FIXED_TREE
 
     where: KeyPath = ("parts", name, "spec")
     given = context.parts.get(name)
@@ -165,7 +165,7 @@ def _spec_part(context: ResolveContext, name: str, base_kind: str) -> PartInput 
     if not given.fix_root_link or given.description.floating_root:
         context.err(
             where,
-            NOT_A_FIXED_TREE,
+            PART_NOT_A_FIXED_TREE,
             f"part '{name}' moves freely (its spec sets loader.fix_root_link: false, or "
             "its root has a free joint): only a robot fixed at its root can be mounted",
             "mount a description of the part without its free root",
@@ -179,7 +179,8 @@ def _description_part(
 ) -> PartInput | None:
     """A part given as a bare description, loaded (and kept in ``context.parts``): None (and
     why) when it is of the other kind, cannot be read or has a free root."""
-    from robospec.compose import NOT_A_FIXED_TREE, mixed_formats
+    from robospec.compose import mixed_formats
+    from robospec.diagnostics.codes import PART_NOT_A_FIXED_TREE
     from robospec.resolve.description_files import load_part_description
 
     where: KeyPath = ("parts", name, "description")
@@ -194,7 +195,7 @@ def _description_part(
     if description.floating_root:
         context.err(
             where,
-            NOT_A_FIXED_TREE,
+            PART_NOT_A_FIXED_TREE,
             f"part '{name}' has a free root joint: only a robot fixed at its root can be mounted",
         )
         return None
@@ -209,7 +210,7 @@ def warn_unsupported(context: ResolveContext) -> None:
         context.diagnostics.append(
             error(
                 context.at_key(("parts",)),
-                NO_DESCRIPTION,
+                PARTS_WITHOUT_DESCRIPTION,
                 "parts are mounted on the spec's own description, and this spec takes its "
                 "robot from the extended class",
                 "give `description:` (the class's URDF or MJCF)",

@@ -8,6 +8,7 @@ keyframe. A spec that ``extends`` a class keeps the class's reset unless it decl
 
 from __future__ import annotations
 
+from robospec.diagnostics.codes import UNKNOWN_KEYFRAME
 from robospec.resolve.context import ResolveContext
 from robospec.resolve.resolved import ResolvedKeyframe, ResolvedReset
 from robospec.resolve.selection import select_joints
@@ -25,7 +26,7 @@ def resolve_reset(
     if rule.keyframe is not None and rule.keyframe not in by_name:
         context.err(
             ("reset", "keyframe"),
-            "RS211",
+            UNKNOWN_KEYFRAME,
             f"unknown keyframe '{rule.keyframe}'",
             f"name one of: {', '.join(by_name)}" if by_name else "define it under `keyframes`",
         )

@@ -11,6 +11,13 @@ from __future__ import annotations
 import fnmatch
 from typing import Any
 
+from robospec.diagnostics.codes import (
+    CIRCULAR_GROUP,
+    JOINT_PATTERN_MATCHES_NONE,
+    LINK_RULE_MATCHES_NONE,
+    UNKNOWN_JOINT,
+    UNKNOWN_LINK,
+)
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 from robospec.model.frozen import AllBut
@@ -62,17 +69,19 @@ def _joints(
     if GLOB.search(name):
         matched = [j for j in description.active_joint_names if fnmatch.fnmatchcase(j, name)]
         if not matched:
-            context.err(path, "RS207", f"pattern '{name}' matches no active joint")
+            context.err(
+                path, JOINT_PATTERN_MATCHES_NONE, f"pattern '{name}' matches no active joint"
+            )
         return matched, bool(matched)
     candidates = [*description.joint_names, *context.spec.groups]
-    context.err(path, "RS201", f"unknown joint '{name}'", did_you_mean(name, candidates))
+    context.err(path, UNKNOWN_JOINT, f"unknown joint '{name}'", did_you_mean(name, candidates))
     return [], False
 
 
 def _group(context: ResolveContext, name: str, stack: tuple[str, ...]) -> tuple[list[str], bool]:
     if name in stack:
         cycle = " -> ".join((*stack[stack.index(name) :], name))
-        context.err(("groups", name), "RS209", f"group definition is circular: {cycle}")
+        context.err(("groups", name), CIRCULAR_GROUP, f"group definition is circular: {cycle}")
         return [], False
     if name not in context.group_joints:
         path: KeyPath = ("groups", name)
@@ -112,11 +121,14 @@ def links_matching(context: ResolveContext, pattern: str, path: KeyPath) -> list
     if GLOB.search(pattern):
         matched = [n for n in description.link_names if fnmatch.fnmatchcase(n, pattern)]
         if not matched:
-            context.err(path, "RS206", f"pattern '{pattern}' matches no link")
+            context.err(path, LINK_RULE_MATCHES_NONE, f"pattern '{pattern}' matches no link")
         context.bindings.link_names.extend((path, n) for n in matched)
         return matched
     context.err(
-        path, "RS202", f"unknown link '{pattern}'", did_you_mean(pattern, description.link_names)
+        path,
+        UNKNOWN_LINK,
+        f"unknown link '{pattern}'",
+        did_you_mean(pattern, description.link_names),
     )
     return []
 
@@ -126,7 +138,7 @@ def link(context: ResolveContext, name: str, path: KeyPath) -> str | None:
     if context.description.link(name) is None:
         context.err(
             path,
-            "RS202",
+            UNKNOWN_LINK,
             f"unknown link '{name}'",
             did_you_mean(name, context.description.link_names),
         )

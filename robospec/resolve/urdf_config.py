@@ -7,6 +7,7 @@ import fnmatch
 from typing import Any
 
 from robospec.diagnostics import error
+from robospec.diagnostics.codes import LINK_RULE_MATCHES_NONE, UNKNOWN_LINK, UNKNOWN_MATERIAL
 from robospec.diagnostics.suggest import did_you_mean
 from robospec.load.source_map import KeyPath
 from robospec.model.names import GLOB
@@ -21,7 +22,7 @@ def resolve_urdf_config(context: ResolveContext) -> dict[str, Any]:
         if rule.material is not None and rule.material not in spec.materials:
             context.err(
                 (*path, "material"),
-                "RS205",
+                UNKNOWN_MATERIAL,
                 f"unknown material '{rule.material}'",
                 did_you_mean(rule.material, spec.materials),
             )
@@ -46,10 +47,10 @@ def _links_for_rule(context: ResolveContext, pattern: str, path: KeyPath) -> lis
     matched = [n for n in description.link_names if fnmatch.fnmatchcase(n, pattern)]
     context.bindings.link_names.extend((path, n) for n in matched)
     if not matched:
-        code = "RS206" if GLOB.search(pattern) else "RS202"
+        code = LINK_RULE_MATCHES_NONE if GLOB.search(pattern) else UNKNOWN_LINK
         message = (
             f"link rule '{pattern}' matches no link"
-            if code == "RS206"
+            if code == LINK_RULE_MATCHES_NONE
             else f"unknown link '{pattern}'"
         )
         context.diagnostics.append(

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.diagnostics.codes import INTERNAL_ERROR
 
 
 def narrowed_schema_text(spec_path: Path) -> tuple[str | None, list[Diagnostic]]:
@@ -22,7 +23,7 @@ def narrowed_schema_text(spec_path: Path) -> tuple[str | None, list[Diagnostic]]
     if len(compiled) != 1 or not compiled[0].ok:
         # every failed compile reports an error; reaching here is a bug of ours
         message = f"internal error: {spec_path} compiled to no robot and no error"
-        diagnostics.append(error(Location(str(spec_path)), "RS900", message))
+        diagnostics.append(error(Location(str(spec_path)), INTERNAL_ERROR, message))
         return None, diagnostics
     narrowed = narrow_schema(spec_schema(), robot_names(compiled[0]))
     return schema_text(narrowed), diagnostics

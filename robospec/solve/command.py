@@ -22,6 +22,14 @@ from pathlib import Path
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import (
+    BEYOND_REACH,
+    NO_SOLUTION,
+    NO_TWO_FINGER_GRIPPER,
+    SOLVER_CANNOT_DRIVE,
+    TASK_MEMBER_MISSING,
+    TOO_FEW_SUCCESSES,
+)
 from robospec.solve.episodes import Episode
 from robospec.solve.gripper import Closing
 
@@ -91,7 +99,7 @@ def run_solve(
         report.diagnostics.append(
             error(
                 at_task,
-                "RS680",
+                NO_SOLUTION,
                 f"robospec runs no ManiSkill solution for {task}",
                 f"tasks it solves: {', '.join(SOLUTIONS)}",
             )
@@ -122,7 +130,7 @@ def compile_robot(spec: Path) -> tuple[Robot | None, list[Diagnostic]]:
         return None, [
             error(
                 where,
-                "RS681",
+                NO_TWO_FINGER_GRIPPER,
                 f"'{resolved.uid}' has no two-finger gripper the solutions can close: the spec "
                 "declares no grasp check (`grasping`)",
                 "declare `grasping` with the two finger links (`robospec new` writes it for a "
@@ -162,7 +170,7 @@ def preflight(
     if MODE not in robot.modes:
         return error(
             robot.sections.get("control_modes", robot.sections["uid"]),
-            "RS682",
+            SOLVER_CANNOT_DRIVE,
             f"the solutions act in control mode {MODE}, which the spec does not offer",
             f"add a control mode {MODE} with absolute arm and gripper position controllers",
         )
@@ -173,7 +181,7 @@ def preflight(
     except (AttributeError, NotImplementedError) as exc:  # the task calls what the agent lacks
         return error(
             robot.sections.get("uid", Location(str(robot.spec))),
-            "RS528",
+            TASK_MEMBER_MISSING,
             f"{task} calls an agent member this robot does not define "
             f"({type(exc).__name__}: {exc})",
             f"list {task} under `tasks:` and run robospec validate: it names the member and "
@@ -190,13 +198,13 @@ def preflight(
             at = robot.sections.get(
                 exc.section, robot.sections.get("uid", Location(str(robot.spec)))
             )
-            return error(at, "RS682", str(exc), exc.hint)
+            return error(at, SOLVER_CANNOT_DRIVE, str(exc), exc.hint)
         if task in GRASPED_FROM_ABOVE and reach is not None:
             why = beyond_downward_reach(env, facts, list(seeds), reach)
             if why is not None:
                 return error(
                     at_task,
-                    "RS526",
+                    BEYOND_REACH,
                     f"{task}: {why}",
                     "the task mounts every robot where it mounts the Panda; from there this "
                     "arm cannot reach down to most of the task's placements",
@@ -239,7 +247,7 @@ def _beyond_chain_reach(
         return reach, None
     return reach, error(
         at_task,
-        "RS526",
+        BEYOND_REACH,
         f"{task}: '{farthest[0]}' lies {farthest[1]:.2f} m from {where} where the "
         f"task mounts it, beyond its reach ({reach:.2f} m: its links end to end)",
         "the task mounts every robot where it mounts the Panda; this arm cannot reach "
@@ -378,7 +386,7 @@ def below_min_success(
         return None
     return error(
         argument_location("--min-success", f"{least:g}", arguments),
-        "RS683",
+        TOO_FEW_SUCCESSES,
         f"{report.uid} {report.task}: {report.success_rate:.0%} of the episodes succeeded, "
         f"under --min-success {least:g}",
         "the table says which seeds failed; replay one (docs/solve.md) to see why",

@@ -13,6 +13,12 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors, warning
+from robospec.diagnostics.codes import (
+    ROBOT_NOT_LOADABLE,
+    TUNED_GAINS_OVER_RATING,
+    TUNING_TARGETS_UNMET,
+    UNKNOWN_TUNED_CONTROLLER,
+)
 from robospec.pipeline import CompiledSpec, compile_spec
 from robospec.tune.report import render_json, render_text
 from robospec.tune.results import ControllerTuning, TuneReport
@@ -106,7 +112,7 @@ def _unknown_controllers(item: CompiledSpec, names: Sequence[str]) -> list[Diagn
         problems.append(
             error(
                 Location(COMMAND_LINE),
-                "RS621",
+                UNKNOWN_TUNED_CONTROLLER,
                 f"--controller {name!r}: no control mode of '{item.robot.uid}' uses a "
                 f"controller of that name",
                 hint,
@@ -144,7 +150,7 @@ def _not_met(item: CompiledSpec, tuning: ControllerTuning) -> Diagnostic:
     }
     return error(
         item.context.key(("controllers", tuning.controller)),
-        "RS620",
+        TUNING_TARGETS_UNMET,
         f"controller '{tuning.controller}' ({tuning.mode}/{tuning.group}) cannot meet its "
         f"tuning targets ({aim}): {joints}",
         "; ".join(hint[k] for k in sorted(kinds) if k in hint)
@@ -173,7 +179,7 @@ def _over_rating(item: CompiledSpec, tunings: Sequence[ControllerTuning]) -> lis
             found.append(
                 warning(
                     where,
-                    "RS623",
+                    TUNED_GAINS_OVER_RATING,
                     f"joint '{joint}' (controller '{tuning.controller}'): its tuned gains ask "
                     f"for {demand:.3g} in the step, more than {what} of {cap:g}; tune kept "
                     f"force_limit at {cap:g}",
@@ -225,7 +231,7 @@ def run_worker(item: CompiledSpec, controllers: tuple[str, ...], traces: bool) -
         report.diagnostics.append(
             error(
                 Location(item.display),
-                "RS510",
+                ROBOT_NOT_LOADABLE,
                 f"'{item.robot.uid}' cannot be tuned: the tune process could not start "
                 f"({found.last_line()})",
                 "it imports ManiSkill: install the maniskill extra (pip install -e "

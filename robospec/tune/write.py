@@ -21,6 +21,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from robospec.diagnostics import Diagnostic, error
+from robospec.diagnostics.codes import TUNED_GAINS_UNWRITABLE
 from robospec.pipeline import CompiledSpec, compile_spec
 from robospec.tune.edits import FIELDS, WriteError, number
 from robospec.tune.results import ControllerTuning
@@ -70,7 +71,7 @@ def write_gains(
 def _cannot(where: Any, why: str) -> Diagnostic:
     return error(
         where,
-        "RS622",
+        TUNED_GAINS_UNWRITABLE,
         f"robospec tune cannot write the new gains into this spec: {why}",
         "nothing was written; the table above gives the gains to write by hand",
     )

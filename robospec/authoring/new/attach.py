@@ -22,12 +22,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, error, has_errors
+from robospec.diagnostics.codes import BAD_ATTACH
 
 if TYPE_CHECKING:
     from robospec.authoring.commands import CommandResult
 from robospec.model.names import NAME_PATTERN
 
-BAD_ATTACH = "RS742"
 SPEC_SUFFIXES = (".yaml", ".yml", ".toml")
 SEAM_SAMPLES = 200
 SEAM_TIMEOUT = 300  # seconds

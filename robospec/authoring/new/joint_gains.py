@@ -26,11 +26,10 @@ from robospec.authoring.new.joint_loads import JointLoad, joint_loads
 from robospec.description import Joint
 from robospec.description.ratings import Rating, joint_ratings
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.diagnostics.codes import GAINS_OVER_RATING
 from robospec.geometry import matrix_from_quaternion
 from robospec.physics.findings import significant
 from robospec.physics.rating import GRAVITY_SHARE
-
-OVER_RATING = "RS609"
 
 
 def rating(analysis: RobotAnalysis, joint: Joint) -> Rating | None:
@@ -144,7 +143,7 @@ def rating_warnings(analysis: RobotAnalysis, gains: Mapping[str, JointGains]) ->
         found.append(
             warning(
                 Location(path, drive.rating.line, 1),
-                OVER_RATING,
+                GAINS_OVER_RATING,
                 message,
                 "check the rating (its units, a placeholder value); or move the rest keyframe "
                 "where the load is smaller; the force limit stays at the rating",

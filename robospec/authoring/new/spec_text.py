@@ -15,9 +15,8 @@ from robospec.authoring.new.analysis import RobotAnalysis
 from robospec.authoring.new.gains import JointGains
 from robospec.authoring.new.rest_pose import RefinedGains, RestPose
 from robospec.diagnostics import Diagnostic, Location, warning
+from robospec.diagnostics.codes import REST_NOT_CHECKED, REST_TOUCHES
 
-REST_TOUCHES = "RS605"
-NOT_LOADED = "RS606"
 # why a rest pose went unchecked that the user should hear about as a warning (ManiSkill is
 # installed but failed); "not installed" and --no-sim are only said in the scaffold's header
 CANNOT_LOAD_PREFIXES = ("ManiSkill could not load", "the simulator crashed", "loading it in")
@@ -43,7 +42,7 @@ def scaffold_text(
         problems.append(
             warning(
                 Location(str(analysis.source.path)),
-                NOT_LOADED,
+                REST_NOT_CHECKED,
                 f"the gains were not measured in ManiSkill: {found}",
                 "they are written as computed from the description; robospec check measures them",
             )
@@ -171,7 +170,7 @@ def _rest_warnings(
         return [
             warning(
                 Location(str(analysis.source.path)),
-                NOT_LOADED,
+                REST_NOT_CHECKED,
                 f"the rest keyframe was not checked: {rest.unchecked_because}",
                 "robospec check loads it the same way and will say more; the scaffold is "
                 "written without the check",

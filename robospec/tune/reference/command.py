@@ -19,6 +19,14 @@ from pathlib import Path
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, Location, Severity, error, has_errors, warning
+from robospec.diagnostics.codes import (
+    REFERENCE_FIT_CRASH,
+    REFERENCE_JOINT_NOT_POSITION_DRIVEN,
+    REFERENCE_JOINT_STILL,
+    REFERENCE_MUJOCO_UNUSABLE,
+    REFERENCE_UNDETERMINED,
+    REFERENCE_UNMATCHED,
+)
 from robospec.physics.findings import significant
 from robospec.pipeline import CompiledSpec, compile_spec
 from robospec.tune.reference.plan import Plan, plan
@@ -135,7 +143,7 @@ def _reference_source(item: CompiledSpec, reference: str) -> _ReferenceSource:
         problems.append(
             error(
                 Location(COMMAND_LINE),
-                "RS647",
+                REFERENCE_MUJOCO_UNUSABLE,
                 f"--reference mujoco needs an MJCF robot; '{robot.uid}' is described in URDF",
                 "record a trajectory (CSV or NPZ) and pass it as --reference FILE",
             )
@@ -149,7 +157,7 @@ def _reference_source(item: CompiledSpec, reference: str) -> _ReferenceSource:
         problems.append(
             error(
                 Location(context.description_file),
-                "RS647",
+                REFERENCE_MUJOCO_UNUSABLE,
                 f"--reference mujoco: '{context.description_file}' has no position "
                 "actuator (<position>, or <general> with a servo's gain and bias)",
                 "MuJoCo would not move the robot: record a trajectory instead",
@@ -202,7 +210,7 @@ def _fit_findings(item: CompiledSpec, outcome: Outcome, reference: str) -> list[
         found.append(
             warning(
                 where,
-                "RS649",
+                REFERENCE_UNDETERMINED,
                 "the reference does not pin down stiffness and damping each for joint(s) "
                 f"{', '.join(ill)}: their response shows only a combination (a far overdamped "
                 "drive shows only D/K); their fitted values are one choice among many that "
@@ -221,7 +229,7 @@ def _fit_findings(item: CompiledSpec, outcome: Outcome, reference: str) -> list[
         found.append(
             error(
                 where,
-                "RS648",
+                REFERENCE_UNMATCHED,
                 f"the simulated robot cannot match the reference: normalized error "
                 f"{fitted.error_before:.1%} before, {fitted.error_after:.1%} after the fit "
                 f"(at most {MATCH:.0%} matches; worst joints: {off})",
@@ -239,7 +247,7 @@ def _unknown_controllers(item: CompiledSpec, names: Sequence[str]) -> list[Diagn
     return [
         error(
             Location(COMMAND_LINE),
-            "RS645",
+            REFERENCE_JOINT_NOT_POSITION_DRIVEN,
             f"--controller {name!r}: '{item.robot.uid}' has no controller of that name",
             f"its controllers: {', '.join(sorted(known))}",
         )
@@ -271,7 +279,7 @@ def _mujoco_plan(
         return None, [
             error(
                 Location(item.display),
-                "RS647",
+                REFERENCE_MUJOCO_UNUSABLE,
                 "--reference mujoco: no joint-position controller of the spec drives a joint "
                 "that a MuJoCo position actuator drives",
                 "drive the actuated joints with pd_joint_pos controllers",
@@ -285,7 +293,7 @@ def _still(reference: Reference) -> list[Diagnostic]:
     return [
         error(
             reference.location(joint),
-            "RS646",
+            REFERENCE_JOINT_STILL,
             f"reference joint '{joint}' does not move (RMS motion {m:.2g}): nothing in its "
             "response shows its gains",
             "leave its columns out, or record targets that move it",
@@ -359,7 +367,7 @@ def _run_worker(item: CompiledSpec, request: Request) -> Outcome:
     outcome.diagnostics.append(
         error(
             Location(item.display),
-            "RS650",
+            REFERENCE_FIT_CRASH,
             f"the reference fit's process died while {found.doing}: {why} ({crash.where()})",
             "it needs the maniskill extra (and mujoco for --reference mujoco: the reference "
             "extra); run robospec check on the spec to see which part of the robot fails",

@@ -10,6 +10,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import REFERENCE_JOINT_NOT_POSITION_DRIVEN, REFERENCE_UNKNOWN_JOINT
 from robospec.resolve.resolved import ResolvedRobot
 
 
@@ -57,7 +58,7 @@ def plan(
             problems.append(
                 error(
                     where(joint),
-                    "RS644",
+                    REFERENCE_UNKNOWN_JOINT,
                     f"reference joint '{joint}' is not a moving joint of '{robot.uid}'",
                     hint or f"its joints: {', '.join(active_joints)}",
                 )
@@ -89,7 +90,7 @@ def plan(
         problems.append(
             error(
                 where(joint),
-                "RS645",
+                REFERENCE_JOINT_NOT_POSITION_DRIVEN,
                 f"no control mode of '{robot.uid}' drives reference joint '{joint}' with a "
                 f"joint-position controller{through} together with the reference's other joints",
                 "a reference fit needs stiffness and damping to fit: drive the joint with a "

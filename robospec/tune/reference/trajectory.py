@@ -21,6 +21,12 @@ from pathlib import Path
 import numpy as np
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import (
+    REFERENCE_MALFORMED,
+    REFERENCE_NOT_FINITE,
+    REFERENCE_TIME_ORDER,
+    REFERENCE_UNREADABLE,
+)
 
 TIME_COLUMNS = ("t", "time")
 MIN_SAMPLES = 10  # fewer samples cannot show a response
@@ -64,14 +70,18 @@ def read_reference(path: Path, display: str | None = None) -> Read:
         return None, [
             error(
                 Location(shown),
-                "RS640",
+                REFERENCE_UNREADABLE,
                 f"reference '{shown}' is neither a .csv nor a .npz file",
                 "write the trajectory as CSV (t, target:<joint>, qpos:<joint> columns) or NPZ "
                 "(arrays t, target, qpos, joints), or pass --reference mujoco",
             )
         ]
     if not path.is_file():
-        return None, [error(Location(shown), "RS640", f"reference file '{shown}' not found", None)]
+        return None, [
+            error(
+                Location(shown), REFERENCE_UNREADABLE, f"reference file '{shown}' not found", None
+            )
+        ]
     try:
         if suffix == ".csv":
             reference, problems = _read_csv(path.read_text(encoding="utf-8"), shown)
@@ -79,7 +89,12 @@ def read_reference(path: Path, display: str | None = None) -> Read:
             reference, problems = _read_npz(path, shown)
     except (OSError, UnicodeDecodeError, ValueError, zipfile.BadZipFile, EOFError) as exc:
         return None, [
-            error(Location(shown), "RS640", f"reference '{shown}' cannot be read: {exc}", None)
+            error(
+                Location(shown),
+                REFERENCE_UNREADABLE,
+                f"reference '{shown}' cannot be read: {exc}",
+                None,
+            )
         ]
     if reference is None or problems:
         return None, problems
@@ -102,7 +117,9 @@ class _Columns:
 def _read_csv(text: str, shown: str) -> Read:
     rows = _csv_rows(text)
     if not rows:
-        return None, [error(Location(shown), "RS641", f"reference '{shown}' has no header row")]
+        return None, [
+            error(Location(shown), REFERENCE_MALFORMED, f"reference '{shown}' has no header row")
+        ]
     header_line, header = rows[0]
     columns, problems = _csv_columns(header_line, header, shown)
     if columns is None:
@@ -147,7 +164,7 @@ def _csv_columns(
         problems.append(
             error(
                 Location(shown, header_line, 1),
-                "RS641",
+                REFERENCE_MALFORMED,
                 "the reference's header has no time column 't'",
                 "name the time column (seconds) 't'",
             )
@@ -163,14 +180,18 @@ def _csv_columns(
             problems.append(
                 error(
                     Location(shown, header_line, column),
-                    "RS641",
+                    REFERENCE_MALFORMED,
                     f"unknown reference column '{name}'",
                     "columns are t, target:<joint> and qpos:<joint>",
                 )
             )
         elif joint in into:
             problems.append(
-                error(Location(shown, header_line, column), "RS641", f"column '{name}' twice")
+                error(
+                    Location(shown, header_line, column),
+                    REFERENCE_MALFORMED,
+                    f"column '{name}' twice",
+                )
             )
         else:
             into[joint] = index
@@ -181,7 +202,7 @@ def _csv_columns(
             problems.append(
                 error(
                     Location(shown, header_line, header[index][0]),
-                    "RS641",
+                    REFERENCE_MALFORMED,
                     f"joint '{joint}' has no '{other}:{joint}' column",
                     "each joint needs its commanded target and its measured position",
                 )
@@ -189,7 +210,9 @@ def _csv_columns(
     joints = [j for j in measured if j in targets]
     if not joints and not problems:
         problems.append(
-            error(Location(shown, header_line, 1), "RS641", "the reference names no joint")
+            error(
+                Location(shown, header_line, 1), REFERENCE_MALFORMED, "the reference names no joint"
+            )
         )
     if problems or time_index is None:
         return None, problems
@@ -208,7 +231,7 @@ def _csv_values(
             problems.append(
                 error(
                     Location(shown, line, 1),
-                    "RS641",
+                    REFERENCE_MALFORMED,
                     f"row has {len(cells)} cells, the header {len(names)}",
                 )
             )
@@ -218,14 +241,18 @@ def _csv_values(
                 values[r, c] = float(cell)
             except ValueError:
                 problems.append(
-                    error(Location(shown, line, column), "RS641", f"'{cell}' is not a number")
+                    error(
+                        Location(shown, line, column),
+                        REFERENCE_MALFORMED,
+                        f"'{cell}' is not a number",
+                    )
                 )
                 continue
             if not np.isfinite(values[r, c]):
                 problems.append(
                     error(
                         Location(shown, line, column),
-                        "RS642",
+                        REFERENCE_NOT_FINITE,
                         f"{names[c]} is {cell} (not a finite number)",
                         "drop or fill the samples where the recording has no value",
                     )
@@ -243,7 +270,7 @@ def _read_npz(path: Path, shown: str) -> Read:
         return None, [
             error(
                 Location(shown),
-                "RS641",
+                REFERENCE_MALFORMED,
                 f"reference '{shown}' lacks the array(s) {', '.join(missing)}",
                 "save t (T), target (T x J), qpos (T x J) and joints (J names) with numpy.savez",
             )
@@ -263,12 +290,15 @@ def _read_npz(path: Path, shown: str) -> Read:
         problems.append("joints names a joint twice")
     if problems:
         return None, [
-            error(Location(shown), "RS641", f"reference '{shown}': {p}") for p in problems
+            error(Location(shown), REFERENCE_MALFORMED, f"reference '{shown}': {p}")
+            for p in problems
         ]
     try:
         t, target, qpos = (np.asarray(a, dtype=np.float64) for a in (t, target, qpos))
     except (TypeError, ValueError):
-        return None, [error(Location(shown), "RS641", "t, target and qpos must be numbers")]
+        return None, [
+            error(Location(shown), REFERENCE_MALFORMED, "t, target and qpos must be numbers")
+        ]
     for name, array in (("t", t), ("target", target), ("qpos", qpos)):
         bad = np.argwhere(~np.isfinite(array))
         if bad.size:
@@ -277,7 +307,7 @@ def _read_npz(path: Path, shown: str) -> Read:
             return None, [
                 error(
                     Location(shown),
-                    "RS642",
+                    REFERENCE_NOT_FINITE,
                     f"reference '{shown}': {name}[{', '.join(map(str, where))}] is "
                     f"{array[tuple(where)]} (sample {where[0]}{column}); {len(bad)} such value(s)",
                     "drop or fill the samples where the recording has no value",
@@ -292,7 +322,7 @@ def _check_times(reference: Reference) -> list[Diagnostic]:
         return [
             error(
                 where,
-                "RS643",
+                REFERENCE_TIME_ORDER,
                 f"reference '{reference.source}' has {reference.t.size} samples; at least "
                 f"{MIN_SAMPLES} are needed",
             )
@@ -303,7 +333,7 @@ def _check_times(reference: Reference) -> list[Diagnostic]:
         return [
             error(
                 where,
-                "RS643",
+                REFERENCE_TIME_ORDER,
                 f"reference time does not increase at sample {sample} "
                 f"(t = {reference.t[sample - 1]:g} then {reference.t[sample]:g})",
                 "samples must be in time order, each at a later time",

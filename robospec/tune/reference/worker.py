@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from robospec.diagnostics import Diagnostic, Location, error
+from robospec.diagnostics.codes import REFERENCE_FIT_CRASH, REFERENCE_MUJOCO_UNUSABLE
 from robospec.physics.one_shot import serve
 from robospec.tune.reference.fit import Fit
 from robospec.tune.reference.plan import Plan
@@ -62,7 +63,7 @@ def run(request: Request, phase: object) -> Outcome:
         outcome.diagnostics.append(
             error(
                 Location(request.display),
-                "RS650",
+                REFERENCE_FIT_CRASH,
                 f"the reference fit crashed: {crash.what} ({crash.where()})",
                 "run robospec check on the spec: it says which part of the robot fails",
             )
@@ -111,7 +112,7 @@ def _run(request: Request, outcome: Outcome, phase: object) -> None:
                 outcome.diagnostics.append(
                     error(
                         Location(request.display),
-                        "RS647",
+                        REFERENCE_MUJOCO_UNUSABLE,
                         "--reference mujoco: no joint of the mode's position controllers has a "
                         "MuJoCo position actuator of gear 1",
                         "--reference mujoco needs <position> actuators (or general ones with "
