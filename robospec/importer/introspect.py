@@ -100,18 +100,15 @@ class StandInRobot:
 
 @contextlib.contextmanager
 def _without_base_init() -> Iterator[None]:
-    from mani_skill.agents.base_agent import BaseAgent
+    from unittest import mock
 
-    original = BaseAgent.__init__
+    from mani_skill.agents.base_agent import BaseAgent
 
     def no_op(self: Any, *args: Any, **kwargs: Any) -> None:
         return None
 
-    BaseAgent.__init__ = no_op
-    try:
+    with mock.patch.object(BaseAgent, "__init__", no_op):
         yield
-    finally:
-        BaseAgent.__init__ = original
 
 
 def instantiate(cls: Any, robot: StandInRobot) -> tuple[Any, BaseException | None]:

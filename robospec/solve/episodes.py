@@ -13,9 +13,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 if TYPE_CHECKING:
+    from mani_skill.envs.sapien_env import BaseEnv
+
     from robospec.solve.gripper import Closing
 
 SOURCE = "robospec solve: ManiSkill's motion-planning solution, robospec's planner"
@@ -83,7 +85,7 @@ def record(
     )
     try:
         env.reset(seed=seeds[0] if seeds else 0)
-        agent = env.unwrapped.agent
+        agent = cast("BaseEnv", env.unwrapped).agent
         lend_grasp_pose(agent)
         facts = read_facts(agent, finger_links, loops)
         solver = solver_class(facts)
