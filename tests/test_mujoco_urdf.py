@@ -6,6 +6,7 @@ ManiSkill then simulates MuJoCo's masses and poses: tests/test_mujoco_urdf_sim.p
 
 from __future__ import annotations
 
+import math
 import shutil
 import subprocess
 import sys
@@ -13,6 +14,7 @@ from pathlib import Path
 
 import pytest
 from conftest import MANISKILL_SPECS, ROOT
+from lxml import etree
 
 from robospec.description import load_description
 from robospec.diagnostics import has_errors
@@ -339,3 +341,91 @@ def test_a_connect_equality_is_carried_as_a_closed_loop_and_other_equalities_are
     assert result.description is not None and len(result.description.closures) == 1
     said = [d.message for d in result.diagnostics if d.code == "RS791"]
     assert any("equality constraints (<equality>): 1 in the model" in m for m in said), said
+
+
+_SITES = """\
+<mujoco model="arm">
+  <worldbody>
+    <site name="midair" pos="0 0 2"/>
+    <body name="upper">
+      <joint name="shoulder" axis="0 1 0" range="-1 1"/>
+      <geom type="capsule" size=".04 .15" pos="0 0 .15"/>
+      <site name="tip" pos="0 0 .3" quat="0 1 0 0"/>
+      <site name="upper" pos="0 0 .1"/>
+    </body>
+    <body name="table" pos="1 0 0">
+      <geom type="box" size=".3 .3 .02"/>
+      <site name="on_table" pos="0 0 .02"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+_SITES_SPEC = """\
+robospec: 1
+uid: sited
+description:
+  mjcf: arm.xml
+  loader: mujoco
+  sites: {sites}
+controllers:
+  arm: {{type: pd_joint_pos, joints: [shoulder], lower: null, upper: null, stiffness: 100,
+         damping: 10, normalize_action: false}}
+control_modes:
+  pd_joint_pos: {{arm: arm}}
+tcp: tip
+"""
+
+
+def _sited(tmp_path: Path, sites: str, loader: str = "mujoco") -> Path:
+    (tmp_path / "arm.xml").write_text(_SITES, encoding="utf-8")
+    spec = tmp_path / "spec.yaml"
+    text = _SITES_SPEC.format(sites=sites).replace("loader: mujoco", f"loader: {loader}")
+    spec.write_text(text, encoding="utf-8")
+    return spec
+
+
+def test_a_site_the_spec_names_is_a_link_fixed_to_its_body_where_the_site_sits(
+    tmp_path: Path,
+) -> None:
+    result = compile_spec(_sited(tmp_path, "[tip]"))
+    assert not has_errors(result.diagnostics), [d.format_text() for d in result.diagnostics]
+    robot, description = result.robot, result.description
+    assert robot is not None and description is not None
+    assert robot.tcp is not None  # the tcp names the site's link
+    (joint,) = [j for j in description.joints if j.child == "tip"]
+    assert (joint.type, joint.parent) == ("fixed", "upper")
+    text = robot.description.generated_text
+    assert text is not None
+    origin = etree.fromstring(text.encode()).find(f"joint[@name='{joint.name}']/origin")
+    assert origin is not None
+    assert [float(v) for v in origin.get("xyz", "").split()] == pytest.approx([0.0, 0.0, 0.3])
+    # MuJoCo's quat "0 1 0 0": a half turn about x
+    rpy = [abs(float(v)) for v in origin.get("rpy", "").split()]
+    assert rpy == pytest.approx([math.pi, 0.0, 0.0])
+    # the sites the spec does not name stay sites
+    assert "midair" not in description.link_names and "upper_site" not in description.link_names
+
+
+@pytest.mark.parametrize(
+    ("sites", "said"),
+    [
+        ("[tip, tpi]", "has no site 'tpi'; its robot's sites: midair, tip, upper"),
+        ("[tip, on_table]", "site 'on_table' sits on body 'table', which is not the robot's"),
+        ("[tip, upper]", "a link is named 'upper' already"),
+    ],
+)
+def test_a_site_that_cannot_be_a_link_is_rs793_at_the_specs_entry(
+    tmp_path: Path, sites: str, said: str
+) -> None:
+    result = compile_spec(_sited(tmp_path, sites))
+    errors = [d for d in result.diagnostics if d.is_error]
+    assert [(d.code, d.location.line, d.location.column) for d in errors] == [("RS793", 6, 16)]
+    assert said in errors[0].message
+    assert errors[0].location.file.endswith("spec.yaml")
+
+
+def test_sites_need_the_mjcf_compiled_by_mujoco(tmp_path: Path) -> None:
+    errors = [d for d in compile_spec(_sited(tmp_path, "[tip]", "maniskill")).diagnostics]
+    assert [d.code for d in errors if d.is_error] == ["RS102"]
+    assert "add loader: mujoco" in errors[0].message

@@ -10,6 +10,7 @@ and built by ``gym.make`` in Empty-v1 (physx_cpu, no renderer), as a user's woul
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Any
 
@@ -31,7 +32,7 @@ INERTIA_FLOOR = 1e-12  # kg m^2: PhysX keeps no principal moment under it (the w
 SPEC = """\
 robospec: 1
 uid: {uid}
-description: {{mjcf: "{path}", loader: mujoco}}
+description: {{mjcf: "{path}", loader: mujoco, sites: {sites}}}
 loader: {{fix_root_link: {fixed}}}
 groups: {{all: "*"}}
 controllers:
@@ -65,6 +66,15 @@ ROBOTS = {
 }
 
 
+# the sites each robot's spec names (description.sites): links of their own, where MuJoCo puts
+# the sites
+SITES = {
+    "dmc_jaco_arm": ["wristsite"],
+    "dmc_rodent": ["sole_L", "head"],
+    "gymr_shadow_hand": ["robot0:S_fftip", "robot0:S_thtip"],
+}
+
+
 def _spec(key: str, tmp_path: Path) -> tuple[Path, Path, str]:
     """The spec of robot ``key`` (written into ``tmp_path``), its MJCF and its uid."""
     uid = f"mj_{key}"
@@ -87,7 +97,13 @@ def _spec(key: str, tmp_path: Path) -> tuple[Path, Path, str]:
         path = _public(distribution, inside)
     spec = tmp_path / f"{key}.yaml"
     spec.write_text(
-        SPEC.format(uid=uid, path=path.as_posix(), fixed=str(fixed).lower()), encoding="utf-8"
+        SPEC.format(
+            uid=uid,
+            path=path.as_posix(),
+            fixed=str(fixed).lower(),
+            sites=json.dumps(SITES.get(key, [])),
+        ),
+        encoding="utf-8",
     )
     return spec, path, uid
 
@@ -111,7 +127,7 @@ def built(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFacto
     )
     env.reset(seed=0)
     model = compiled_model(path.read_bytes(), str(path))
-    yield env.unwrapped.agent.robot, model
+    yield env.unwrapped.agent.robot, model, SITES.get(request.param, [])
     env.close()
 
 
@@ -147,7 +163,7 @@ def _bodies(robot: Any, model: Any) -> list[tuple[Any, int]]:
 def test_each_link_weighs_what_mujoco_compiles_with_its_centre_of_mass_and_inertia(
     built: Any,
 ) -> None:
-    robot, model = built
+    robot, model, _ = built
     bodies = _bodies(robot, model)
     # every body below the robot's root tree is a link (none left out, none merged)
     assert {b for _, b in bodies} >= {
@@ -169,11 +185,13 @@ def test_each_link_weighs_what_mujoco_compiles_with_its_centre_of_mass_and_inert
         assert np.abs(loaded - expected).max() <= MASS_RTOL * scale, link.name
 
 
-def test_links_stand_where_mujoco_puts_its_bodies_at_random_joint_values(built: Any) -> None:
+def test_links_stand_where_mujoco_puts_its_bodies_and_sites_at_random_joint_values(
+    built: Any,
+) -> None:
     import mujoco
     import torch
 
-    robot, model = built
+    robot, model, sites = built
     data = mujoco.MjData(model)
     joints = robot.active_joints
     limits = np.array([j.limits[0].cpu().numpy() for j in joints], dtype=float).reshape(-1, 2)
@@ -195,6 +213,16 @@ def test_links_stand_where_mujoco_puts_its_bodies_at_random_joint_values(built: 
             expected = np.linalg.inv(world_root) @ _pose(data.xpos[body], data.xquat[body])
             assert np.abs(loaded[:3, 3] - expected[:3, 3]).max() <= POSITION_ATOL, link.name
             assert np.abs(loaded[:3, :3] - expected[:3, :3]).max() <= ROTATION_ATOL, link.name
+        links = {link.name: link for link in robot.links}
+        for name in sites:
+            site = int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name))
+            expected = np.eye(4)
+            expected[:3, :3] = data.site_xmat[site].reshape(3, 3)
+            expected[:3, 3] = data.site_xpos[site]
+            loaded = loaded_root @ _loaded(links[name])
+            expected = np.linalg.inv(world_root) @ expected
+            assert np.abs(loaded[:3, 3] - expected[:3, 3]).max() <= POSITION_ATOL, name
+            assert np.abs(loaded[:3, :3] - expected[:3, :3]).max() <= ROTATION_ATOL, name
 
 
 def _place(mujoco: Any, model: Any, data: Any, values: dict[str, float]) -> None:
@@ -233,7 +261,7 @@ def _loaded(link: Any) -> np.ndarray:
 def test_a_ball_joint_is_three_hinges_and_a_ghost_body_keeps_its_mass_without_a_shape(
     built: Any,
 ) -> None:
-    robot, _ = built
+    robot, _, _ = built
     names = [j.name for j in robot.active_joints]
     assert names[:3] == ["socket_x", "socket_y", "socket_z"]
     links = {link.name: link for link in robot.links}

@@ -43,6 +43,7 @@ import hashlib
 import math
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -55,6 +56,7 @@ from robospec.diagnostics.codes import (
     MUJOCO_COMPILE_ERROR,
     MUJOCO_COMPILE_WARNING,
     MUJOCO_NOT_CARRIED,
+    MUJOCO_SITE_UNWRITABLE,
 )
 from robospec.geometry import IDENTITY, ZERO, Pose, Vector, compose, rpy_from_quaternion
 
@@ -90,10 +92,15 @@ class Compiled:
     facts: dict[str, Any] = field(default_factory=dict)
 
 
-def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
+def compile_urdf(
+    source: Source,
+    entry: Location | None = None,
+    sites: Sequence[tuple[str, Location]] = (),
+) -> Compiled:
     """The URDF of the MJCF ``source`` as MuJoCo compiles it; its text None (and an RS790
     error) where MuJoCo refuses the file: at the line MuJoCo names, else at ``entry`` (where
-    the spec names the file)."""
+    the spec names the file). ``sites`` (each with where the spec names it) become links of
+    their own."""
     from robospec.derive.mjcf_files import compiled_with_warnings, inlined
     from robospec.description.urdf import parse_xml
 
@@ -113,6 +120,8 @@ def compile_urdf(source: Source, entry: Location | None = None) -> Compiled:
     writer = _Writer(model, source, lines)
     writer.diagnostics.extend(_compile_warning(source, lines, text, entry) for text in said)
     writer.write()
+    if writer.links:
+        writer.write_sites(sites)
     text = etree.tostring(writer.robot, encoding="unicode", pretty_print=True)
     facts = {
         "keyframes": writer.keyframes(),
@@ -406,6 +415,47 @@ class _Writer:
             if int(model.body_rootid[body]) == top:
                 self._body(body)
         self._report_dropped()
+
+    def write_sites(self, sites: Sequence[tuple[str, Location]]) -> None:
+        """Each site the spec names as a link of its own, named as the site, fixed to its
+        body's link where the site sits and weighing what an intermediate link does; RS793
+        at the spec's entry where it cannot be one (no such site, a site of a body that is not
+        the robot's, a name a link already has)."""
+        from robospec.diagnostics.suggest import did_you_mean
+
+        model, mj = self.model, self.mujoco
+        named = [mj.mj_id2name(model, mj.mjtObj.mjOBJ_SITE, i) for i in range(model.nsite)]
+        for name, where in sites:
+            site = mj.mj_name2id(model, mj.mjtObj.mjOBJ_SITE, name)
+            body = int(model.site_bodyid[site]) if site >= 0 else -1
+            if site < 0:
+                bodies = [int(b) for b in model.site_bodyid]
+                ours = sorted(
+                    n for n, b in zip(named, bodies, strict=True) if n and b in self.links
+                )
+                found = (
+                    f"; its robot's sites: {', '.join(ours)}" if ours else ", and its robot none"
+                )
+                problem = f"'{self.source.shown}' has no site '{name}'{found}"
+                hint = did_you_mean(name, ours) or "name a <site> of the robot's bodies"
+            elif body not in self.links:
+                problem = (
+                    f"site '{name}' sits on body '{self.body_name(body)}', which is not the "
+                    "robot's (the scene's)"
+                )
+                hint = "name a site of the robot's bodies, or leave it out"
+            elif name in self.taken_links:
+                problem = f"a link is named '{name}' already: the site cannot be a link so named"
+                hint = "leave the site out and name that link, or rename the site in the MJCF"
+            else:
+                link = self._link(name, "site", name)
+                self._intermediate(link)
+                pose = (_vector(model.site_pos[site]), _quaternion(model.site_quat[site]))
+                self._joint(
+                    f"{name}_site", "fixed", self.links[body], link, pose, None, "site", name
+                )
+                continue
+            self.diagnostics.append(error(where, MUJOCO_SITE_UNWRITABLE, problem, hint))
 
     def _welded(self, top: int) -> bool:
         """Whether the top-level body ``top`` is fixed to the world (no free joint)."""

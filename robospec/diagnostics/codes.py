@@ -293,6 +293,7 @@ PLANAR_BASE_REFUSED = _code("RS781", "a planar base cannot be added where it is 
 MUJOCO_COMPILE_ERROR = _code("RS790", "MuJoCo cannot compile the MJCF")
 MUJOCO_NOT_CARRIED = _code("RS791", "what the URDF written from MuJoCo's model does not carry")
 MUJOCO_COMPILE_WARNING = _code("RS792", "MuJoCo warns while compiling the MJCF")
+MUJOCO_SITE_UNWRITABLE = _code("RS793", "an MJCF site the spec names cannot be its own link")
 # -- parts: robots mounted on the spec's robot, composed into one description (RS730-RS759)
 UNKNOWN_MOUNT = _code("RS730", "part mounted on a link no one has")
 PART_NOT_A_FIXED_TREE = _code("RS731", "part that is not one tree fixed at its root")

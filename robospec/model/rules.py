@@ -121,6 +121,10 @@ def one_description(description: Any) -> Any:
         raise ValueError("args are only for xacro descriptions")
     if getattr(description, "loader", None) is not None and description.mjcf is None:
         raise ValueError("loader is only for mjcf descriptions")
+    if getattr(description, "sites", None) and getattr(description, "loader", None) != "mujoco":
+        raise ValueError(
+            "sites are written as links only when MuJoCo compiles the MJCF: add loader: mujoco"
+        )
     return description
 
 

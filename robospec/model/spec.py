@@ -129,6 +129,13 @@ class Description(StrictModel, rules.DescriptionBehaviour):
         "ball joints (what a URDF cannot carry is a warning, RS791).",
         examples=["mujoco"],
     )
+    sites: list[Annotated[str, Field(min_length=1)]] = Field(
+        default_factory=list,
+        description="With `loader: mujoco`: MJCF sites of the robot's bodies written as links "
+        "of their own, fixed to their body where the site sits (1 g each), so the spec can "
+        "name them where it names a link: the `tcp`, a camera's `mount`, a named link.",
+        examples=[["grasp"]],
+    )
 
     _exactly_one = model_validator(mode="after")(rules.one_description)
 

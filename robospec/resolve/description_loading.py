@@ -66,6 +66,8 @@ class DescriptionEntry:
     # an MJCF's loader: "mujoco" compiles it into the URDF ManiSkill loads (robospec.derive.
     # mujoco_urdf); None or "maniskill": ManiSkill's own MJCF loader reads it
     loader: str | None = None
+    # with loader "mujoco": the MJCF's sites written as links of their own (description.sites)
+    sites: tuple[str, ...] = ()
 
     @classmethod
     def of(cls, desc: Any, spec: Any = None) -> DescriptionEntry:
@@ -82,6 +84,7 @@ class DescriptionEntry:
             tuple(desc.download),
             sections,
             getattr(desc, "loader", None),
+            tuple(getattr(desc, "sites", ())),
         )
 
     @property
@@ -292,10 +295,12 @@ def prepare(reader: Reader, entry: DescriptionEntry) -> Prepared | FileRef | Non
         if mended is None or not entry.compiled:
             return mended
         prepared = mended
-    return _compiled(reader, prepared, (entry.kind,)) if entry.compiled else prepared
+    return _compiled(reader, prepared, (entry.kind,), entry.sites) if entry.compiled else prepared
 
 
-def _compiled(reader: Reader, prepared: Prepared, where: KeyPath) -> Prepared | None:
+def _compiled(
+    reader: Reader, prepared: Prepared, where: KeyPath, sites: tuple[str, ...] = ()
+) -> Prepared | None:
     """``prepared`` (an MJCF, mended or not) compiled by MuJoCo and written as the URDF
     ManiSkill's URDF loader reads (robospec.derive.mujoco_urdf): a derived copy, whose
     diagnostics point at the MJCF's bodies and joints."""
@@ -313,7 +318,8 @@ def _compiled(reader: Reader, prepared: Prepared, where: KeyPath) -> Prepared | 
         )
         return None
     source = Source(str(ref.absolute), shown, "mjcf", data, prepared.packages)
-    compiled = compile_urdf(source, reader.locate(where))
+    named = tuple((site, reader.locate(("sites", i))) for i, site in enumerate(sites))
+    compiled = compile_urdf(source, reader.locate(where), named)
     reader.diagnostics.extend(compiled.diagnostics)
     if compiled.text is None or any(d.is_error for d in compiled.diagnostics):
         return None
