@@ -285,6 +285,30 @@ def test_links_an_mjcf_s_collision_filters_keep_apart_are_declared_never_collide
     assert f"#   {' + '.join(clique)}: {FILTERED_WHY}\n" in out.read_text()
 
 
+def test_links_an_mjcf_s_contact_excludes_keep_apart_are_declared_never_collide(
+    tmp_path: Path,
+) -> None:
+    # every geom collides with every other in MuJoCo (contype 1, conaffinity 1), but the file
+    # excludes torso and shin, as robosuite's Baxter excludes its torso and shoulders; the
+    # exclude of thigh and shin names a parent and its child, which collide nowhere anyway
+    mjcf = tmp_path / "leg.xml"
+    mjcf.write_text(
+        "<mujoco>\n<worldbody>\n"
+        '<body name="torso"><geom size=".1"/>\n'
+        '<body name="thigh" pos="0 0 -.3"><joint name="hip"/><geom size=".1"/>\n'
+        '<body name="shin" pos="0 0 -.3"><joint name="knee"/><geom size=".1"/>\n'
+        '<body name="foot" pos="0 0 -.3"><joint name="ankle"/><geom size=".1"/>\n'
+        "</body></body></body></body>\n</worldbody>\n"
+        '<contact><exclude body1="torso" body2="shin"/><exclude body1="thigh" body2="shin"/>'
+        "</contact>\n</mujoco>\n"
+    )
+    out = tmp_path / "leg.yaml"
+    data = scaffold(mjcf, out)
+    validate(out)
+    assert [sorted(entry) for entry in data["never_collide"]] == [["shin", "torso"]]
+    assert f"#   torso + shin: {FILTERED_WHY}\n" in out.read_text()
+
+
 def test_uid_comes_from_the_robot_name_made_valid(tmp_path: Path) -> None:
     body = '<link name="a"/><link name="b"/>\n<joint name="j" type="continuous">'
     body += '<parent link="a"/><child link="b"/></joint>\n'

@@ -168,8 +168,9 @@ class RobotDescription:
     # MJCF: the robot's bodies a <weld> holds to a mocap body: the mocap moves them, and so
     # drives the joints between them and the root (robospec new gives those joints drives)
     mocap_welds: tuple[str, ...] = ()
-    # MJCF: pairs of links (sorted) whose geoms MuJoCo never lets collide (contype/conaffinity)
-    # and ManiSkill collides (robospec new declares them never_collide where bits allow)
+    # MJCF: pairs of links (sorted) MuJoCo never lets collide (their geoms' contype and
+    # conaffinity, a <contact><exclude>) and ManiSkill collides (robospec new declares them
+    # never_collide where bits allow)
     filtered_pairs: tuple[tuple[str, str], ...] = ()
     _links_by_name: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
     _joints_by_name: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)

@@ -389,12 +389,29 @@ def collision_filters(loaded: LoadedMjcf) -> Iterator[Diagnostic]:
 
 
 def filtered_pairs(loaded: LoadedMjcf) -> tuple[tuple[str, str], ...]:
-    """The pairs of the robot's links (each sorted), both with collision shapes, that MuJoCo
-    never lets collide (their geoms' contype and conaffinity share no bit) and ManiSkill does:
-    RS073's."""
+    """The pairs of the robot's links (each sorted), both with collision shapes and not parent
+    and child, that MuJoCo never lets collide and ManiSkill does: their geoms' contype and
+    conaffinity share no bit (RS073's), or a ``<contact><exclude>`` names them (RS072's)."""
     geoms = [geom for geom in loaded.geoms() if geom.type in COLLISION_TYPES]
     added, _ = _collisions_added(loaded, geoms)
-    return tuple(sorted((min(a, b), max(a, b)) for a, b in added))
+    shaped = {geom.body.name for geom in geoms if geom.collides}
+    robot = {body.name for body in loaded.robot}
+    parents = {b.name: b.parent.name for b in loaded.robot if b.parent is not None}
+    excluded = [
+        (a, b)
+        for a, b in (sorted(pair) for pair in _excluded(loaded) if len(pair) == 2)
+        if {a, b} <= shaped & robot and parents.get(a) != b and parents.get(b) != a
+    ]
+    return tuple(sorted({(min(a, b), max(a, b)) for a, b in [*added, *excluded]}))
+
+
+def _excluded(loaded: LoadedMjcf) -> set[frozenset[str]]:
+    """The body pairs the MJCF's ``<contact><exclude>``s name."""
+    return {
+        frozenset((el.get("body1", ""), el.get("body2", "")))
+        for section in loaded.sections("contact")
+        for el in loaded.includes.find_all(section, "exclude")
+    }
 
 
 def _int(text: str | None, default: int) -> int:
@@ -416,11 +433,7 @@ def _collisions_added(
         if geom.collides:
             shaped.add(geom.body.name)
     parents = {b.name: b.parent.name for b in loaded.robot if b.parent is not None}
-    excluded = {
-        frozenset((el.get("body1", ""), el.get("body2", "")))
-        for section in loaded.sections("contact")
-        for el in loaded.includes.find_all(section, "exclude")
-    }
+    excluded = _excluded(loaded)
     added: list[tuple[str, str]] = []
     any_mujoco = False
     order = [b.name for b in loaded.robot if b.name in patterns]

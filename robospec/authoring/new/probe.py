@@ -229,10 +229,12 @@ def _ready(
     from pathlib import Path
 
     from robospec.authoring.new.analysis import analyse
+    from robospec.authoring.new.exemptions import filtered_cliques
     from robospec.authoring.new.mobile_base import read_for_new
     from robospec.authoring.new.ready_pose import ready_poses
     from robospec.authoring.new.rest_pose import rest_from_answer
     from robospec.authoring.new.task_members import gripper_fingers
+    from robospec.resolve.collision_packing import clique_pairs
 
     assert request.refinement is not None
     source, _ = read_for_new(Path(request.refinement[0]))  # as new read it (a mobile base)
@@ -246,6 +248,12 @@ def _ready(
     exempt = {frozenset(pair) for pair in request.joined}
     exempt |= {frozenset((a, b)) for a, b, _ in rest.touching}
     exempt |= {frozenset(pair) for pair in rest.never_collide}
+    # the pairs the MJCF keeps apart, which the scaffold declares never_collide
+    exempt |= {
+        frozenset(pair)
+        for links in filtered_cliques(analysis.source.description)
+        for pair in clique_pairs(links)
+    }
     rest_qpos = [rest.qpos[name] for name in request.joints]
     floor = robot.mount_height(rest_qpos) or 0.0
     refused = ""

@@ -284,7 +284,7 @@ def _start(
 
 
 # why an MJCF's collision filters make a never_collide entry (the header says it for each)
-FILTERED_WHY = "kept apart by the MJCF's collision filters (contype, conaffinity)"
+FILTERED_WHY = "kept apart by the MJCF (contype and conaffinity, <contact><exclude>)"
 
 
 # the comment on the ready keyframe (.ready_pose)
