@@ -166,8 +166,15 @@ def statements(depth: int, *, functions_too: bool = False) -> st.SearchStrategy[
     if depth == 0:
         return simple
     body = st.lists(statements(depth - 1), min_size=1, max_size=3)
-    loops = st.tuples(NAMES, expressions(), body).map(
-        lambda p: ast.For(ast.Name(p[0], ast.Store()), p[1], p[2], [])
+    # a loop's target: a name, or names unpacked (`for name, value in ...items()`)
+    loop_targets = st.one_of(
+        NAMES.map(lambda n: ast.Name(n, ast.Store())),
+        st.lists(NAMES, min_size=2, max_size=3).map(
+            lambda names: ast.Tuple([ast.Name(n, ast.Store()) for n in names], ast.Store())
+        ),
+    )
+    loops = st.tuples(loop_targets, expressions(), body).map(
+        lambda p: ast.For(p[0], p[1], p[2], [])
     )
     return st.one_of(simple, loops, functions(body)) if functions_too else st.one_of(simple, loops)
 

@@ -104,9 +104,14 @@ class _Statements:
         if isinstance(node, ast.For):
             if node.orelse:
                 raise TypeError("the emitter does not write for-else")
+            names: list[Doc] = [layout.expression(node.target)]
+            if isinstance(node.target, ast.Tuple) and node.target.elts:
+                # `for name, value in ...`, as ruff writes a tuple target: no parentheses
+                names = [layout.expression(e) for e in node.target.elts]
+                names[1:] = [concat(Text(", "), part) for part in names[1:]]
             header = concat(
                 Text("for "),
-                layout.expression(node.target),
+                *names,
                 Text(" in "),
                 layout.maybe_parenthesize(node.iter, IF_BREAKS),
             )
