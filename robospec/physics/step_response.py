@@ -580,7 +580,7 @@ def _saturation(
         return None
     k = trace.joints.index(joint)
     count = len(trace.joints)
-    config = group.controller.config
+    config = group.pd_config
     force_limit = float(np.broadcast_to(np.asarray(config.force_limit, float), count)[k])
     stiffness = float(
         np.broadcast_to(np.asarray(getattr(config, "stiffness", 0.0), float), count)[k]
