@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -36,7 +36,7 @@ class NanCause:
 
 
 def nan_cause(
-    context: CheckContext, mode: str, controllers: Iterable[tuple[str, Any]]
+    context: CheckContext, mode: str, controllers: Iterable[tuple[str, BaseController]]
 ) -> NanCause | None:
     """The cause for ``mode``, whose ``(group, ManiSkill controller)`` pairs are given, or
     None when it is none of the known ones."""
