@@ -34,6 +34,8 @@ from robospec.solve.episodes import Episode
 from robospec.solve.gripper import Closing
 
 if TYPE_CHECKING:
+    from multiprocessing.queues import Queue
+
     from mani_skill.envs.sapien_env import BaseEnv
 
 TASK_OPTION = "--task"
@@ -343,7 +345,7 @@ def _worker(
     seeds: list[int],
     folder: str,
     index: int,
-    queue: Any,
+    queue: Queue[tuple[str, object]],
     loops: tuple[Closing, ...] = (),
 ) -> None:
     from robospec.output.register import register
