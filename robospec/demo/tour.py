@@ -32,11 +32,23 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from robospec.maniskill.upstream_output import UpstreamMessage, captured_output
+
+if TYPE_CHECKING:
+    from collections.abc import Mapping
+
+    from gymnasium import spaces
+    from mani_skill.agents.base_agent import BaseAgent
+    from mani_skill.agents.controllers.base_controller import BaseController
+    from mani_skill.envs.sapien_env import BaseEnv
+
+    from robospec.model.check_settings import RandomActions
+    from robospec.physics.random_actions import Runaway
+    from robospec.pipeline import CompiledSpec
 
 WIDTH = 100  # the notes are wrapped to it
 # the verdicts, in the table's order
@@ -84,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def _build(specs: list[Path], out: Path, validate: str) -> list[Any] | None:
+def _build(specs: list[Path], out: Path, validate: str) -> list[CompiledSpec] | None:
     """The specs compiled and built into the package ``out``, saying how many warnings of
     which codes they have; None (the errors printed) when they do not compile or build."""
     from robospec.diagnostics import has_errors
@@ -111,7 +123,10 @@ def _build(specs: list[Path], out: Path, validate: str) -> list[Any] | None:
 
 
 def _verdicts(
-    agents: Any, robots: dict[str, Any], steps: int, said: dict[tuple[str, str, str], Said]
+    agents: Mapping[str, type[BaseAgent]],
+    robots: dict[str, CompiledSpec],
+    steps: int,
+    said: dict[tuple[str, str, str], Said],
 ) -> list[Verdict]:
     """Each agent run and judged, in the table's order; one that misbehaves beside ManiSkill's
     own agent for the same description (each of those run once)."""
@@ -134,7 +149,7 @@ def _verdicts(
 
 
 def _print_verdicts(
-    verdicts: list[Verdict], robots: dict[str, Any], steps: int, robospec: str
+    verdicts: list[Verdict], robots: dict[str, CompiledSpec], steps: int, robospec: str
 ) -> None:
     """The table of verdicts, then the numbered notes on each robot that is not ok."""
     print(
@@ -281,19 +296,19 @@ class Run:
     action_shape: tuple[int, ...]
     joints: tuple[str, ...]
     prismatic: tuple[bool, ...]
-    settings: Any  # the checks.random_actions it is judged by
+    settings: RandomActions  # the checks.random_actions it is judged by
     past_limit: np.ndarray  # how far past its limit and the tolerance each joint went
     top_speed: np.ndarray
     top_root_speed: float = 0.0  # a floating robot's centre of mass
     nan_step: int | None = None
     nan_joints: tuple[str, ...] = ()
-    controllers: list[tuple[str, Any]] = field(default_factory=list)
+    controllers: list[tuple[str, BaseController]] = field(default_factory=list)
 
     @property
     def action_size(self) -> int:
         return int(np.prod(self.action_shape)) if self.action_shape else 0
 
-    def runaways(self) -> list[Any]:
+    def runaways(self) -> list[Runaway]:
         from robospec.physics.random_actions import runaways
 
         return runaways(self.past_limit, self.top_speed, self.top_root_speed, self.settings)
@@ -348,7 +363,7 @@ def judge(uid: str, ran: Run, twin: str | None, twin_ran: Run | None) -> Verdict
     return Verdict(uid, ran, AS_MANISKILL if same else FAILS, twin, twin_ran)
 
 
-def _settings(item: Any) -> Any:
+def _settings(item: CompiledSpec | None) -> RandomActions:
     """The ``checks.random_actions`` of the robot's spec (its defaults without one)."""
     if item is not None and item.context is not None:
         return item.context.spec.checks.random_actions
@@ -357,7 +372,7 @@ def _settings(item: Any) -> Any:
     return RandomActions()
 
 
-def _run(uid: str, steps: int, settings: Any) -> Run:
+def _run(uid: str, steps: int, settings: RandomActions) -> Run:
     import gymnasium as gym
 
     from robospec.physics.random_actions import limit_excess
@@ -365,7 +380,7 @@ def _run(uid: str, steps: int, settings: Any) -> Run:
 
     # plain gym.make, as a user writes it: the package's import made it work without a
     # rendering device
-    env: Any = gym.make(
+    env = gym.make(
         "Empty-v1",
         robot_uids=uid,
         obs_mode="state",
@@ -374,7 +389,7 @@ def _run(uid: str, steps: int, settings: Any) -> Run:
     )
     try:
         env.reset(seed=0)
-        agent = env.unwrapped.agent
+        agent = cast("BaseEnv", env.unwrapped).agent
         robot = agent.robot
         active = robot.get_active_joints()
         joints = tuple(j.name for j in active)
@@ -383,7 +398,7 @@ def _run(uid: str, steps: int, settings: Any) -> Run:
         upper = limits[:, 1] + settings.joint_limit_tolerance
         free = not has_fixed_root(robot)
         rng = np.random.default_rng(0)
-        space = env.action_space
+        space = cast("spaces.Box", env.action_space)
         parts = getattr(agent.controller, "controllers", None)
         run = Run(
             len(agent.supported_control_modes),
@@ -415,7 +430,7 @@ def _run(uid: str, steps: int, settings: Any) -> Run:
         env.close()
 
 
-def _note(verdict: Verdict, item: Any, robospec: str) -> str:
+def _note(verdict: Verdict, item: CompiledSpec | None, robospec: str) -> str:
     """Why a robot misbehaved: what check counts it for, what ManiSkill's own agent for the
     same description did, and the cause when robospec knows it."""
     from robospec.physics.nan_cause import nan_cause
@@ -450,7 +465,7 @@ def _note(verdict: Verdict, item: Any, robospec: str) -> str:
     return f"{uid}: " + "; ".join(parts)
 
 
-def _upstream_twin(item: Any, ours: set[str]) -> str | None:
+def _upstream_twin(item: CompiledSpec | None, ours: set[str]) -> str | None:
     """The uid of the ManiSkill agent (not one of ``ours``) that loads the same description
     file as ``item``'s robot, if ManiSkill registers one: the one whose uid ends the robot's
     where there are several."""

@@ -11,10 +11,11 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 if TYPE_CHECKING:
     import numpy as np
+    from mani_skill.envs.sapien_env import BaseEnv
 
 
 @dataclass(frozen=True)
@@ -40,7 +41,7 @@ def simulated_link_poses(uid: str, settings: Iterable[Setting]) -> list[dict[str
     env = make_empty_env(uid)
     try:
         env.reset(seed=0)
-        robot = env.unwrapped.agent.robot
+        robot = cast("BaseEnv", env.unwrapped).agent.robot
         found = []
         for setting in settings:
             robot.set_root_pose(sapien.Pose(list(setting.p), list(setting.q)))

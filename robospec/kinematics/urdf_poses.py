@@ -18,13 +18,16 @@ from __future__ import annotations
 
 import io
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
 from robospec.description import RobotDescription
 from robospec.description.urdf import parse_xml
 from robospec.kinematics.placement import MOVING, Axis, Placement, Poser
+
+if TYPE_CHECKING:
+    from yourdfpy import URDF
 
 
 def urdf_poser(description: RobotDescription, text: bytes) -> Poser | None:
@@ -39,7 +42,7 @@ def urdf_poser(description: RobotDescription, text: bytes) -> Poser | None:
 class _UrdfPoser:
     """yourdfpy's model of the robot, placed at the joint values it is called with."""
 
-    def __init__(self, description: RobotDescription, model: Any) -> None:
+    def __init__(self, description: RobotDescription, model: URDF) -> None:
         import numpy as np
 
         self.model = model

@@ -4,6 +4,7 @@ the message it carries here."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from robospec.diagnostics import Diagnostic
@@ -26,7 +27,7 @@ def hover_text(
     line_text: str,
     character: int,
     diagnostics: list[Diagnostic],
-    code_href: Any,
+    code_href: Callable[[str], str | None],
 ) -> str | None:
     """Markdown for the hover at the cursor, or None."""
     code = _code_under(line_text, character)
@@ -71,7 +72,7 @@ def _code_under(line_text: str, character: int) -> str | None:
     return None
 
 
-def code_text(code: str, here: list[Diagnostic], code_href: Any) -> str:
+def code_text(code: str, here: list[Diagnostic], code_href: Callable[[str], str | None]) -> str:
     known = CODES.get(code)
     title = known.title if known else "unknown code"
     lines = [f"**{code}**: {title}"]
@@ -85,7 +86,9 @@ def code_text(code: str, here: list[Diagnostic], code_href: Any) -> str:
     return "\n".join(lines)
 
 
-def _diagnostics_text(diagnostics: list[Diagnostic], code_href: Any) -> str | None:
+def _diagnostics_text(
+    diagnostics: list[Diagnostic], code_href: Callable[[str], str | None]
+) -> str | None:
     if not diagnostics:
         return None
     return "\n\n---\n\n".join(code_text(d.code, [d], code_href) for d in diagnostics)

@@ -14,10 +14,13 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.maniskill import render_fallback
 from robospec.maniskill.render_fallback import strip_urdf_visuals
+
+if TYPE_CHECKING:
+    import gymnasium as gym
 
 __all__ = ["headless_loading", "is_active", "make_empty_env", "strip_urdf_visuals"]
 
@@ -54,7 +57,7 @@ def make_empty_env(
     num_envs: int = 1,
     sim_backend: str = "physx_cpu",
     sim_config: dict[str, Any] | None = None,
-) -> Any:
+) -> gym.Env:
     """ManiSkill's ``Empty-v1`` with robot ``uid``, state observations, no renderer: the
     environment every headless run and comparison in robospec uses (on the CPU unless
     ``sim_backend`` says ``physx_cuda``; ``sim_config``: what ManiSkill merges over the task's,

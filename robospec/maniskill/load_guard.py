@@ -13,27 +13,30 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.diagnostics import Diagnostic, Location, SpecError, error
 from robospec.diagnostics.codes import LOAD_FAILURE
 from robospec.maniskill.crash import Element, from_exception
+
+if TYPE_CHECKING:
+    from mani_skill.agents.base_agent import BaseAgent
 
 # set on a guarded _load_articulation: a class guarded twice (register() again) is guarded once
 _GUARDED = "_robospec_load_guard"
 
 
 def guard_loading(
-    agent_cls: type, diagnose: Callable[[str, BaseException], list[Diagnostic]]
+    agent_cls: type[BaseAgent], diagnose: Callable[[str, BaseException], list[Diagnostic]]
 ) -> None:
     """Make loading ``agent_cls`` raise ``SpecError(diagnose(uid, exception))`` where
     ManiSkill's loaders raise."""
-    original = agent_cls._load_articulation  # type: ignore[attr-defined]
+    original = agent_cls._load_articulation
     if getattr(original, _GUARDED, False):
         return
 
     @functools.wraps(original)
-    def _load_articulation(self: Any, *args: Any, **kwargs: Any) -> Any:
+    def _load_articulation(self: BaseAgent, *args: Any, **kwargs: Any) -> None:
         try:
             return original(self, *args, **kwargs)
         except SpecError:
@@ -42,10 +45,10 @@ def guard_loading(
             raise SpecError(diagnose(str(self.uid), exc)) from exc
 
     setattr(_load_articulation, _GUARDED, True)
-    agent_cls._load_articulation = _load_articulation  # type: ignore[attr-defined]
+    agent_cls._load_articulation = _load_articulation  # type: ignore[method-assign]
 
 
-def guard_described(agent_cls: type) -> None:
+def guard_described(agent_cls: type[BaseAgent]) -> None:
     """:func:`guard_loading` for an agent of a built package, which carries no spec: RS514 at
     the element of the description file the agent loads (the package's copy, lines kept)."""
     guard_loading(agent_cls, lambda uid, exc: [_in_description(agent_cls, uid, exc)])

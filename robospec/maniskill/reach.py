@@ -3,12 +3,15 @@ objects against, as the task placed the robot."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+if TYPE_CHECKING:
+    from mani_skill.utils.structs import Articulation, Link
 
-def chain_reach(robot: Any, base: str | None = None) -> float | None:
+
+def chain_reach(robot: Articulation, base: str | None = None) -> float | None:
     """The length of the robot's longest chain of links: from the root (or from the link
     ``base``, over the links it carries), each link's distance from its parent link (joint
     frames and link origins), summed; plus the farthest point of the last link's collision
@@ -48,7 +51,7 @@ def chain_reach(robot: Any, base: str | None = None) -> float | None:
     return best
 
 
-def chain_up(link: Any) -> list[Any]:
+def chain_up(link: Link) -> list[Link]:
     """``link`` (a loaded robot's link) and the links above it, to the root: the one walk up
     the tree that the reach, the solver's gripper facts and the arm's base take."""
     chain = [link]
@@ -58,7 +61,7 @@ def chain_up(link: Any) -> list[Any]:
     return chain
 
 
-def moving_joints_above(link: Any) -> set[str]:
+def moving_joints_above(link: Link) -> set[str]:
     """The names of the moving joints between the root and ``link``."""
     return {
         below.joint.name
@@ -67,12 +70,14 @@ def moving_joints_above(link: Any) -> set[str]:
     }
 
 
-def arm_base(link: Any) -> Any:
+def arm_base(link: Link) -> Link:
     """The link an arm hangs from: above ``link`` (its tcp), the parent of the first moving
     joint of the chain from the root (the root itself for an arm on it; one arm's own base,
     welded to the root beside another's, for a robot of two)."""
     base = link
     for below in chain_up(link)[:-1]:  # from the tcp up: the last moving joint's parent wins
         if below.joint.active_index is not None:
-            base = below.joint.parent_link
+            parent = below.joint.parent_link
+            assert parent is not None  # (chain_up's links below the root hang from one)
+            base = parent
     return base

@@ -32,7 +32,15 @@ from __future__ import annotations
 import importlib
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from collections.abc import Iterable
+
+    from mani_skill.agents.base_agent import BaseAgent
+    from mani_skill.utils.building._mjcf_loader import MJCFLoader
+    from sapien.render import RenderMaterial
+    from sapien.wrapper.urdf_loader import URDFLoader
 
 # On every stand-in class: whichever copy of this module put the patches in place, another
 # copy (robospec's, or a built package's) sees them and does not stack its own.
@@ -44,7 +52,7 @@ _owned = False  # whether this copy installed the patches (another copy may have
 _process_wide = False
 _restore: list[Callable[[], None]] = []
 _device: bool | None = None  # whether SAPIEN finds a rendering device, once asked
-_original_material: Any = None  # SAPIEN's RenderMaterial, while the stand-in replaces it
+_original_material: type[RenderMaterial] | None = None  # while the stand-in replaces it
 
 
 class NoRenderMaterial:
@@ -146,7 +154,7 @@ def install() -> bool:
         return True
 
 
-def guard_loading(agents: Any) -> None:
+def guard_loading(agents: Iterable[type[BaseAgent]]) -> None:
     """Where robospec is installed, make loading each of ``agents`` (a built package's agent
     classes) raise ``robospec.SpecError`` with a located diagnostic (RS514, at the element of
     the description the loader was reading) where ManiSkill's loaders raise; where it is not,
@@ -221,7 +229,7 @@ def _install() -> None:
     # ``_parse_urdf``, so patching the base class covers both.
     original_parse_urdf = urdf_module.URDFLoader._parse_urdf
 
-    def _parse_urdf_without_visuals(self: Any, urdf_string: str) -> Any:
+    def _parse_urdf_without_visuals(self: URDFLoader, urdf_string: str) -> Any:
         return original_parse_urdf(self, strip_urdf_visuals(urdf_string))
 
     _set_attr(urdf_module.URDFLoader, "_parse_urdf", _parse_urdf_without_visuals)
@@ -238,7 +246,7 @@ def _install() -> None:
     # shapes do not depend on it.
     original_parse_mjcf = mjcf_module.MJCFLoader._parse_mjcf
 
-    def _parse_mjcf_without_visuals(self: Any, mjcf_string: str) -> Any:
+    def _parse_mjcf_without_visuals(self: MJCFLoader, mjcf_string: str) -> Any:
         saved = self.visual_groups
         self.visual_groups = []
         try:

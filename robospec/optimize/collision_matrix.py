@@ -41,6 +41,8 @@ from robospec.resolve.collision_packing import Pair, pair
 
 if TYPE_CHECKING:
     import numpy as np
+    import sapien
+    from sapien.physx import PhysxArticulation
 
 # Long enough for PhysX to run its collision pass, short enough that the contact impulses it
 # then applies move nothing measurably before the next sample resets the pose.
@@ -72,8 +74,8 @@ class Mimic:
 class ContactScene:
     """A bare SAPIEN scene holding one robot, ready for :func:`count_contacts`."""
 
-    scene: Any  # sapien.Scene
-    robot: Any  # sapien.physx.PhysxArticulation
+    scene: sapien.Scene
+    robot: PhysxArticulation
     mimics: tuple[Mimic, ...]
 
 
@@ -147,7 +149,7 @@ def load_for_contacts(urdf_path: str, *, fix_root_link: bool = True) -> ContactS
     return ContactScene(scene, robot, mimics)
 
 
-def joint_ranges(robot: Any) -> tuple[list[str], np.ndarray, np.ndarray]:
+def joint_ranges(robot: PhysxArticulation) -> tuple[list[str], np.ndarray, np.ndarray]:
     """The active joints' names and limits, one value per degree of freedom; an unbounded
     (continuous) joint ranges over [-pi, pi]."""
     import numpy as np
@@ -230,8 +232,8 @@ def posed_contacts(loaded: ContactScene, rows: np.ndarray) -> Iterator[list[Any]
         # thousands of samples it reaches hundreds of m/s and the robot goes to NaN, after which
         # no pair touches (and pairs would be called "never" on the samples before it)
         robot.set_root_pose(origin)
-        robot.set_root_linear_velocity(np.zeros(3))
-        robot.set_root_angular_velocity(np.zeros(3))
+        robot.set_root_linear_velocity([0.0, 0.0, 0.0])
+        robot.set_root_angular_velocity([0.0, 0.0, 0.0])
         scene.step()  # PhysX computes contacts only in a step
         yield scene.get_contacts()
 

@@ -52,7 +52,10 @@ from robospec.optimize.outputs import (
 from robospec.optimize.report import OptimizeReport, OptimizeResult, shape_json
 
 if TYPE_CHECKING:
+    from lxml import etree
+
     from robospec.pipeline import CompiledSpec
+    from robospec.resolve.resolved import ResolvedRobot
 
 
 def run_optimize(spec: Path, out: Path, options: OptimizeOptions | None = None) -> OptimizeResult:
@@ -148,7 +151,7 @@ def _refused(spec: Path, compiled: CompiledSpec) -> list[Diagnostic]:
     return []
 
 
-def _named_by_python(spec: Path, robot: Any) -> list[Diagnostic]:
+def _named_by_python(spec: Path, robot: ResolvedRobot) -> list[Diagnostic]:
     """RS608 when Python code (extends, hooks) may name links optimize cannot see."""
     hooks = robot.hooks
     if robot.base is None and not hooks.after_init and not hooks.after_loading_articulation:
@@ -178,6 +181,7 @@ def _optimize_into(
     shaped, problems = _shaped(condensed, folder, compiled, options, report)
     if problems:
         return problems
+    assert shaped is not None  # (None only with the problems)
     # two renders: one that works from the staging folder, checked there, and the one that
     # works from OUT's folder, which replaces the first when everything is moved into place
     robot = compiled.robot
@@ -224,12 +228,12 @@ def _condensed(
 
 
 def _shaped(
-    robot: Any,
+    robot: etree._Element,
     folder: Path,
     compiled: CompiledSpec,
     options: OptimizeOptions,
     report: OptimizeReport,
-) -> tuple[Any, list[Diagnostic]]:
+) -> tuple[etree._Element | None, list[Diagnostic]]:
     """``robot`` with its collision meshes made by the shapes method (new meshes written under
     ``folder``), the changes in the report; or the errors that stop it."""
     assert compiled.robot is not None  # compiled
@@ -280,7 +284,7 @@ def _unfitted(compiled: CompiledSpec, changes: Sequence[Any], bound: float) -> l
 def _write_spec(
     staged_spec: Path,
     urdf_file: Path,
-    urdf: Any,
+    urdf: etree._Element,
     compiled: CompiledSpec,
     targets: Targets,
     options: OptimizeOptions,

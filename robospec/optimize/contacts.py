@@ -20,10 +20,15 @@ from __future__ import annotations
 from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass
 from itertools import combinations
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from robospec.optimize.collision_matrix import posed_contacts
 from robospec.resolve.collision_packing import Pair, pair
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from robospec.optimize.collision_matrix import ContactScene
 
 # the profile's offset: at most 1 mm (measured, optimized robots under random actions: from
 # 2 cm to 2 mm the G1 and the Allegro hand step about 1.5x as fast, 5 mm gives no more, and
@@ -66,7 +71,11 @@ def disabled_pairs(
 
 
 def count_contacts_at(
-    loaded: Any, rows: Any, offset: float, skip: Collection[Pair], never: Collection[Pair]
+    loaded: ContactScene,
+    rows: np.ndarray,
+    offset: float,
+    skip: Collection[Pair],
+    never: Collection[Pair],
 ) -> ContactCount:
     """Put every collision shape of ``loaded`` (a :class:`ContactScene`) at ``offset`` and
     count, over the configurations ``rows``, the pairs of its links that make contacts (any

@@ -25,7 +25,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from robospec.description import RobotDescription
+    from robospec.optimize.collision_matrix import CollisionMatrix
+    from robospec.optimize.options import OptimizeOptions
     from robospec.pipeline import CompiledSpec
+    from robospec.resolve.resolved import ResolvedRobot
 
 # solver iterations (position, velocity) by category
 ITERATIONS = {"manipulation": (15, 1), "locomotion": (4, 1)}
@@ -33,7 +37,9 @@ ITERATIONS = {"manipulation": (15, 1), "locomotion": (4, 1)}
 CONTACT_SAMPLES = 1000
 
 
-def category_of(robot: Any, asked: str | None, description: Any = None) -> str:
+def category_of(
+    robot: ResolvedRobot, asked: str | None, description: RobotDescription | None = None
+) -> str:
     """The category asked for, else by the body: a robot whose root is free stands or walks
     (locomotion), unless it rolls on wheels with no legs to stand on — a mobile manipulator
     such as TIAGo, whose base drives and whose arm grasps, wants manipulation's iterations, as
@@ -54,7 +60,11 @@ def category_of(robot: Any, asked: str | None, description: Any = None) -> str:
 
 
 def fast_simulation(
-    urdf_file: Path, staged_spec: Path, compiled: CompiledSpec, matrix: Any, options: Any
+    urdf_file: Path,
+    staged_spec: Path,
+    compiled: CompiledSpec,
+    matrix: CollisionMatrix | None,
+    options: OptimizeOptions,
 ) -> tuple[dict[str, Any], list[dict[str, Any]]]:
     """The spec's ``simulation`` section for the fast profile, and the contact counts it
     measured (at ManiSkill's offset, then at the profile's; none without a matrix)."""
@@ -83,7 +93,11 @@ def fast_simulation(
 
 
 def _measure(
-    urdf_file: Path, staged_spec: Path, matrix: Any, options: Any, offset: float | None
+    urdf_file: Path,
+    staged_spec: Path,
+    matrix: CollisionMatrix,
+    options: OptimizeOptions,
+    offset: float | None,
 ) -> tuple[Any, Any]:
     """Contact counts at ManiSkill's offset and at the profile's (``offset``, or the one
     the first count calls for), over the matrix's first configurations."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.diagnostics.codes import NAMED_LINK_MERGED, UNKNOWN_LINK
@@ -47,7 +47,7 @@ def srdf_of(ref: FileRef) -> str | None:
     return srdf.read_text() if srdf.is_file() else None
 
 
-def child(joint: Any) -> str | None:
+def child(joint: etree._Element) -> str | None:
     """The name of a URDF joint's child link."""
     found = joint.find("child")
     return found.get("link") if found is not None else None
@@ -76,7 +76,7 @@ def unknown_keep(description: RobotDescription, keep: Sequence[str]) -> list[Dia
     ]
 
 
-def named_links_merged_away(compiled: CompiledSpec, condensed: Any) -> list[Diagnostic]:
+def named_links_merged_away(compiled: CompiledSpec, condensed: etree._Element) -> list[Diagnostic]:
     """RS673 for each link the spec names that the condensed description lacks, where the
     spec names it: optimize keeps every link the spec names, so this is a link named where
     the keep list did not look, and the optimized spec would not compile."""
@@ -99,7 +99,7 @@ def named_links_merged_away(compiled: CompiledSpec, condensed: Any) -> list[Diag
     return problems
 
 
-def kept_on_fixed_joints(urdf: Any, keep: set[str]) -> list[str]:
+def kept_on_fixed_joints(urdf: etree._Element, keep: set[str]) -> list[str]:
     """The links of ``keep`` that hang on a fixed joint of ``urdf``: kept, not merged."""
     return sorted(
         name
@@ -108,7 +108,7 @@ def kept_on_fixed_joints(urdf: Any, keep: set[str]) -> list[str]:
     )
 
 
-def unmerged(condensed: Any, keep: set[str]) -> list[str]:
+def unmerged(condensed: etree._Element, keep: set[str]) -> list[str]:
     """The links on fixed joints that condensing left although ``keep`` does not pin them."""
     return sorted(
         name

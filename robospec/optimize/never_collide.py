@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 from robospec.resolve.collision_packing import FREE_BITS, Pair, clique_pairs, pack
 
 if TYPE_CHECKING:
+    from robospec.optimize.collision_matrix import CollisionMatrix
     from robospec.pipeline import CompiledSpec
 
 
@@ -98,7 +99,7 @@ def _tree_distance(parents: Mapping[str, str]) -> Callable[[Pair], int]:
 
 def sampled_entries(
     urdf_file: Path, urdf: Any, compiled: CompiledSpec, samples: int, seed: int
-) -> tuple[list[list[str]], Any]:
+) -> tuple[list[list[str]], CollisionMatrix]:
     """never_collide entries for the pairs of the URDF (``urdf_file``, read as ``urdf``) that
     touched in no sampled configuration and no keyframe (or in every one), within the group-2
     bits the spec leaves free; and the collision matrix they come from."""

@@ -14,10 +14,13 @@ import shutil
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.diagnostics.codes import WOULD_OVERWRITE
+
+if TYPE_CHECKING:
+    from lxml import etree
 
 # the first line of every file robospec optimize writes: what it may overwrite
 MARK = "written by robospec optimize"
@@ -84,7 +87,7 @@ def drop_if_empty(folder: Path) -> None:
 
 
 def write_urdf(
-    robot: Any,
+    robot: etree._Element,
     path: Path,
     relative_to: Path,
     staging: Path,

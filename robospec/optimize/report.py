@@ -6,9 +6,12 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from robospec.diagnostics import Diagnostic, has_errors
+
+if TYPE_CHECKING:
+    from robospec.optimize.shapes.collisions import ShapeChange
 
 
 @dataclass
@@ -102,7 +105,7 @@ class OptimizeResult(NamedTuple):
         return "\n".join(parts)
 
 
-def shape_json(change: Any) -> dict[str, Any]:
+def shape_json(change: ShapeChange) -> dict[str, Any]:
     """A :class:`~robospec.optimize.shapes.ShapeChange` as the report gives it."""
     return {
         "link": change.link,

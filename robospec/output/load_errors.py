@@ -22,10 +22,12 @@ from robospec.maniskill.crash import Crash, Element, from_exception
 from robospec.maniskill.load_guard import guard_loading, line_in
 
 if TYPE_CHECKING:  # register() imports this module on its warm path: no spec model there
+    from mani_skill.agents.base_agent import BaseAgent
+
     from robospec.checks.context import CheckContext
 
 
-def guard(agent_cls: type, spec_file: Path) -> None:
+def guard(agent_cls: type[BaseAgent], spec_file: Path) -> None:
     """Make loading ``agent_cls`` (compiled from ``spec_file``) raise ``SpecError`` with a
     located RS514 where ManiSkill's loaders raise."""
     guard_loading(agent_cls, lambda uid, exc: located(spec_file, uid, exc))

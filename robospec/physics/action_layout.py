@@ -6,13 +6,16 @@ and 1 mean). This check never fails: it is the table people otherwise read out o
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import ControllerGroup, Sim
+
+if TYPE_CHECKING:
+    from gymnasium import spaces
 
 NAME = "action_layout"
 
@@ -39,7 +42,7 @@ def _layout(sim: Sim) -> Finding:
 
 
 def _bounds(group: ControllerGroup) -> tuple[np.ndarray, np.ndarray, bool]:
-    controller: Any = group.controller
+    controller = group.controller
     normalized = bool(getattr(controller.config, "normalize_action", False))
     if normalized:
         return (
@@ -47,7 +50,7 @@ def _bounds(group: ControllerGroup) -> tuple[np.ndarray, np.ndarray, bool]:
             controller.action_space_high.cpu().numpy(),
             True,
         )
-    space = controller.single_action_space
+    space = cast("spaces.Box", controller.single_action_space)
     return np.asarray(space.low), np.asarray(space.high), False
 
 

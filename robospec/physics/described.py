@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -44,6 +44,9 @@ from robospec.diagnostics.codes import LINK_MISPLACED, LOADED_MASS_DIFFERS
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.sim import Sim
+
+if TYPE_CHECKING:
+    from mani_skill.utils.structs import Pose
 
 NAME = "described"
 TOTAL_FACTOR = 2.0  # loaded total / described (or its inverse): a different robot
@@ -256,7 +259,7 @@ def _frames(run: CheckRun, sim: Sim) -> Finding | None:
     return Finding(NAME, None, "frames", Status.FAIL, summary, found, (diagnostic,))
 
 
-def _matrix(pose: Any) -> np.ndarray:
+def _matrix(pose: Pose) -> np.ndarray:
     """The 4x4 of a ManiSkill pose (its first environment's)."""
     from robospec.kinematics.placement import pose_matrix
 

@@ -23,7 +23,7 @@ apart.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -36,6 +36,9 @@ from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.random_actions import random_draws
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe, ResolvedLoop
+
+if TYPE_CHECKING:
+    from mani_skill.utils.structs import Pose
 
 NAME = "loops"
 
@@ -61,7 +64,7 @@ def gaps(sim: Sim, loops: tuple[ResolvedLoop, ...]) -> np.ndarray:
     return np.array(out)
 
 
-def _points(pose: Any, p: Vector) -> np.ndarray:
+def _points(pose: Pose, p: Vector) -> np.ndarray:
     """``p`` (in the link's frame) in the world, per env: shape (envs, 3)."""
     positions = pose.p.cpu().numpy().astype(np.float64)
     quaternions = pose.q.cpu().numpy().astype(np.float64)

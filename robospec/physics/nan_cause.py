@@ -13,12 +13,15 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from robospec.checks.context import CheckContext
 from robospec.checks.mimic_joints import physx_mimic_joints
+
+if TYPE_CHECKING:
+    from mani_skill.agents.controllers.base_controller import BaseController
 
 
 @dataclass(frozen=True)
@@ -33,7 +36,7 @@ class NanCause:
 
 
 def nan_cause(
-    context: CheckContext, mode: str, controllers: Iterable[tuple[str, Any]]
+    context: CheckContext, mode: str, controllers: Iterable[tuple[str, BaseController]]
 ) -> NanCause | None:
     """The cause for ``mode``, whose ``(group, ManiSkill controller)`` pairs are given, or
     None when it is none of the known ones."""
@@ -61,7 +64,7 @@ def nan_cause(
     return None
 
 
-def _normalized_over_infinity(controller: Any) -> bool:
+def _normalized_over_infinity(controller: BaseController) -> bool:
     if not getattr(controller.config, "normalize_action", False):
         return False
     low = controller.action_space_low.cpu().numpy()

@@ -14,9 +14,12 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 
 class StepTrace(Protocol):
@@ -93,7 +96,7 @@ def write_plot(
     return path
 
 
-def _panel(ax: Any, label: str, trace: StepTrace, limits: Limits) -> None:
+def _panel(ax: Axes, label: str, trace: StepTrace, limits: Limits) -> None:
     times = (np.arange(trace.fraction.shape[0]) + 1) * trace.dt
     for k, joint in enumerate(trace.joints):
         if trace.size[k] == 0:  # held, not stepped

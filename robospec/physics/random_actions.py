@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -39,6 +39,9 @@ from robospec.physics.findings import Finding, Status, metrics
 from robospec.physics.nan_cause import nan_cause
 from robospec.physics.sim import Sim
 from robospec.resolve.resolved import ResolvedKeyframe
+
+if TYPE_CHECKING:
+    from robospec.model.check_settings import RandomActions
 
 NAME = "random_actions"
 
@@ -205,7 +208,7 @@ def runaways(
     past_limit: np.ndarray,
     top_speed: np.ndarray,
     top_root_speed: float,
-    settings: Any,
+    settings: RandomActions,
     excused_limit: np.ndarray | None = None,
     excused_speed: np.ndarray | None = None,
 ) -> list[Runaway]:

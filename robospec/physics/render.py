@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -23,6 +23,10 @@ from robospec.diagnostics import warning
 from robospec.diagnostics.codes import CAMERA_PREVIEW_DISAGREES
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
+
+if TYPE_CHECKING:
+    from mani_skill.envs.sapien_env import BaseEnv
+    from mani_skill.utils.structs import Articulation
 
 NAME = "render"
 TOLERANCE_PX = 3.0
@@ -76,7 +80,7 @@ def capture(run: CheckRun) -> list[Capture]:
 
     from robospec.physics.sim import set_keyframe
 
-    env: Any = gym.make(
+    env = gym.make(
         "Empty-v1",
         robot_uids=run.uid,
         obs_mode="rgb+segmentation",
@@ -85,7 +89,7 @@ def capture(run: CheckRun) -> list[Capture]:
     )
     try:
         env.reset(seed=0)
-        base = env.unwrapped
+        base = cast("BaseEnv", env.unwrapped)
         robot = base.agent.robot
         link_ids = {int(link.per_scene_id[0]) for link in robot.links}
         captures = []
@@ -123,7 +127,7 @@ def capture(run: CheckRun) -> list[Capture]:
         env.close()
 
 
-def _tcp_position(run: CheckRun, robot: Any) -> np.ndarray | None:
+def _tcp_position(run: CheckRun, robot: Articulation) -> np.ndarray | None:
     tcp = run.robot.tcp
     if tcp is None:
         return None

@@ -11,7 +11,7 @@ kind each is comes from its config's class (:mod:`robospec.model.controller_kind
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -19,6 +19,16 @@ from robospec.geometry import Vector
 from robospec.maniskill.headless import headless_loading, make_empty_env
 from robospec.model.controller_kinds import ControllerKind, kind_of_config
 from robospec.resolve.resolved import ResolvedKeyframe
+
+if TYPE_CHECKING:
+    from gymnasium import spaces
+    from mani_skill.agents.controllers.base_controller import BaseController
+    from mani_skill.agents.controllers.pd_joint_pos import PDJointPosControllerConfig
+    from mani_skill.agents.controllers.pd_joint_vel import PDJointVelControllerConfig
+    from mani_skill.envs.tasks.empty_env import EmptyEnv
+    from mani_skill.utils.structs import Articulation, Link, Pose
+    from sapien.physx import PhysxGpuSystem
+    from torch import Tensor
 
 # m: how far a floating robot is lifted for a test stand (its root held there): clear of the
 # ground of ManiSkill's scenes for any robot of a sensible size
@@ -45,9 +55,18 @@ class ControllerGroup:
     """One controller of a mode, with where its action and its joints sit."""
 
     name: str  # the group in the mode (or the controller's name for a one-controller mode)
-    controller: Any  # a ManiSkill BaseController
+    controller: BaseController
     action_slice: slice
     joint_indices: tuple[int, ...]  # into the robot's active joints, in controller order
+
+    @property
+    def pd_config(self) -> PDJointPosControllerConfig | PDJointVelControllerConfig:
+        """Its config as a PD controller's, by joint position or velocity (its damping, force
+        limit, drive mode, normalize_action: ManiSkill's BaseController types it as any
+        controller's)."""
+        return cast(
+            "PDJointPosControllerConfig | PDJointVelControllerConfig", self.controller.config
+        )
 
     @property
     def controller_kind(self) -> ControllerKind | None:
@@ -114,7 +133,7 @@ class Sim:
 
     def _bind(self) -> None:
         """Read what the checks use from the environment as (re)built."""
-        self.base = self.env.unwrapped
+        self.base = cast("EmptyEnv", self.env.unwrapped)  # (Empty-v1's)
         self.agent = self.base.agent
         self.robot = self.agent.robot
         self.scene = self.base.scene
@@ -172,7 +191,9 @@ class Sim:
         groups = []
         start = 0
         for name, part in items:
-            width = int(part.single_action_space.shape[0])
+            shape = part.single_action_space.shape
+            assert shape is not None  # (a controller's action space: a Box)
+            width = int(shape[0])
             joints = tuple(index[j.name] for j in part.joints)
             groups.append(ControllerGroup(name, part, slice(start, start + width), joints))
             start += width
@@ -180,11 +201,11 @@ class Sim:
 
     @property
     def action_low(self) -> np.ndarray:
-        return np.asarray(self.agent.single_action_space.low, dtype=np.float64)
+        return np.asarray(cast("spaces.Box", self.agent.single_action_space).low, dtype=np.float64)
 
     @property
     def action_high(self) -> np.ndarray:
-        return np.asarray(self.agent.single_action_space.high, dtype=np.float64)
+        return np.asarray(cast("spaces.Box", self.agent.single_action_space).high, dtype=np.float64)
 
     def hold_action(self, qpos: np.ndarray) -> np.ndarray | None:
         """The action that commands ``qpos`` (all active joints), or None when some controller
@@ -196,7 +217,7 @@ class Sim:
             target = qpos[list(group.action_joint_indices)]
             if group.with_velocities:
                 target = np.concatenate([target, np.zeros_like(target)])  # held: at rest
-            if group.controller.config.normalize_action:
+            if group.pd_config.normalize_action:
                 low = group.controller.action_space_low.cpu().numpy()
                 high = group.controller.action_space_high.cpu().numpy()
                 span = np.where(high > low, high - low, 1.0)
@@ -224,7 +245,7 @@ class Sim:
             qpos, pose = self._loaded
             limits = self.robot.get_qlimits()
             qpos = qpos.clamp(limits[..., 0], limits[..., 1])
-            self.robot.set_pose(pose)
+            self.robot.pose = pose
             self.robot.set_qpos(qpos)
             self.robot.set_qvel(qpos * 0)
         self._sync()
@@ -263,7 +284,7 @@ class Sim:
 
     # -- stepping ------------------------------------------------------------------------------
 
-    def step(self, action: np.ndarray, pin_root: Any = None) -> None:
+    def step(self, action: np.ndarray, pin_root: Pose | None = None) -> None:
         """One control step through ManiSkill's own path (``env.step``); ``action`` is one
         action for every environment, or one row per environment. With ``pin_root`` (a pose),
         a floating root is put back there, at rest, before every physics step."""
@@ -319,7 +340,7 @@ class Sim:
         if isinstance(group, str):
             group = self.group(group)
         controller = group.controller
-        config = controller.config
+        config = group.pd_config
         n = len(controller.joints)
         limits = config.force_limit if force_limit is None else force_limit
         stiffness_ = np.broadcast_to(np.asarray(stiffness, dtype=np.float64), n)
@@ -337,8 +358,10 @@ class Sim:
         diagonal) at the robot's configuration now, the root held. CPU only."""
         if isinstance(group, str):
             group = self.group(group)
+        from sapien.physx import PhysxArticulation
+
         articulation = self.robot._objs[0]
-        model = articulation.create_pinocchio_model()
+        model = PhysxArticulation.create_pinocchio_model(articulation)
         qpos = self.robot.get_qpos()[0].cpu().numpy().astype(np.float64)
         mass = np.asarray(model.compute_generalized_mass_matrix(qpos), dtype=np.float64)
         joints = articulation.get_active_joints()
@@ -354,8 +377,10 @@ class Sim:
         diagonal of the joint-space mass matrix plus the joint's armature. CPU only."""
         if isinstance(group, str):
             group = self.group(group)
+        from sapien.physx import PhysxArticulation
+
         articulation = self.robot._objs[0]
-        model = articulation.create_pinocchio_model()
+        model = PhysxArticulation.create_pinocchio_model(articulation)
         qpos = self.robot.get_qpos()[0].cpu().numpy().astype(np.float64)
         mass = np.diag(np.asarray(model.compute_generalized_mass_matrix(qpos), dtype=np.float64))
         joints = articulation.get_active_joints()
@@ -363,7 +388,7 @@ class Sim:
         indices = list(group.joint_indices)
         return mass[indices] + armature[indices]
 
-    def _drive(self, group: ControllerGroup, targets: Any) -> None:
+    def _drive(self, group: ControllerGroup, targets: Tensor) -> None:
         controller = group.controller
         if group.kind == "position":
             self.robot.set_joint_drive_targets(
@@ -374,11 +399,11 @@ class Sim:
                 targets, controller.joints, controller.active_joint_indices
             )
 
-    def sim_step(self, pin_root: Any = None) -> None:
+    def sim_step(self, pin_root: Pose | None = None) -> None:
         """One physics step with the drive targets as they are (no controller runs). With
         ``pin_root`` (a pose), a floating root is put back there, at rest, first."""
         if pin_root is not None:
-            self.robot.set_pose(pin_root)
+            self.robot.pose = pin_root
             zero = self.robot.root_linear_velocity * 0
             self.robot.set_root_linear_velocity(zero)
             self.robot.set_root_angular_velocity(zero)
@@ -398,7 +423,7 @@ class Sim:
         for articulation in self.robot._objs:
             articulation.set_solver_position_iterations(iterations)
 
-    def test_stand(self) -> Any:
+    def test_stand(self) -> Pose | None:
         """Put the robot on a test stand: lifted :data:`TEST_STAND_HEIGHT` clear of the ground
         (a mounted arm too: the floor it stands on would block half its motions); returns the
         pose to hold a floating root at (``pin_root``), None for a fixed one. Held where a
@@ -408,14 +433,14 @@ class Sim:
         lifted = self.lifted_root(TEST_STAND_HEIGHT)
         return None if self.fixed_root else lifted
 
-    def lifted_root(self, height: float) -> Any:
+    def lifted_root(self, height: float) -> Pose:
         """The root's pose now, ``height`` metres higher, with the robot moved there."""
         from mani_skill.utils.structs.pose import Pose
 
         raw = self.robot.pose.raw_pose.clone()
         raw[..., 2] += height
         lifted = Pose.create(raw)
-        self.robot.set_pose(lifted)
+        self.robot.pose = lifted
         self._sync()
         return lifted
 
@@ -430,7 +455,7 @@ class Sim:
     def _sync(self) -> None:
         if self.backend.gpu:
             self.scene._gpu_apply_all()
-            self.scene.px.gpu_update_articulation_kinematics()
+            cast("PhysxGpuSystem", self.scene.px).gpu_update_articulation_kinematics()
             self.scene._gpu_fetch_all()
 
     # -- contacts ------------------------------------------------------------------------------
@@ -448,7 +473,8 @@ class Sim:
         # a link moves when an active joint lies on its path to the root
         mounted: set[str] = set()
         for link in self.robot.links:
-            node, moves = link, False
+            node: Link | None = link
+            moves = False
             while node is not None:
                 if node.name in moving:
                     moves = True
@@ -467,7 +493,7 @@ class Sim:
         top = found.child_link.name
         moved = set()
         for link in self.robot.links:
-            node = link
+            node: Link | None = link
             while node is not None:
                 if node.name == top:
                     moved.add(link.name)
@@ -552,13 +578,13 @@ class Sim:
         return touching
 
 
-def has_fixed_root(robot: Any) -> bool:
+def has_fixed_root(robot: Articulation) -> bool:
     """Whether the loader fixed the robot's root (ManiSkill's MJCF loader frees a root with a
     ``<freejoint>`` whatever ``fix_root_link`` says): what the articulation says, not the spec."""
     return bool(robot._objs[0].root.joint.type == "fixed")
 
 
-def centre_of_mass_speed(robot: Any, num_envs: int) -> np.ndarray:
+def centre_of_mass_speed(robot: Articulation, num_envs: int) -> np.ndarray:
     """How fast the robot (a ManiSkill articulation) as a whole moves: the speed of its centre
     of mass, one per environment. Not the root link's: ManiSkill's MJCF loader roots a
     free-jointed robot in a massless link at the world body's frame, which can lie far from
@@ -577,7 +603,7 @@ def centre_of_mass_speed(robot: Any, num_envs: int) -> np.ndarray:
     return np.linalg.norm(velocity, axis=-1)
 
 
-def set_keyframe(robot: Any, keyframe: ResolvedKeyframe, num_envs: int) -> None:
+def set_keyframe(robot: Articulation, keyframe: ResolvedKeyframe, num_envs: int) -> None:
     """Put ManiSkill articulation ``robot`` (in ``num_envs`` environments) at ``keyframe``:
     its root pose, its qpos when given, and its qvel (zero when not given)."""
     import torch

@@ -26,7 +26,7 @@ percent of the step (RS505, with the numbers).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -37,6 +37,11 @@ from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Metric, Status, metrics
 from robospec.physics.sim import ControllerGroup, Sim
 from robospec.resolve.resolved import ResolvedKeyframe
+
+if TYPE_CHECKING:
+    from mani_skill.utils.structs import Pose
+
+    from robospec.model.check_settings import StepResponse
 
 NAME = "step_response"
 SETTLE_TIME = 0.5  # seconds of holding before the step
@@ -273,7 +278,9 @@ def _plan_step(
     return _Plan(signed, no_room, origin, target)
 
 
-def _watch(sim: Sim, pin: Any, joints: list[int], duration: float) -> tuple[np.ndarray, np.ndarray]:
+def _watch(
+    sim: Sim, pin: Pose | None, joints: list[int], duration: float
+) -> tuple[np.ndarray, np.ndarray]:
     """The positions and velocities of ``joints`` (samples, joints), one sample per physics
     step for ``duration`` seconds (at least two), the root held at ``pin``."""
     n_steps = max(round(duration * sim.sim_freq), 2)
@@ -362,7 +369,7 @@ class _Verdict:
     group: ControllerGroup
     controller: str
     kind: str  # "position" or "velocity"
-    settings: Any  # checks.step_response for this controller
+    settings: StepResponse  # for this controller
     trace: StepTrace | None
 
     @property
@@ -580,7 +587,7 @@ def _saturation(
         return None
     k = trace.joints.index(joint)
     count = len(trace.joints)
-    config = group.controller.config
+    config = group.pd_config
     force_limit = float(np.broadcast_to(np.asarray(config.force_limit, float), count)[k])
     stiffness = float(
         np.broadcast_to(np.asarray(getattr(config, "stiffness", 0.0), float), count)[k]

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 import traceback
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -42,6 +42,12 @@ from robospec.maniskill.crash import USER, from_exception, root_cause
 from robospec.maniskill.reach import chain_reach
 from robospec.physics.check_run import CheckRun
 from robospec.physics.findings import Finding, Status, metrics
+
+if TYPE_CHECKING:
+    import gymnasium as gym
+    from mani_skill.envs.sapien_env import BaseEnv
+
+    from robospec.maniskill.tasks import Scan
 
 NAME = "task"
 SOLVE = "solve"  # check --solve: the finding of a task's solution
@@ -105,7 +111,7 @@ def _where(run: CheckRun, task: str) -> Location:
     return run.at(("tasks",) if spec.tasks else ("uid",))
 
 
-def _task(run: CheckRun, request: TaskRequest, scan: Any) -> Finding:
+def _task(run: CheckRun, request: TaskRequest, scan: Scan | None) -> Finding:
     from robospec.checks.member_names import defined_members
     from robospec.checks.task_members import mend
 
@@ -229,7 +235,7 @@ def _run(run: CheckRun, request: TaskRequest) -> Finding:
         stage = "step"
         space = env.action_space
         space.seed(0)
-        unwrapped: Any = env.unwrapped  # ManiSkill's BaseEnv (ManiSkill has no types)
+        unwrapped = cast("BaseEnv", env.unwrapped)
         agent = unwrapped.agent
         for step in range(STEPS):
             env.step(torch.as_tensor(np.asarray(space.sample()), dtype=torch.float32))
@@ -309,10 +315,10 @@ def _missing_member(exc: BaseException) -> str | None:
     return None
 
 
-def _reach(run: CheckRun, env: Any, request: TaskRequest) -> Finding | None:
+def _reach(run: CheckRun, env: gym.Env, request: TaskRequest) -> Finding | None:
     """RS526 when every object of the task lies beyond the robot's reach from its root: the
     sum of its links' offsets along the longest chain (as the task placed it)."""
-    base = env.unwrapped
+    base = cast("BaseEnv", env.unwrapped)
     robot = base.agent.robot
     root = robot.pose.p[0].cpu().numpy()
     reach = chain_reach(robot)

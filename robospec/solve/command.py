@@ -16,10 +16,10 @@ from __future__ import annotations
 import json
 import multiprocessing
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 from robospec.diagnostics import Diagnostic, Location, error
 from robospec.diagnostics.codes import (
@@ -32,6 +32,11 @@ from robospec.diagnostics.codes import (
 )
 from robospec.solve.episodes import Episode
 from robospec.solve.gripper import Closing
+
+if TYPE_CHECKING:
+    from multiprocessing.queues import Queue
+
+    from mani_skill.envs.sapien_env import BaseEnv
 
 TASK_OPTION = "--task"
 
@@ -188,7 +193,7 @@ def preflight(
             "the section that defines it",
         )
     try:
-        base = env.unwrapped
+        base = cast("BaseEnv", env.unwrapped)
         reach, beyond = _beyond_chain_reach(base, task, at_task)
         if beyond is not None:
             return beyond
@@ -215,7 +220,7 @@ def preflight(
 
 
 def _beyond_chain_reach(
-    base: Any, task: str, at_task: Location
+    base: BaseEnv, task: str, at_task: Location
 ) -> tuple[float | None, Diagnostic | None]:
     """The reach of the arm that carries the tcp, its links end to end, from its base (one arm
     of two: its own base) over the links it carries; and RS526 where one of the task's objects
@@ -291,7 +296,9 @@ def _episodes(
     return sorted(done, key=lambda e: e.seed), trajectory
 
 
-def _in_processes(robot: Robot, task: str, chunks: list[list[int]], folder: Path, count: Any):
+def _in_processes(
+    robot: Robot, task: str, chunks: list[list[int]], folder: Path, count: Callable[[Episode], None]
+):
     context = multiprocessing.get_context("spawn")
     queue = context.Queue()
     workers = [
@@ -338,7 +345,7 @@ def _worker(
     seeds: list[int],
     folder: str,
     index: int,
-    queue: Any,
+    queue: Queue[tuple[str, object]],
     loops: tuple[Closing, ...] = (),
 ) -> None:
     from robospec.output.register import register

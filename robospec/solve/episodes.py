@@ -16,9 +16,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 if TYPE_CHECKING:
+    import gymnasium as gym
     from mani_skill.envs.sapien_env import BaseEnv
 
     from robospec.solve.gripper import Closing
+    from robospec.solve.solutions import _View
 
 SOURCE = "robospec solve: ManiSkill's motion-planning solution, robospec's planner"
 
@@ -35,7 +37,7 @@ class Episode:
         return asdict(self)
 
 
-def make_env(uid: str, task: str) -> Any:
+def make_env(uid: str, task: str) -> gym.Env:
     import gymnasium as gym
     import mani_skill.envs  # noqa: F401  (registers the tasks)
 
@@ -74,7 +76,7 @@ def record(
 
     env = make_env(uid, task)
     env = RecordEpisode(
-        env,
+        cast("BaseEnv", env),  # (it takes any environment of ManiSkill's, wrapped: its unwrapped)
         output_dir=str(folder),
         trajectory_name=name,
         save_video=False,
@@ -99,7 +101,7 @@ def record(
         env.close()
 
 
-def _episode(env: Any, solve: Callable[..., Any], seed: int, notes: list[str]) -> Episode:
+def _episode(env: _View, solve: Callable[..., Any], seed: int, notes: list[str]) -> Episode:
     """One seed solved; a failure's note: the solution's exception, else the first path the arm
     did not follow (the solver's notes)."""
     error = None

@@ -33,11 +33,29 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
 from robospec.maniskill.reach import chain_up, moving_joints_above
+
+if TYPE_CHECKING:
+    import sapien
+    from mani_skill.agents.base_agent import BaseAgent
+    from mani_skill.agents.controllers.base_controller import BaseController, CombinedController
+    from mani_skill.agents.controllers.pd_joint_pos import (
+        PDJointPosController,
+        PDJointPosControllerConfig,
+        PDJointPosMimicController,
+    )
+    from mani_skill.utils.structs import Articulation, Link
+    from sapien.physx import (
+        PhysxCollisionShape,
+        PhysxCollisionShapeConvexMesh,
+        PhysxCollisionShapeTriangleMesh,
+    )
+    from sapien.wrapper.pinocchio_model import PinocchioModel
+    from torch import Tensor
 
 # m: how far short of the fingertips the grasp frame sits, along the fingers (ManiSkill's Panda:
 # its tcp, panda_hand_tcp, 1 cm short of its fingers' tips)
@@ -65,7 +83,7 @@ class GripperFacts:
     # one value per dimension of the gripper controller's action
     open_action: tuple[float, ...]
     closed_action: tuple[float, ...]
-    grasp_to_tcp: Any  # sapien.Pose: the tcp link's pose in the solutions' grasp frame
+    grasp_to_tcp: sapien.Pose  # the tcp link's pose in the solutions' grasp frame
     with_velocities: bool = False  # the arm takes positions and velocities (pd_joint_pos_vel)
     hold: tuple[float, ...] = ()
 
@@ -105,7 +123,13 @@ class _Closed:
     loops' other joints (passive, which the loops move) where they close the loops again, as
     the simulation does (the kinematics alone would leave them where the reset put them)."""
 
-    def __init__(self, controller: Any, model: Any, robot: Any, loops: list[Closing]) -> None:
+    def __init__(
+        self,
+        controller: PDJointPosController,
+        model: PinocchioModel,
+        robot: Articulation,
+        loops: list[Closing],
+    ) -> None:
         self._controller = controller
         self._model = model
         links = robot.links_map
@@ -148,7 +172,7 @@ class _Closed:
 
 
 def read_facts(
-    agent: Any, finger_links: tuple[str, str], loops: tuple[Closing, ...] = ()
+    agent: BaseAgent, finger_links: tuple[str, str], loops: tuple[Closing, ...] = ()
 ) -> GripperFacts:
     """The facts of ``agent`` as the environment has just reset it (``pd_joint_pos``);
     ``loops``: the spec's closed loops, each its two links."""
@@ -168,14 +192,16 @@ def read_facts(
             f"add a control mode {MODE} with absolute arm and gripper position controllers",
             "control_modes",
         )
-    parts = dict(controller.controllers)
+    parts = dict(cast("CombinedController", controller).controllers)  # a mode's: a dict of them
     links = robot.links_map
     fingers = [links[name] for name in finger_links]
     closing = [loop for loop in loops if set(loop.links) <= set(links)]
     arm_name, gripper_name = _arm_and_gripper(
         parts, tcp, fingers, [(links[a], links[b]) for a, b in (c.links for c in closing)]
     )
-    arm, gripper = parts[arm_name], parts[gripper_name]
+    # (pd_joint_pos's arm and gripper set joint positions: ManiSkill holds them as BaseController)
+    arm = cast("PDJointPosController", parts[arm_name])
+    positions = cast("PDJointPosController", parts[gripper_name])
     held = [n for n in parts if n not in (arm_name, gripper_name)]
     if arm.config.use_delta or arm.config.normalize_action:
         raise NotSolvable(
@@ -185,10 +211,9 @@ def read_facts(
             "use_delta: false and normalize_action: false for that controller",
             "controllers",
         )
-    model = robot._objs[0].create_pinocchio_model()
+    model = robot.create_pinocchio_model()  # (the CPU simulation's: its one articulation's)
     qpos = robot.get_qpos()[0].cpu().numpy().astype(np.float64)
-    if closing:
-        gripper = _Closed(gripper, model, robot, closing)
+    gripper = _Closed(positions, model, robot, closing) if closing else positions
     ends = _open_and_closed(model, qpos, gripper, fingers)
     if ends is None:
         raise NotSolvable(
@@ -207,9 +232,7 @@ def read_facts(
     frame[:3, 3] = middle
     turn = np.linalg.inv(frame) @ tcp_pose
     role = {arm_name: "arm", gripper_name: "gripper"}
-    layout = tuple(
-        (role.get(name, "held"), int(c.single_action_space.shape[0])) for name, c in parts.items()
-    )
+    layout = tuple((role.get(name, "held"), _width(c)) for name, c in parts.items())
     hold: list[float] = []
     for name in held:
         hold += _holding(name, parts[name], qpos)
@@ -225,7 +248,10 @@ def read_facts(
 
 
 def _arm_and_gripper(
-    parts: dict[str, Any], tcp: Any, fingers: list[Any], loops: Sequence[tuple[Any, Any]] = ()
+    parts: dict[str, BaseController],
+    tcp: Link,
+    fingers: list[Link],
+    loops: Sequence[tuple[Link, Link]] = (),
 ) -> tuple[str, str]:
     """The names of the mode's one arm controller, whose joints carry the tcp, and its one
     gripper controller, whose joints move the grasp check's fingers (which must have collision
@@ -253,9 +279,7 @@ def _arm_and_gripper(
     grippers = [
         n
         for n in parts
-        if n not in arms
-        and {j.name for j in parts[n].joints} & moving
-        and int(parts[n].single_action_space.shape[0]) > 0
+        if n not in arms and {j.name for j in parts[n].joints} & moving and _width(parts[n]) > 0
     ]
     if len(arms) != 1 or len(grippers) != 1:
         raise NotSolvable(
@@ -267,14 +291,22 @@ def _arm_and_gripper(
     return arms[0], grippers[0]
 
 
-def _holding(name: str, controller: Any, qpos: np.ndarray) -> list[float]:
+def _width(controller: BaseController | _Closed) -> int:
+    """How many values the controller's action takes (its space a Box: its shape is known)."""
+    shape = controller.single_action_space.shape
+    assert shape is not None
+    return int(shape[0])
+
+
+def _holding(name: str, controller: BaseController, qpos: np.ndarray) -> list[float]:
     """The action that keeps a controller that is neither the arm nor the gripper where the
     reset put it: its joints' positions for absolute positions; nothing to add (zeros) for
     deltas and velocities (a mobile base, a head by velocity)."""
     config = controller.config
-    width = int(controller.single_action_space.shape[0])
+    width = _width(controller)
     if getattr(config, "use_delta", True):  # deltas, or a velocity controller (no use_delta)
         return [0.0] * width
+    config = cast("PDJointPosControllerConfig", config)  # a use_delta of False: joint positions
     joints = controller.active_joint_indices.cpu().numpy()
     if config.normalize_action or len(joints) != width:
         raise NotSolvable(
@@ -286,18 +318,18 @@ def _holding(name: str, controller: Any, qpos: np.ndarray) -> list[float]:
     return [float(v) for v in qpos[joints]]
 
 
-def _action_range(gripper: Any) -> tuple[np.ndarray, np.ndarray]:
+def _action_range(gripper: PDJointPosController | _Closed) -> tuple[np.ndarray, np.ndarray]:
     """The gripper controller's action range, one (low, high) per dimension: ±1 for a
     normalised action, else its bounds or (given as null) the limits of the joints its action
     sets, as ManiSkill's controller takes them (a mimic controller's: its leaders')."""
-    width = int(gripper.single_action_space.shape[0])
+    width = _width(gripper)
     if gripper.config.normalize_action:
         return np.full(width, -1.0), np.full(width, 1.0)
     limits = np.asarray(gripper._get_joint_limits(), dtype=np.float64).reshape(-1, 2)
     return limits[:, 0].copy(), limits[:, 1].copy()
 
 
-def _raw(gripper: Any, action: np.ndarray) -> np.ndarray:
+def _raw(gripper: PDJointPosController | _Closed, action: np.ndarray) -> np.ndarray:
     """The joint positions ``action`` sets (a normalised action scaled as ManiSkill scales it:
     -1 to the lower bound, 1 to the upper)."""
     if not gripper.config.normalize_action:
@@ -307,7 +339,7 @@ def _raw(gripper: Any, action: np.ndarray) -> np.ndarray:
     return low + (np.clip(action, -1, 1) + 1) / 2 * (high - low)
 
 
-def _action_at(gripper: Any, qpos: np.ndarray) -> np.ndarray:
+def _action_at(gripper: PDJointPosController | _Closed, qpos: np.ndarray) -> np.ndarray:
     """The action that keeps the gripper's joints where ``qpos`` has them, within its range."""
     joints = _action_joints(gripper)
     values = qpos[joints].astype(np.float64)
@@ -320,7 +352,7 @@ def _action_at(gripper: Any, qpos: np.ndarray) -> np.ndarray:
     return np.clip(values, low, high)
 
 
-def _action_joints(gripper: Any) -> np.ndarray:
+def _action_joints(gripper: PDJointPosController | _Closed) -> np.ndarray:
     """The active-joint indices (of the articulation) that the action's dimensions set, in
     order: every joint's, or a mimic controller's leaders'."""
     indices = gripper.active_joint_indices.cpu().numpy()
@@ -331,7 +363,10 @@ def _action_joints(gripper: Any) -> np.ndarray:
 
 
 def _open_and_closed(
-    model: Any, qpos: np.ndarray, gripper: Any, fingers: list[Any]
+    model: PinocchioModel,
+    qpos: np.ndarray,
+    gripper: PDJointPosController | _Closed,
+    fingers: list[Link],
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """The gripper's open and closed actions, one value per dimension: for each dimension that
     moves the fingers, the end of its range that parts them most is open, the other closed (the
@@ -357,7 +392,9 @@ def _open_and_closed(
     return (opened, closed) if wide - shut >= 1e-4 else None
 
 
-def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: np.ndarray) -> np.ndarray:
+def _gripper_qpos(
+    qpos: np.ndarray, gripper: PDJointPosController | _Closed, action: np.ndarray
+) -> np.ndarray:
     """The joint positions the gripper controller targets for ``action`` (one value per
     dimension), the mimic map's followers included; the other joints as in ``qpos``."""
     indices = gripper.active_joint_indices.cpu().numpy()
@@ -365,11 +402,14 @@ def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: np.ndarray) -> np.ndar
     targets = qpos[indices].astype(np.float64)
     followers = getattr(gripper, "mimic_joint_indices", None)
     if followers is not None:
-        targets[gripper.control_joint_indices.cpu().numpy()] = raw
+        mimic = cast("PDJointPosMimicController | _Closed", gripper)
+        targets[mimic.control_joint_indices.cpu().numpy()] = raw
         if len(followers):
-            leaders = gripper.mimic_control_joint_indices.cpu().numpy()
-            multiplier = gripper._multiplier.cpu().numpy()
-            offset = gripper._offset.cpu().numpy()
+            leaders = (
+                cast("Tensor", mimic.mimic_control_joint_indices).cpu().numpy()
+            )  # (a list at first)
+            multiplier = mimic._multiplier.cpu().numpy()
+            offset = mimic._offset.cpu().numpy()
             targets[followers.cpu().numpy()] = targets[leaders] * multiplier + offset
     else:
         targets[:] = raw
@@ -378,13 +418,17 @@ def _gripper_qpos(qpos: np.ndarray, gripper: Any, action: np.ndarray) -> np.ndar
     return gripper.close(out) if isinstance(gripper, _Closed) else out
 
 
-def _finger_points(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.ndarray]:
+def _finger_points(
+    model: PinocchioModel, qpos: np.ndarray, fingers: list[Link]
+) -> list[np.ndarray]:
     """Each finger's collision shapes' centre (the middle of the box round them), in the
     robot's base frame, at ``qpos``."""
     return [(p.min(axis=0) + p.max(axis=0)) / 2 for p in _finger_shapes(model, qpos, fingers)]
 
 
-def _finger_shapes(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.ndarray]:
+def _finger_shapes(
+    model: PinocchioModel, qpos: np.ndarray, fingers: list[Link]
+) -> list[np.ndarray]:
     """Each finger's collision shapes as points (a mesh's vertices, a primitive's centre), in
     the robot's base frame, at ``qpos``."""
     model.compute_forward_kinematics(qpos)
@@ -396,7 +440,7 @@ def _finger_shapes(model: Any, qpos: np.ndarray, fingers: list[Any]) -> list[np.
     return out
 
 
-def _shape_points(shapes: list[Any]) -> np.ndarray:
+def _shape_points(shapes: list[PhysxCollisionShape]) -> np.ndarray:
     """A link's collision shapes as points in its frame: a mesh's vertices (a mesh sits at its
     link's origin, often on the joint's axis: a jaw that turns about it would seem not to
     move), a primitive's centre."""
@@ -405,7 +449,8 @@ def _shape_points(shapes: list[Any]) -> np.ndarray:
         local = shape.local_pose.to_transformation_matrix()
         vertices = getattr(shape, "vertices", None)
         if vertices is not None and len(vertices):
-            scaled = np.asarray(vertices, dtype=np.float64) * np.asarray(shape.scale)
+            mesh = cast("PhysxCollisionShapeConvexMesh | PhysxCollisionShapeTriangleMesh", shape)
+            scaled = np.asarray(vertices, dtype=np.float64) * np.asarray(mesh.scale)
             points.append(scaled @ local[:3, :3].T + local[:3, 3])
         else:
             points.append(local[None, :3, 3])
@@ -413,19 +458,23 @@ def _shape_points(shapes: list[Any]) -> np.ndarray:
 
 
 def _finger_span(
-    model: Any, qpos: np.ndarray, gripper: Any, action: np.ndarray, fingers: list[Any]
+    model: PinocchioModel,
+    qpos: np.ndarray,
+    gripper: PDJointPosController | _Closed,
+    action: np.ndarray,
+    fingers: list[Link],
 ) -> float:
     first, second = _finger_points(model, _gripper_qpos(qpos, gripper, action), fingers)
     return float(np.linalg.norm(first - second))
 
 
 def _grasp_frame(
-    model: Any,
-    robot: Any,
-    tcp: Any,
-    fingers: list[Any],
+    model: PinocchioModel,
+    robot: Articulation,
+    tcp: Link,
+    fingers: list[Link],
     qpos: np.ndarray,
-    gripper: Any,
+    gripper: PDJointPosController | _Closed,
     closed_action: np.ndarray,
     open_action: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -446,6 +495,7 @@ def _grasp_frame(
     local = np.mean([(wide[i] + shut[i]) / 2 for i in moving], axis=0)
     middle = base[:3, :3] @ local + base[:3, 3]
     hand = fingers[0].joint.parent_link
+    assert hand is not None  # a finger hangs from a link
     z = middle - hand.pose.sp.p
     z -= (z @ y) * y
     if np.linalg.norm(z) < 1e-6:

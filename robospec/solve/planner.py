@@ -21,11 +21,18 @@ the fixed transform from the solutions' grasp frame to the tcp link's.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from robospec.solve.gripper import GripperFacts
+
+if TYPE_CHECKING:
+    import sapien
+    from mani_skill.envs.sapien_env import BaseEnv
+    from mani_skill.envs.scene import ManiSkillScene
+    from mani_skill.utils.structs import Pose
+    from sapien.physx import PhysxCpuSystem
 
 QPOS_STEP = 0.1  # rad per screw step (mplib's qpos_step)
 # mplib's default joint limits, 1 rad/s and 1 rad/s², which ManiSkill's solvers scale by 0.9
@@ -55,17 +62,17 @@ class GripperArmSolver:
 
     def __init__(
         self,
-        env: Any,
+        env: BaseEnv,  # as the solutions hand it (robospec.solve.solutions' view of one)
         debug: bool = False,
         vis: bool = False,
-        base_pose: Any = None,
+        base_pose: sapien.Pose | None = None,
         visualize_target_grasp_pose: bool = False,
         print_env_info: bool = False,
         joint_vel_limits: float = 0.9,
         joint_acc_limits: float = 0.9,
     ) -> None:
         self.env = env
-        self.base_env = env.unwrapped
+        self.base_env = cast("BaseEnv", env.unwrapped)
         self.robot = self.base_env.agent.robot
         self.control_mode = self.base_env.control_mode
         # one value per dimension of the gripper's action (upstream's solvers: one number)
@@ -75,14 +82,16 @@ class GripperArmSolver:
         self.elapsed_steps = 0
         self.velocity_limit = MPLIB_LIMIT * joint_vel_limits
         self.acceleration_limit = MPLIB_LIMIT * joint_acc_limits
-        self.model = self.robot._objs[0].create_pinocchio_model()
+        self.model = self.robot.create_pinocchio_model()  # (the CPU simulation's)
         self.tcp_index = self.facts.tcp_index
         self.arm = np.asarray(self.facts.arm_joints)
         self.limits = self.robot.get_qlimits()[0].cpu().numpy().astype(np.float64)
 
     # -- what the solutions call ---------------------------------------------------------------
 
-    def move_to_pose_with_screw(self, pose: Any, dry_run: bool = False, refine_steps: int = 0):
+    def move_to_pose_with_screw(
+        self, pose: sapien.Pose | Pose, dry_run: bool = False, refine_steps: int = 0
+    ):
         try:
             result = self.plan_screw(pose)
         except PlanFailed:
@@ -101,7 +110,7 @@ class GripperArmSolver:
     def close_gripper(self, t: int = 6, gripper_state: float | Sequence[float] | None = None):
         return self._hold_gripper(self.CLOSED if gripper_state is None else gripper_state, t)
 
-    def add_box_collision(self, extents: Any, pose: Any) -> None:
+    def add_box_collision(self, extents: np.ndarray, pose: sapien.Pose) -> None:
         raise NotImplementedError("robospec's planner plans no motion around obstacles")
 
     add_collision_pts = add_box_collision
@@ -117,7 +126,7 @@ class GripperArmSolver:
 
     # -- planning ------------------------------------------------------------------------------
 
-    def plan_screw(self, pose: Any) -> dict[str, np.ndarray]:
+    def plan_screw(self, pose: sapien.Pose | Pose) -> dict[str, np.ndarray]:
         """mplib's ``plan_screw``: joint positions of the arm along the screw from the tcp's
         pose now to ``pose`` (world frame, in the solutions' grasp frame), time-parametrised."""
         import sapien
@@ -230,10 +239,10 @@ class GripperArmSolver:
         return outcome
 
 
-def _self_contacts(scene: Any, links: set[str]) -> list[tuple[str, str]]:
+def _self_contacts(scene: ManiSkillScene, links: set[str]) -> list[tuple[str, str]]:
     """Pairs of the robot's links pressing on each other now (a contact with an impulse)."""
     pairs: set[tuple[str, str]] = set()
-    for contact in scene.px.get_contacts():
+    for contact in cast("PhysxCpuSystem", scene.px).get_contacts():  # (solve's: on the CPU)
         names = [body.entity.name for body in contact.bodies]
         if not all(name in links for name in names):
             continue

@@ -19,11 +19,16 @@ and the farthest such point from the root, at an object's height and bearing, by
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from robospec.solve.gripper import GripperFacts
+
+if TYPE_CHECKING:
+    import gymnasium as gym
+    from mani_skill.agents.base_agent import BaseAgent
+    from mani_skill.envs.sapien_env import BaseEnv
 
 POSITION_TOLERANCE = 0.002  # m: the grasp frame's origin from the point
 ANGLE_TOLERANCE = 0.02  # rad: its z from straight down
@@ -41,9 +46,9 @@ FINITE_DIFFERENCE = 1e-6
 class DownwardReach:
     """Where ``agent``'s grasp frame (``facts``) reaches pointing straight down."""
 
-    def __init__(self, agent: Any, facts: GripperFacts) -> None:
+    def __init__(self, agent: BaseAgent, facts: GripperFacts) -> None:
         robot = agent.robot
-        self.model = robot._objs[0].create_pinocchio_model()
+        self.model = robot.create_pinocchio_model()  # (the CPU simulation's)
         self.tcp_index = facts.tcp_index
         self.tcp_to_grasp = facts.grasp_to_tcp.inv().to_transformation_matrix()
         self.arm = np.asarray(facts.arm_joints)
@@ -135,7 +140,7 @@ class DownwardReach:
         )
 
 
-def dynamic_actors(base_env: Any) -> dict[str, np.ndarray]:
+def dynamic_actors(base_env: BaseEnv) -> dict[str, np.ndarray]:
     """The task's objects (its dynamic actors) and where the last reset put them (world)."""
     return {
         name: actor.pose.p[0].cpu().numpy().astype(np.float64)
@@ -145,14 +150,14 @@ def dynamic_actors(base_env: Any) -> dict[str, np.ndarray]:
 
 
 def beyond_downward_reach(
-    env: Any, facts: GripperFacts, seeds: list[int], bound: float
+    env: gym.Env, facts: GripperFacts, seeds: list[int], bound: float
 ) -> str | None:
     """Why the solution's grasps from above cannot apply: the objects lie beyond the farthest
     the grasp reaches down at their height (measured at the first seed, each object's height
     and bearing) in more than half of ``seeds`` (each reset as the episode will be), or the
     grasp reaches down nowhere there; None where they do not. ``bound``: the chain's reach,
     which no point beyond needs trying. The environment is left reset at the last seed."""
-    base = env.unwrapped
+    base = cast("BaseEnv", env.unwrapped)
     reach = DownwardReach(base.agent, facts)
     root = reach.root
     farthest: dict[str, float | None] = {}

@@ -14,7 +14,14 @@ from __future__ import annotations
 import importlib
 import types
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import gymnasium as gym
+    import sapien
+    from mani_skill.agents.base_agent import BaseAgent
+    from mani_skill.envs.sapien_env import BaseEnv
+    from mani_skill.utils.structs import Link, Pose
 
 # the tasks whose solutions need nothing but a two-finger gripper on an arm (no obstacles
 # added to the planner, no tool of the Panda's): task id -> module under panda/solutions
@@ -54,7 +61,7 @@ def lend_grasp_pose(agent: Any) -> None:
     agent.build_grasp_pose = Panda.build_grasp_pose
 
 
-def in_grasp_frame(env: Any, grasp_to_tcp: Any) -> Any:
+def in_grasp_frame(env: gym.Env, grasp_to_tcp: sapien.Pose) -> _View:
     """``env`` as the solutions read it, with ``agent.tcp.pose`` the grasp frame's pose
     (robospec.solve.gripper): the solutions take the tcp's frame for the Panda's, z along its
     fingers and y across them, to choose a grasp's closing (its y axis) and to hold the gripper
@@ -67,7 +74,7 @@ class _View:
     """An environment, its base environment or its agent, with the tcp seen in the grasp
     frame; every other attribute the object's own."""
 
-    def __init__(self, target: Any, grasp_to_tcp: Any) -> None:
+    def __init__(self, target: gym.Env | BaseEnv | BaseAgent, grasp_to_tcp: sapien.Pose) -> None:
         self._target = target
         self._grasp_to_tcp = grasp_to_tcp
 
@@ -81,7 +88,7 @@ class _View:
 
 
 class _Tcp:
-    def __init__(self, link: Any, grasp_to_tcp: Any) -> None:
+    def __init__(self, link: Link, grasp_to_tcp: sapien.Pose) -> None:
         self._link = link
         self._grasp_to_tcp = grasp_to_tcp
 
@@ -89,7 +96,7 @@ class _Tcp:
         return getattr(self._link, name)
 
     @property
-    def pose(self) -> Any:
+    def pose(self) -> Pose:
         from mani_skill.utils.structs.pose import Pose
 
         return self._link.pose * Pose.create(self._grasp_to_tcp.inv())

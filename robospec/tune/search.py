@@ -85,7 +85,7 @@ def timings(trace: StepTrace) -> tuple[Timing, ...]:
 def controller_gains(sim: Sim, group_name: str) -> Gains:
     """The gains the controller gives its joints (as configured), one value per joint."""
     group = sim.group(group_name)
-    config = group.controller.config
+    config = group.pd_config
     n = len(group.joint_indices)
 
     def per_joint(value: object) -> tuple[float, ...]:

@@ -102,7 +102,7 @@ class Replay:
     def run(self, drives: Drives) -> np.ndarray:
         """The joints' positions at the reference's sample times, (T, J), with ``drives``."""
         sim, robot = self.sim, self.sim.robot
-        robot.set_pose(self.pose)
+        robot.pose = self.pose  # (what set_pose does: it takes a batched Pose too)
         robot.set_qpos(self.qpos)
         robot.set_qvel(self.qpos * 0)
         for group in self.groups:
