@@ -30,11 +30,12 @@ writes what the compiled ``MjModel`` says:
 
 A ``<connect>`` between two of the robot's bodies is carried as a closed loop (the
 description's closures: ``robospec new`` writes it under ``loops:``, closed by a drive after
-loading). What the URDF cannot carry is one warning per kind (RS791): armature, the other
-``<equality>`` constraints, ``<tendon>``, ``<contact>`` pairs and exclusions, actuators (the
-spec's controllers drive the joints), ball-joint cones (each hinge gets the cone's limit),
-planes, height fields, other body trees of a scene. A file MuJoCo refuses is RS790, at the
-line MuJoCo names.
+loading). Joint armature is a description fact too, which the agent sets through SAPIEN
+(``PhysxArticulationJoint.set_armature``). What the URDF cannot carry is one warning per kind
+(RS791): the other ``<equality>`` constraints, ``<tendon>``, ``<contact>`` pairs and
+exclusions, actuators (the spec's controllers drive the joints), ball-joint cones (each hinge
+gets the cone's limit), planes, height fields, other body trees of a scene. A file MuJoCo
+refuses is RS790, at the line MuJoCo names.
 """
 
 from __future__ import annotations
@@ -128,6 +129,7 @@ def compile_urdf(
         "actuators": writer.actuators(),
         "floating_root": writer.floating,
         "closures": writer.closures(),
+        "armature": tuple(writer.armature.items()),
     }
     if writer.root_pose is not None:  # the root link is the root body: no offset between
         facts.update(root_body_pose=writer.root_pose, root_body_offset=(ZERO, IDENTITY))
@@ -308,6 +310,7 @@ class _Writer:
         self.free_joint: int | None = None
         self.ball_joints: dict[int, list[str]] = {}  # ball joint -> its three hinges' names
         self.hinges: dict[int, str] = {}  # hinge or slide -> its URDF joint
+        self.armature: dict[str, float] = {}  # URDF joint -> its dof's armature, where not 0
 
     # -- what MuJoCo compiles although it is not a number
 
@@ -608,8 +611,9 @@ class _Writer:
             etree.SubElement(
                 element, "dynamics", damping=_number(damping), friction=_number(friction)
             )
-        if float(model.dof_armature[dof]):
-            self._drop("joint", "joint armature", self.joint_name(joint), self.joint_name(joint))
+        armature = float(model.dof_armature[dof])  # (a ball's three dofs: its one value)
+        if armature:
+            self.armature[name] = armature
         return name
 
     def _inertial(self, link: str, body: int) -> None:

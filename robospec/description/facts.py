@@ -172,6 +172,10 @@ class RobotDescription:
     # conaffinity, a <contact><exclude>) and ManiSkill collides (robospec new declares them
     # never_collide where bits allow)
     filtered_pairs: tuple[tuple[str, str], ...] = ()
+    # an MJCF compiled by MuJoCo: each joint's armature (the rotor inertia MuJoCo adds to its
+    # degree of freedom; each hinge of a ball joint its own), which a URDF cannot say and the
+    # agent sets through SAPIEN (PhysxArticulationJoint.set_armature)
+    armature: tuple[tuple[str, float], ...] = ()
     _links_by_name: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
     _joints_by_name: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
 

@@ -162,7 +162,7 @@ _IGNORED_JOINT_ATTRIBUTES: dict[str, str] = {
     "stiffness": "the joint springs (stiffness, springref) are not loaded: nothing pulls "
     "these joints back",
     "armature": "armature (rotor inertia) is not loaded: these joints are lighter than in "
-    "MuJoCo, and stiff drives on them less stable",
+    "MuJoCo, and stiff drives on them less stable (loader: mujoco sets it)",
 }
 
 

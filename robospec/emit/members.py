@@ -395,6 +395,17 @@ def generate_after_loading_articulation(
             """,
             OFFSET=constant(offset),
         )
+    if robot.armature:
+        # the rotor inertia MuJoCo adds to each joint (an MJCF's armature), which a URDF
+        # cannot say: on every sub-scene's joint, before the GPU copies them
+        body += template(
+            """
+            for name, armature in ARMATURE.items():
+                for joint in self.robot.joints_map[name]._objs:
+                    joint.set_armature([armature])
+            """,
+            ARMATURE=constant(dict(robot.armature)),
+        )
     for drive in robot.drives:
         body += template(
             """

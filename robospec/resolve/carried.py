@@ -44,6 +44,7 @@ CONCATENATED = (
     "proprioception",
     "drives",
     "loops",
+    "armature",
 )
 
 

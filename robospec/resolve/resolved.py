@@ -539,6 +539,9 @@ class ResolvedRobot:
     disable_gravity: tuple[str, ...] = ()
     drives: tuple[ResolvedDrive, ...] = ()
     loops: tuple[ResolvedLoop, ...] = ()
+    # joint -> armature the agent sets after loading: the description's (an MJCF compiled by
+    # MuJoCo), which its URDF cannot say
+    armature: tuple[tuple[str, float], ...] = ()
     touch: ResolvedTouch | None = None
     mobile_base: ResolvedMobileBase | None = None
     hooks: ResolvedHooks = ResolvedHooks()
@@ -607,6 +610,7 @@ class ResolvedRobot:
             disable_gravity=tuple(map(r.link, self.disable_gravity)),
             drives=each(self.drives),
             loops=each(self.loops),
+            armature=tuple((r.joint(joint), value) for joint, value in self.armature),
             touch=optional(self.touch),
             mobile_base=optional(self.mobile_base),
             never_collide=optional(self.never_collide),

@@ -42,7 +42,7 @@ STILL = 1e-4  # a joint whose measured motion is below this (rad or m, RMS) show
 ARMATURE_NOTE = (
     "armature is not fitted: a position trajectory shows K/I and D/I, so rotor inertia "
     "cannot be told from the gains (its effect is absorbed into them), and a spec has no "
-    "field for it"
+    "field for it (an MJCF with loader: mujoco brings its own)"
 )
 MUJOCO_NOTES = (
     "ManiSkill's MJCF loader recomputes masses and inertias from the geoms (not the file's "
@@ -54,8 +54,8 @@ MUJOCO_NOTES = (
 # the same, where MuJoCo compiled the MJCF into the URDF ManiSkill loads (loader: mujoco)
 MUJOCO_COMPILED_NOTES = (
     "MuJoCo compiled the MJCF into the URDF ManiSkill loads (loader: mujoco): masses, "
-    "inertias, joint damping and frictionloss are MuJoCo's in both; armature is not carried "
-    "(RS791), so the fitted gains absorb it",
+    "inertias, armature and frictionloss are MuJoCo's in both; a driven joint's own damping "
+    "is not (its drive's damping is the controller's), so the fitted damping absorbs it",
     "the fit matches each joint's drive; tendons and equality constraints (which the URDF does "
     "not carry) cannot be matched by gains",
 )
