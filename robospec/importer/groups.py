@@ -20,10 +20,10 @@ class GroupPlan:
     """Group name → joints, and for each joint tuple the selection a controller writes."""
 
     groups: dict[str, tuple[str, ...]] = field(default_factory=dict)
-    selections: dict[tuple[str, ...], Any] = field(default_factory=dict)
+    selections: dict[tuple[str, ...], str | list[str]] = field(default_factory=dict)
     values: dict[str, Any] = field(default_factory=dict)  # group name → spec value
 
-    def selection(self, joints: tuple[str, ...]) -> Any:
+    def selection(self, joints: tuple[str, ...]) -> str | list[str]:
         return self.selections[joints]
 
 
@@ -69,7 +69,7 @@ def _safe_name(key: str) -> str:
     return name if re.match(r"[A-Za-z0-9_]", name) else "_" + name[:63]
 
 
-def selection_for(joints: tuple[str, ...], all_joints: tuple[str, ...] | None) -> Any:
+def selection_for(joints: tuple[str, ...], all_joints: tuple[str, ...] | None) -> str | list[str]:
     """``"*"`` for every joint, a glob that selects exactly ``joints`` in order, or a list."""
     if joints == (ALL_JOINTS,) or (all_joints is not None and joints == all_joints):
         return ALL_JOINTS

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import io
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from lxml import etree
 
@@ -27,6 +27,7 @@ from robospec.description.urdf import parse_xml
 from robospec.kinematics.placement import MOVING, Axis, Placement, Poser
 
 if TYPE_CHECKING:
+    import numpy as np
     from yourdfpy import URDF
 
 
@@ -69,7 +70,7 @@ class _UrdfPoser:
             placed[joint.name] = Axis(child[:3, :3] @ self.axes[joint.name], child[:3, 3].copy())
         return Placement(poses, placed)
 
-    def link(self, qpos: Mapping[str, float], name: str) -> Any:
+    def link(self, qpos: Mapping[str, float], name: str) -> np.ndarray:
         """One link's pose alone (yourdfpy walks only its chain)."""
         self._configure(qpos)
         return self.model.get_transform(name, self.root)
@@ -84,7 +85,7 @@ class _UrdfPoser:
             self._configured.update(changed)
 
 
-def _yourdfpy_model(text: bytes) -> Any:
+def _yourdfpy_model(text: bytes) -> URDF | None:
     root, _ = parse_xml(text, "")
     if root is None:
         return None

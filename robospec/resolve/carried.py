@@ -29,6 +29,7 @@ from robospec.resolve.resolved import (
     ResolvedKeyframe,
     ResolvedMode,
     ResolvedRobot,
+    ResolvedTcp,
 )
 
 if TYPE_CHECKING:
@@ -156,7 +157,7 @@ def with_parts(context: ResolveContext, robot: ResolvedRobot) -> ResolvedRobot:
     )
 
 
-def _part_tcp(context: ResolveContext) -> Any:
+def _part_tcp(context: ResolveContext) -> ResolvedTcp | None:
     """The first part's tcp, for a robot whose spec gives none; reported on in its spec."""
     for part in context.carried:
         if part.robot is not None and part.robot.tcp is not None:
