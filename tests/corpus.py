@@ -275,15 +275,6 @@ EXPECTED_STOPS: dict[str, Stop] = {
         "drifts and a finger is flung past its limit (RS503): not yet understood (the same "
         "with the agent's reset taken out)",
     ),
-    "gx_xarm7": Stop(
-        "check",
-        frozenset({"RS531"}),
-        "its two four-bars, closed by loop drives, pull 4-6 mm apart under pd_joint_delta_pos's "
-        "random actions (RS531); a lower force_limit on the gripper or the arm does not close "
-        "them (measured 6.2 mm with either), and the solver iterations that do fling its "
-        "gripper in pd_joint_pos (new measures both and recommends none): not yet understood. "
-        "solve picks 19 of 20 seeds",
-    ),
 }
 
 
