@@ -166,6 +166,12 @@ def test_an_mjcf_position_servo_is_geared_squared(tmp_path: Path) -> None:
         18,
         12,
     )
+    # the joint's own damping damps it beside the servo's kv g² in MuJoCo: the drive takes both
+    (tmp_path / "damped").mkdir()
+    damped = SERVO.replace('limited="true"/>', 'limited="true" damping="0.5"/>')
+    data, _ = _scaffold(tmp_path / "damped", damped, ".xml")
+    (controller,) = [c for c in data["controllers"].values() if c.get("type") == "pd_joint_pos"]
+    assert (controller["stiffness"], controller["damping"]) == (90, 18.5)
     # the model's own gains are what it was tuned with: robospec claims nothing about their
     # force, however small its forcerange (0.3 N m)
     (tmp_path / "weak").mkdir()

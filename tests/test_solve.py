@@ -115,6 +115,26 @@ def test_a_gripper_arm_without_absolute_joint_positions_is_refused_at_its_contro
     assert not report.episodes
 
 
+def test_a_velocity_controlled_arm_in_pd_joint_pos_is_refused_at_its_controllers(
+    tmp_path: Path,
+) -> None:
+    """A mode named pd_joint_pos whose arm takes joint velocities: the solutions' planned
+    positions cannot be its action, and it has no position controller's settings to read."""
+    from robospec.solve.command import run_solve
+
+    text = PANDA.read_text(encoding="utf-8")
+    mode = "  pd_joint_pos: {arm: arm_pos, gripper: gripper}\n"
+    assert mode in text
+    text = text.replace(mode, mode.replace("arm_pos", "arm_vel"))
+    spec = tmp_path / "panda.yaml"
+    spec.write_text(text.replace("uid: rs_panda\n", "uid: rs_panda_vel\n"), encoding="utf-8")
+    report = run_solve(spec, "PickCube-v1", 1, None, 1, 0, progress=False)
+    (diagnostic,) = report.diagnostics
+    assert diagnostic.code == "RS682"
+    assert "'arm' controller is a PDJointVelControllerConfig" in diagnostic.message
+    assert not report.episodes
+
+
 def test_min_success_fails_a_report_below_it_and_passes_one_at_it() -> None:
     from robospec.solve.command import SolveReport, below_min_success
     from robospec.solve.episodes import Episode

@@ -177,6 +177,7 @@ def read_facts(
     """The facts of ``agent`` as the environment has just reset it (``pd_joint_pos``);
     ``loops``: the spec's closed loops, each its two links."""
     import sapien
+    from mani_skill.agents.controllers.pd_joint_pos import PDJointPosController
 
     robot = agent.robot
     tcp = getattr(agent, "tcp", None)
@@ -199,7 +200,16 @@ def read_facts(
     arm_name, gripper_name = _arm_and_gripper(
         parts, tcp, fingers, [(links[a], links[b]) for a, b in (c.links for c in closing)]
     )
-    # (pd_joint_pos's arm and gripper set joint positions: ManiSkill holds them as BaseController)
+    # (the solutions plan joint positions: a velocity or end-effector controller cannot take
+    # them, and has none of a joint-position controller's settings to read)
+    for name in (arm_name, gripper_name):
+        if not isinstance(parts[name], PDJointPosController):
+            raise NotSolvable(
+                f"{MODE}'s '{name}' controller is a {type(parts[name].config).__name__}: the "
+                "planned joint positions cannot be its action",
+                f"drive the arm and the gripper in {MODE} with pd_joint_pos controllers",
+                "controllers",
+            )
     arm = cast("PDJointPosController", parts[arm_name])
     positions = cast("PDJointPosController", parts[gripper_name])
     held = [n for n in parts if n not in (arm_name, gripper_name)]

@@ -7,7 +7,8 @@ With ``g`` the actuator's gear (a joint feels ``g`` times its force and moves it
 times as fast):
 
 * a position servo (``<position>``, or a ``<general>`` whose bias makes it one): stiffness
-  ``kp·g²``; damping ``kv·g²``, or the joint's own ``damping`` when ``kv`` is 0;
+  ``kp·g²``; damping ``kv·g²`` plus the joint's own ``damping`` (MuJoCo damps the joint with
+  both; a ManiSkill joint's one damping is its drive's, which the controller sets);
 * force limit: ``|g|·max|forcerange|`` when the force is limited; for a ``<motor>``, whose force
   is its control, ``|g|·max|ctrlrange|`` when the control is limited; else the joint's own
   ``actuatorfrcrange``.
@@ -55,9 +56,9 @@ def actuator_drives(
         joint = joint_attributes.get(actuator.joint, {})
         g = actuator.gear
         stiffness = actuator.kp * g * g if actuator.kp is not None else None
-        damping = actuator.kv * g * g if actuator.kv else None
-        if stiffness is not None and damping is None:
-            damping = _number(joint.get("damping")) or None
+        servo = actuator.kv * g * g if actuator.kv else 0.0
+        own = (_number(joint.get("damping")) or 0.0) if stiffness is not None else 0.0
+        damping = servo + own or None
         force_limit = None
         named = f"actuator '{actuator.name}'" if actuator.name else "its actuator"
         rated_by: str | None = None
