@@ -87,10 +87,10 @@ def test_an_mjcf_free_joint_floats_and_keeps_the_files_keyframe_and_gains(tmp_pa
     assert data["keyframes"]["home"]["pose"] == {"p": [0.0, 0.0, 0.33]}
     assert data["keyframes"]["home"]["qpos"]["rr"] == [0.2, -0.8]
     fl, rr = data["controllers"]["fl_pos"], data["controllers"]["rr_pos"]
-    # position actuators: kp -> stiffness, kv (else the joint's damping) -> damping, force
-    # range -> force_limit; by joint where they differ
+    # position actuators: kp -> stiffness, kv plus the joint's own damping (0.5) -> damping,
+    # force range -> force_limit; by joint where they differ
     assert fl["stiffness"] == {"front_left_hip": 200, "front_left_knee": 250}
-    assert fl["damping"] == {"front_left_hip": 0.5, "front_left_knee": 4}
+    assert fl["damping"] == {"front_left_hip": 0.5, "front_left_knee": 4.5}
     assert fl["force_limit"] == {"front_left_hip": 40, "front_left_knee": 60}
     assert rr["stiffness"] == {"rear_right_hip": 220, "rear_right_knee": 250}
     assert modes_balance(data) == [False, False]

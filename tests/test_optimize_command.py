@@ -96,6 +96,31 @@ def test_an_mjcf_robot_is_not_condensed() -> None:
     assert not Path("unused.yaml").exists()
 
 
+def test_an_mjcf_compiled_by_mujoco_is_condensed_and_keeps_its_armature(tmp_path: Path) -> None:
+    """``loader: mujoco``: the robot is the URDF MuJoCo's model is written as, so optimize
+    condenses it; the optimized spec names its own URDF (no loader, no MJCF mends) and says the
+    joints' armature, which that URDF cannot carry."""
+    import shutil
+
+    reference = Path(__file__).parent / "specs" / "reference"
+    shutil.copy(reference / "arm3.xml", tmp_path / "arm3.xml")
+    text = (reference / "arm3.yaml").read_text(encoding="utf-8")
+    named = "  mjcf: arm3.xml\n"
+    assert named in text
+    spec = tmp_path / "arm3.yaml"
+    spec.write_text(text.replace(named, named + "  loader: mujoco\n"), encoding="utf-8")
+    out = tmp_path / "arm3_fast.yaml"
+    report, diagnostics = run_optimize(spec, out, OptimizeOptions(samples=0))
+    assert report is not None, [d.format_text() for d in diagnostics]
+    written = yaml.safe_load(out.read_text(encoding="utf-8"))
+    assert written["description"] == {"urdf": "arm3_fast.urdf"}
+    before, after = compile_spec(spec), compile_spec(out)
+    assert after.ok, [d.format_text() for d in after.diagnostics]
+    assert before.robot is not None and after.robot is not None
+    assert before.robot.armature == (("shoulder_yaw", 0.01), ("elbow", 0.01), ("wrist", 0.01))
+    assert after.robot.armature == before.robot.armature
+
+
 def test_an_unknown_shapes_method_is_a_usage_error_naming_the_methods(tmp_path: Path) -> None:
     # typer refuses it before anything runs (exit 2), as it does a malformed number
     out = tmp_path / "p.yaml"

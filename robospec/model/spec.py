@@ -21,6 +21,7 @@ from robospec.model.common import (
     Number,
     Pose,
     StrictModel,
+    ValueByName,
     Vector3,
 )
 from robospec.model.controllers import ControllerConfig
@@ -387,6 +388,14 @@ class Simulation(StrictModel):
         description="The PhysX solver velocity iterations recommended for this robot "
         "(`sim_config_for(uid)`; ManiSkill's default is 1).",
         examples=[1],
+    )
+    armature: dict[JointPattern, Annotated[ValueByName, Field(ge=0)]] = Field(
+        default_factory=dict,
+        description="Rotor inertia added to joints (kg m², kg for a slide), by joint name, "
+        "glob or group, set by the agent after loading through SAPIEN (a URDF has no element "
+        "for it). An MJCF with `loader: mujoco` brings its joints' armature without this; "
+        "values here replace it.",
+        examples=[{"panda_joint*": 0.1}],
     )
 
 

@@ -331,6 +331,12 @@ def _optimized_spec(compiled: CompiledSpec, targets: Targets, report: OptimizeRe
     through ruamel's round trip (comments and order kept), a TOML one as YAML."""
     from robospec.optimize.spec_rewrite import rewrite_spec
 
+    simulation = dict(report.simulation or {})
+    robot, description = compiled.robot, compiled.description
+    if robot is not None and description is not None and description.armature:
+        # an MJCF's armature is a fact of its compiled model, which the URDF written from it
+        # cannot carry: the optimized spec says it
+        simulation["armature"] = dict(robot.armature)
     return rewrite_spec(
         compiled.path,
         targets.spec,
@@ -338,5 +344,5 @@ def _optimized_spec(compiled: CompiledSpec, targets: Targets, report: OptimizeRe
         urdf=targets.urdf.name,
         never_collide=report.never_collide,
         header=f"# {MARK} from {compiled.path.name}: robospec optimize rewrites this file",
-        simulation=report.simulation,
+        simulation=simulation,
     )

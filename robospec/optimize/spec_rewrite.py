@@ -16,8 +16,10 @@ import re
 from pathlib import Path
 from typing import Any
 
-# keys of description: that name the old description and its files
-_DESCRIPTION_KEYS = ("urdf", "xacro", "mjcf", "args", "packages", "download")
+# keys of description: that name the old description and its files, or say how an MJCF is read
+# (the optimized URDF is written from the robot as loaded: an MJCF's compiled and mended model,
+# its listed sites links already)
+_DESCRIPTION_KEYS = ("urdf", "xacro", "mjcf", "args", "packages", "download", "loader", "sites")
 TOML_SUFFIXES = (".toml",)
 MODELINE = re.compile(r"^(#\s*yaml-language-server:\s*\$schema=)(\S+)", re.M)
 
@@ -83,6 +85,8 @@ def _change(
     document["uid"] = uid
     description = document.get("description")
     if hasattr(description, "keys"):
+        if "mjcf" in description:  # an MJCF's mends are in the URDF written from it
+            description.pop("mend", None)
         for key in _DESCRIPTION_KEYS:
             if key in description:
                 del description[key]

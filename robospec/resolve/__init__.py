@@ -131,7 +131,7 @@ def _resolve_robot(context: ResolveContext) -> ResolvedRobot | None:
         disable_gravity=members.disable_gravity(context),
         drives=members.drives(context),
         loops=mechanisms.loops(context),
-        armature=description.armature,
+        armature=members.armature(context),
         touch=mechanisms.touch(context),
         mobile_base=base,
         hooks=members.hooks(context),

@@ -180,6 +180,17 @@ def simulation(context: ResolveContext) -> ResolvedSimulation:
     )
 
 
+def armature(context: ResolveContext) -> tuple[tuple[str, float], ...]:
+    """Each joint's armature, in qpos order: the description's (an MJCF compiled by MuJoCo),
+    then the spec's ``simulation.armature``, each entry over what comes before it."""
+    values = dict(context.description.armature)
+    for pattern, value in context.spec.simulation.armature.items():
+        for joint in select_joints(context, pattern, ("simulation", "armature", pattern)):
+            values[joint] = float(value)
+    order = context.description.active_joint_names
+    return tuple((joint, values[joint]) for joint in order if values.get(joint))
+
+
 def disable_gravity(context: ResolveContext) -> tuple[str, ...]:
     if context.spec.disable_gravity is None:
         return ()

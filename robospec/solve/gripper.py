@@ -31,7 +31,7 @@ reason, before an episode runs.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, cast
 
@@ -171,13 +171,43 @@ class _Closed:
         return out
 
 
+def _position_controllers(
+    parts: Mapping[str, BaseController], arm_name: str, gripper_name: str
+) -> tuple[PDJointPosController, PDJointPosController]:
+    """The arm's and the gripper's controllers, each one that takes joint positions: the
+    solutions plan positions, which a velocity or end-effector controller cannot take (and
+    whose settings are not a joint-position controller's); the arm's absolute ones."""
+    from mani_skill.agents.controllers.pd_joint_pos import PDJointPosController
+
+    found = []
+    for name in (arm_name, gripper_name):
+        controller = parts[name]
+        if not isinstance(controller, PDJointPosController):
+            raise NotSolvable(
+                f"{MODE}'s '{name}' controller is a {type(controller.config).__name__}: the "
+                "planned joint positions cannot be its action",
+                f"drive the arm and the gripper in {MODE} with pd_joint_pos controllers",
+                "controllers",
+            )
+        found.append(controller)
+    arm, positions = found
+    if arm.config.use_delta or arm.config.normalize_action:
+        raise NotSolvable(
+            f"{MODE}'s arm controller '{arm_name}' takes "
+            + ("joint deltas" if arm.config.use_delta else "normalised actions")
+            + ": the planned joint positions cannot be its action",
+            "use_delta: false and normalize_action: false for that controller",
+            "controllers",
+        )
+    return arm, positions
+
+
 def read_facts(
     agent: BaseAgent, finger_links: tuple[str, str], loops: tuple[Closing, ...] = ()
 ) -> GripperFacts:
     """The facts of ``agent`` as the environment has just reset it (``pd_joint_pos``);
     ``loops``: the spec's closed loops, each its two links."""
     import sapien
-    from mani_skill.agents.controllers.pd_joint_pos import PDJointPosController
 
     robot = agent.robot
     tcp = getattr(agent, "tcp", None)
@@ -200,27 +230,8 @@ def read_facts(
     arm_name, gripper_name = _arm_and_gripper(
         parts, tcp, fingers, [(links[a], links[b]) for a, b in (c.links for c in closing)]
     )
-    # (the solutions plan joint positions: a velocity or end-effector controller cannot take
-    # them, and has none of a joint-position controller's settings to read)
-    for name in (arm_name, gripper_name):
-        if not isinstance(parts[name], PDJointPosController):
-            raise NotSolvable(
-                f"{MODE}'s '{name}' controller is a {type(parts[name].config).__name__}: the "
-                "planned joint positions cannot be its action",
-                f"drive the arm and the gripper in {MODE} with pd_joint_pos controllers",
-                "controllers",
-            )
-    arm = cast("PDJointPosController", parts[arm_name])
-    positions = cast("PDJointPosController", parts[gripper_name])
+    arm, positions = _position_controllers(parts, arm_name, gripper_name)
     held = [n for n in parts if n not in (arm_name, gripper_name)]
-    if arm.config.use_delta or arm.config.normalize_action:
-        raise NotSolvable(
-            f"{MODE}'s arm controller '{arm_name}' takes "
-            + ("joint deltas" if arm.config.use_delta else "normalised actions")
-            + ": the planned joint positions cannot be its action",
-            "use_delta: false and normalize_action: false for that controller",
-            "controllers",
-        )
     model = robot.create_pinocchio_model()  # (the CPU simulation's: its one articulation's)
     qpos = robot.get_qpos()[0].cpu().numpy().astype(np.float64)
     gripper = _Closed(positions, model, robot, closing) if closing else positions
