@@ -225,3 +225,46 @@ def test_a_base_rides_at_its_height_above_the_floor_where_the_slides_lie(tmp_pat
     root = etree.fromstring(source.text)
     (slide,) = [j for j in root.iter("joint") if j.get("name") == "base_x_joint"]
     assert slide.find("origin").get("xyz") == "0 0 0.25"
+
+
+CASTER_CART = Path(__file__).parent / "data" / "new" / "caster_cart.xml"
+CART_SPEC = """\
+robospec: 1
+uid: {uid}
+description: {{mjcf: "{path}", loader: mujoco}}
+mobile_base: {{wheels: [left_wheel, right_wheel, caster], wheel_joints: fixed, height: 0.1}}
+"""
+
+
+def _caster_cart(tmp_path: Path, uid: str) -> Path:
+    spec = tmp_path / "cart.yaml"
+    spec.write_text(CART_SPEC.format(uid=uid, path=CASTER_CART.as_posix()), encoding="utf-8")
+    return spec
+
+
+def test_an_mjcf_bases_welded_wheels_take_their_actuators_with_them(tmp_path: Path) -> None:
+    """An MJCF cart on two hinge wheels and a ball caster, compiled by MuJoCo: the base's
+    slides and hinge replace its free joint, the wheels' joints go, and so do the velocity
+    actuators on them (MuJoCo refuses a model that names a joint it does not have)."""
+    result = compile_spec(_caster_cart(tmp_path, "caster_cart"))
+    assert result.ok, [d.format_text() for d in result.diagnostics]
+    assert result.robot is not None and result.description is not None
+    assert result.robot.active_joints == ("base_x_joint", "base_y_joint", "base_yaw_joint")
+    assert {"left_wheel", "right_wheel", "caster"} <= set(result.description.link_names)
+    (note,) = [d for d in result.diagnostics if d.code == "RS780"]
+    assert note.location.line == 7  # the chassis, and 5 more changes: 3 joints, 2 actuators
+    assert "and 5 more" in note.message
+
+
+@pytest.mark.maniskill
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_an_mjcf_cart_on_a_ball_caster_drives_its_base_with_its_wheels_off_the_floor(
+    tmp_path: Path, maniskill: object
+) -> None:
+    spec = _caster_cart(tmp_path, "caster_cart_sim")
+    moves, touching = _drive(spec, "chassis", [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    (forward, _), (_, turned) = moves
+    assert forward >= MIN_TRAVEL, f"went {forward:.3f} m forward"
+    assert turned >= MIN_TURN, f"turned {turned:.3f} rad"
+    assert touching == []

@@ -20,7 +20,9 @@ wheels must ride that high.
 
 Wheels (the section's link patterns) leave the floor's collisions at run time (the agent sets
 their collision bit); here, their ball joints, which ManiSkill loads in neither format, are
-welded, and with ``wheel_joints: fixed`` every joint that moves only wheels is. This is a
+welded, and with ``wheel_joints: fixed`` every joint that moves only wheels is (in an MJCF,
+with what names the joints welded away: a wheel's actuator, its sensors, an equality or a
+fixed tendon through it, which MuJoCo would refuse the copy for). This is a
 transformation the spec asks for in its own section, not a ``description.mend``: it is applied
 after the mends that make the file loadable and before those that read joint types
 (``spherical``, ``mimic``).
@@ -215,7 +217,9 @@ def _apply_mjcf(document: Document, policy: Mapping[str, Any]) -> None:
     root = whole(document)
     worldbody = root.find("worldbody")
     # a platform with no joint at all is its first body
-    robot = robot_body(root) or (worldbody.find("body") if worldbody is not None else None)
+    robot = robot_body(root)
+    if robot is None and worldbody is not None:
+        robot = worldbody.find("body")
     if robot is None:
         return
     wanted = policy.get("link")
@@ -273,6 +277,7 @@ def _apply_mjcf(document: Document, policy: Mapping[str, Any]) -> None:
     )
     patterns = policy.get("wheels") or []
     table = classes(root, document.source.path)
+    removed: set[str] = set()
     for wheel in robot.iter("body"):
         if not _matches(patterns, wheel.get("name", "")):
             continue
@@ -285,3 +290,39 @@ def _apply_mjcf(document: Document, policy: Mapping[str, Any]) -> None:
                     joint, f"joint '{joint.get('name', '')}'", f'type="{kind}"', "removed (fixed)"
                 )
                 document.remove(joint)
+                removed.add(joint.get("name", ""))
+    _drop_references(document, root, removed - {""})
+
+
+# what names a joint in the sections of an MJCF: an actuator's or a sensor's target, an
+# equality's two joints, a fixed tendon's members
+_JOINT_REFERENCES = ("joint", "joint1", "joint2", "jointinparent")
+_SECTIONS = ("actuator", "sensor", "equality", "tendon")
+
+
+def _drop_references(document: Document, root: etree._Element, removed: set[str]) -> None:
+    """Take out what names a joint the base welded (a wheel's velocity actuator, its sensors,
+    an equality or a fixed tendon through it): MuJoCo refuses a model that names a joint it
+    does not have."""
+    if not removed:
+        return
+    for section in (s for tag in _SECTIONS for s in root.iter(tag)):
+        for element in list(section.iter()):
+            if element is section or not isinstance(element.tag, str):
+                continue
+            named = [element.get(a) for a in _JOINT_REFERENCES if element.get(a) in removed]
+            if not named:
+                continue
+            # a tendon's member: the whole tendon goes (MuJoCo needs its every joint)
+            gone = (
+                element.getparent()
+                if element.tag == "joint" and section.tag == "tendon"
+                else element
+            )
+            if gone is None or gone.getparent() is None or not isinstance(gone.tag, str):
+                continue
+            what = gone.get("name") or gone.tag
+            document.changed(
+                gone, f"{gone.tag} '{what}'", f"on joint '{named[0]}'", "removed with it"
+            )
+            document.remove(gone)
