@@ -91,7 +91,7 @@ def read_description_file(
             )
         ]
     if kind == "mjcf" and compile_mjcf:
-        compiled, found = read_compiled_mjcf(path)
+        compiled, found = read_compiled_mjcf(path, sections)
         if compiled is not None:
             return compiled, found
     # the command line names the file itself: its problems are shown at the path as given
@@ -112,10 +112,12 @@ def read_description_file(
     )
 
 
-def read_compiled_mjcf(path: Path) -> tuple[DescriptionFile | None, list[Diagnostic]]:
-    """The MJCF at ``path`` as MuJoCo compiles it (``loader: mujoco``); None, with the
-    diagnostics that say why, where MuJoCo refuses it (or the URDF written from it has
-    errors)."""
+def read_compiled_mjcf(
+    path: Path, sections: Mapping[str, Any] | None = None
+) -> tuple[DescriptionFile | None, list[Diagnostic]]:
+    """The MJCF at ``path`` as MuJoCo compiles it (``loader: mujoco``), with what ``sections``
+    change in the derived copy (a planar base); None, with the diagnostics that say why, where
+    MuJoCo refuses it (or the URDF written from it has errors)."""
     from robospec.authoring.mjcf_route import (
         maniskill_reading,
         mujoco_mends,
@@ -130,7 +132,8 @@ def read_compiled_mjcf(path: Path) -> tuple[DescriptionFile | None, list[Diagnos
     # with the mends that change what MuJoCo itself reads (robospec.authoring.mjcf_route)
     reader = Reader(Path(""), Path(""), lambda _: Location(text), entry_is_file=True)
     mends = mujoco_mends(as_maniskill)
-    loaded = load(reader, DescriptionEntry(text, "mjcf", mends=mends, loader="mujoco"))
+    entry = DescriptionEntry(text, "mjcf", mends=mends, sections=sections or {}, loader="mujoco")
+    loaded = load(reader, entry)
     if not isinstance(loaded, Loaded) or has_errors(reader.diagnostics):
         return None, reader.diagnostics
     ref = loaded.ref

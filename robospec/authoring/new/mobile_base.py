@@ -6,8 +6,10 @@ base link, a ``pd_base_vel`` controller, the wheels kept out of the floor's coll
 rolling on a floor simulate slowly and transfer badly). ``new`` writes that section for
 
 * a URDF that rolls on continuous wheel joints, with no legs and nothing that fixes or moves
-  its root otherwise (Husky, R2-D2, the racecar): its wheel joints are welded
-  (``wheel_joints: fixed``: fewer joints to simulate; Fetch's wheels are fixed joints too);
+  its root otherwise (Husky, R2-D2, the racecar), or an MJCF MuJoCo compiles that rolls so (its
+  ball-jointed casters three hinges, its free root replaced by the base's joints): its wheel
+  joints are welded (``wheel_joints: fixed``: fewer joints to simulate; Fetch's wheels are
+  fixed joints too);
 * a URDF whose base hangs from a ``planar`` or ``floating`` root joint, which SAPIEN loads as
   neither: the base's slides and hinge stand in for it;
 * a description with no joint that moves (a platform): instead of nothing to control, a base
@@ -75,7 +77,7 @@ def _with_base(
 ) -> tuple[DescriptionFile | None, list[Diagnostic]]:
     """The description with the planar base ``section`` asks for; ``fallback`` where it does
     not load so (the file's own problems are said as the file has them)."""
-    based, diagnostics = read_description_file(path, sections=_sections(section))
+    based, diagnostics = read_description_file(path, sections=_sections(section), compile_mjcf=True)
     if based is None:
         return fallback
     return dataclasses.replace(based, mobile_base=section, mobile_base_why=why), diagnostics
@@ -90,8 +92,8 @@ def _wheeled(source: DescriptionFile) -> tuple[list[str], tuple[str, ...]] | Non
     and nothing else (no legs; a root that nothing anchors, slides or moves on planar joints),
     or None."""
     description = source.description
-    if source.kind == "mjcf":
-        return None
+    if source.kind == "mjcf" and source.loader != "mujoco":
+        return None  # (ManiSkill's MJCF loader: MuJoCo refused the file)
     body = morphology(description, None)
     if not body.wheels or body.legs or not body.walks_or_rolls:
         return None
@@ -104,6 +106,10 @@ def _wheeled(source: DescriptionFile) -> tuple[list[str], tuple[str, ...]] | Non
     }
     named = {link for link in description.link_names if WHEEL_WORDS.search(link)}
     links = [n for n in description.link_names if n in turned | named]
+    if source.kind == "mjcf":
+        # the MJCF's bodies (the section applies to the MJCF): a ball joint's intermediate
+        # links are the compiled URDF's alone, and have no shapes
+        links = [n for n in links if (link := description.link(n)) is not None and link.shaped]
     return links, body.wheels
 
 
