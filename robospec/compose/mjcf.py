@@ -39,6 +39,7 @@ from robospec.compose.xml import (
     written,
 )
 from robospec.description.mjcf_frames import ORIENTATION_ATTRIBUTES, Unparsable, body_pose
+from robospec.description.mjcf_references import REFERENCES
 from robospec.diagnostics.codes import (
     MIXED_FORMATS,
     NAME_CLASH,
@@ -52,19 +53,6 @@ INDENT = "  "
 SECTIONS = ("contact", "equality", "tendon", "actuator", "sensor")
 # elements whose ``file`` names a file, and the compiler folder MuJoCo reads it from
 FILE_FOLDERS = {"mesh": "meshdir", "hfield": "meshdir", "skin": "meshdir", "texture": "texturedir"}
-# attributes that name another element, by the kind of name they take
-REFERENCES: dict[str, tuple[str, ...]] = {
-    "body": ("body", "body1", "body2", "target"),
-    "joint": ("joint", "joint1", "joint2", "jointinparent"),
-    "geom": ("geom", "geom1", "geom2"),
-    "site": ("site", "site1", "site2", "cranksite", "slidersite", "refsite"),
-    "mesh": ("mesh",),
-    "material": ("material",),
-    "texture": ("texture",),
-    "hfield": ("hfield",),
-    "tendon": ("tendon", "tendon1", "tendon2"),
-    "class": ("class", "childclass"),
-}
 
 
 def _kind(element: etree._Element) -> str | None:

@@ -28,6 +28,7 @@ from robospec.description.mjcf_frames import (
     numbers,
 )
 from robospec.description.mjcf_mujoco import Table
+from robospec.description.mjcf_references import REFERENCES
 from robospec.diagnostics.codes import CANNOT_MEND, MENDED_BODIES, MJCF_COLLISION_BITS
 from robospec.geometry import (
     IDENTITY,
@@ -52,8 +53,6 @@ WHY = "too many bodies for ManiSkill's loader's collision bits: those without jo
 POSED = ("geom", "site", "camera", "light", "body", "frame")  # moved up, their pose composed
 # what a merged body may hold besides those (and its inertial): anything else keeps it apart
 _MOVABLE = frozenset({*POSED, "inertial"})
-# attributes that name a body (contact exclusions, equality constraints, sensors, targets)
-_BODY_REFERENCES = ("body1", "body2", "body", "target")
 
 
 def apply(document: Document, policy: str) -> None:
@@ -250,7 +249,7 @@ def _rename_references(root: etree._Element, old: str, new: str) -> None:
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
-        for attribute in _BODY_REFERENCES:
+        for attribute in REFERENCES["body"]:
             if element.get(attribute) == old:
                 element.set(attribute, new)
         # a sensor's object: the body's inertial frame (body) or its own frame (xbody)

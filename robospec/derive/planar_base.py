@@ -38,6 +38,7 @@ from lxml import etree
 
 from robospec.derive.document import Document, insert_after
 from robospec.derive.mjcf_tree import classes, effective, robot_body, whole
+from robospec.description.mjcf_references import REFERENCES
 from robospec.diagnostics.codes import DERIVED_PLANAR_BASE, PLANAR_BASE_REFUSED
 
 NAME = "planar_base"
@@ -294,9 +295,8 @@ def _apply_mjcf(document: Document, policy: Mapping[str, Any]) -> None:
     _drop_references(document, root, removed - {""})
 
 
-# what names a joint in the sections of an MJCF: an actuator's or a sensor's target, an
-# equality's two joints, a fixed tendon's members
-_JOINT_REFERENCES = ("joint", "joint1", "joint2", "jointinparent")
+# the sections whose elements name joints: an actuator's or a sensor's target, an equality's
+# two joints, a fixed tendon's members
 _SECTIONS = ("actuator", "sensor", "equality", "tendon")
 
 
@@ -310,7 +310,7 @@ def _drop_references(document: Document, root: etree._Element, removed: set[str]
         for element in list(section.iter()):
             if element is section or not isinstance(element.tag, str):
                 continue
-            named = [element.get(a) for a in _JOINT_REFERENCES if element.get(a) in removed]
+            named = [element.get(a) for a in REFERENCES["joint"] if element.get(a) in removed]
             if not named:
                 continue
             # a tendon's member: the whole tendon goes (MuJoCo needs its every joint)
