@@ -260,6 +260,27 @@ def test_an_mjcf_bases_welded_wheels_take_their_actuators_with_them(tmp_path: Pa
     assert "and 5 more" in note.message
 
 
+def test_a_fixed_tendon_or_a_sensor_through_a_welded_wheel_goes_whole(tmp_path: Path) -> None:
+    """A fixed tendon through both wheels goes as one change (a tendon that lost one of its
+    joints would couple something else), a joint sensor on a wheel as another."""
+    text = CASTER_CART.read_text(encoding="utf-8").replace(
+        "  <actuator>",
+        '  <tendon><fixed name="differential"><joint joint="left_wheel_joint" coef="1"/>'
+        '<joint joint="right_wheel_joint" coef="-1"/></fixed></tendon>\n'
+        '  <sensor><jointpos name="left_angle" joint="left_wheel_joint"/></sensor>\n'
+        "  <actuator>",
+    )
+    cart = tmp_path / "cart.xml"
+    cart.write_text(text, encoding="utf-8")
+    spec = tmp_path / "cart.yaml"
+    spec.write_text(CART_SPEC.format(uid="tendon_cart", path=cart.as_posix()), encoding="utf-8")
+    result = compile_spec(spec)
+    assert result.ok, [d.format_text() for d in result.diagnostics]
+    (note,) = [d for d in result.diagnostics if d.code == "RS780"]
+    assert "and 7 more" in note.message  # 3 joints, 2 actuators, the tendon, the sensor
+    assert not any("tendon" in d.message for d in result.diagnostics if d.code == "RS791")
+
+
 def test_an_mjcf_on_wheels_and_a_ball_caster_gets_a_base_to_drive(tmp_path: Path) -> None:
     """new writes the section for an MJCF that rolls (compiled by MuJoCo, its ball-jointed
     caster three hinges): the wheels are the MJCF's bodies, not the hinges' links."""
